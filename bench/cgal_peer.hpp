@@ -1,0 +1,22 @@
+// CGAL's surface parameterizers as a benchmark peer (optional dependency).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "engine/surface.hpp"
+
+namespace surfdeform::bench {
+
+struct PeerResult {
+  bool ok = false;
+  std::string error;
+  std::vector<Vec2> flat;  // per sample, i + nu * j
+};
+
+// Samples `surface` on an nu x nv grid, triangulates it (two triangles per cell)
+// and parameterizes it with CGAL's ARAP ("arap") or LSCM ("lscm") parameterizer
+// with a free border, as CGAL's defaults do.
+PeerResult CgalParameterize(const Surface& surface, int nu, int nv, const std::string& method);
+
+}  // namespace surfdeform::bench

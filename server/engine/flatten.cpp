@@ -1,0 +1,183 @@
+#include "engine/flatten.hpp"
+
+#include <chrono>
+#include <string>
+
+#include "engine/flatten_solvers.hpp"
+#include "engine/surface_distance.hpp"
+
+namespace surfdeform {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Starting layout: the parameter grid scaled by the mean surface length of the
+// u and v grid lines, so that it has the sheet's size.
+std::vector<Vec2> ScaledParameterLayout(const SurfaceDistances& dist) {
+  double su = 0.0, sv = 0.0;
+  for (const GridEdge& e : dist.edges) {
+    if (e.ring != 1) continue;
+    if (e.dj == 0) su += e.d;
+    if (e.di == 0) sv += e.d;
+  }
+  const int nu = dist.nu, nv = dist.nv;
+  const double cell_u = su / ((nu - 1) * nv);
+  const double cell_v = sv / (nu * (nv - 1));
+  std::vector<Vec2> x(static_cast<size_t>(nu) * nv);
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) x[i + nu * j] = Vec2(i * cell_u, j * cell_v);
+  }
+  return x;
+}
+
+}  // namespace
+
+const char* FlattenMethodName(FlattenMethod method) {
+  switch (method) {
+    case FlattenMethod::kMajorization:
+      return "majorization";
+    case FlattenMethod::kPaper:
+      return "paper";
+  }
+  return "unknown";
+}
+
+Status ValidateFlattenOptions(const FlattenOptions& o) {
+  if (o.range < 1 || o.range > 8) {
+    return InvalidArgument("must be from 1 to 8, got " + std::to_string(o.range), "range");
+  }
+  if (!(o.tolerance >= 0.0 && o.tolerance < 1.0)) {
+    return InvalidArgument("must be in [0, 1), got " + std::to_string(o.tolerance), "tolerance");
+  }
+  if (o.max_iterations < 0 || o.max_iterations > 1000000) {
+    return InvalidArgument(
+        "must be from 0 (automatic) to 1000000, got " + std::to_string(o.max_iterations),
+        "max_iterations");
+  }
+  if (!(o.step >= 0.0 && o.step < 1.0)) {
+    return InvalidArgument("must be in [0, 1) (0 = automatic), got " + std::to_string(o.step),
+                           "step");
+  }
+  if (o.lattice_factor < 0 || o.lattice_factor > 16) {
+    return InvalidArgument(
+        "must be from 0 (automatic) to 16, got " + std::to_string(o.lattice_factor),
+        "lattice_factor");
+  }
+  if (o.relax_steps < 0 || o.relax_steps > 8) {
+    return InvalidArgument("must be from 0 to 8, got " + std::to_string(o.relax_steps),
+                           "relax_steps");
+  }
+  return Status::Ok();
+}
+
+struct Flattener::Cache {
+  std::unique_ptr<internal::LaplacianFactor> laplacian;
+};
+
+Flattener::Flattener(FlattenOptions options)
+    : options_(options), cache_(std::make_unique<Cache>()) {}
+Flattener::~Flattener() = default;
+Flattener::Flattener(Flattener&&) noexcept = default;
+Flattener& Flattener::operator=(Flattener&&) noexcept = default;
+
+Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,
+                                     const FlatSheet* warm_start) {
+  const auto t0 = Clock::now();
+  SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
+  auto grid = SampleSurface(surface, sampling);
+  if (!grid.ok()) return grid.status();
+  const int nu = grid->nu, nv = grid->nv;
+  const int n = nu * nv;
+
+  // Distances over the solve's range and over r = 3 for the quality measures.
+  const auto td = Clock::now();
+  DistanceOptions dopt;
+  dopt.range = std::max(options_.range, 3);
+  dopt.lattice_factor = options_.lattice_factor;
+  dopt.relax_steps = options_.relax_steps;
+  auto dist = ComputeSurfaceDistances(surface, nu, nv, dopt);
+  if (!dist.ok()) return dist.status();
+  FlatSheet sheet;
+  sheet.quality.distance_ms = MsSince(td);
+
+  const auto ts = Clock::now();
+  std::vector<Vec2> x;
+  if (options_.exact_developable && surface.ExactUnrolling(0.0, 0.0).has_value()) {
+    x.resize(n);
+    for (int j = 0; j < nv; ++j) {
+      for (int i = 0; i < nu; ++i) {
+        x[i + nu * j] = *surface.ExactUnrolling(static_cast<double>(i) / (nu - 1),
+                                                static_cast<double>(j) / (nv - 1));
+      }
+    }
+    sheet.method = "exact";
+    sheet.quality.converged = true;
+  } else {
+    std::vector<GridEdge> edges;
+    if (options_.range == dist->range) {
+      edges = dist->edges;
+    } else {
+      for (const GridEdge& e : dist->edges) {
+        if (e.ring <= options_.range) edges.push_back(e);
+      }
+    }
+    if (warm_start != nullptr && warm_start->nu == nu && warm_start->nv == nv &&
+        warm_start->flat.size() == static_cast<size_t>(n)) {
+      x = warm_start->flat;
+    } else {
+      x = ScaledParameterLayout(*dist);
+    }
+    internal::SolveStats stats;
+    if (options_.method == FlattenMethod::kMajorization) {
+      auto& lap = cache_->laplacian;
+      if (!lap || lap->nu != nu || lap->nv != nv || lap->range != options_.range) {
+        lap = internal::FactorLaplacian(nu, nv, options_.range);
+      }
+      const int max_it = options_.max_iterations > 0 ? options_.max_iterations : 3000;
+      stats = internal::SolveMajorization(*lap, edges, options_.tolerance, max_it, &x);
+    } else {
+      const int max_it = options_.max_iterations > 0 ? options_.max_iterations : 200000;
+      stats = internal::SolvePaperDescent(edges, options_.step, options_.tolerance, max_it, &x);
+    }
+    sheet.method = FlattenMethodName(options_.method);
+    sheet.quality.iterations = stats.iterations;
+    sheet.quality.converged = stats.converged;
+  }
+  for (const Vec2& p : x) {
+    if (!p.allFinite()) {
+      return Status(ErrorCode::kNotConverged,
+                    "the flattening diverged (non-finite positions); for method \"paper\" "
+                    "choose a smaller step");
+    }
+  }
+  internal::Canonicalize(nu, nv, &x);
+  sheet.quality.solve_ms = MsSince(ts);
+  internal::MeasureQuality(*dist, x, &sheet.quality);
+  if (sheet.quality.folded_cells > 0) {
+    return Status(ErrorCode::kNotConverged,
+                  std::to_string(sheet.quality.folded_cells) + " of " +
+                      std::to_string((nu - 1) * (nv - 1)) +
+                      " flat cells are folded (inverted or not convex), so the flat sheet "
+                      "cannot be inverted; sample the surface more finely, use a larger "
+                      "range, or split the surface where it bends sharply");
+  }
+  sheet.nu = nu;
+  sheet.nv = nv;
+  sheet.points = std::move(grid->points);
+  sheet.normals = std::move(grid->normals);
+  sheet.flat = std::move(x);
+  sheet.quality.total_ms = MsSince(t0);
+  return sheet;
+}
+
+Result<FlatSheet> FlattenSurface(const Surface& surface, const SamplingOptions& sampling,
+                                 const FlattenOptions& options) {
+  Flattener flattener(options);
+  return flattener.Flatten(surface, sampling);
+}
+
+}  // namespace surfdeform

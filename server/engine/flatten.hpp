@@ -1,0 +1,111 @@
+// Flattening a sampled surface into the plane (Ma & Lin 1988).
+//
+// Objective (the paper's appendix): the stress
+//   C = sum_i sum_{j in Omega_i} (d_ij - |X_i - X_j|)^2
+// over the flat positions X of the nu x nv samples, Omega_i being the samples
+// within Chebyshev grid range r of i and d_ij their distance on the surface
+// (see surface_distance.hpp). Units are the surface's own.
+//
+// Methods:
+//  - kMajorization (default): stress majorization, the Guttman transform of
+//    SMACOF (de Leeuw 1977; Gansner, Koren & North 2004) with unit weights. The
+//    weighted Laplacian of the neighbourhood graph depends only on (nu, nv, r),
+//    so it is factored once (exactly, by two small dense eigendecompositions:
+//    see flatten_solvers.hpp) and reused by every iteration, by
+//    every frame of an animation and by every surface with the same grid. Each
+//    iteration costs O(n r^2) plus one pair of triangular solves; the stress
+//    never increases.
+//  - kPaper: the paper's gradient descent X <- X - rho dC/dX, kept as the
+//    baseline every result is compared with. O(n r^2) per iteration, many more
+//    iterations.
+//  - Analytic cylinder and cone patches are unrolled in closed form (exact), unless
+//    exact_developable is false.
+//
+// The returned sheet is canonical: sample (0, 0) at the origin, the grid edge
+// from sample (0, 0) to (1, 0) along +X, and v towards +Y (positive
+// orientation). Guarantee: a sheet is returned only without folded cells; a
+// folded (inverted or non-convex) cell would make the inverse map ambiguous, so
+// such a result is an error (kNotConverged) that says how many cells folded.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/geometry_types.hpp"
+#include "engine/sample_grid.hpp"
+#include "engine/status.hpp"
+#include "engine/surface.hpp"
+
+namespace surfdeform {
+
+enum class FlattenMethod { kMajorization, kPaper };
+
+const char* FlattenMethodName(FlattenMethod method);
+
+struct FlattenOptions {
+  FlattenMethod method = FlattenMethod::kMajorization;
+  int range = 3;                  // r: grid range of the neighbourhood Omega_i, 1..8
+  double tolerance = 1e-7;        // stop when an iteration lowers C by less than this fraction
+  int max_iterations = 0;         // 0 = the method's default (majorization 3000, paper 200000)
+  double step = 0.0;              // the paper's rho; 0 = automatic, 1 / (8 max |Omega_i|)
+  bool exact_developable = true;  // unroll analytic cylinder and cone patches in closed form
+  int lattice_factor = 0;         // distance integration lattice per cell side; 0 = automatic
+  int relax_steps = 2;            // geodesic relaxation steps per pair; 0 = straight segments
+};
+
+// Quality of a flat sheet. Stress and the other measures are always taken over
+// the r = 3 neighbourhood, whatever range the solve used, so results compare.
+struct FlattenQuality {
+  double stress = 0.0;          // sqrt(C / sum d_ij^2), dimensionless
+  double max_edge_error = 0.0;  // max over grid edges of | |X_i - X_j| - d_ij | / d_ij
+  double area_ratio_min = 0.0;  // min over cells of flat area / surface area
+  double area_ratio_max = 0.0;
+  int folded_cells = 0;  // cells whose flat quad is inverted or not convex
+  int iterations = 0;
+  bool converged = false;    // reached the tolerance before max_iterations
+  double distance_ms = 0.0;  // computing d_ij
+  double solve_ms = 0.0;     // the solver itself (factorisation included)
+  double total_ms = 0.0;     // sampling, distances, solve and quality
+};
+
+struct FlatSheet {
+  int nu = 0;
+  int nv = 0;
+  std::vector<Vec3> points;   // surface samples, i + nu * j
+  std::vector<Vec3> normals;  // unit surface normals at the samples
+  std::vector<Vec2> flat;     // flat positions of the samples, canonical frame
+  std::string method;         // "majorization", "paper" or "exact"
+  FlattenQuality quality;
+};
+
+// Keeps what can be reused between solves on the same grid size and range (the
+// factored Laplacian) so that the frames of an animation, or many surfaces with
+// the same sampling, pay for it once. Not thread-safe: one per thread.
+class Flattener {
+ public:
+  explicit Flattener(FlattenOptions options = {});
+  ~Flattener();
+  Flattener(Flattener&&) noexcept;
+  Flattener& operator=(Flattener&&) noexcept;
+
+  // Flattens `surface` sampled as asked. `warm_start`, when given and of the
+  // same grid size, is the starting layout (e.g. the previous animation frame).
+  Result<FlatSheet> Flatten(const Surface& surface, const SamplingOptions& sampling,
+                            const FlatSheet* warm_start = nullptr);
+
+  const FlattenOptions& options() const { return options_; }
+
+ private:
+  struct Cache;
+  FlattenOptions options_;
+  std::unique_ptr<Cache> cache_;
+};
+
+// One-shot convenience: a fresh Flattener per call.
+Result<FlatSheet> FlattenSurface(const Surface& surface, const SamplingOptions& sampling,
+                                 const FlattenOptions& options = {});
+
+Status ValidateFlattenOptions(const FlattenOptions& options);
+
+}  // namespace surfdeform

@@ -1,0 +1,331 @@
+// Validation of surface specs and dispatch to the surface builders.
+#include <Eigen/Geometry>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "engine/analytic_surfaces.hpp"
+#include "engine/bspline_basis.hpp"
+#include "engine/spline_surface.hpp"
+#include "engine/surface_spec.hpp"
+
+namespace surfdeform {
+namespace {
+
+constexpr int kMaxBezierDegree = 15;
+constexpr int kMaxBSplineDegree = 7;
+constexpr int kMaxGridSide = 1024;
+constexpr size_t kMaxControlPoints = 1u << 20;
+
+std::string Num(double x) {
+  std::ostringstream os;
+  os.precision(17);
+  os << x;
+  return os.str();
+}
+
+Status CheckFinite(double x, const std::string& field) {
+  if (!std::isfinite(x)) return InvalidArgument("must be a finite number, got " + Num(x), field);
+  return Status::Ok();
+}
+
+Status CheckPositive(double x, const std::string& field) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckFinite(x, field));
+  if (!(x > 0.0)) return InvalidArgument("must be greater than 0, got " + Num(x), field);
+  return Status::Ok();
+}
+
+Status CheckRange(double x, double lo, double hi, const std::string& field) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckFinite(x, field));
+  if (x < lo || x > hi) {
+    return InvalidArgument("must be in [" + Num(lo) + ", " + Num(hi) + "], got " + Num(x), field);
+  }
+  return Status::Ok();
+}
+
+Status CheckPoints(const std::vector<Vec3>& points, const std::string& field) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) {
+      return InvalidArgument("coordinates must be finite numbers",
+                             field + "[" + std::to_string(i) + "]");
+    }
+  }
+  // A collapsed net (all points equal) has no normal anywhere.
+  Eigen::AlignedBox3d box;
+  for (const Vec3& p : points) box.extend(p);
+  if (!points.empty() && !(box.diagonal().norm() > 0.0)) {
+    return Degenerate("all points coincide: the surface has no area", field);
+  }
+  return Status::Ok();
+}
+
+Status CheckDegree(int degree, int max_degree, const std::string& field) {
+  if (degree < 1 || degree > max_degree) {
+    return InvalidArgument("must be an integer from 1 to " + std::to_string(max_degree) + ", got " +
+                               std::to_string(degree),
+                           field);
+  }
+  return Status::Ok();
+}
+
+Result<RigidFrame> BuildFrame(const Frame& f) {
+  if (!f.origin.allFinite()) return InvalidArgument("must be finite", "frame.origin");
+  if (!f.x_axis.allFinite()) return InvalidArgument("must be finite", "frame.x_axis");
+  if (!f.z_axis.allFinite()) return InvalidArgument("must be finite", "frame.z_axis");
+  const double zn = f.z_axis.norm();
+  const double xn = f.x_axis.norm();
+  if (!(zn > 0.0)) return Degenerate("must not be the zero vector", "frame.z_axis");
+  if (!(xn > 0.0)) return Degenerate("must not be the zero vector", "frame.x_axis");
+  const Vec3 z = f.z_axis / zn;
+  Vec3 x = f.x_axis / xn;
+  x -= z * z.dot(x);
+  if (!(x.norm() > 1e-9)) {
+    return Degenerate("must not be parallel to frame.z_axis", "frame.x_axis");
+  }
+  x.normalize();
+  RigidFrame out;
+  out.origin = f.origin;
+  out.rotation.col(0) = x;
+  out.rotation.col(1) = z.cross(x);
+  out.rotation.col(2) = z;
+  return out;
+}
+
+Status CheckKnots(const std::vector<double>& knots, int count, int degree,
+                  const std::string& field) {
+  const size_t expected = static_cast<size_t>(count) + degree + 1;
+  if (knots.size() != expected) {
+    return InvalidArgument("needs count + degree + 1 = " + std::to_string(expected) +
+                               " values, got " + std::to_string(knots.size()),
+                           field);
+  }
+  for (size_t i = 0; i < knots.size(); ++i) {
+    SURFDEFORM_RETURN_IF_ERROR(CheckFinite(knots[i], field + "[" + std::to_string(i) + "]"));
+    if (i > 0 && knots[i] < knots[i - 1]) {
+      return InvalidArgument(
+          "knots must be non-decreasing: " + Num(knots[i]) + " follows " + Num(knots[i - 1]),
+          field + "[" + std::to_string(i) + "]");
+    }
+  }
+  for (int i = 1; i <= degree; ++i) {
+    if (knots[i] != knots[0] || knots[count + i] != knots[count]) {
+      return InvalidArgument("the knot vector must be clamped: its first and last " +
+                                 std::to_string(degree + 1) + " values must be equal",
+                             field);
+    }
+  }
+  if (!(knots[count] > knots[degree])) {
+    return Degenerate("the knot range is empty (first knot equals last knot)", field);
+  }
+  // Interior multiplicity above the degree would make the surface discontinuous.
+  for (int i = degree + 1; i < count;) {
+    int j = i;
+    while (j < count && knots[j] == knots[i]) ++j;
+    if (j - i > degree) {
+      return InvalidArgument("interior knot " + Num(knots[i]) + " repeats " +
+                                 std::to_string(j - i) + " times; at most the degree (" +
+                                 std::to_string(degree) + ") keeps the surface continuous",
+                             field + "[" + std::to_string(i) + "]");
+    }
+    i = j;
+  }
+  return Status::Ok();
+}
+
+Result<std::unique_ptr<Surface>> Build(const BezierSpec& s) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckDegree(s.degree_u, kMaxBezierDegree, "degree_u"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckDegree(s.degree_v, kMaxBezierDegree, "degree_v"));
+  const size_t nu = s.degree_u + 1, nv = s.degree_v + 1;
+  if (s.control_points.size() != nu * nv) {
+    return InvalidArgument("a degree " + std::to_string(s.degree_u) + " x " +
+                               std::to_string(s.degree_v) + " Bezier patch needs " +
+                               std::to_string(nu * nv) + " control points, got " +
+                               std::to_string(s.control_points.size()),
+                           "control_points");
+  }
+  SURFDEFORM_RETURN_IF_ERROR(CheckPoints(s.control_points, "control_points"));
+  SplineData d;
+  d.degree_u = s.degree_u;
+  d.degree_v = s.degree_v;
+  d.count_u = static_cast<int>(nu);
+  d.count_v = static_cast<int>(nv);
+  d.control_points = s.control_points;
+  d.knots_u.assign(2 * nu, 0.0);
+  d.knots_v.assign(2 * nv, 0.0);
+  std::fill(d.knots_u.begin() + nu, d.knots_u.end(), 1.0);
+  std::fill(d.knots_v.begin() + nv, d.knots_v.end(), 1.0);
+  return MakeSplineSurface(std::move(d), "bezier");
+}
+
+Result<std::unique_ptr<Surface>> Build(const BSplineSpec& s) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckDegree(s.degree_u, kMaxBSplineDegree, "degree_u"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckDegree(s.degree_v, kMaxBSplineDegree, "degree_v"));
+  if (s.count_u <= s.degree_u || s.count_u > kMaxGridSide) {
+    return InvalidArgument("must be from degree_u + 1 = " + std::to_string(s.degree_u + 1) +
+                               " to " + std::to_string(kMaxGridSide) + ", got " +
+                               std::to_string(s.count_u),
+                           "count_u");
+  }
+  if (s.count_v <= s.degree_v || s.count_v > kMaxGridSide) {
+    return InvalidArgument("must be from degree_v + 1 = " + std::to_string(s.degree_v + 1) +
+                               " to " + std::to_string(kMaxGridSide) + ", got " +
+                               std::to_string(s.count_v),
+                           "count_v");
+  }
+  const size_t n = static_cast<size_t>(s.count_u) * s.count_v;
+  if (n > kMaxControlPoints || s.control_points.size() != n) {
+    return InvalidArgument("count_u * count_v = " + std::to_string(n) +
+                               " control points expected, got " +
+                               std::to_string(s.control_points.size()),
+                           "control_points");
+  }
+  SURFDEFORM_RETURN_IF_ERROR(CheckPoints(s.control_points, "control_points"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckKnots(s.knots_u, s.count_u, s.degree_u, "knots_u"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckKnots(s.knots_v, s.count_v, s.degree_v, "knots_v"));
+  if (s.rational && s.weights.size() != n) {
+    return InvalidArgument("a NURBS needs one weight per control point (" + std::to_string(n) +
+                               "), got " + std::to_string(s.weights.size()),
+                           "weights");
+  }
+  if (!s.rational && !s.weights.empty()) {
+    return InvalidArgument("a non-rational B-spline takes no weights (use kind \"nurbs\")",
+                           "weights");
+  }
+  for (size_t i = 0; i < s.weights.size(); ++i) {
+    SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.weights[i], "weights[" + std::to_string(i) + "]"));
+  }
+  SplineData d;
+  d.degree_u = s.degree_u;
+  d.degree_v = s.degree_v;
+  d.count_u = s.count_u;
+  d.count_v = s.count_v;
+  d.control_points = s.control_points;
+  d.knots_u = s.knots_u;
+  d.knots_v = s.knots_v;
+  d.weights = s.weights;
+  return MakeSplineSurface(std::move(d), s.rational ? "nurbs" : "bspline");
+}
+
+Result<std::unique_ptr<Surface>> Build(const GridSpec& s) {
+  for (auto [n, name] : {std::pair{s.nu, "nu"}, std::pair{s.nv, "nv"}}) {
+    if (n < 2 || n > kMaxGridSide) {
+      return InvalidArgument(
+          "must be from 2 to " + std::to_string(kMaxGridSide) + ", got " + std::to_string(n), name);
+    }
+  }
+  const size_t n = static_cast<size_t>(s.nu) * s.nv;
+  if (s.points.size() != n) {
+    return InvalidArgument("nu * nv = " + std::to_string(n) + " points expected, got " +
+                               std::to_string(s.points.size()),
+                           "points");
+  }
+  SURFDEFORM_RETURN_IF_ERROR(CheckPoints(s.points, "points"));
+  // Interpolate along u (each row j), then along v (each control column).
+  Eigen::MatrixXd rows(s.nu, 3 * s.nv);
+  for (int j = 0; j < s.nv; ++j) {
+    for (int i = 0; i < s.nu; ++i) rows.block<1, 3>(i, 3 * j) = s.points[i + s.nu * j].transpose();
+  }
+  SplineData d;
+  d.degree_u = d.degree_v = 3;
+  d.count_u = s.nu + 2;
+  d.count_v = s.nv + 2;
+  const Eigen::MatrixXd cu = InterpolateCubicNatural(rows, &d.knots_u);  // (nu+2) x 3nv
+  Eigen::MatrixXd cols(s.nv, 3 * d.count_u);
+  for (int j = 0; j < s.nv; ++j) {
+    for (int i = 0; i < d.count_u; ++i) cols.block<1, 3>(j, 3 * i) = cu.block<1, 3>(i, 3 * j);
+  }
+  const Eigen::MatrixXd cv = InterpolateCubicNatural(cols, &d.knots_v);  // (nv+2) x 3(nu+2)
+  d.control_points.resize(static_cast<size_t>(d.count_u) * d.count_v);
+  for (int j = 0; j < d.count_v; ++j) {
+    for (int i = 0; i < d.count_u; ++i) {
+      d.control_points[i + d.count_u * j] = cv.block<1, 3>(j, 3 * i).transpose();
+    }
+  }
+  return MakeSplineSurface(std::move(d), "grid");
+}
+
+Status CheckAngleSpan(double lo, double hi, const std::string& lo_field,
+                      const std::string& hi_field) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckFinite(lo, lo_field));
+  SURFDEFORM_RETURN_IF_ERROR(CheckFinite(hi, hi_field));
+  if (!(hi > lo)) {
+    return InvalidArgument(
+        "must be greater than " + lo_field + " (" + Num(lo) + "), got " + Num(hi), hi_field);
+  }
+  if (hi - lo > 360.0) {
+    return InvalidArgument(
+        "the span " + hi_field + " - " + lo_field + " must be at most 360, got " + Num(hi - lo),
+        hi_field);
+  }
+  return Status::Ok();
+}
+
+Result<std::unique_ptr<Surface>> Build(const CylinderSpec& s) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.radius, "radius"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.height, "height"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.angle_deg, "angle_deg"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckRange(s.angle_deg, 0.0, 360.0, "angle_deg"));
+  auto frame = BuildFrame(s.frame);
+  if (!frame.ok()) return frame.status();
+  return MakeCylinder(s, *frame);
+}
+
+Result<std::unique_ptr<Surface>> Build(const ConeSpec& s) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckFinite(s.radius_bottom, "radius_bottom"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckFinite(s.radius_top, "radius_top"));
+  if (s.radius_bottom < 0.0) return InvalidArgument("must not be negative", "radius_bottom");
+  if (s.radius_top < 0.0) return InvalidArgument("must not be negative", "radius_top");
+  if (!(s.radius_bottom > 0.0 || s.radius_top > 0.0)) {
+    return Degenerate("radius_bottom and radius_top are both 0: the cone is a line",
+                      "radius_bottom");
+  }
+  SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.height, "height"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.angle_deg, "angle_deg"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckRange(s.angle_deg, 0.0, 360.0, "angle_deg"));
+  auto frame = BuildFrame(s.frame);
+  if (!frame.ok()) return frame.status();
+  return MakeCone(s, *frame);
+}
+
+Result<std::unique_ptr<Surface>> Build(const SphereSpec& s) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.radius, "radius"));
+  SURFDEFORM_RETURN_IF_ERROR(
+      CheckAngleSpan(s.lon_min_deg, s.lon_max_deg, "lon_min_deg", "lon_max_deg"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckRange(s.lat_min_deg, -90.0, 90.0, "lat_min_deg"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckRange(s.lat_max_deg, -90.0, 90.0, "lat_max_deg"));
+  SURFDEFORM_RETURN_IF_ERROR(
+      CheckAngleSpan(s.lat_min_deg, s.lat_max_deg, "lat_min_deg", "lat_max_deg"));
+  auto frame = BuildFrame(s.frame);
+  if (!frame.ok()) return frame.status();
+  return MakeSphere(s, *frame);
+}
+
+Result<std::unique_ptr<Surface>> Build(const TorusSpec& s) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.major_radius, "major_radius"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.minor_radius, "minor_radius"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckAngleSpan(s.u_min_deg, s.u_max_deg, "u_min_deg", "u_max_deg"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckAngleSpan(s.v_min_deg, s.v_max_deg, "v_min_deg", "v_max_deg"));
+  auto frame = BuildFrame(s.frame);
+  if (!frame.ok()) return frame.status();
+  return MakeTorus(s, *frame);
+}
+
+Result<std::unique_ptr<Surface>> Build(const WaveSpec& s) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.length, "length"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.width, "width"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckFinite(s.amplitude, "amplitude"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.wavelength, "wavelength"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckFinite(s.speed, "speed"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckFinite(s.time, "time"));
+  auto frame = BuildFrame(s.frame);
+  if (!frame.ok()) return frame.status();
+  return MakeWave(s, *frame);
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Surface>> MakeSurface(const SurfaceSpec& spec) {
+  return std::visit([](const auto& s) { return Build(s); }, spec);
+}
+
+}  // namespace surfdeform

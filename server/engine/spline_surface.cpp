@@ -1,0 +1,161 @@
+#include "engine/spline_surface.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <utility>
+
+#include "engine/bspline_basis.hpp"
+
+namespace surfdeform {
+namespace {
+
+template <typename V>
+struct Derivs {
+  V p = V::Zero(), su = V::Zero(), sv = V::Zero(), suu = V::Zero(), suv = V::Zero(),
+    svv = V::Zero();
+};
+
+class SplineSurface final : public Surface {
+ public:
+  SplineSurface(SplineData data, const char* kind) : d_(std::move(data)), kind_(kind) {
+    u0_ = d_.knots_u[d_.degree_u];
+    du_ = d_.knots_u[d_.count_u] - u0_;
+    v0_ = d_.knots_v[d_.degree_v];
+    dv_ = d_.knots_v[d_.count_v] - v0_;
+    rational_ = !d_.weights.empty();
+    points_ = d_.control_points;
+    homogeneous_.resize(d_.control_points.size());
+    for (size_t i = 0; i < d_.control_points.size(); ++i) {
+      const double w = rational_ ? d_.weights[i] : 1.0;
+      homogeneous_[i] << d_.control_points[i] * w, w;
+    }
+  }
+
+  const char* Kind() const override { return kind_; }
+
+  SurfacePoint Evaluate(double u, double v, int order) const override {
+    const int p = d_.degree_u;
+    const int q = d_.degree_v;
+    const double tu = u0_ + u * du_;
+    const double tv = v0_ + v * dv_;
+    double nu[3][kMaxSplineDegree + 1];
+    double nv[3][kMaxSplineDegree + 1];
+    const int su = Basis(d_.count_u, p, u, tu, du_, d_.knots_u, order, nu);
+    const int sv = Basis(d_.count_v, q, v, tv, dv_, d_.knots_v, order, nv);
+
+    SurfacePoint s;
+    if (!rational_) {
+      const Derivs<Vec3> a = Combine<Vec3>(points_, su - p, sv - q, nu, nv, order);
+      s.p = a.p;
+      s.su = a.su;
+      s.sv = a.sv;
+      s.suu = a.suu;
+      s.suv = a.suv;
+      s.svv = a.svv;
+      return s;
+    }
+    const Derivs<Eigen::Vector4d> a =
+        Combine<Eigen::Vector4d>(homogeneous_, su - p, sv - q, nu, nv, order);
+    const double w = a.p[3];
+    s.p = a.p.head<3>() / w;
+    if (order >= 1) {
+      const double wu = a.su[3];
+      const double wv = a.sv[3];
+      s.su = (a.su.head<3>() - wu * s.p) / w;
+      s.sv = (a.sv.head<3>() - wv * s.p) / w;
+      if (order >= 2) {
+        s.suu = (a.suu.head<3>() - 2.0 * wu * s.su - a.suu[3] * s.p) / w;
+        s.suv = (a.suv.head<3>() - wu * s.sv - wv * s.su - a.suv[3] * s.p) / w;
+        s.svv = (a.svv.head<3>() - 2.0 * wv * s.sv - a.svv[3] * s.p) / w;
+      }
+    }
+    return s;
+  }
+
+ private:
+  // Tensor-product sums of the control values with the basis functions (and
+  // their derivatives) of the spans starting at control indices (i0, j0).
+  template <typename V>
+  Derivs<V> Combine(const std::vector<V>& cps, int i0, int j0,
+                    const double nu[3][kMaxSplineDegree + 1],
+                    const double nv[3][kMaxSplineDegree + 1], int order) const {
+    Derivs<V> out;
+    const int p = d_.degree_u;
+    const int q = d_.degree_v;
+    for (int j = 0; j <= q; ++j) {
+      const V* cp = &cps[static_cast<size_t>(j0 + j) * d_.count_u + i0];
+      V r0 = V::Zero(), r1 = V::Zero(), r2 = V::Zero();
+      for (int i = 0; i <= p; ++i) r0 += nu[0][i] * cp[i];
+      out.p += nv[0][j] * r0;
+      if (order >= 1) {
+        for (int i = 0; i <= p; ++i) r1 += nu[1][i] * cp[i];
+        out.su += nv[0][j] * r1;
+        out.sv += nv[1][j] * r0;
+      }
+      if (order >= 2) {
+        for (int i = 0; i <= p; ++i) r2 += nu[2][i] * cp[i];
+        out.suu += nv[0][j] * r2;
+        out.suv += nv[1][j] * r1;
+        out.svv += nv[2][j] * r0;
+      }
+    }
+    return out;
+  }
+
+  // Basis functions and their derivatives with respect to the [0, 1] parameter
+  // x (knot parameter t = t0 + x * scale); returns the knot span.
+  static int Basis(int count, int degree, double x, double t, double scale,
+                   const std::vector<double>& knots, int order,
+                   double ders[3][kMaxSplineDegree + 1]) {
+    if (count == degree + 1) {  // a single span: Bernstein polynomials in x
+      BernsteinDerivatives(degree, x, order, ders);
+      return degree;
+    }
+    const int span = FindKnotSpan(count, degree, t, knots);
+    BasisFunctionDerivatives(span, degree, t, knots, order, ders);
+    double f = scale;
+    for (int k = 1; k <= order; ++k, f *= scale) {
+      for (int j = 0; j <= degree; ++j) ders[k][j] *= f;
+    }
+    return span;
+  }
+
+  SplineData d_;
+  const char* kind_;
+  std::vector<Vec3> points_;
+  std::vector<Eigen::Vector4d> homogeneous_;
+  bool rational_ = false;
+  double u0_ = 0, du_ = 1, v0_ = 0, dv_ = 1;
+};
+
+}  // namespace
+
+std::unique_ptr<Surface> MakeSplineSurface(SplineData data, const char* kind) {
+  return std::make_unique<SplineSurface>(std::move(data), kind);
+}
+
+Eigen::MatrixXd InterpolateCubicNatural(const Eigen::MatrixXd& values, std::vector<double>* knots) {
+  const int n = static_cast<int>(values.rows());
+  const int count = n + 2;
+  constexpr int p = 3;
+  knots->assign(count + p + 1, 0.0);
+  for (int i = 0; i < n; ++i) (*knots)[p + i] = static_cast<double>(i) / (n - 1);
+  for (int i = 0; i <= p; ++i) (*knots)[count + i] = 1.0;
+
+  // Rows 0..n-1: C(t_i) = values[i]; row n: C''(0) = 0; row n+1: C''(1) = 0.
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(count, count);
+  double ders[3][kMaxSplineDegree + 1];
+  auto add_row = [&](int row, double t, int order) {
+    const int span = FindKnotSpan(count, p, t, *knots);
+    BasisFunctionDerivatives(span, p, t, *knots, order, ders);
+    for (int j = 0; j <= p; ++j) m(row, span - p + j) = ders[order][j];
+  };
+  for (int i = 0; i < n; ++i) add_row(i, (*knots)[p + i], 0);
+  add_row(n, 0.0, 2);
+  add_row(n + 1, 1.0, 2);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(count, values.cols());
+  rhs.topRows(n) = values;
+  return m.partialPivLu().solve(rhs);
+}
+
+}  // namespace surfdeform

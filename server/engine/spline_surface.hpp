@@ -1,0 +1,37 @@
+// Tensor-product spline patches: Bezier (as a clamped B-spline with one span),
+// B-spline and NURBS, and the C2 interpolating spline behind the `grid` kind.
+// Evaluation: basis functions of The NURBS Book (A2.3), rational derivatives by
+// the quotient rule (ibid. A4.4), up to second order.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/surface.hpp"
+
+namespace surfdeform {
+
+struct SplineData {
+  int degree_u = 0;
+  int degree_v = 0;
+  int count_u = 0;
+  int count_v = 0;
+  std::vector<Vec3> control_points;  // count_u * count_v, u fastest
+  std::vector<double> knots_u;       // count_u + degree_u + 1, clamped
+  std::vector<double> knots_v;
+  std::vector<double> weights;  // empty, or one per control point
+};
+
+// Builds a spline surface from already validated data (see MakeSurface).
+std::unique_ptr<Surface> MakeSplineSurface(SplineData data, const char* kind);
+
+// Control net of the clamped cubic B-splines (natural end conditions) that
+// interpolate each column of `values` (n rows, n >= 2) at n uniform parameters
+// i / (n - 1). Returns n + 2 rows of control values and fills `knots`
+// (n + 6 values). One factorisation serves every column.
+Eigen::MatrixXd InterpolateCubicNatural(const Eigen::MatrixXd& values, std::vector<double>* knots);
+
+}  // namespace surfdeform

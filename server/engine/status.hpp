@@ -1,0 +1,90 @@
+// Error reporting for the geometry engine.
+//
+// Engine functions never throw and never assert on user input: they return a
+// Status (or a Result<T> holding either a value or a Status). The code tells the
+// caller what kind of failure it is (the HTTP layer maps codes to status codes
+// in one place); the message is written for the person who sent the input;
+// `field` names the offending input field as a JSON-like path ("control_points[3]")
+// when there is one.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <variant>
+
+namespace surfdeform {
+
+enum class ErrorCode {
+  kOk = 0,
+  kInvalidArgument,  // malformed or out-of-range input (a NaN, a count that does not match)
+  kDegenerate,       // well-formed but geometrically unusable (zero radius, vanishing normal)
+  kLimitExceeded,    // input larger than a published limit
+  kNotConverged,     // a solver did not reach a usable result (e.g. folded cells remain)
+  kInternal,         // a bug: never caused by input
+};
+
+const char* ErrorCodeName(ErrorCode code);
+
+class Status {
+ public:
+  Status() = default;
+  Status(ErrorCode code, std::string message, std::string field = {})
+      : code_(code), message_(std::move(message)), field_(std::move(field)) {}
+
+  static Status Ok() { return Status(); }
+
+  bool ok() const { return code_ == ErrorCode::kOk; }
+  ErrorCode code() const { return code_; }
+  const std::string& message() const { return message_; }
+  const std::string& field() const { return field_; }
+
+  // Prefixes the field path, so that a nested builder can report
+  // "surface.control_points[3]" while the inner check only knows "control_points[3]".
+  Status WithFieldPrefix(const std::string& prefix) const;
+
+  std::string ToString() const;
+
+ private:
+  ErrorCode code_ = ErrorCode::kOk;
+  std::string message_;
+  std::string field_;
+};
+
+inline Status InvalidArgument(std::string message, std::string field = {}) {
+  return Status(ErrorCode::kInvalidArgument, std::move(message), std::move(field));
+}
+inline Status Degenerate(std::string message, std::string field = {}) {
+  return Status(ErrorCode::kDegenerate, std::move(message), std::move(field));
+}
+
+// Either a T or a non-ok Status.
+template <typename T>
+class Result {
+ public:
+  Result(T value) : data_(std::move(value)) {}         // NOLINT(google-explicit-constructor)
+  Result(Status status) : data_(std::move(status)) {}  // NOLINT(google-explicit-constructor)
+
+  bool ok() const { return std::holds_alternative<T>(data_); }
+  const Status& status() const {
+    static const Status kOkStatus;
+    return ok() ? kOkStatus : std::get<Status>(data_);
+  }
+  T& value() & { return std::get<T>(data_); }
+  const T& value() const& { return std::get<T>(data_); }
+  T&& value() && { return std::get<T>(std::move(data_)); }
+  T* operator->() { return &value(); }
+  const T* operator->() const { return &value(); }
+  T& operator*() & { return value(); }
+  const T& operator*() const& { return value(); }
+
+ private:
+  std::variant<T, Status> data_;
+};
+
+}  // namespace surfdeform
+
+#define SURFDEFORM_RETURN_IF_ERROR(expr)   \
+  do {                                     \
+    ::surfdeform::Status status_ = (expr); \
+    if (!status_.ok()) return status_;     \
+  } while (false)

@@ -1,0 +1,55 @@
+// Parametric surfaces S(u, v), (u, v) in [0, 1]^2, with exact derivatives.
+//
+// Conventions (see DESIGN.md): u runs along the first index of a control or
+// sample grid, v along the second; grids are stored u-fastest
+// (points[i + nu * j]). The unit normal is N = Su x Sv / |Su x Sv|.
+//
+// Evaluation outside [0, 1]^2 is allowed and continues the surface smoothly
+// (analytic formulas, or the polynomial of the end span of a spline); the
+// distance computation uses it to follow geodesics that bulge past a border.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "engine/geometry_types.hpp"
+#include "engine/status.hpp"
+
+namespace surfdeform {
+
+// Position and partial derivatives at one parameter point. Derivatives beyond
+// the order asked for in Surface::Evaluate are left unset (zero).
+struct SurfacePoint {
+  Vec3 p = Vec3::Zero();
+  Vec3 su = Vec3::Zero();
+  Vec3 sv = Vec3::Zero();
+  Vec3 suu = Vec3::Zero();
+  Vec3 suv = Vec3::Zero();
+  Vec3 svv = Vec3::Zero();
+};
+
+// Unit normal Su x Sv / |Su x Sv|; zero where the normal vanishes.
+Vec3 UnitNormal(const SurfacePoint& s);
+
+class Surface {
+ public:
+  virtual ~Surface() = default;
+
+  // order: 0 = position only, 1 = and first derivatives, 2 = and second derivatives.
+  virtual SurfacePoint Evaluate(double u, double v, int order) const = 0;
+
+  // The kind as named in the API: "bezier", "cylinder", ...
+  virtual const char* Kind() const = 0;
+
+  // For developable kinds with a closed-form isometric unrolling (cylinder, cone):
+  // the flat position of (u, v), in surface units, in an arbitrary rigid frame.
+  // std::nullopt for every other kind: they are flattened numerically.
+  virtual std::optional<Vec2> ExactUnrolling(double /*u*/, double /*v*/) const {
+    return std::nullopt;
+  }
+
+  Vec3 Position(double u, double v) const { return Evaluate(u, v, 0).p; }
+};
+
+}  // namespace surfdeform

@@ -1,0 +1,60 @@
+#include "support/test_surfaces.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace surfdeform::testing {
+
+std::unique_ptr<Surface> MakeValid(const SurfaceSpec& spec) {
+  auto s = MakeSurface(spec);
+  EXPECT_TRUE(s.ok()) << s.status().ToString();
+  return s.ok() ? std::move(s).value() : nullptr;
+}
+
+BSplineSpec NurbsCone(double r0, double r1, double h, double angle_deg) {
+  const int arcs = static_cast<int>(std::ceil(angle_deg / 120.0 - 1e-9));
+  const double step = angle_deg / arcs * std::numbers::pi / 180.0;
+  BSplineSpec s;
+  s.rational = true;
+  s.degree_u = 2;
+  s.degree_v = 1;
+  s.count_u = 2 * arcs + 1;
+  s.count_v = 2;
+  s.knots_u = {0, 0, 0};
+  for (int a = 1; a < arcs; ++a) {
+    s.knots_u.push_back(static_cast<double>(a) / arcs);
+    s.knots_u.push_back(static_cast<double>(a) / arcs);
+  }
+  s.knots_u.insert(s.knots_u.end(), {1, 1, 1});
+  s.knots_v = {0, 0, 1, 1};
+  for (int ring = 0; ring < 2; ++ring) {
+    const double r = ring == 0 ? r0 : r1;
+    const double z = ring == 0 ? 0.0 : h;
+    for (int k = 0; k < s.count_u; ++k) {
+      const double theta = k * step / 2;
+      const bool middle = k % 2 == 1;
+      const double scale = middle ? 1.0 / std::cos(step / 2) : 1.0;
+      s.control_points.emplace_back(r * scale * std::cos(theta), r * scale * std::sin(theta), z);
+      s.weights.push_back(middle ? std::cos(step / 2) : 1.0);
+    }
+  }
+  return s;
+}
+
+GridSpec GridCylinder(double radius, double height, double angle_deg, int nu, int nv) {
+  GridSpec g;
+  g.nu = nu;
+  g.nv = nv;
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      const double theta = angle_deg * std::numbers::pi / 180.0 * i / (nu - 1);
+      g.points.emplace_back(radius * std::cos(theta), radius * std::sin(theta),
+                            height * j / (nv - 1));
+    }
+  }
+  return g;
+}
+
+}  // namespace surfdeform::testing

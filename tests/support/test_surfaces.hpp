@@ -1,0 +1,23 @@
+// Surfaces built in code for tests and benchmarks.
+#pragma once
+
+#include <memory>
+
+#include "engine/surface_spec.hpp"
+
+namespace surfdeform::testing {
+
+// MakeSurface for specs a test knows to be valid: a failure is a test failure
+// (reported through GoogleTest) and returns null.
+std::unique_ptr<Surface> MakeValid(const SurfaceSpec& spec);
+
+// The cone of radius r0 at z = 0 and r1 at z = h over angle_deg (at most 360,
+// from +X towards +Y) as an exact rational quadratic NURBS (arcs of at most
+// 120 degrees), linear in v.
+BSplineSpec NurbsCone(double r0, double r1, double h, double angle_deg);
+
+// A cylinder of the given radius and height over angle_deg as a `grid` of
+// nu x nv points on it.
+GridSpec GridCylinder(double radius, double height, double angle_deg, int nu, int nv);
+
+}  // namespace surfdeform::testing

@@ -1,0 +1,120 @@
+// Surface distances d_ij against closed forms.
+#include "engine/surface_distance.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine/surface_spec.hpp"
+#include "support/test_surfaces.hpp"
+
+namespace surfdeform {
+namespace {
+
+std::unique_ptr<Surface> Make(const SurfaceSpec& spec) { return testing::MakeValid(spec); }
+
+// Worst relative difference between d_ij and the distance of the exact
+// unrolled positions.
+double WorstAgainstUnrolling(const Surface& s, const SurfaceDistances& d) {
+  double worst = 0.0;
+  for (const GridEdge& e : d.edges) {
+    const int i0 = e.i % d.nu, j0 = e.i / d.nu, i1 = e.j % d.nu, j1 = e.j / d.nu;
+    const Vec2 a = *s.ExactUnrolling(i0 / (d.nu - 1.0), j0 / (d.nv - 1.0));
+    const Vec2 b = *s.ExactUnrolling(i1 / (d.nu - 1.0), j1 / (d.nv - 1.0));
+    worst = std::max(worst, std::abs(e.d - (a - b).norm()) / (a - b).norm());
+  }
+  return worst;
+}
+
+TEST(SurfaceDistance, EveryPairWithinRangeOnce) {
+  auto s = Make(WaveSpec{});
+  DistanceOptions o;
+  o.range = 2;
+  auto d = ComputeSurfaceDistances(*s, 7, 5, o);
+  ASSERT_TRUE(d.ok());
+  // Pairs within Chebyshev range 2 on a 7x5 grid, counted directly.
+  size_t expected = 0;
+  for (int a = 0; a < 35; ++a)
+    for (int b = a + 1; b < 35; ++b)
+      if (std::abs(a % 7 - b % 7) <= 2 && std::abs(a / 7 - b / 7) <= 2) ++expected;
+  EXPECT_EQ(d->edges.size(), expected);
+  for (const GridEdge& e : d->edges) {
+    EXPECT_LT(e.i, e.j);
+    EXPECT_EQ(e.j - e.i, e.di + 7 * e.dj);
+    EXPECT_EQ(e.ring, std::max(std::abs(e.di), std::abs(e.dj)));
+  }
+}
+
+TEST(SurfaceDistance, PlaneDistancesAreEuclidean) {
+  BezierSpec b;  // a planar patch with an uneven parameterisation
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) b.control_points.emplace_back(i * i / 3.0 + 0.2 * j, j * 0.8, 0);
+  auto s = Make(b);
+  auto d = ComputeSurfaceDistances(*s, 9, 9, {});
+  ASSERT_TRUE(d.ok());
+  for (const GridEdge& e : d->edges) {
+    const Vec3 pi = s->Position((e.i % 9) / 8.0, (e.i / 9) / 8.0);
+    const Vec3 pj = s->Position((e.j % 9) / 8.0, (e.j / 9) / 8.0);
+    EXPECT_NEAR(e.d, (pi - pj).norm(), 1e-6 * (pi - pj).norm());
+  }
+}
+
+TEST(SurfaceDistance, CylinderDistancesAreExact) {
+  auto s = Make(CylinderSpec{1.0, 2.0, 240.0, {}});
+  auto d = ComputeSurfaceDistances(*s, 16, 16, {});
+  ASSERT_TRUE(d.ok());
+  EXPECT_LT(WorstAgainstUnrolling(*s, *d), 1e-6);
+  EXPECT_EQ(d->relaxed_paths, 0);  // helices are geodesics already
+}
+
+TEST(SurfaceDistance, ConeDistancesAreGeodesicNotStraightSegments) {
+  auto s = Make(ConeSpec{1.0, 0.5, 1.0, 240.0, {}});
+  DistanceOptions straight;
+  straight.relax_steps = 0;
+  auto d0 = ComputeSurfaceDistances(*s, 16, 16, straight);
+  auto d1 = ComputeSurfaceDistances(*s, 16, 16, {});
+  ASSERT_TRUE(d0.ok() && d1.ok());
+  // The straight parameter segment overestimates by ~1e-2; the relaxed path
+  // matches the unrolled (exact geodesic) distance.
+  EXPECT_GT(WorstAgainstUnrolling(*s, *d0), 1e-3);
+  EXPECT_LT(WorstAgainstUnrolling(*s, *d1), 1e-5);
+  EXPECT_GT(d1->relaxed_paths, 0);
+}
+
+TEST(SurfaceDistance, ResultDoesNotDependOnThreadCount) {
+  auto s = Make(TorusSpec{});
+  DistanceOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  auto a = ComputeSurfaceDistances(*s, 23, 17, one);
+  auto b = ComputeSurfaceDistances(*s, 23, 17, two);
+  ASSERT_TRUE(a.ok() && b.ok());
+  ASSERT_EQ(a->edges.size(), b->edges.size());
+  for (size_t k = 0; k < a->edges.size(); ++k) {
+    EXPECT_EQ(a->edges[k].i, b->edges[k].i);
+    EXPECT_EQ(a->edges[k].d, b->edges[k].d);  // bit for bit
+  }
+}
+
+TEST(SurfaceDistance, CellAreasSumToTheSurfaceArea) {
+  auto s = Make(SphereSpec{2.0, 0, 90, 0, 60, {}});
+  auto d = ComputeSurfaceDistances(*s, 12, 12, {});
+  ASSERT_TRUE(d.ok());
+  double sum = 0;
+  for (double a : d->cell_areas) sum += a;
+  // Zone of a sphere: 2 pi R^2 (sin(lat1) - sin(lat0)) over a quarter of longitude.
+  const double exact = 0.25 * 2 * M_PI * 4.0 * std::sin(M_PI / 3);
+  EXPECT_NEAR(sum, exact, 2e-3 * exact);
+}
+
+TEST(SurfaceDistance, RejectsRangeOutOfBounds) {
+  auto s = Make(WaveSpec{});
+  DistanceOptions o;
+  o.range = 9;
+  auto d = ComputeSurfaceDistances(*s, 8, 8, o);
+  ASSERT_FALSE(d.ok());
+  EXPECT_EQ(d.status().field(), "range");
+}
+
+}  // namespace
+}  // namespace surfdeform
