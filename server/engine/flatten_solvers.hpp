@@ -41,9 +41,10 @@ struct LaplacianFactor {
   Eigen::MatrixXd wu, wv;            // eigenvectors of S_u, S_v
   Eigen::VectorXd ru, rv;            // D^-1/2 diagonals
   Eigen::MatrixXd inverse_spectrum;  // 1 / (1 - mu_u(a) mu_v(b)); 0 on the constant mode
-  // Solves L x = b for x with sum-zero right-hand sides given as nu x nv
-  // matrices (one per coordinate); the constant component of x is zero.
-  void Solve(Eigen::MatrixXd* bx, Eigen::MatrixXd* by) const;
+  // Solves L x = b in place for sum-zero right-hand sides given as the nu x nv
+  // blocks [b_x b_y] of a nu x 2nv matrix (one per coordinate); the constant
+  // component of x is zero. `scratch` is reused between calls.
+  void Solve(Eigen::MatrixXd* b, Eigen::MatrixXd* scratch) const;
 };
 
 // The solvers take the edges of the neighbourhood they minimise over (ring <= r).

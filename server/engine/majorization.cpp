@@ -48,51 +48,122 @@ std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range) {
   return f;
 }
 
-void LaplacianFactor::Solve(Eigen::MatrixXd* bx, Eigen::MatrixXd* by) const {
-  for (Eigen::MatrixXd* b : {bx, by}) {
-    Eigen::MatrixXd y = ru.asDiagonal() * (*b) * rv.asDiagonal();
-    Eigen::MatrixXd z = wu.transpose() * y * wv;
-    z.array() *= inverse_spectrum.array();
-    y.noalias() = wu * z * wv.transpose();
-    *b = ru.asDiagonal() * y * rv.asDiagonal();
+void LaplacianFactor::Solve(Eigen::MatrixXd* b, Eigen::MatrixXd* scratch) const {
+  Eigen::MatrixXd& y = *b;
+  Eigen::MatrixXd& z = *scratch;
+  const Eigen::VectorXd rv2 = rv.replicate(2, 1);
+  y = ru.asDiagonal() * y * rv2.asDiagonal();
+  z.noalias() = wu.transpose() * y;  // both coordinates in one product
+  for (int c = 0; c < 2; ++c) {
+    y.middleCols(c * nv, nv).noalias() = z.middleCols(c * nv, nv) * wv;
+    y.middleCols(c * nv, nv).array() *= inverse_spectrum.array();
+    z.middleCols(c * nv, nv).noalias() = y.middleCols(c * nv, nv) * wv.transpose();
   }
+  y.noalias() = wu * z;
+  y = ru.asDiagonal() * y * rv2.asDiagonal();
 }
 
+namespace {
+
+// B(X) X for the Guttman transform, (B(X) X)_i = sum_j d_ij / |X_i - X_j| (X_i - X_j),
+// written into `rhs` (x block then y block, like X), and the stress of X.
+double GuttmanRightHandSide(const std::vector<GridEdge>& edges, const Eigen::VectorXd& x, int n,
+                            Eigen::MatrixXd* rhs) {
+  rhs->setZero();
+  double* bx = rhs->data();
+  double* by = bx + n;
+  const double* px = x.data();
+  const double* py = px + n;
+  double stress = 0.0;
+  for (const GridEdge& e : edges) {
+    const double dx = px[e.i] - px[e.j];
+    const double dy = py[e.i] - py[e.j];
+    const double len = std::sqrt(dx * dx + dy * dy);
+    stress += (e.d - len) * (e.d - len);
+    if (!(len > 0.0)) continue;
+    const double w = e.d / len;
+    bx[e.i] += w * dx;
+    by[e.i] += w * dy;
+    bx[e.j] -= w * dx;
+    by[e.j] -= w * dy;
+  }
+  return stress;
+}
+
+}  // namespace
+
 SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<GridEdge>& edges,
-                             double tolerance, int max_iterations, std::vector<Vec2>* x) {
-  const int n = static_cast<int>(x->size());
-  std::vector<Vec2>& pos = *x;
-  Eigen::MatrixXd bx(factor.nu, factor.nv), by(factor.nu, factor.nv);
+                             double tolerance, int max_iterations, std::vector<Vec2>* positions) {
+  const int n = static_cast<int>(positions->size());
+  const int nu = factor.nu, nv = factor.nv;
+  // X as one vector: all x coordinates, then all y coordinates (the layout of
+  // the nu x 2nv right-hand side).
+  Eigen::VectorXd x(2 * n);
+  for (int i = 0; i < n; ++i) {
+    x(i) = (*positions)[i].x();
+    x(n + i) = (*positions)[i].y();
+  }
+  Eigen::MatrixXd rhs(nu, 2 * nv), scratch(nu, 2 * nv);
+  Eigen::Map<Eigen::VectorXd> g(rhs.data(), 2 * n);  // G(X) after the solve
+
+  // Anderson acceleration (type II, window kWindow) of the fixed-point map
+  // X -> G(X): the next X combines the last G values so as to cancel the last
+  // residuals G(X) - X in the least-squares sense. Safeguarded: a combination
+  // that raises the stress is dropped for the plain G of the previous X, whose
+  // stress majorization guarantees not to be higher.
+  constexpr int kWindow = 5;
+  std::vector<Eigen::VectorXd> hist_f, hist_g;  // residuals and G values, oldest first
+  Eigen::VectorXd plain_g;                      // G of the previous X
+  bool accelerated = false;
+
   SolveStats stats;
-  double stress = Stress(edges, pos);
   const double total = SquaredDistanceSum(edges);
-  for (int it = 0; it < max_iterations; ++it) {
-    // Guttman transform: L X' = B(X) X, (B(X) X)_i = sum_j d_ij / |X_i - X_j| (X_i - X_j).
-    bx.setZero();
-    by.setZero();
-    double* px = bx.data();
-    double* py = by.data();
-    for (const GridEdge& e : edges) {
-      const Vec2 diff = pos[e.i] - pos[e.j];
-      const double len = diff.norm();
-      if (!(len > 0.0)) continue;
-      const Vec2 c = (e.d / len) * diff;
-      px[e.i] += c.x();
-      py[e.i] += c.y();
-      px[e.j] -= c.x();
-      py[e.j] -= c.y();
+  double previous = 0.0;
+  for (int it = 0;; ++it) {
+    double stress = GuttmanRightHandSide(edges, x, n, &rhs);
+    if (accelerated && !(stress <= previous)) {
+      x = plain_g;  // reject the accelerated step
+      hist_f.clear();
+      hist_g.clear();
+      stress = GuttmanRightHandSide(edges, x, n, &rhs);
     }
-    factor.Solve(&bx, &by);
-    for (int i = 0; i < n; ++i) pos[i] = Vec2(px[i], py[i]);
-    const double next = Stress(edges, pos);
-    stats.iterations = it + 1;
-    const bool settled = StressSettled(stress, next, tolerance, total);
-    stress = next;
-    if (settled) {
+    if (it > 0 && StressSettled(previous, stress, tolerance, total)) {
       stats.converged = true;
       break;
     }
+    if (it == max_iterations) break;
+    previous = stress;
+    factor.Solve(&rhs, &scratch);
+    stats.iterations = it + 1;
+
+    hist_f.push_back(g - x);
+    hist_g.push_back(g);
+    if (static_cast<int>(hist_f.size()) > kWindow + 1) {
+      hist_f.erase(hist_f.begin());
+      hist_g.erase(hist_g.begin());
+    }
+    plain_g = g;
+    const int m = static_cast<int>(hist_f.size()) - 1;
+    accelerated = m > 0;
+    if (!accelerated) {
+      x = g;
+      continue;
+    }
+    Eigen::MatrixXd df(2 * n, m);
+    for (int k = 0; k < m; ++k) df.col(k) = hist_f[k + 1] - hist_f[k];
+    Eigen::MatrixXd normal = df.transpose() * df;
+    normal.diagonal().array() += 1e-12 * normal.diagonal().maxCoeff() + 1e-300;
+    const Eigen::VectorXd gamma = normal.ldlt().solve(df.transpose() * hist_f.back());
+    x = g;
+    for (int k = 0; k < m; ++k) x -= gamma(k) * (hist_g[k + 1] - hist_g[k]);
+    if (!x.allFinite()) {
+      x = g;
+      accelerated = false;
+      hist_f.clear();
+      hist_g.clear();
+    }
   }
+  for (int i = 0; i < n; ++i) (*positions)[i] = Vec2(x(i), x(n + i));
   return stats;
 }
 

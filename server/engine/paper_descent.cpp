@@ -27,27 +27,29 @@ SolveStats SolvePaperDescent(const std::vector<GridEdge>& edges, double step, do
   }
   std::vector<Vec2> grad(n);
   SolveStats stats;
-  double stress = Stress(edges, pos);
   const double total = SquaredDistanceSum(edges);
-  for (int it = 0; it < max_iterations; ++it) {
+  double previous = 0.0;
+  for (int it = 0;; ++it) {
+    // The gradient pass also measures the stress of X, which decides whether to go on.
     std::fill(grad.begin(), grad.end(), Vec2::Zero());
+    double stress = 0.0;
     for (const GridEdge& e : edges) {
       const Vec2 diff = pos[e.i] - pos[e.j];
       const double len = diff.norm();
+      stress += (e.d - len) * (e.d - len);
       if (!(len > 0.0)) continue;
       const Vec2 g = (4.0 * (len - e.d) / len) * diff;
       grad[e.i] += g;
       grad[e.j] -= g;
     }
-    for (int i = 0; i < n; ++i) pos[i] -= step * grad[i];
-    stats.iterations = it + 1;
-    const double next = Stress(edges, pos);
-    const bool settled = StressSettled(stress, next, tolerance, total);
-    stress = next;
-    if (settled) {
+    if (it > 0 && StressSettled(previous, stress, tolerance, total)) {
       stats.converged = true;
       break;
     }
+    if (it == max_iterations || !std::isfinite(stress)) break;
+    previous = stress;
+    for (int i = 0; i < n; ++i) pos[i] -= step * grad[i];
+    stats.iterations = it + 1;
   }
   return stats;
 }

@@ -13,21 +13,46 @@ namespace {
 using Mat32 = Eigen::Matrix<double, 3, 2>;
 
 struct PathPoint {
-  Vec2 q;   // parameters
-  Vec3 p;   // position
-  Mat32 j;  // [Su Sv]
-  Vec3 n;   // unit normal
+  Vec2 q;         // parameters
+  Vec3 p;         // position
+  Mat32 j;        // [Su Sv]
+  Vec3 n;         // unit normal
+  int base = -1;  // the lattice point it started from
 };
 
-PathPoint MakePathPoint(const Surface& surface, const Vec2& q) {
-  const SurfacePoint s = surface.Evaluate(q.x(), q.y(), 1);
+// A lattice point: the surface and its derivatives up to second order.
+struct LatticePoint {
+  PathPoint first;  // position, first derivatives, normal
+  Vec3 suu, suv, svv;
+};
+
+PathPoint MakePathPoint(const SurfacePoint& s, const Vec2& q, int base) {
   PathPoint pp;
   pp.q = q;
   pp.p = s.p;
   pp.j.col(0) = s.su;
   pp.j.col(1) = s.sv;
   pp.n = UnitNormal(s);
+  pp.base = base;
   return pp;
+}
+
+// The path point at parameters q near lattice point `l`: by the second-order
+// Taylor expansion there when q is within a quarter lattice step (error
+// O(|q - q_l|^3), far below the distances' accuracy), else evaluated.
+PathPoint MovedPathPoint(const Surface& surface, const LatticePoint& l, int base, const Vec2& q,
+                         double hu, double hv) {
+  const Vec2 d = q - l.first.q;
+  if (std::abs(d.x()) > 0.25 * hu || std::abs(d.y()) > 0.25 * hv) {
+    return MakePathPoint(surface.Evaluate(q.x(), q.y(), 1), q, base);
+  }
+  SurfacePoint s;
+  const Vec3 su = l.first.j.col(0), sv = l.first.j.col(1);
+  s.su = su + l.suu * d.x() + l.suv * d.y();
+  s.sv = sv + l.suv * d.x() + l.svv * d.y();
+  s.p = l.first.p + su * d.x() + sv * d.y() +
+        0.5 * (l.suu * (d.x() * d.x()) + 2.0 * l.suv * (d.x() * d.y()) + l.svv * (d.y() * d.y()));
+  return MakePathPoint(s, q, base);
 }
 
 // atan2(s, c) for s >= 0, s^2 + c^2 = 1: the asin series for the small angles
@@ -192,11 +217,17 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
   const double hu = 1.0 / (lu - 1);
   const double hv = 1.0 / (lv - 1);
 
-  std::vector<PathPoint> lattice(static_cast<size_t>(lu) * lv);
+  std::vector<LatticePoint> lattice(static_cast<size_t>(lu) * lv);
   ParallelFor(lv, threads, [&](int b0, int b1) {
     for (int b = b0; b < b1; ++b) {
       for (int a = 0; a < lu; ++a) {
-        lattice[a + static_cast<size_t>(lu) * b] = MakePathPoint(surface, Vec2(a * hu, b * hv));
+        const int index = a + lu * b;
+        const SurfacePoint s = surface.Evaluate(a * hu, b * hv, 2);
+        LatticePoint& l = lattice[index];
+        l.first = MakePathPoint(s, Vec2(a * hu, b * hv), index);
+        l.suu = s.suu;
+        l.suv = s.suv;
+        l.svv = s.svv;
       }
     }
   });
@@ -244,7 +275,8 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
         // f sub-segments of (di, dj) / f cells: each ends on a lattice point.
         path.clear();
         for (int k = 0; k <= f; ++k) {
-          path.push_back(lattice[(f * i + k * di) + static_cast<size_t>(lu) * (f * j + k * dj)]);
+          path.push_back(
+              lattice[(f * i + k * di) + static_cast<size_t>(lu) * (f * j + k * dj)].first);
         }
         bool was_relaxed = false;
         double energy = PathEnergy(path);
@@ -258,7 +290,9 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
           if (!(moved < 0.5 * scale)) break;  // not a local correction: keep the path
           trial = path;
           for (size_t k = 0; k < step.size(); ++k) {
-            trial[k + 1] = MakePathPoint(surface, path[k + 1].q + step[k]);
+            const PathPoint& from = path[k + 1];
+            trial[k + 1] =
+                MovedPathPoint(surface, lattice[from.base], from.base, from.q + step[k], hu, hv);
           }
           const double trial_energy = PathEnergy(trial);
           if (!(trial_energy < energy)) break;  // also rejects NaN
@@ -299,7 +333,7 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
       double area = 0.0;
       for (int b = 0; b <= f; ++b) {
         for (int a = 0; a <= f; ++a) {
-          const PathPoint& pp = lattice[(f * i + a) + static_cast<size_t>(lu) * (f * j + b)];
+          const PathPoint& pp = lattice[(f * i + a) + static_cast<size_t>(lu) * (f * j + b)].first;
           const double w = (a == 0 || a == f ? 0.5 : 1.0) * (b == 0 || b == f ? 0.5 : 1.0);
           area += w * pp.j.col(0).cross(pp.j.col(1)).norm();
         }

@@ -105,12 +105,15 @@ TEST(FlattenQuality, SpectralLaplacianSolvesTheGraphLaplacian) {
   Eigen::VectorXd x_true = Eigen::VectorXd::LinSpaced(n, -1, 2).array().sin();
   x_true.array() -= x_true.mean();
   Eigen::VectorXd rhs = l * x_true;
-  Eigen::MatrixXd bx = Eigen::Map<Eigen::MatrixXd>(rhs.data(), nu, nv);
-  Eigen::MatrixXd by = bx;
+  Eigen::MatrixXd b(nu, 2 * nv), scratch;
+  b.leftCols(nv) = Eigen::Map<Eigen::MatrixXd>(rhs.data(), nu, nv);
+  b.rightCols(nv) = -2.0 * b.leftCols(nv);
   auto f = FactorLaplacian(nu, nv, r);
-  f->Solve(&bx, &by);
-  const Eigen::VectorXd got = Eigen::Map<Eigen::VectorXd>(bx.data(), n);
-  EXPECT_LT((got.array() - got.mean() - x_true.array()).abs().maxCoeff(), 1e-12);
+  f->Solve(&b, &scratch);
+  const Eigen::VectorXd got_x = Eigen::Map<Eigen::VectorXd>(b.data(), n);
+  const Eigen::VectorXd got_y = Eigen::Map<Eigen::VectorXd>(b.data() + n, n);
+  EXPECT_LT((got_x.array() - got_x.mean() - x_true.array()).abs().maxCoeff(), 1e-12);
+  EXPECT_LT((got_y.array() - got_y.mean() + 2.0 * x_true.array()).abs().maxCoeff(), 1e-12);
 }
 
 }  // namespace
