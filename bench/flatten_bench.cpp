@@ -154,7 +154,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     const Surface& s = **built;
-    const int reps = c.n >= 128 ? std::max(1, repeat / 2) : repeat;
+    const int reps = c.n >= 256 ? 1 : c.n >= 128 ? std::max(1, repeat / 2) : repeat;
     const Measured ours = RunEngine(s, c.n, {}, reps);
     if (!ours.ran) {
       std::fprintf(stderr, "majorization failed: %s\n", ours.note.c_str());

@@ -67,6 +67,10 @@ Status ValidateFlattenOptions(const FlattenOptions& o) {
         "must be from 0 (automatic) to 16, got " + std::to_string(o.lattice_factor),
         "lattice_factor");
   }
+  if (o.threads < 0 || o.threads > 256) {
+    return InvalidArgument("must be from 0 (one per core) to 256, got " + std::to_string(o.threads),
+                           "threads");
+  }
   if (o.relax_steps < 0 || o.relax_steps > 8) {
     return InvalidArgument("must be from 0 to 8, got " + std::to_string(o.relax_steps),
                            "relax_steps");
@@ -99,6 +103,7 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
   dopt.range = std::max(options_.range, 3);
   dopt.lattice_factor = options_.lattice_factor;
   dopt.relax_steps = options_.relax_steps;
+  dopt.threads = options_.threads;
   auto dist = ComputeSurfaceDistances(surface, nu, nv, dopt);
   if (!dist.ok()) return dist.status();
   FlatSheet sheet;
@@ -138,7 +143,8 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
         lap = internal::FactorLaplacian(nu, nv, options_.range);
       }
       const int max_it = options_.max_iterations > 0 ? options_.max_iterations : 3000;
-      stats = internal::SolveMajorization(*lap, edges, options_.tolerance, max_it, &x);
+      stats = internal::SolveMajorization(*lap, edges, options_.tolerance, max_it, options_.threads,
+                                          &x);
     } else {
       const int max_it = options_.max_iterations > 0 ? options_.max_iterations : 200000;
       stats = internal::SolvePaperDescent(edges, options_.step, options_.tolerance, max_it, &x);

@@ -36,15 +36,20 @@ double SquaredDistanceSum(const std::vector<GridEdge>& edges);
 // eigendecompositions (nu x nu and nv x nv) diagonalise L, and a solve is four
 // small matrix products: O(nu nv (nu + nv)) with no fill-in. Depends only on
 // (nu, nv, range).
-struct LaplacianFactor {
+class LaplacianFactor {
+ public:
   int nu = 0, nv = 0, range = 0;
   Eigen::MatrixXd wu, wv;            // eigenvectors of S_u, S_v
   Eigen::VectorXd ru, rv;            // D^-1/2 diagonals
   Eigen::MatrixXd inverse_spectrum;  // 1 / (1 - mu_u(a) mu_v(b)); 0 on the constant mode
   // Solves L x = b in place for sum-zero right-hand sides given as the nu x nv
   // blocks [b_x b_y] of a nu x 2nv matrix (one per coordinate); the constant
-  // component of x is zero. `scratch` is reused between calls.
-  void Solve(Eigen::MatrixXd* b, Eigen::MatrixXd* scratch) const;
+  // component of x is zero. With threads > 1 the coordinates are solved in
+  // parallel (same result).
+  void Solve(Eigen::MatrixXd* b, int threads) const;
+
+ private:
+  void SolveBlock(Eigen::Ref<Eigen::MatrixXd> y, Eigen::MatrixXd* scratch) const;
 };
 
 // The solvers take the edges of the neighbourhood they minimise over (ring <= r).
@@ -52,8 +57,11 @@ struct LaplacianFactor {
 std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range);
 
 // Stress majorization from the layout in `x` (n points), in place.
+// threads: workers for the large passes (0 = one per core); results do not
+// depend on it.
 SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<GridEdge>& edges,
-                             double tolerance, int max_iterations, std::vector<Vec2>* x);
+                             double tolerance, int max_iterations, int threads,
+                             std::vector<Vec2>* x);
 
 // The paper's gradient descent from the layout in `x`, in place. step <= 0: automatic.
 SolveStats SolvePaperDescent(const std::vector<GridEdge>& edges, double step, double tolerance,

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/flatten_solvers.hpp"
+#include "engine/parallel.hpp"
 
 namespace surfdeform::internal {
 
@@ -48,34 +49,40 @@ std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range) {
   return f;
 }
 
-void LaplacianFactor::Solve(Eigen::MatrixXd* b, Eigen::MatrixXd* scratch) const {
-  Eigen::MatrixXd& y = *b;
+void LaplacianFactor::SolveBlock(Eigen::Ref<Eigen::MatrixXd> y, Eigen::MatrixXd* scratch) const {
   Eigen::MatrixXd& z = *scratch;
-  const Eigen::VectorXd rv2 = rv.replicate(2, 1);
-  y = ru.asDiagonal() * y * rv2.asDiagonal();
-  z.noalias() = wu.transpose() * y;  // both coordinates in one product
-  for (int c = 0; c < 2; ++c) {
-    y.middleCols(c * nv, nv).noalias() = z.middleCols(c * nv, nv) * wv;
-    y.middleCols(c * nv, nv).array() *= inverse_spectrum.array();
-    z.middleCols(c * nv, nv).noalias() = y.middleCols(c * nv, nv) * wv.transpose();
-  }
+  y = ru.asDiagonal() * y * rv.asDiagonal();
+  z.noalias() = wu.transpose() * y;
+  y.noalias() = z * wv;
+  y.array() *= inverse_spectrum.array();
+  z.noalias() = y * wv.transpose();
   y.noalias() = wu * z;
-  y = ru.asDiagonal() * y * rv2.asDiagonal();
+  y = ru.asDiagonal() * y * rv.asDiagonal();
+}
+
+void LaplacianFactor::Solve(Eigen::MatrixXd* b, int threads) const {
+  // Below ~64 x 64 samples a thread costs more than it saves.
+  const int workers = nu * nv >= 4096 ? std::min(threads, 2) : 1;
+  ParallelChunks(2, workers, [&](int, int c0, int c1) {
+    Eigen::MatrixXd scratch(nu, nv);
+    for (int c = c0; c < c1; ++c) SolveBlock(b->middleCols(c * nv, nv), &scratch);
+  });
 }
 
 namespace {
 
 // B(X) X for the Guttman transform, (B(X) X)_i = sum_j d_ij / |X_i - X_j| (X_i - X_j),
-// written into `rhs` (x block then y block, like X), and the stress of X.
-double GuttmanRightHandSide(const std::vector<GridEdge>& edges, const Eigen::VectorXd& x, int n,
-                            Eigen::MatrixXd* rhs) {
-  rhs->setZero();
+// over edges [begin, end), added into `rhs` (x block then y block, like X);
+// returns their stress.
+double GuttmanTerms(const std::vector<GridEdge>& edges, size_t begin, size_t end,
+                    const Eigen::VectorXd& x, int n, Eigen::MatrixXd* rhs) {
   double* bx = rhs->data();
   double* by = bx + n;
   const double* px = x.data();
   const double* py = px + n;
   double stress = 0.0;
-  for (const GridEdge& e : edges) {
+  for (size_t k = begin; k < end; ++k) {
+    const GridEdge& e = edges[k];
     const double dx = px[e.i] - px[e.j];
     const double dy = py[e.i] - py[e.j];
     const double len = std::sqrt(dx * dx + dy * dy);
@@ -90,10 +97,45 @@ double GuttmanRightHandSide(const std::vector<GridEdge>& edges, const Eigen::Vec
   return stress;
 }
 
+// All of B(X) X into `rhs` and the stress of X. Large edge sets are split over
+// `threads` partial sums, added in a fixed order: the result does not depend
+// on timing.
+class GuttmanRightHandSide {
+ public:
+  GuttmanRightHandSide(const std::vector<GridEdge>& edges, int nu, int nv, int threads)
+      : edges_(edges), chunks_(edges.size() >= 50000 ? threads : 1) {
+    partial_.assign(chunks_ - 1, Eigen::MatrixXd(nu, 2 * nv));
+    stress_.assign(chunks_, 0.0);
+  }
+
+  double operator()(const Eigen::VectorXd& x, int n, Eigen::MatrixXd* rhs) {
+    const int count = static_cast<int>(edges_.size());
+    ParallelChunks(count, chunks_, [&](int chunk, int begin, int end) {
+      Eigen::MatrixXd* out = chunk == 0 ? rhs : &partial_[chunk - 1];
+      out->setZero();
+      stress_[chunk] = GuttmanTerms(edges_, begin, end, x, n, out);
+    });
+    double stress = stress_[0];
+    for (int c = 1; c < chunks_; ++c) {
+      *rhs += partial_[c - 1];
+      stress += stress_[c];
+    }
+    return stress;
+  }
+
+ private:
+  const std::vector<GridEdge>& edges_;
+  int chunks_;
+  std::vector<Eigen::MatrixXd> partial_;
+  std::vector<double> stress_;
+};
+
 }  // namespace
 
 SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<GridEdge>& edges,
-                             double tolerance, int max_iterations, std::vector<Vec2>* positions) {
+                             double tolerance, int max_iterations, int threads,
+                             std::vector<Vec2>* positions) {
+  threads = ResolveThreads(threads);
   const int n = static_cast<int>(positions->size());
   const int nu = factor.nu, nv = factor.nv;
   // X as one vector: all x coordinates, then all y coordinates (the layout of
@@ -103,7 +145,8 @@ SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<Gr
     x(i) = (*positions)[i].x();
     x(n + i) = (*positions)[i].y();
   }
-  Eigen::MatrixXd rhs(nu, 2 * nv), scratch(nu, 2 * nv);
+  Eigen::MatrixXd rhs(nu, 2 * nv);
+  GuttmanRightHandSide right_hand_side(edges, nu, nv, threads);
   Eigen::Map<Eigen::VectorXd> g(rhs.data(), 2 * n);  // G(X) after the solve
 
   // Anderson acceleration (type II, window kWindow) of the fixed-point map
@@ -120,12 +163,12 @@ SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<Gr
   const double total = SquaredDistanceSum(edges);
   double previous = 0.0;
   for (int it = 0;; ++it) {
-    double stress = GuttmanRightHandSide(edges, x, n, &rhs);
+    double stress = right_hand_side(x, n, &rhs);
     if (accelerated && !(stress <= previous)) {
       x = plain_g;  // reject the accelerated step
       hist_f.clear();
       hist_g.clear();
-      stress = GuttmanRightHandSide(edges, x, n, &rhs);
+      stress = right_hand_side(x, n, &rhs);
     }
     if (it > 0 && StressSettled(previous, stress, tolerance, total)) {
       stats.converged = true;
@@ -133,7 +176,7 @@ SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<Gr
     }
     if (it == max_iterations) break;
     previous = stress;
-    factor.Solve(&rhs, &scratch);
+    factor.Solve(&rhs, threads);
     stats.iterations = it + 1;
 
     hist_f.push_back(g - x);

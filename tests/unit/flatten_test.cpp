@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <sstream>
 
 #include "engine/surface_spec.hpp"
 #include "support/sheet_compare.hpp"
@@ -92,7 +93,9 @@ TEST(Flatten, NurbsConeFlattensNearlyIsometrically) {
   const double err =
       testing::RelativeRigidError(UnrollConePoints(sheet.points, r0, r1, h), sheet.flat);
   EXPECT_LT(err, 5e-4);
-  RecordProperty("relative_error", std::to_string(err));
+  std::ostringstream measured;
+  measured << std::scientific << err;
+  RecordProperty("relative_error", measured.str());
   EXPECT_LT(sheet.quality.stress, 1e-4);
   EXPECT_EQ(sheet.quality.folded_cells, 0);
 }
