@@ -5,7 +5,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSURFDEFORM_BUILD_TESTS=OFF \
-  -DSURFDEFORM_BUILD_BENCH=OFF > /dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build build --target surfdeform-demo
 exec ./build/server/surfdeform-demo "$@"
