@@ -62,6 +62,23 @@ class RuledRevolution final : public Surface {
     return Vec2(dist * std::cos(phi), dist * std::sin(phi));
   }
 
+  std::optional<Vec2> InverseUnrolling(const Vec2& flat) const override {
+    const double dr = r1_ - r0_;
+    if (dr == 0.0) return Vec2(flat.x() / (r0_ * span_), flat.y() / h_);
+    const double slant = std::hypot(h_, dr);
+    const double sector = span_ * std::abs(dr) / slant;  // unrolled angle, < 2 pi
+    // The angle measured from the sector's middle: continuous over the sector
+    // and past it up to half a turn from the middle (unrolled sectors are less
+    // than a full turn wide).
+    const double mid = 0.5 * sector;
+    const Vec2 m(std::cos(mid), std::sin(mid));
+    const double phi = mid + std::atan2(m.x() * flat.y() - m.y() * flat.x(), m.dot(flat));
+    const double dist = flat.norm();
+    const double v_apex = -r0_ / dr;
+    const double v = dr > 0.0 ? v_apex + dist / slant : v_apex - dist / slant;
+    return Vec2(phi / sector, v);
+  }
+
  private:
   const char* kind_;
   double r0_, r1_, h_, span_;

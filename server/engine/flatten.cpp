@@ -160,7 +160,7 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
                     "choose a smaller step");
     }
   }
-  internal::Canonicalize(nu, nv, &x);
+  internal::Canonicalize(nu, nv, &x, &sheet.frame_linear, &sheet.frame_offset);
   sheet.quality.solve_ms = MsSince(ts);
   internal::MeasureQuality(*dist, x, &sheet.quality);
   if (sheet.quality.folded_cells > 0) {

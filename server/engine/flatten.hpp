@@ -79,6 +79,11 @@ struct FlatSheet {
   std::vector<Vec3> normals;  // unit surface normals at the samples
   std::vector<Vec2> flat;     // flat positions of the samples, canonical frame
   std::string method;         // "majorization", "paper" or "exact"
+  // canonical = frame_linear * solver's + frame_offset (a rotation, and a
+  // reflection if the solver's layout was mirrored). With method "exact", maps
+  // Surface::ExactUnrolling into this sheet.
+  Eigen::Matrix2d frame_linear = Eigen::Matrix2d::Identity();
+  Vec2 frame_offset = Vec2::Zero();
   FlattenQuality quality;
 };
 

@@ -17,16 +17,19 @@ double QuadArea(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
 
 }  // namespace
 
-void Canonicalize(int nu, int nv, std::vector<Vec2>* x) {
+void Canonicalize(int nu, int nv, std::vector<Vec2>* x, Eigen::Matrix2d* linear_out,
+                  Vec2* offset_out) {
   std::vector<Vec2>& p = *x;
   const Vec2 origin = p[0];
   for (Vec2& q : p) q -= origin;
   const Vec2 axis = p[1];  // sample (1, 0)
   const double len = axis.norm();
+  Eigen::Matrix2d linear = Eigen::Matrix2d::Identity();
   if (len > 0.0) {
     const double c = axis.x() / len;
     const double s = axis.y() / len;
-    for (Vec2& q : p) q = Vec2(c * q.x() + s * q.y(), -s * q.x() + c * q.y());
+    linear << c, s, -s, c;
+    for (Vec2& q : p) q = linear * q;
   }
   double signed_area = 0.0;
   for (int j = 0; j + 1 < nv; ++j) {
@@ -37,7 +40,10 @@ void Canonicalize(int nu, int nv, std::vector<Vec2>* x) {
   }
   if (signed_area < 0.0) {
     for (Vec2& q : p) q.y() = -q.y();
+    linear.row(1) *= -1.0;
   }
+  if (linear_out != nullptr) *linear_out = linear;
+  if (offset_out != nullptr) *offset_out = -(linear * origin);
 }
 
 void MeasureQuality(const SurfaceDistances& dist, const std::vector<Vec2>& x, FlattenQuality* q) {

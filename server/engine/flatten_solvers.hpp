@@ -70,8 +70,10 @@ SolveStats SolvePaperDescent(const std::vector<GridEdge>& edges, double step, do
 // Half the paper's C: sum over the edges (each pair once) of (d - |X_i - X_j|)^2.
 double Stress(const std::vector<GridEdge>& edges, const std::vector<Vec2>& x);
 
-// Rigid motion (and reflection if needed) to the canonical frame; see flatten.hpp.
-void Canonicalize(int nu, int nv, std::vector<Vec2>* x);
+// Rigid motion (and reflection if needed) to the canonical frame; see
+// flatten.hpp. Reports it as canonical = linear * old + offset when asked.
+void Canonicalize(int nu, int nv, std::vector<Vec2>* x, Eigen::Matrix2d* linear = nullptr,
+                  Vec2* offset = nullptr);
 
 // Fills stress, edge error, area ratios and folded cells.
 void MeasureQuality(const SurfaceDistances& dist, const std::vector<Vec2>& x,

@@ -14,6 +14,8 @@ const char* ErrorCodeName(ErrorCode code) {
       return "limit_exceeded";
     case ErrorCode::kNotConverged:
       return "not_converged";
+    case ErrorCode::kOutsideSheet:
+      return "outside_sheet";
     case ErrorCode::kInternal:
       return "internal";
   }

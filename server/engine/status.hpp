@@ -20,6 +20,7 @@ enum class ErrorCode {
   kDegenerate,       // well-formed but geometrically unusable (zero radius, vanishing normal)
   kLimitExceeded,    // input larger than a published limit
   kNotConverged,     // a solver did not reach a usable result (e.g. folded cells remain)
+  kOutsideSheet,     // a model's footprint leaves the flat sheet
   kInternal,         // a bug: never caused by input
 };
 

@@ -49,6 +49,10 @@ class Surface {
     return std::nullopt;
   }
 
+  // The inverse of ExactUnrolling: the parameters of a flat point in the same
+  // frame (continued past [0, 1]^2 smoothly). std::nullopt where there is none.
+  virtual std::optional<Vec2> InverseUnrolling(const Vec2& /*flat*/) const { return std::nullopt; }
+
   Vec3 Position(double u, double v) const { return Evaluate(u, v, 0).p; }
 };
 

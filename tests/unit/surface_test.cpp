@@ -192,3 +192,26 @@ TEST(Surface, PlanarBezierIsItsBilinearMap) {
 
 }  // namespace
 }  // namespace surfdeform
+
+namespace surfdeform {
+namespace {
+
+TEST(Surface, InverseUnrollingInvertsTheUnrolling) {
+  // A flat cone (unrolled sector wider than a half turn) and a cylinder.
+  for (const SurfaceSpec& spec : {SurfaceSpec(ConeSpec{2.0, 0.2, 0.3, 350.0, {}}),
+                                  SurfaceSpec(ConeSpec{0.5, 1.5, 2.0, 120.0, {}}),
+                                  SurfaceSpec(CylinderSpec{1.5, 2.0, 300.0, {}})}) {
+    auto s = testing::MakeValid(spec);
+    for (double u : {-0.01, 0.0, 0.3, 0.99, 1.01}) {  // the 345-degree sector: only just past it
+      for (double v : {-0.05, 0.0, 0.5, 1.0}) {
+        const Vec2 flat = *s->ExactUnrolling(u, v);
+        const Vec2 back = *s->InverseUnrolling(flat);
+        EXPECT_LT((back - Vec2(u, v)).norm(), 1e-12) << s->Kind() << " " << u << "," << v;
+      }
+    }
+  }
+  EXPECT_FALSE(testing::MakeValid(WaveSpec{})->InverseUnrolling(Vec2(0, 0)).has_value());
+}
+
+}  // namespace
+}  // namespace surfdeform

@@ -1,0 +1,159 @@
+#include "engine/flat_locator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace surfdeform {
+namespace {
+
+double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Solves p = a + s e + t f + s t g for (s, t), the inverse of the bilinear map
+// of the quad a (0,0), b (1,0), c (1,1), d (0,1): eliminating s leaves
+// k2 t^2 + k1 t + k0 = 0. Returns false when no root lies in the cell (with a
+// relative tolerance).
+bool InverseBilinear(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d,
+                     double* s_out, double* t_out) {
+  const Vec2 e = b - a, f = d - a, g = a - b + c - d, h = p - a;
+  const double k2 = Cross(g, f);
+  const double k1 = Cross(e, f) + Cross(h, g);
+  const double k0 = Cross(h, e);
+  constexpr double kTol = 1e-9;
+  const double scale = std::abs(Cross(e, f)) + std::abs(Cross(c - b, c - d));
+  auto s_of = [&](double t) {
+    const Vec2 den = e + g * t;
+    const Vec2 num = h - f * t;
+    return std::abs(den.x()) >= std::abs(den.y()) ? num.x() / den.x() : num.y() / den.y();
+  };
+  auto accept = [&](double t) {
+    if (!(t >= -kTol && t <= 1.0 + kTol)) return false;
+    const double s = s_of(t);
+    if (!(s >= -kTol && s <= 1.0 + kTol)) return false;
+    *s_out = std::clamp(s, 0.0, 1.0);
+    *t_out = std::clamp(t, 0.0, 1.0);
+    return true;
+  };
+  if (std::abs(k2) <= 1e-12 * scale) {  // a parallelogram: linear
+    if (k1 == 0.0) return false;
+    return accept(-k0 / k1);
+  }
+  const double disc = k1 * k1 - 4.0 * k0 * k2;
+  if (disc < 0.0) return false;
+  // The numerically stable pair of roots.
+  const double q = -0.5 * (k1 + std::copysign(std::sqrt(disc), k1));
+  const double t1 = q / k2;
+  const double t2 = q != 0.0 ? k0 / q : t1;
+  return accept(t1) || accept(t2);
+}
+
+}  // namespace
+
+FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv), flat_(sheet.flat) {
+  for (const Vec2& p : flat_) bounds_.extend(p);
+  const int cells = (nu_ - 1) * (nv_ - 1);
+  const Vec2 size = bounds_.sizes().cwiseMax(1e-300);
+  // About one cell per bucket, buckets roughly square.
+  const double per_side = std::sqrt(static_cast<double>(cells) * size.x() / size.y());
+  bx_ = std::clamp(static_cast<int>(std::ceil(per_side)), 1, 4096);
+  by_ = std::clamp(static_cast<int>(std::ceil(cells / static_cast<double>(bx_))), 1, 4096);
+  bucket_size_ = Vec2(size.x() / bx_, size.y() / by_);
+  auto bucket_range = [&](int i, int j, int* x0, int* x1, int* y0, int* y1) {
+    Eigen::AlignedBox2d box;
+    box.extend(Corner(i, j)).extend(Corner(i + 1, j));
+    box.extend(Corner(i + 1, j + 1)).extend(Corner(i, j + 1));
+    const Vec2 lo = (box.min() - bounds_.min()).cwiseQuotient(bucket_size_);
+    const Vec2 hi = (box.max() - bounds_.min()).cwiseQuotient(bucket_size_);
+    *x0 = std::clamp(static_cast<int>(std::floor(lo.x())), 0, bx_ - 1);
+    *x1 = std::clamp(static_cast<int>(std::floor(hi.x())), 0, bx_ - 1);
+    *y0 = std::clamp(static_cast<int>(std::floor(lo.y())), 0, by_ - 1);
+    *y1 = std::clamp(static_cast<int>(std::floor(hi.y())), 0, by_ - 1);
+  };
+  std::vector<int> count(static_cast<size_t>(bx_) * by_ + 1, 0);
+  for (int j = 0; j + 1 < nv_; ++j) {
+    for (int i = 0; i + 1 < nu_; ++i) {
+      int x0, x1, y0, y1;
+      bucket_range(i, j, &x0, &x1, &y0, &y1);
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) ++count[x + bx_ * y + 1];
+    }
+  }
+  for (size_t b = 1; b < count.size(); ++b) count[b] += count[b - 1];
+  bucket_start_ = count;
+  bucket_cells_.resize(count.back());
+  for (int j = 0; j + 1 < nv_; ++j) {
+    for (int i = 0; i + 1 < nu_; ++i) {
+      int x0, x1, y0, y1;
+      bucket_range(i, j, &x0, &x1, &y0, &y1);
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) bucket_cells_[count[x + bx_ * y]++] = i + (nu_ - 1) * j;
+    }
+  }
+}
+
+bool FlatLocator::Locate(const Vec2& p, SheetLocation* out) const {
+  const Vec2 rel = (p - bounds_.min()).cwiseQuotient(bucket_size_);
+  if (!(rel.x() >= -1e-9 * bx_ && rel.y() >= -1e-9 * by_ && rel.x() <= bx_ * (1 + 1e-9) &&
+        rel.y() <= by_ * (1 + 1e-9))) {
+    return false;
+  }
+  const int x = std::clamp(static_cast<int>(rel.x()), 0, bx_ - 1);
+  const int y = std::clamp(static_cast<int>(rel.y()), 0, by_ - 1);
+  const int b = x + bx_ * y;
+  for (int k = bucket_start_[b]; k < bucket_start_[b + 1]; ++k) {
+    const int cell = bucket_cells_[k];
+    const int i = cell % (nu_ - 1), j = cell / (nu_ - 1);
+    double s, t;
+    if (InverseBilinear(p, Corner(i, j), Corner(i + 1, j), Corner(i + 1, j + 1), Corner(i, j + 1),
+                        &s, &t)) {
+      *out = {i, j, s, t};
+      return true;
+    }
+  }
+  return false;
+}
+
+SheetLocation FlatLocator::NearestOnBoundary(const Vec2& p, double* distance) const {
+  double best = std::numeric_limits<double>::infinity();
+  SheetLocation loc;
+  // One boundary side of one cell: the segment from corner a to corner b,
+  // local coordinates running from la to lb.
+  auto consider = [&](int i, int j, const Vec2& a, const Vec2& b, const Vec2& la, const Vec2& lb) {
+    const Vec2 ab = b - a;
+    const double len2 = ab.squaredNorm();
+    const double w = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    const double d = (p - (a + w * ab)).norm();
+    if (d < best) {
+      best = d;
+      const Vec2 st = la + w * (lb - la);
+      loc = {i, j, st.x(), st.y()};
+    }
+  };
+  for (int i = 0; i + 1 < nu_; ++i) {
+    consider(i, 0, Corner(i, 0), Corner(i + 1, 0), Vec2(0, 0), Vec2(1, 0));
+    consider(i, nv_ - 2, Corner(i, nv_ - 1), Corner(i + 1, nv_ - 1), Vec2(0, 1), Vec2(1, 1));
+  }
+  for (int j = 0; j + 1 < nv_; ++j) {
+    consider(0, j, Corner(0, j), Corner(0, j + 1), Vec2(0, 0), Vec2(0, 1));
+    consider(nu_ - 2, j, Corner(nu_ - 1, j), Corner(nu_ - 1, j + 1), Vec2(1, 0), Vec2(1, 1));
+  }
+  *distance = best;
+  return loc;
+}
+
+Vec2 FlatLocator::FlatPoint(const SheetLocation& l) const {
+  const Vec2 &a = Corner(l.i, l.j), &b = Corner(l.i + 1, l.j);
+  const Vec2 &c = Corner(l.i + 1, l.j + 1), &d = Corner(l.i, l.j + 1);
+  return (1 - l.s) * (1 - l.t) * a + l.s * (1 - l.t) * b + l.s * l.t * c + (1 - l.s) * l.t * d;
+}
+
+Eigen::Matrix2d FlatLocator::FlatJacobian(const SheetLocation& l) const {
+  const Vec2 &a = Corner(l.i, l.j), &b = Corner(l.i + 1, l.j);
+  const Vec2 &c = Corner(l.i + 1, l.j + 1), &d = Corner(l.i, l.j + 1);
+  Eigen::Matrix2d m;
+  m.col(0) = (1 - l.t) * (b - a) + l.t * (c - d);
+  m.col(1) = (1 - l.s) * (d - a) + l.s * (c - b);
+  return m;
+}
+
+}  // namespace surfdeform

@@ -1,0 +1,63 @@
+// Point location on a flat sheet: which cell of the flattened grid holds a
+// point, and where inside it, by the exact inverse of the cell's bilinear map.
+//
+// Cells are the quads of samples (i, j), (i+1, j), (i+1, j+1), (i, j+1), mapped
+// bilinearly from local (s, t) in [0, 1]^2; the sheet's parameters there are
+// (u, v) = ((i + s) / (nu - 1), (j + t) / (nv - 1)). A bucket grid over the
+// sheet's bounding box lists the cells whose bounds overlap each bucket, so a
+// query tests O(1) cells on average. Requires a sheet without folded cells
+// (the flattening guarantees it): then at most one cell holds an interior
+// point, and the answer does not depend on the order of the tests.
+#pragma once
+
+#include <vector>
+
+#include "engine/flatten.hpp"
+#include "engine/geometry_types.hpp"
+
+namespace surfdeform {
+
+struct SheetLocation {
+  int i = 0;  // cell
+  int j = 0;
+  double s = 0.0;  // local coordinates; outside [0, 1] when extrapolated
+  double t = 0.0;
+};
+
+class FlatLocator {
+ public:
+  explicit FlatLocator(const FlatSheet& sheet);
+
+  // The cell holding p (boundaries included, to a relative 1e-9), or false.
+  bool Locate(const Vec2& p, SheetLocation* out) const;
+
+  // The point of the sheet's boundary nearest to p: its cell and local
+  // coordinates, and the distance from p.
+  SheetLocation NearestOnBoundary(const Vec2& p, double* distance) const;
+
+  // The flat position of a location and d(flat)/d(s, t) there (columns).
+  Vec2 FlatPoint(const SheetLocation& l) const;
+  Eigen::Matrix2d FlatJacobian(const SheetLocation& l) const;
+
+  // Surface parameters of a location and d(u, v)/d(s, t) (diagonal).
+  Vec2 Parameters(const SheetLocation& l) const {
+    return Vec2((l.i + l.s) / (nu_ - 1), (l.j + l.t) / (nv_ - 1));
+  }
+  Vec2 ParameterScale() const { return Vec2(1.0 / (nu_ - 1), 1.0 / (nv_ - 1)); }
+
+  // Bounding box of the sheet.
+  const Eigen::AlignedBox2d& bounds() const { return bounds_; }
+
+ private:
+  const Vec2& Corner(int i, int j) const { return flat_[i + nu_ * j]; }
+
+  int nu_, nv_;
+  std::vector<Vec2> flat_;
+  Eigen::AlignedBox2d bounds_;
+  int bx_ = 1, by_ = 1;  // buckets along x and y
+  Vec2 bucket_size_ = Vec2::Ones();
+  std::vector<int> bucket_start_;  // CSR: cells of bucket b are
+  std::vector<int> bucket_cells_;  // bucket_cells_[bucket_start_[b] .. bucket_start_[b+1])
+};
+
+}  // namespace surfdeform

@@ -1,0 +1,44 @@
+// A triangle mesh with per-vertex attributes, as the engine deforms it.
+// Attribute arrays are either empty or hold one value per vertex; every
+// attribute the input has is carried to the output.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/geometry_types.hpp"
+
+namespace surfdeform {
+
+using Vec4 = Eigen::Vector4d;
+
+// A run of triangles that share a material (a glTF primitive, an OBJ usemtl
+// group). `material` indexes the importer's material list, -1 for none.
+struct MeshGroup {
+  std::string name;
+  int material = -1;
+  uint32_t first_triangle = 0;
+  uint32_t triangle_count = 0;
+};
+
+struct Mesh {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;   // unit length
+  std::vector<Vec4> tangents;  // xyz unit, w = +1 or -1 (bitangent sign), as glTF
+  std::vector<Vec2> uv0;
+  std::vector<Vec2> uv1;
+  std::vector<Vec4> colors;  // RGBA
+  std::vector<std::array<uint32_t, 3>> triangles;
+  std::vector<MeshGroup> groups;  // cover the triangles in order; empty = one group
+
+  size_t vertex_count() const { return positions.size(); }
+};
+
+// Checks the invariants above: attribute sizes, indices in range, groups
+// covering the triangles. Returns a description of the first violation, or
+// an empty string.
+std::string CheckMesh(const Mesh& mesh);
+
+}  // namespace surfdeform
