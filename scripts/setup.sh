@@ -11,6 +11,9 @@ packages=(
   libcli11-dev             # command-line flags
   nlohmann-json3-dev       # surface files in tests and benchmarks
   libcgal-dev libgmp-dev libmpfr-dev  # optional peer in benchmarks (ARAP, LSCM)
+  libdraco-dev draco       # Draco meshes: library, and draco_decoder for round-trip tests
+  libtinygltf-dev          # glTF / GLB
+  assimp-testmodels        # real glTF, OBJ, PLY, STL, OFF files (and broken ones) for tests
 )
 
 missing=()

@@ -16,6 +16,8 @@ const char* ErrorCodeName(ErrorCode code) {
       return "not_converged";
     case ErrorCode::kOutsideSheet:
       return "outside_sheet";
+    case ErrorCode::kUnsupportedFormat:
+      return "unsupported_format";
     case ErrorCode::kInternal:
       return "internal";
   }

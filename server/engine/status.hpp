@@ -16,12 +16,13 @@ namespace surfdeform {
 
 enum class ErrorCode {
   kOk = 0,
-  kInvalidArgument,  // malformed or out-of-range input (a NaN, a count that does not match)
-  kDegenerate,       // well-formed but geometrically unusable (zero radius, vanishing normal)
-  kLimitExceeded,    // input larger than a published limit
-  kNotConverged,     // a solver did not reach a usable result (e.g. folded cells remain)
-  kOutsideSheet,     // a model's footprint leaves the flat sheet
-  kInternal,         // a bug: never caused by input
+  kInvalidArgument,    // malformed or out-of-range input (a NaN, a count that does not match)
+  kDegenerate,         // well-formed but geometrically unusable (zero radius, vanishing normal)
+  kLimitExceeded,      // input larger than a published limit
+  kNotConverged,       // a solver did not reach a usable result (e.g. folded cells remain)
+  kOutsideSheet,       // a model's footprint leaves the flat sheet
+  kUnsupportedFormat,  // bytes in no format the reader knows (or one it refuses)
+  kInternal,           // a bug: never caused by input
 };
 
 const char* ErrorCodeName(ErrorCode code);

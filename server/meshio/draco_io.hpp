@@ -1,0 +1,26 @@
+// Internal: Draco encoding and decoding of engine meshes, shared by the .drc
+// format and glTF's KHR_draco_mesh_compression.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "meshio/mesh_export.hpp"
+#include "meshio/mesh_import.hpp"
+
+namespace surfdeform::meshio {
+
+// Encodes positions, normals, uv0/uv1, colours and tangents (as a generic
+// 4-component attribute). `attribute_ids`, when given, receives the Draco
+// unique ids of POSITION, NORMAL, TEXCOORD_0, TEXCOORD_1, COLOR_0, TANGENT
+// (-1 where absent), as glTF's extension needs them.
+Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& options,
+                                int attribute_ids[6] = nullptr);
+
+// Decodes a Draco mesh after checking the counts its header claims against the
+// limits. With `gltf_ids` (POSITION, NORMAL, TEXCOORD_0, TEXCOORD_1, COLOR_0,
+// TANGENT unique ids, -1 if absent) attributes are taken by id, else by type.
+Status DecodeDraco(std::string_view bytes, const ImportLimits& limits, Mesh* mesh,
+                   const int gltf_ids[6] = nullptr);
+
+}  // namespace surfdeform::meshio

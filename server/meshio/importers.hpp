@@ -1,0 +1,24 @@
+// Internal: one reader per format, called by ImportMesh once the format is
+// known and the byte limit checked. Each fills `out` or returns an error.
+#pragma once
+
+#include <string_view>
+
+#include "meshio/mesh_import.hpp"
+
+namespace surfdeform::meshio {
+
+Status ReadObj(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out);
+Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out);
+Status ReadStl(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out);
+Status ReadOff(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out);
+Status ReadDraco(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out);
+Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits, ImportedMesh* out);
+
+// kLimitExceeded when `actual` is over `limit`, naming what was counted.
+Status CheckLimit(const char* what, size_t actual, size_t limit);
+
+// Appends the fan triangulation of a polygon (already index-checked).
+void AppendFan(const uint32_t* corners, size_t count, Mesh* mesh);
+
+}  // namespace surfdeform::meshio

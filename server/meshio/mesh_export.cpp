@@ -1,0 +1,152 @@
+#include "meshio/mesh_export.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "meshio/draco_io.hpp"
+#include "meshio/gltf_io.hpp"
+
+namespace surfdeform {
+namespace {
+
+template <typename V>
+bool AllFinite(const std::vector<V>& values) {
+  for (const V& v : values) {
+    if (!v.allFinite()) return false;
+  }
+  return true;
+}
+
+void AppendF(std::string* out, const char* format, double a, double b, double c) {
+  char buf[96];
+  const int n = std::snprintf(buf, sizeof buf, format, a, b, c);
+  out->append(buf, static_cast<size_t>(n));
+}
+
+std::string WriteObj(const Mesh& m, const ExportOptions& o) {
+  std::string s = "# surfdeform\n";
+  s.reserve(m.positions.size() * 80 + m.triangles.size() * 40);
+  for (size_t k = 0; k < m.positions.size(); ++k) {
+    const Vec3& p = m.positions[k];
+    if (m.colors.empty()) {
+      AppendF(&s, "v %.9g %.9g %.9g\n", p.x(), p.y(), p.z());
+    } else {
+      AppendF(&s, "v %.9g %.9g %.9g", p.x(), p.y(), p.z());
+      AppendF(&s, " %.6g %.6g %.6g\n", m.colors[k].x(), m.colors[k].y(), m.colors[k].z());
+    }
+  }
+  for (const Vec2& t : m.uv0) {
+    char buf[64];
+    const int len = std::snprintf(buf, sizeof buf, "vt %.9g %.9g\n", t.x(), t.y());
+    s.append(buf, static_cast<size_t>(len));
+  }
+  for (const Vec3& n : m.normals) AppendF(&s, "vn %.9g %.9g %.9g\n", n.x(), n.y(), n.z());
+  const bool uv = !m.uv0.empty(), nrm = !m.normals.empty();
+  auto corner = [&](uint32_t v) {
+    const std::string i = std::to_string(v + 1);
+    if (uv && nrm) return i + "/" + i + "/" + i;
+    if (uv) return i + "/" + i;
+    if (nrm) return i + "//" + i;
+    return i;
+  };
+  std::vector<MeshGroup> groups = m.groups;
+  if (groups.empty()) groups.push_back({"", -1, 0, static_cast<uint32_t>(m.triangles.size())});
+  for (const MeshGroup& g : groups) {
+    if (g.material >= 0 && static_cast<size_t>(g.material) < o.materials.size()) {
+      s += "usemtl " + o.materials[g.material] + "\n";
+    } else if (!g.name.empty()) {
+      s += "g " + g.name + "\n";
+    }
+    for (uint32_t t = g.first_triangle; t < g.first_triangle + g.triangle_count; ++t) {
+      const auto& tri = m.triangles[t];
+      s += "f " + corner(tri[0]) + " " + corner(tri[1]) + " " + corner(tri[2]) + "\n";
+    }
+  }
+  return s;
+}
+
+template <typename T>
+void Put(std::string* out, T value) {
+  char buf[sizeof(T)];
+  std::memcpy(buf, &value, sizeof(T));  // little-endian hosts only (x86-64, arm64)
+  out->append(buf, sizeof(T));
+}
+
+std::string WritePly(const Mesh& m) {
+  std::string s = "ply\nformat binary_little_endian 1.0\ncomment surfdeform\n";
+  s += "element vertex " + std::to_string(m.positions.size()) + "\n";
+  s += "property float x\nproperty float y\nproperty float z\n";
+  if (!m.normals.empty()) s += "property float nx\nproperty float ny\nproperty float nz\n";
+  if (!m.uv0.empty()) s += "property float s\nproperty float t\n";
+  if (!m.colors.empty()) {
+    s += "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n";
+  }
+  s += "element face " + std::to_string(m.triangles.size()) + "\n";
+  s += "property list uchar int vertex_indices\nend_header\n";
+  for (size_t k = 0; k < m.positions.size(); ++k) {
+    for (int c = 0; c < 3; ++c) Put(&s, static_cast<float>(m.positions[k][c]));
+    if (!m.normals.empty())
+      for (int c = 0; c < 3; ++c) Put(&s, static_cast<float>(m.normals[k][c]));
+    if (!m.uv0.empty())
+      for (int c = 0; c < 2; ++c) Put(&s, static_cast<float>(m.uv0[k][c]));
+    if (!m.colors.empty()) {
+      for (int c = 0; c < 4; ++c) {
+        Put(&s, static_cast<uint8_t>(std::lround(std::clamp(m.colors[k][c], 0.0, 1.0) * 255)));
+      }
+    }
+  }
+  for (const auto& t : m.triangles) {
+    Put(&s, static_cast<uint8_t>(3));
+    for (uint32_t v : t) Put(&s, static_cast<int32_t>(v));
+  }
+  return s;
+}
+
+}  // namespace
+
+Status ValidateDracoOptions(const DracoOptions& o) {
+  auto bits = [](int b, const char* field) {
+    if (b < 1 || b > 30) {
+      return InvalidArgument("must be from 1 to 30, got " + std::to_string(b), field);
+    }
+    return Status::Ok();
+  };
+  SURFDEFORM_RETURN_IF_ERROR(bits(o.position_bits, "output.draco.position_bits"));
+  SURFDEFORM_RETURN_IF_ERROR(bits(o.normal_bits, "output.draco.normal_bits"));
+  SURFDEFORM_RETURN_IF_ERROR(bits(o.uv_bits, "output.draco.uv_bits"));
+  SURFDEFORM_RETURN_IF_ERROR(bits(o.color_bits, "output.draco.color_bits"));
+  if (o.speed < 0 || o.speed > 10) {
+    return InvalidArgument("must be from 0 to 10, got " + std::to_string(o.speed),
+                           "output.draco.speed");
+  }
+  return Status::Ok();
+}
+
+Result<std::string> ExportMesh(const Mesh& mesh, MeshFormat format, const ExportOptions& o) {
+  if (const std::string problem = CheckMesh(mesh); !problem.empty()) {
+    return InvalidArgument("malformed mesh: " + problem, "mesh");
+  }
+  if (!AllFinite(mesh.positions) || !AllFinite(mesh.normals) || !AllFinite(mesh.tangents) ||
+      !AllFinite(mesh.uv0) || !AllFinite(mesh.uv1) || !AllFinite(mesh.colors)) {
+    return InvalidArgument("the mesh holds a non-finite value; it is never written", "mesh");
+  }
+  switch (format) {
+    case MeshFormat::kObj:
+      return WriteObj(mesh, o);
+    case MeshFormat::kPly:
+      return WritePly(mesh);
+    case MeshFormat::kDraco:
+      return meshio::EncodeDraco(mesh, o.draco);
+    case MeshFormat::kGlb:
+      return meshio::WriteGlb(mesh, o);
+    default:
+      return Status(ErrorCode::kUnsupportedFormat,
+                    std::string("meshes are not written as ") + MeshFormatName(format) +
+                        "; choose drc, glb, glb+draco, obj or ply",
+                    "output.format");
+  }
+}
+
+}  // namespace surfdeform

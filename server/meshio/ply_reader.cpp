@@ -1,0 +1,316 @@
+// PLY, ascii and binary (either byte order). Vertex properties x y z, nx ny nz,
+// s t / u v / texture_u texture_v, red green blue alpha; faces from the list
+// vertex_indices (or vertex_index); other elements and properties are skipped.
+#include <bit>
+#include <cstring>
+#include <optional>
+
+#include "meshio/importers.hpp"
+#include "meshio/text_reader.hpp"
+
+namespace surfdeform::meshio {
+namespace {
+
+constexpr size_t kMaxPolygon = 256;
+
+enum class Type { kInt8, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kFloat32, kFloat64 };
+
+std::optional<Type> ParseType(std::string_view s) {
+  if (s == "char" || s == "int8") return Type::kInt8;
+  if (s == "uchar" || s == "uint8") return Type::kUInt8;
+  if (s == "short" || s == "int16") return Type::kInt16;
+  if (s == "ushort" || s == "uint16") return Type::kUInt16;
+  if (s == "int" || s == "int32") return Type::kInt32;
+  if (s == "uint" || s == "uint32") return Type::kUInt32;
+  if (s == "float" || s == "float32") return Type::kFloat32;
+  if (s == "double" || s == "float64") return Type::kFloat64;
+  return std::nullopt;
+}
+
+size_t SizeOf(Type t) {
+  switch (t) {
+    case Type::kInt8:
+    case Type::kUInt8:
+      return 1;
+    case Type::kInt16:
+    case Type::kUInt16:
+      return 2;
+    case Type::kInt32:
+    case Type::kUInt32:
+    case Type::kFloat32:
+      return 4;
+    case Type::kFloat64:
+      return 8;
+  }
+  return 1;
+}
+
+struct Property {
+  std::string name;
+  Type type = Type::kFloat32;
+  bool is_list = false;
+  Type count_type = Type::kUInt8;
+};
+
+struct Element {
+  std::string name;
+  size_t count = 0;
+  std::vector<Property> properties;
+};
+
+enum class Encoding { kAscii, kLittle, kBig };
+
+// Reads values from the body, bounds-checked.
+class BodyReader {
+ public:
+  BodyReader(std::string_view body, Encoding encoding)
+      : text_(body), bytes_(body), enc_(encoding) {}
+
+  bool Read(Type type, double* out) {
+    if (enc_ == Encoding::kAscii) {
+      std::string_view tok;
+      while (!NextToken(&line_, &tok)) {
+        if (!text_.NextLine(&line_)) return false;
+      }
+      return ParseNumber(tok, out);
+    }
+    const size_t size = SizeOf(type);
+    if (bytes_.size() < size) return false;
+    unsigned char raw[8];
+    std::memcpy(raw, bytes_.data(), size);
+    bytes_.remove_prefix(size);
+    const bool swap = (enc_ == Encoding::kBig) == (std::endian::native == std::endian::little);
+    if (swap) std::reverse(raw, raw + size);
+    switch (type) {
+      case Type::kInt8:
+        *out = static_cast<int8_t>(raw[0]);
+        break;
+      case Type::kUInt8:
+        *out = raw[0];
+        break;
+      case Type::kInt16: {
+        int16_t x;
+        std::memcpy(&x, raw, 2);
+        *out = x;
+        break;
+      }
+      case Type::kUInt16: {
+        uint16_t x;
+        std::memcpy(&x, raw, 2);
+        *out = x;
+        break;
+      }
+      case Type::kInt32: {
+        int32_t x;
+        std::memcpy(&x, raw, 4);
+        *out = x;
+        break;
+      }
+      case Type::kUInt32: {
+        uint32_t x;
+        std::memcpy(&x, raw, 4);
+        *out = x;
+        break;
+      }
+      case Type::kFloat32: {
+        float x;
+        std::memcpy(&x, raw, 4);
+        *out = x;
+        break;
+      }
+      case Type::kFloat64: {
+        std::memcpy(out, raw, 8);
+        break;
+      }
+    }
+    return true;
+  }
+
+  // Bytes (binary) or characters (ascii) left: a bound on how many values can follow.
+  size_t remaining() const {
+    return enc_ == Encoding::kAscii ? text_.rest().size() + line_.size() : bytes_.size();
+  }
+
+ private:
+  TextReader text_;
+  std::string_view line_;
+  std::string_view bytes_;
+  Encoding enc_;
+};
+
+Status PlyError(const std::string& what) { return InvalidArgument("PLY: " + what, "mesh"); }
+
+}  // namespace
+
+Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out) {
+  TextReader header(bytes);
+  std::string_view line, tok;
+  header.NextLine(&line);  // "ply"
+  std::optional<Encoding> encoding;
+  std::vector<Element> elements;
+  bool ended = false;
+  while (header.NextLine(&line)) {
+    const int ln = header.line_number();
+    if (!NextToken(&line, &tok)) continue;
+    if (tok == "end_header") {
+      ended = true;
+      break;
+    }
+    if (tok == "comment" || tok == "obj_info") continue;
+    if (tok == "format") {
+      NextToken(&line, &tok);
+      if (tok == "ascii")
+        encoding = Encoding::kAscii;
+      else if (tok == "binary_little_endian")
+        encoding = Encoding::kLittle;
+      else if (tok == "binary_big_endian")
+        encoding = Encoding::kBig;
+      else
+        return LineError(ln, "unknown PLY format");
+    } else if (tok == "element") {
+      Element e;
+      std::string_view count;
+      int64_t c;
+      if (!NextToken(&line, &tok) || !NextToken(&line, &count) || !ParseNumber(count, &c) ||
+          c < 0) {
+        return LineError(ln, "an element needs a name and a count");
+      }
+      e.name = tok;
+      e.count = static_cast<size_t>(c);
+      elements.push_back(e);
+    } else if (tok == "property") {
+      if (elements.empty()) return LineError(ln, "a property before any element");
+      Property p;
+      if (!NextToken(&line, &tok)) return LineError(ln, "a property needs a type");
+      if (tok == "list") {
+        std::string_view ct, it;
+        if (!NextToken(&line, &ct) || !NextToken(&line, &it)) {
+          return LineError(ln, "a list property needs two types");
+        }
+        const auto count_type = ParseType(ct), item_type = ParseType(it);
+        if (!count_type || !item_type) return LineError(ln, "unknown property type");
+        p.is_list = true;
+        p.count_type = *count_type;
+        p.type = *item_type;
+      } else {
+        const auto type = ParseType(tok);
+        if (!type) return LineError(ln, "unknown property type");
+        p.type = *type;
+      }
+      if (!NextToken(&line, &tok)) return LineError(ln, "a property needs a name");
+      p.name = tok;
+      elements.back().properties.push_back(p);
+    } else {
+      // Some exporters write free text without "comment": skip it.
+      out->warnings.push_back("PLY header line " + std::to_string(ln) + " ignored");
+    }
+  }
+  if (!ended) return PlyError("no end_header");
+  if (!encoding) return PlyError("no format line");
+
+  BodyReader body(header.rest(), *encoding);
+  Mesh& mesh = out->mesh;
+  for (const Element& e : elements) {
+    // Every record takes at least one byte (binary) or two characters (ascii):
+    // a count the rest of the file cannot hold is rejected before allocating.
+    size_t min_record = 0;
+    for (const Property& p : e.properties) {
+      min_record += p.is_list ? SizeOf(p.count_type) : SizeOf(p.type);
+    }
+    if (*encoding == Encoding::kAscii) min_record = 2 * e.properties.size();
+    if (min_record > 0 && e.count > body.remaining() / min_record) {
+      return PlyError("element " + e.name + " claims " + std::to_string(e.count) +
+                      " records, more than the file can hold");
+    }
+    const bool is_vertex = e.name == "vertex";
+    const bool is_face = e.name == "face";
+    if (is_vertex) {
+      SURFDEFORM_RETURN_IF_ERROR(CheckLimit("vertices", e.count, limits.max_vertices));
+      mesh.positions.assign(e.count, Vec3::Zero());
+    }
+    if (is_face) {
+      SURFDEFORM_RETURN_IF_ERROR(CheckLimit("faces", e.count, limits.max_triangles));
+      mesh.triangles.reserve(e.count);
+    }
+    auto has = [&](const char* name) {
+      for (const Property& p : e.properties)
+        if (p.name == name) return true;
+      return false;
+    };
+    if (is_vertex) {
+      if (has("nx")) mesh.normals.assign(e.count, Vec3::Zero());
+      if (has("s") || has("u") || has("texture_u") || has("texture_s")) {
+        mesh.uv0.assign(e.count, Vec2::Zero());
+      }
+      if (has("red")) mesh.colors.assign(e.count, Vec4(0, 0, 0, 1));
+    }
+    for (size_t r = 0; r < e.count; ++r) {
+      for (const Property& p : e.properties) {
+        if (p.is_list) {
+          double count;
+          if (!body.Read(p.count_type, &count)) return PlyError("the file ends inside " + e.name);
+          if (!(count >= 0) || count > kMaxPolygon) {
+            return PlyError(e.name + " " + std::to_string(r) + " has a list of " +
+                            std::to_string(count) + " items (at most " +
+                            std::to_string(kMaxPolygon) + ")");
+          }
+          uint32_t poly[kMaxPolygon];
+          const size_t n = static_cast<size_t>(count);
+          for (size_t k = 0; k < n; ++k) {
+            double index;
+            if (!body.Read(p.type, &index)) return PlyError("the file ends inside " + e.name);
+            if (is_face && (p.name == "vertex_indices" || p.name == "vertex_index")) {
+              if (!(index >= 0) || index >= static_cast<double>(mesh.positions.size())) {
+                return PlyError("face " + std::to_string(r) + " uses vertex " +
+                                std::to_string(static_cast<long long>(index)) + " of " +
+                                std::to_string(mesh.positions.size()));
+              }
+              poly[k] = static_cast<uint32_t>(index);
+            }
+          }
+          if (is_face && (p.name == "vertex_indices" || p.name == "vertex_index")) {
+            if (n < 3) return PlyError("face " + std::to_string(r) + " has fewer than 3 corners");
+            AppendFan(poly, n, &mesh);
+          }
+          continue;
+        }
+        double x;
+        if (!body.Read(p.type, &x)) return PlyError("the file ends inside " + e.name);
+        if (!is_vertex) continue;
+        const std::string& n = p.name;
+        if (n == "x")
+          mesh.positions[r].x() = x;
+        else if (n == "y")
+          mesh.positions[r].y() = x;
+        else if (n == "z")
+          mesh.positions[r].z() = x;
+        else if (n == "nx")
+          mesh.normals[r].x() = x;
+        else if (n == "ny")
+          mesh.normals[r].y() = x;
+        else if (n == "nz")
+          mesh.normals[r].z() = x;
+        else if (n == "s" || n == "u" || n == "texture_u" || n == "texture_s")
+          mesh.uv0[r].x() = x;
+        else if (n == "t" || n == "v" || n == "texture_v" || n == "texture_t")
+          mesh.uv0[r].y() = x;
+        else if (n == "red" || n == "green" || n == "blue" || n == "alpha") {
+          const int c = n == "red" ? 0 : n == "green" ? 1 : n == "blue" ? 2 : 3;
+          const bool integer = p.type != Type::kFloat32 && p.type != Type::kFloat64;
+          mesh.colors[r][c] = integer ? x / 255.0 : x;
+        }
+      }
+    }
+    if (is_face) {
+      SURFDEFORM_RETURN_IF_ERROR(
+          CheckLimit("triangles", mesh.triangles.size(), limits.max_triangles));
+    }
+  }
+  for (Vec3& nrm : mesh.normals) {
+    const double len = nrm.norm();
+    nrm = len > 0.0 ? Vec3(nrm / len) : Vec3::UnitZ();
+  }
+  return Status::Ok();
+}
+
+}  // namespace surfdeform::meshio

@@ -1,0 +1,426 @@
+// Mesh import/export: round trips, real files, hostile input.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "meshio/mesh_export.hpp"
+#include "meshio/mesh_import.hpp"
+#include "support/surface_file.hpp"
+#include "support/test_meshes.hpp"
+
+namespace surfdeform {
+namespace {
+
+const std::string kModels = "/usr/share/assimp/models/";
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  EXPECT_TRUE(in.good()) << path;
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string Base64(const std::string& bytes) {
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const uint32_t v =
+        (uint8_t(bytes[i]) << 16) | (uint8_t(bytes[i + 1]) << 8) | uint8_t(bytes[i + 2]);
+    for (int k = 3; k >= 0; --k) out += kAlphabet[(v >> (6 * k)) & 63];
+  }
+  if (i < bytes.size()) {
+    uint32_t v = uint8_t(bytes[i]) << 16;
+    if (i + 1 < bytes.size()) v |= uint8_t(bytes[i + 1]) << 8;
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+// A .gltf whose buffers are files beside it, made self-contained (data: URIs),
+// as a client sends it.
+std::string EmbedBuffers(const std::string& gltf_path) {
+  nlohmann::json j = nlohmann::json::parse(ReadFile(gltf_path));
+  const std::string dir = std::filesystem::path(gltf_path).parent_path().string();
+  for (auto& b : j["buffers"]) {
+    b["uri"] = "data:application/octet-stream;base64," +
+               Base64(ReadFile(dir + "/" + b["uri"].get<std::string>()));
+  }
+  return j.dump();
+}
+
+Mesh RichMesh() {
+  Mesh m = testing::FlatGrid(-1, -0.5, 2, 1, 8, 4, 0.25);
+  for (size_t k = 0; k < m.positions.size(); ++k) {
+    m.positions[k].z() += 0.1 * std::sin(3.0 * static_cast<double>(k));
+  }
+  m.uv1 = m.uv0;
+  for (Vec2& t : m.uv1) t *= 0.5;
+  m.groups = {{"first", 0, 0, 30},
+              {"second", 1, 30, static_cast<uint32_t>(m.triangles.size() - 30)}};
+  return m;
+}
+
+ImportedMesh ImportOk(const std::string& bytes) {
+  auto r = ImportMesh(bytes);
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  return r.ok() ? std::move(r).value() : ImportedMesh{};
+}
+
+double Extent(const Mesh& m) {
+  Eigen::AlignedBox3d b;
+  for (const Vec3& p : m.positions) b.extend(p);
+  return b.diagonal().norm();
+}
+
+// Same vertices in the same order, attributes within `tol`.
+void ExpectSameOrdered(const Mesh& a, const Mesh& b, double tol, bool colors = true) {
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  ASSERT_EQ(a.triangles, b.triangles);
+  for (size_t k = 0; k < a.positions.size(); ++k) {
+    EXPECT_LT((a.positions[k] - b.positions[k]).norm(), tol) << k;
+    if (!a.normals.empty()) {
+      ASSERT_EQ(b.normals.size(), a.normals.size());
+      EXPECT_LT((a.normals[k] - b.normals[k]).norm(), 10 * tol + 2e-3) << k;
+    }
+    if (!a.uv0.empty()) {
+      ASSERT_EQ(b.uv0.size(), a.uv0.size());
+      EXPECT_LT((a.uv0[k] - b.uv0[k]).norm(), tol + 1e-3) << k;
+    }
+    if (colors && !a.colors.empty()) {
+      ASSERT_EQ(b.colors.size(), a.colors.size());
+      EXPECT_LT((a.colors[k] - b.colors[k]).norm(), 1e-2) << k;
+    }
+  }
+}
+
+TEST(MeshFormat, DetectedFromContentNotName) {
+  const Mesh m = RichMesh();
+  ExportOptions plain;
+  plain.glb_draco = false;
+  EXPECT_EQ(DetectMeshFormat(*ExportMesh(m, MeshFormat::kObj)), MeshFormat::kObj);
+  EXPECT_EQ(DetectMeshFormat(*ExportMesh(m, MeshFormat::kPly)), MeshFormat::kPly);
+  EXPECT_EQ(DetectMeshFormat(*ExportMesh(m, MeshFormat::kDraco)), MeshFormat::kDraco);
+  EXPECT_EQ(DetectMeshFormat(*ExportMesh(m, MeshFormat::kGlb, plain)), MeshFormat::kGlb);
+  EXPECT_EQ(DetectMeshFormat(ReadFile(kModels + "STL/Spider_binary.stl")), MeshFormat::kStl);
+  EXPECT_EQ(DetectMeshFormat(ReadFile(kModels + "STL/Spider_ascii.stl")), MeshFormat::kStl);
+  EXPECT_EQ(DetectMeshFormat(ReadFile(kModels + "OFF/Cube.off")), MeshFormat::kOff);
+  EXPECT_EQ(
+      DetectMeshFormat(ReadFile(kModels + "glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf")),
+      MeshFormat::kGltf);
+  EXPECT_EQ(DetectMeshFormat("hello, this is not a mesh"), MeshFormat::kUnknown);
+  EXPECT_EQ(DetectMeshFormat(std::string("\x89PNG\r\n\x1a\n", 8)), MeshFormat::kUnknown);
+  EXPECT_EQ(ImportMesh("just text").status().code(), ErrorCode::kUnsupportedFormat);
+  EXPECT_EQ(MeshFormatFromName(".GLB"), MeshFormat::kGlb);
+  EXPECT_FALSE(MeshFormatFromName("fbx").has_value());
+}
+
+TEST(MeshRoundTrip, ObjKeepsOrderAndAttributes) {
+  const Mesh m = RichMesh();
+  ExportOptions o;
+  o.materials = {"red", "blue"};
+  const ImportedMesh back = ImportOk(*ExportMesh(m, MeshFormat::kObj, o));
+  ExpectSameOrdered(m, back.mesh, 1e-6);
+  ASSERT_EQ(back.mesh.groups.size(), 2u);
+  EXPECT_EQ(back.materials, (std::vector<std::string>{"red", "blue"}));
+  EXPECT_EQ(back.mesh.groups[1].first_triangle, 30u);
+}
+
+TEST(MeshRoundTrip, PlyKeepsOrderAndAttributes) {
+  const Mesh m = RichMesh();
+  const ImportedMesh back = ImportOk(*ExportMesh(m, MeshFormat::kPly));
+  ExpectSameOrdered(m, back.mesh, 1e-6);
+}
+
+TEST(MeshRoundTrip, PlainGlbKeepsOrderAttributesAndGroups) {
+  const Mesh m = RichMesh();
+  ExportOptions o;
+  o.glb_draco = false;
+  o.materials = {"red", "blue"};
+  const ImportedMesh back = ImportOk(*ExportMesh(m, MeshFormat::kGlb, o));
+  ExpectSameOrdered(m, back.mesh, 1e-6);
+  EXPECT_EQ(back.mesh.uv1.size(), m.uv1.size());
+  EXPECT_EQ(back.mesh.tangents.size(), m.tangents.size());
+  ASSERT_EQ(back.mesh.groups.size(), 2u);
+  EXPECT_EQ(back.mesh.groups[1].material, 1);
+  EXPECT_EQ(back.materials, (std::vector<std::string>{"red", "blue"}));
+}
+
+TEST(MeshRoundTrip, DracoSequentialKeepsOrderWithinQuantization) {
+  const Mesh m = RichMesh();
+  ExportOptions o;
+  o.draco.sequential = true;
+  const ImportedMesh back = ImportOk(*ExportMesh(m, MeshFormat::kDraco, o));
+  ExpectSameOrdered(m, back.mesh, Extent(m) / (1 << o.draco.position_bits) * 2);
+  EXPECT_EQ(back.mesh.tangents.size(), m.tangents.size());
+}
+
+TEST(MeshRoundTrip, DracoEdgebreakerKeepsTheSurface) {
+  const Mesh m = RichMesh();
+  const ImportedMesh back = ImportOk(*ExportMesh(m, MeshFormat::kDraco));
+  ASSERT_EQ(back.mesh.positions.size(), m.positions.size());
+  ASSERT_EQ(back.mesh.triangles.size(), m.triangles.size());
+  // Reordered: every vertex has a counterpart within quantization error.
+  const double tol = Extent(m) / (1 << 14) * 2;
+  for (const Vec3& p : back.mesh.positions) {
+    double best = 1e300;
+    for (const Vec3& q : m.positions) best = std::min(best, (p - q).norm());
+    EXPECT_LT(best, tol);
+  }
+}
+
+TEST(MeshRoundTrip, GlbWithDracoKeepsGroups) {
+  const Mesh m = RichMesh();
+  ExportOptions o;
+  o.materials = {"red", "blue"};
+  const std::string glb = *ExportMesh(m, MeshFormat::kGlb, o);
+  EXPECT_NE(glb.find("KHR_draco_mesh_compression"), std::string::npos);
+  const ImportedMesh back = ImportOk(glb);
+  EXPECT_EQ(back.mesh.triangles.size(), m.triangles.size());
+  ASSERT_EQ(back.mesh.groups.size(), 2u);
+  EXPECT_EQ(back.mesh.groups[0].triangle_count, 30u);
+  EXPECT_EQ(back.mesh.uv0.size(), back.mesh.positions.size());
+  EXPECT_EQ(back.mesh.colors.size(), back.mesh.positions.size());
+}
+
+TEST(MeshExport, NeverWritesNonFiniteValues) {
+  Mesh m = RichMesh();
+  m.normals[3].x() = std::nan("");
+  for (MeshFormat f : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kDraco, MeshFormat::kGlb}) {
+    EXPECT_EQ(ExportMesh(m, f).status().code(), ErrorCode::kInvalidArgument) << MeshFormatName(f);
+  }
+  EXPECT_EQ(ExportMesh(RichMesh(), MeshFormat::kStl).status().code(),
+            ErrorCode::kUnsupportedFormat);
+}
+
+TEST(MeshExport, DracoOutputDecodesWithDracosOwnDecoder) {
+  if (std::system("command -v draco_decoder > /dev/null") != 0) GTEST_SKIP() << "no draco_decoder";
+  const Mesh m = RichMesh();
+  ExportOptions o;
+  o.draco.sequential = true;
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("surfdeform_drc_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string drc = (dir / "m.drc").string(), ply = (dir / "m.ply").string();
+  std::ofstream(drc, std::ios::binary) << *ExportMesh(m, MeshFormat::kDraco, o);
+  ASSERT_EQ(std::system(("draco_decoder -i " + drc + " -o " + ply + " > /dev/null").c_str()), 0);
+  const ImportedMesh back = ImportOk(ReadFile(ply));
+  ASSERT_EQ(back.mesh.positions.size(), m.positions.size());
+  const double tol = Extent(m) / (1 << o.draco.position_bits) * 2;
+  for (size_t k = 0; k < m.positions.size(); ++k) {
+    EXPECT_LT((back.mesh.positions[k] - m.positions[k]).norm(), tol) << k;
+  }
+  std::filesystem::remove_all(dir);
+}
+
+struct RealFile {
+  std::string path;
+  size_t min_triangles;
+};
+
+class RealFiles : public ::testing::TestWithParam<RealFile> {};
+
+TEST_P(RealFiles, Import) {
+  const ImportedMesh m = ImportOk(ReadFile(kModels + GetParam().path));
+  EXPECT_GE(m.mesh.triangles.size(), GetParam().min_triangles);
+  for (const Vec3& p : m.mesh.positions) ASSERT_TRUE(p.allFinite());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Assimp, RealFiles,
+    ::testing::Values(RealFile{"PLY/cube.ply", 12}, RealFile{"PLY/cube_binary.ply", 12},
+                      RealFile{"PLY/Wuson.ply", 1000}, RealFile{"PLY/cube_uv.ply", 12},
+                      RealFile{"OBJ/box.obj", 12}, RealFile{"OBJ/spider.obj", 1000},
+                      RealFile{"OBJ/WusonOBJ.obj", 1000}, RealFile{"OBJ/cube_usemtl.obj", 12},
+                      RealFile{"OBJ/concave_polygon.obj", 2},
+                      RealFile{"STL/Spider_ascii.stl", 1000},
+                      RealFile{"STL/Spider_binary.stl", 1000}, RealFile{"STL/triangle.stl", 1},
+                      RealFile{"OFF/Cube.off", 12}, RealFile{"OFF/Wuson.off", 1000},
+                      RealFile{"glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb", 100000},
+                      RealFile{"glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf", 12}),
+    [](const auto& param_info) {
+      std::string n = param_info.param.path;
+      for (char& c : n)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      return n;
+    });
+
+TEST(RealFiles, DracoCompressedEngineMatchesTheUncompressedOne) {
+  const ImportedMesh draco = ImportOk(EmbedBuffers(kModels + "glTF2/draco/2CylinderEngine.gltf"));
+  const ImportedMesh plain =
+      ImportOk(ReadFile(kModels + "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"));
+  // Draco's encoder drops degenerate triangles: 110,336 of the 121,496 remain.
+  EXPECT_GT(draco.mesh.triangles.size(), plain.mesh.triangles.size() * 9 / 10);
+  EXPECT_LE(draco.mesh.triangles.size(), plain.mesh.triangles.size());
+  Eigen::AlignedBox3d a, b;
+  for (const Vec3& p : draco.mesh.positions) a.extend(p);
+  for (const Vec3& p : plain.mesh.positions) b.extend(p);
+  EXPECT_LT((a.min() - b.min()).norm(), 1e-2 * b.diagonal().norm());
+  EXPECT_LT((a.max() - b.max()).norm(), 1e-2 * b.diagonal().norm());
+}
+
+class BrokenFiles : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BrokenFiles, FailCleanly) {
+  const std::string path = kModels + GetParam();
+  const std::string bytes = ReadFile(path);
+  auto r = ImportMesh(bytes);
+  ASSERT_FALSE(r.ok()) << GetParam();
+  EXPECT_EQ(r.status().message().find("/usr/share"), std::string::npos) << r.status().message();
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Assimp, BrokenFiles,
+    ::testing::Values("OFF/invalid.off", "glTF2/IndexOutOfRange/IndexOutOfRange.gltf",
+                      "glTF2/IncorrectVertexArrays/Cube.gltf", "glTF2/MissingBin/BoxTextured.gltf",
+                      "glTF2/RecursiveNodes/RecursiveNodes.gltf", "glTF2/wrongTypes/badArray.gltf",
+                      "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb",
+                      "OBJ/point_cloud.obj", "PLY/points.ply",
+                      // "3.1+e2" is no number: a line error, not a silent guess.
+                      "OBJ/number_formats.obj"),
+    [](const auto& param_info) {
+      std::string n = param_info.param;
+      for (char& c : n)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      return n;
+    });
+
+// --- hostile input (RELIABILITY.md checklist 10-17) ---
+
+std::string MinimalGltf(const std::string& buffer_uri, size_t accessor_count = 3) {
+  nlohmann::json j = {
+      {"asset", {{"version", "2.0"}}},
+      {"buffers", {{{"uri", buffer_uri}, {"byteLength", 36}}}},
+      {"bufferViews", {{{"buffer", 0}, {"byteLength", 36}}}},
+      {"accessors",
+       {{{"bufferView", 0}, {"componentType", 5126}, {"count", accessor_count}, {"type", "VEC3"}}}},
+      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}}},
+      {"nodes", {{{"mesh", 0}}}},
+      {"scenes", {{{"nodes", {0}}}}}};
+  return j.dump();
+}
+
+const std::string kTriangleData =
+    "data:application/octet-stream;base64," +
+    Base64(std::string(
+        "\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0", 36));
+
+TEST(HostileInput, MinimalGltfIsFine) {
+  const ImportedMesh m = ImportOk(MinimalGltf(kTriangleData));
+  EXPECT_EQ(m.mesh.triangles.size(), 1u);
+}
+
+TEST(HostileInput, ExternalUrisAreNeverRead) {
+  for (const std::string uri :
+       {"../../etc/passwd", "/etc/passwd", "file:///etc/passwd", "/tmp/", "."}) {
+    auto r = ImportMesh(MinimalGltf(uri));
+    ASSERT_FALSE(r.ok()) << uri;
+    EXPECT_EQ(r.status().message().find("passwd"), std::string::npos) << r.status().message();
+    EXPECT_EQ(r.status().message().find("/etc"), std::string::npos) << r.status().message();
+  }
+}
+
+TEST(HostileInput, AccessorCountPastTheBufferIsRejected) {
+  auto r = ImportMesh(MinimalGltf(kTriangleData, 1000000));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("do not fit"), std::string::npos) << r.status().message();
+}
+
+TEST(HostileInput, DeepJsonIsRejectedBeforeParsing) {
+  std::string deep = MinimalGltf(kTriangleData);
+  deep.insert(deep.size() - 1,
+              ",\"extras\":" + std::string(100000, '[') + std::string(100000, ']'));
+  auto r = ImportMesh(deep);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kLimitExceeded);
+  EXPECT_NE(r.status().message().find("limit is 64"), std::string::npos);
+}
+
+TEST(HostileInput, TruncatedAndLyingGlb) {
+  ExportOptions o;
+  o.glb_draco = false;
+  const std::string glb = *ExportMesh(RichMesh(), MeshFormat::kGlb, o);
+  for (size_t cut : {size_t{12}, size_t{30}, glb.size() / 2, glb.size() - 1}) {
+    EXPECT_FALSE(ImportMesh(glb.substr(0, cut)).ok()) << cut;
+  }
+  std::string lying = glb;
+  const uint32_t huge = 0x7fffffff;
+  std::memcpy(lying.data() + 12, &huge, 4);  // JSON chunk length past the end
+  EXPECT_FALSE(ImportMesh(lying).ok());
+}
+
+TEST(HostileInput, PlyListCountsAndClaims) {
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uint int vertex_indices\nend_header\n";
+  ply += std::string(36, '\0');
+  const uint32_t count = 0xFFFFFFFFu;
+  ply.append(reinterpret_cast<const char*>(&count), 4);
+  auto r = ImportMesh(ply);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("list of"), std::string::npos) << r.status().message();
+  const std::string claim =
+      "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n1\n";
+  EXPECT_FALSE(ImportMesh(claim).ok());
+}
+
+TEST(HostileInput, ObjNegativeIndexOutOfRange) {
+  auto r = ImportMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -99999 1 2\n");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("line 4"), std::string::npos) << r.status().message();
+}
+
+TEST(HostileInput, TinyStlAndOffClaims) {
+  EXPECT_FALSE(ImportMesh(std::string(1, 'x')).ok());
+  std::string stl(84, '\0');
+  const uint32_t count = 0x10000000;
+  std::memcpy(stl.data() + 80, &count, 4);
+  EXPECT_FALSE(ImportMesh(stl).ok());
+  EXPECT_FALSE(ImportMesh("OFF\n100000000 1 0\n0 0 0\n").ok());
+}
+
+TEST(HostileInput, DracoHeaderClaimingHugeCountsIsRejectedBeforeDecoding) {
+  // DRACO 2.2, triangular mesh, sequential, no flags, then varints claiming
+  // 2^35 faces and points: 19 bytes.
+  std::string drc = std::string("DRACO") + '\x02' + '\x02' + '\x01' + '\x00' + '\x00' + '\x00';
+  const std::string big = "\xff\xff\xff\xff\x7f";
+  drc += big + big;
+  auto r = ImportMesh(drc);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kLimitExceeded) << r.status().ToString();
+}
+
+TEST(HostileInput, LimitsAreReportedWithLimitAndActual) {
+  ImportLimits limits;
+  limits.max_vertices = 10;
+  auto r = ImportMesh(*ExportMesh(RichMesh(), MeshFormat::kPly), limits);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kLimitExceeded);
+  EXPECT_NE(r.status().message().find("45 vertices; the limit is 10"), std::string::npos)
+      << r.status().message();
+  limits = {};
+  limits.max_bytes = 100;
+  EXPECT_EQ(ImportMesh(*ExportMesh(RichMesh(), MeshFormat::kPly), limits).status().code(),
+            ErrorCode::kLimitExceeded);
+}
+
+TEST(Bunny, ImportsWithAllTrianglesAndRoundTrips) {
+  const ImportedMesh bunny = ImportOk(ReadFile(testing::DataPath("bunny.ply")));
+  EXPECT_EQ(bunny.mesh.positions.size(), 37706u);
+  EXPECT_EQ(bunny.mesh.triangles.size(), 75408u);
+  const ImportedMesh back = ImportOk(*ExportMesh(bunny.mesh, MeshFormat::kPly));
+  ExpectSameOrdered(bunny.mesh, back.mesh, 1e-7);
+}
+
+}  // namespace
+}  // namespace surfdeform
