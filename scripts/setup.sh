@@ -15,6 +15,9 @@ packages=(
   libtinygltf-dev          # glTF / GLB
   assimp-testmodels        # real glTF, OBJ, PLY, STL, OFF files (and broken ones) for tests
 )
+# Node.js runs the Khronos glTF validator (npm) in the tests; a machine that
+# already has node and npm (e.g. Node 20) keeps them.
+command -v node > /dev/null && command -v npm > /dev/null || packages+=(nodejs npm)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -25,12 +28,18 @@ done
 
 if ((${#missing[@]} == 0)); then
   echo "setup: all ${#packages[@]} packages present"
-  exit 0
+else
+  echo "setup: installing ${missing[*]}"
+  sudo_cmd=()
+  if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-echo "setup: installing ${missing[*]}"
-sudo_cmd=()
-if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
-export DEBIAN_FRONTEND=noninteractive
-"${sudo_cmd[@]}" apt-get update -qq
-"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# npm packages, pinned by the committed package-lock.json.
+root=$(cd "$(dirname "$0")/.." && pwd)
+if [[ ! -d "$root/tests/gltf/node_modules/gltf-validator" ]]; then
+  echo "setup: npm ci in tests/gltf"
+  npm ci --prefix "$root/tests/gltf" --no-audit --no-fund --loglevel=error
+fi

@@ -243,6 +243,7 @@ Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, 
   std::vector<double> worst(threads, 0.0);
   std::vector<long long> bad(threads, -1);  // first vertex with a non-finite result
   ParallelChunks(static_cast<int>(n), threads, [&](int chunk, int begin, int end) {
+    int hint = -1;  // the previous vertex's cell
     for (int k = begin; k < end; ++k) {
       const Vec3 placed = pl.Apply(mesh.positions[k]);
       const Vec2 ab = placed.head<2>();
@@ -272,7 +273,7 @@ Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, 
         }
       } else {
         SheetLocation loc;
-        if (!locator.Locate(ab, &loc)) {
+        if (!locator.Locate(ab, &loc, &hint)) {
           double distance;
           loc = locator.NearestOnBoundary(ab, &distance);
           ++outside[chunk];
@@ -308,7 +309,12 @@ Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, 
         jac.col(2) = nrm;
         const Mat3 total = jac * linear;
         if (!mesh.normals.empty()) {
-          const Vec3 nn = jac.inverse().transpose() * (normal_linear * mesh.normals[k]);
+          // J^-T n up to a positive factor (1 / det J), which the normalisation
+          // removes: the cofactor matrix, i.e. cross products of J's columns.
+          const Vec3 m = normal_linear * mesh.normals[k];
+          const Vec3 nn = m.x() * jac.col(1).cross(jac.col(2)) +
+                          m.y() * jac.col(2).cross(jac.col(0)) +
+                          m.z() * jac.col(0).cross(jac.col(1));
           out.normals[k] = nn.normalized();
         }
         if (!mesh.tangents.empty()) {

@@ -53,10 +53,20 @@ FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv),
   for (const Vec2& p : flat_) bounds_.extend(p);
   const int cells = (nu_ - 1) * (nv_ - 1);
   const Vec2 size = bounds_.sizes().cwiseMax(1e-300);
-  // About one cell per bucket, buckets roughly square.
-  const double per_side = std::sqrt(static_cast<double>(cells) * size.x() / size.y());
+  cell_bounds_.resize(cells);
+  for (int j = 0; j + 1 < nv_; ++j) {
+    for (int i = 0; i + 1 < nu_; ++i) {
+      Eigen::AlignedBox2d box;
+      box.extend(Corner(i, j)).extend(Corner(i + 1, j));
+      box.extend(Corner(i + 1, j + 1)).extend(Corner(i, j + 1));
+      const Vec2 pad = Vec2::Constant(1e-9 * box.diagonal().norm());
+      cell_bounds_[i + (nu_ - 1) * j] = Eigen::AlignedBox2d(box.min() - pad, box.max() + pad);
+    }
+  }
+  // About four buckets per cell, buckets roughly square: few candidates each.
+  const double per_side = 2.0 * std::sqrt(static_cast<double>(cells) * size.x() / size.y());
   bx_ = std::clamp(static_cast<int>(std::ceil(per_side)), 1, 4096);
-  by_ = std::clamp(static_cast<int>(std::ceil(cells / static_cast<double>(bx_))), 1, 4096);
+  by_ = std::clamp(static_cast<int>(std::ceil(4.0 * cells / static_cast<double>(bx_))), 1, 4096);
   bucket_size_ = Vec2(size.x() / bx_, size.y() / by_);
   auto bucket_range = [&](int i, int j, int* x0, int* x1, int* y0, int* y1) {
     Eigen::AlignedBox2d box;
@@ -91,7 +101,20 @@ FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv),
   }
 }
 
-bool FlatLocator::Locate(const Vec2& p, SheetLocation* out) const {
+bool FlatLocator::TryCell(int cell, const Vec2& p, SheetLocation* out) const {
+  if (!cell_bounds_[cell].contains(p)) return false;
+  const int i = cell % (nu_ - 1), j = cell / (nu_ - 1);
+  double s, t;
+  if (!InverseBilinear(p, Corner(i, j), Corner(i + 1, j), Corner(i + 1, j + 1), Corner(i, j + 1),
+                       &s, &t)) {
+    return false;
+  }
+  *out = {i, j, s, t};
+  return true;
+}
+
+bool FlatLocator::Locate(const Vec2& p, SheetLocation* out, int* hint) const {
+  if (hint != nullptr && *hint >= 0 && TryCell(*hint, p, out)) return true;
   const Vec2 rel = (p - bounds_.min()).cwiseQuotient(bucket_size_);
   if (!(rel.x() >= -1e-9 * bx_ && rel.y() >= -1e-9 * by_ && rel.x() <= bx_ * (1 + 1e-9) &&
         rel.y() <= by_ * (1 + 1e-9))) {
@@ -101,12 +124,8 @@ bool FlatLocator::Locate(const Vec2& p, SheetLocation* out) const {
   const int y = std::clamp(static_cast<int>(rel.y()), 0, by_ - 1);
   const int b = x + bx_ * y;
   for (int k = bucket_start_[b]; k < bucket_start_[b + 1]; ++k) {
-    const int cell = bucket_cells_[k];
-    const int i = cell % (nu_ - 1), j = cell / (nu_ - 1);
-    double s, t;
-    if (InverseBilinear(p, Corner(i, j), Corner(i + 1, j), Corner(i + 1, j + 1), Corner(i, j + 1),
-                        &s, &t)) {
-      *out = {i, j, s, t};
+    if (TryCell(bucket_cells_[k], p, out)) {
+      if (hint != nullptr) *hint = bucket_cells_[k];
       return true;
     }
   }

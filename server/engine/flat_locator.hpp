@@ -29,7 +29,9 @@ class FlatLocator {
   explicit FlatLocator(const FlatSheet& sheet);
 
   // The cell holding p (boundaries included, to a relative 1e-9), or false.
-  bool Locate(const Vec2& p, SheetLocation* out) const;
+  // `hint`, when not negative, is a cell to try first (the previous vertex's:
+  // mesh vertices come in spatially coherent order); it is updated.
+  bool Locate(const Vec2& p, SheetLocation* out, int* hint = nullptr) const;
 
   // The point of the sheet's boundary nearest to p: its cell and local
   // coordinates, and the distance from p.
@@ -54,7 +56,10 @@ class FlatLocator {
   int nu_, nv_;
   std::vector<Vec2> flat_;
   Eigen::AlignedBox2d bounds_;
-  int bx_ = 1, by_ = 1;  // buckets along x and y
+  bool TryCell(int cell, const Vec2& p, SheetLocation* out) const;
+
+  std::vector<Eigen::AlignedBox2d> cell_bounds_;  // per cell, slightly enlarged
+  int bx_ = 1, by_ = 1;                           // buckets along x and y
   Vec2 bucket_size_ = Vec2::Ones();
   std::vector<int> bucket_start_;  // CSR: cells of bucket b are
   std::vector<int> bucket_cells_;  // bucket_cells_[bucket_start_[b] .. bucket_start_[b+1])

@@ -29,4 +29,18 @@ std::string CheckMesh(const Mesh& m) {
   return {};
 }
 
+void ComputeVertexNormals(Mesh* mesh) {
+  mesh->normals.assign(mesh->positions.size(), Vec3::Zero());
+  for (const auto& t : mesh->triangles) {
+    const Vec3& a = mesh->positions[t[0]];
+    // The cross product's length is twice the area: area weighting for free.
+    const Vec3 n = (mesh->positions[t[1]] - a).cross(mesh->positions[t[2]] - a);
+    for (uint32_t v : t) mesh->normals[v] += n;
+  }
+  for (Vec3& n : mesh->normals) {
+    const double len = n.norm();
+    n = len > 0.0 ? Vec3(n / len) : Vec3::UnitZ();
+  }
+}
+
 }  // namespace surfdeform

@@ -41,4 +41,9 @@ struct Mesh {
 // an empty string.
 std::string CheckMesh(const Mesh& mesh);
 
+// Sets `normals` to the area-weighted average of the adjacent face normals
+// (+Z for a vertex with no non-degenerate face). A mesh that shares vertices
+// across a crease gets smooth normals there: split such vertices first.
+void ComputeVertexNormals(Mesh* mesh);
+
 }  // namespace surfdeform

@@ -8,10 +8,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "engine/deform.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"
+#include "support/test_surfaces.hpp"
 
 namespace surfdeform {
 namespace {
@@ -420,6 +422,45 @@ TEST(Bunny, ImportsWithAllTrianglesAndRoundTrips) {
   EXPECT_EQ(bunny.mesh.triangles.size(), 75408u);
   const ImportedMesh back = ImportOk(*ExportMesh(bunny.mesh, MeshFormat::kPly));
   ExpectSameOrdered(bunny.mesh, back.mesh, 1e-7);
+}
+
+TEST(Bunny, DeformsOnTheFigure10SurfaceWithEveryAttributeKept) {
+  ImportedMesh bunny = ImportOk(ReadFile(testing::DataPath("bunny.ply")));
+  Mesh& m = bunny.mesh;
+  ComputeVertexNormals(&m);
+  for (const Vec3& p : m.positions) {
+    m.uv0.emplace_back(p.x(), p.y());
+    m.colors.emplace_back(0.5 + 0.5 * p.x(), 0.5, 0.5 - 0.5 * p.z(), 1.0);
+    const Vec3 t = Vec3::UnitX() - m.normals[m.uv0.size() - 1] * m.normals[m.uv0.size() - 1].x();
+    m.tangents.emplace_back(t.x(), t.y(), t.z(), 1.0);
+  }
+  for (size_t k = 0; k < m.tangents.size(); ++k) {
+    const Vec3 t = m.tangents[k].head<3>();
+    m.tangents[k].head<3>() = t.norm() > 1e-6 ? Vec3(t.normalized()) : Vec3::UnitY();
+  }
+  auto surface = testing::MakeValid(testing::LoadBezierFile(testing::DataPath("figure10.json")));
+  auto sheet = FlattenSurface(*surface, {16, 16});
+  ASSERT_TRUE(sheet.ok());
+  PlacementOptions o;
+  o.fit = true;
+  auto r = DeformMesh(*surface, *sheet, m, o);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  const Mesh& out = r->mesh;
+  EXPECT_EQ(out.positions.size(), 37706u);
+  EXPECT_EQ(out.triangles, m.triangles);
+  EXPECT_EQ(out.uv0, m.uv0);
+  EXPECT_EQ(out.colors, m.colors);
+  ASSERT_EQ(out.normals.size(), m.normals.size());
+  ASSERT_EQ(out.tangents.size(), m.tangents.size());
+  for (size_t k = 0; k < out.positions.size(); ++k) {
+    ASSERT_TRUE(out.positions[k].allFinite()) << k;
+    ASSERT_NEAR(out.normals[k].norm(), 1.0, 1e-9) << k;
+    ASSERT_TRUE(out.tangents[k].allFinite()) << k;
+  }
+  // The deformed bunny exports to every format.
+  for (MeshFormat f : {MeshFormat::kDraco, MeshFormat::kGlb, MeshFormat::kObj, MeshFormat::kPly}) {
+    EXPECT_TRUE(ExportMesh(out, f).ok()) << MeshFormatName(f);
+  }
 }
 
 }  // namespace
