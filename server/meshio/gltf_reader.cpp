@@ -477,6 +477,16 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
     return GltfError(binary ? "not a valid GLB file (truncated, or a bad chunk)"
                             : "not a valid glTF 2.0 JSON document");
   }
+  // An extension the file requires and we do not implement would be misread.
+  for (const std::string& ext : model.extensionsRequired) {
+    if (ext != "KHR_draco_mesh_compression" && ext != "KHR_mesh_quantization" &&
+        ext.rfind("KHR_materials_", 0) != 0 && ext != "KHR_texture_transform") {
+      return Status(
+          ErrorCode::kUnsupportedFormat,
+          "glTF: the file requires the extension " + ext.substr(0, 64) + ", which is not supported",
+          "mesh");
+    }
+  }
   for (const tinygltf::Material& m : model.materials) {
     out->materials.push_back(m.name.empty() ? "material" + std::to_string(out->materials.size())
                                             : m.name);

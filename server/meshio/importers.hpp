@@ -18,7 +18,10 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
 // kLimitExceeded when `actual` is over `limit`, naming what was counted.
 Status CheckLimit(const char* what, size_t actual, size_t limit);
 
-// Appends the fan triangulation of a polygon (already index-checked).
-void AppendFan(const uint32_t* corners, size_t count, Mesh* mesh);
+// Appends the triangulation of a polygon (indices already checked) whose
+// corners lie at `positions`: ear clipping in the polygon's best-fit plane,
+// so concave polygons come out right; a fan where ear clipping finds no ear
+// (self-intersecting or degenerate polygons).
+void AppendPolygon(const uint32_t* corners, const Vec3* positions, size_t count, Mesh* mesh);
 
 }  // namespace surfdeform::meshio

@@ -1,6 +1,9 @@
 #include "meshio/mesh_import.hpp"
 
+#include <array>
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include "meshio/importers.hpp"
 
@@ -15,10 +18,60 @@ Status CheckLimit(const char* what, size_t actual, size_t limit) {
                 "mesh");
 }
 
-void AppendFan(const uint32_t* corners, size_t count, Mesh* mesh) {
-  for (size_t k = 1; k + 1 < count; ++k) {
-    mesh->triangles.push_back({corners[0], corners[k], corners[k + 1]});
+void AppendPolygon(const uint32_t* corners, const Vec3* positions, size_t count, Mesh* mesh) {
+  if (count == 3) {
+    mesh->triangles.push_back({corners[0], corners[1], corners[2]});
+    return;
   }
+  // Newell's normal gives the polygon's plane and orientation.
+  Vec3 normal = Vec3::Zero();
+  for (size_t k = 0; k < count; ++k) {
+    const Vec3& a = positions[k];
+    const Vec3& b = positions[(k + 1) % count];
+    normal += Vec3((a.y() - b.y()) * (a.z() + b.z()), (a.z() - b.z()) * (a.x() + b.x()),
+                   (a.x() - b.x()) * (a.y() + b.y()));
+  }
+  auto fan = [&] {
+    for (size_t k = 1; k + 1 < count; ++k) {
+      mesh->triangles.push_back({corners[0], corners[k], corners[k + 1]});
+    }
+  };
+  if (!(normal.norm() > 0.0)) return fan();
+  const Vec3 n = normal.normalized();
+  const Vec3 e1 = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
+  const Vec3 e2 = n.cross(e1);
+  std::vector<Vec2> p(count);
+  for (size_t k = 0; k < count; ++k) p[k] = Vec2(positions[k].dot(e1), positions[k].dot(e2));
+  auto cross = [](const Vec2& a, const Vec2& b, const Vec2& c) {
+    return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+  };
+  std::vector<size_t> ring(count);
+  for (size_t k = 0; k < count; ++k) ring[k] = k;
+  std::vector<std::array<uint32_t, 3>> out;
+  while (ring.size() > 3) {
+    bool clipped = false;
+    for (size_t k = 0; k < ring.size() && !clipped; ++k) {
+      const size_t a = ring[(k + ring.size() - 1) % ring.size()], b = ring[k],
+                   c = ring[(k + 1) % ring.size()];
+      if (cross(p[a], p[b], p[c]) <= 0.0) continue;  // reflex or flat corner
+      bool empty = true;
+      for (size_t q : ring) {
+        if (q == a || q == b || q == c) continue;
+        if (cross(p[a], p[b], p[q]) >= 0 && cross(p[b], p[c], p[q]) >= 0 &&
+            cross(p[c], p[a], p[q]) >= 0) {
+          empty = false;
+          break;
+        }
+      }
+      if (!empty) continue;
+      out.push_back({corners[a], corners[b], corners[c]});
+      ring.erase(ring.begin() + static_cast<long>(k));
+      clipped = true;
+    }
+    if (!clipped) return fan();  // no ear: not a simple polygon
+  }
+  out.push_back({corners[ring[0]], corners[ring[1]], corners[ring[2]]});
+  mesh->triangles.insert(mesh->triangles.end(), out.begin(), out.end());
 }
 
 }  // namespace meshio

@@ -9,8 +9,8 @@
 // count is checked against the limits and against the number of bytes that
 // could hold it before anything is allocated; every index and accessor is
 // bounds-checked. Errors say what is wrong and where (line, element,
-// accessor) and never contain server paths. Polygons are triangulated as fans
-// (convex polygons come out right; concave ones may not).
+// accessor) and never contain server paths. Polygons (quads, n-gons, concave
+// ones too) are triangulated by ear clipping.
 #pragma once
 
 #include <string>

@@ -121,7 +121,9 @@ Status ReadObj(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
       }
       if (n < 3) return LineError(ln, "a face needs at least 3 corners");
       if (mesh.groups.empty()) start_group(current_material, "");
-      AppendFan(poly.data(), n, &mesh);
+      std::array<Vec3, kMaxPolygon> corner_positions;
+      for (size_t k = 0; k < n; ++k) corner_positions[k] = v[vertex_keys[poly[k]].v];
+      AppendPolygon(poly.data(), corner_positions.data(), n, &mesh);
       mesh.groups.back().triangle_count =
           static_cast<uint32_t>(mesh.triangles.size()) - mesh.groups.back().first_triangle;
       SURFDEFORM_RETURN_IF_ERROR(

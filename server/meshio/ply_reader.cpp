@@ -270,7 +270,9 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
           }
           if (is_face && (p.name == "vertex_indices" || p.name == "vertex_index")) {
             if (n < 3) return PlyError("face " + std::to_string(r) + " has fewer than 3 corners");
-            AppendFan(poly, n, &mesh);
+            Vec3 corner_positions[kMaxPolygon];
+            for (size_t k = 0; k < n; ++k) corner_positions[k] = mesh.positions[poly[k]];
+            AppendPolygon(poly, corner_positions, n, &mesh);
           }
           continue;
         }

@@ -169,7 +169,9 @@ Status ReadOff(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
       }
       poly[k] = static_cast<uint32_t>(idx);
     }
-    AppendFan(poly, static_cast<size_t>(n), &mesh);
+    Vec3 corner_positions[256];
+    for (int64_t k = 0; k < n; ++k) corner_positions[k] = mesh.positions[poly[k]];
+    AppendPolygon(poly, corner_positions, static_cast<size_t>(n), &mesh);
     line = {};  // a face line may end with a colour: skip the rest of it
   }
   return Status::Ok();

@@ -316,6 +316,31 @@ const std::string kTriangleData =
     Base64(std::string(
         "\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0", 36));
 
+TEST(MeshImport, ConcavePolygonsAreTriangulatedInside) {
+  // An L-shaped hexagon: a fan from its first corner would cover the notch.
+  const std::string obj = "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nf 3 4 5 6 1 2\n";
+  const ImportedMesh m = ImportOk(obj);
+  ASSERT_EQ(m.mesh.triangles.size(), 4u);
+  double area = 0.0;
+  for (const auto& t : m.mesh.triangles) {
+    const Vec3 n = (m.mesh.positions[t[1]] - m.mesh.positions[t[0]])
+                       .cross(m.mesh.positions[t[2]] - m.mesh.positions[t[0]]);
+    EXPECT_GT(n.z(), 0.0);  // same orientation as the polygon
+    area += 0.5 * n.z();
+  }
+  EXPECT_NEAR(area, 3.0, 1e-12);  // the L's area: no triangle covers the notch
+}
+
+TEST(MeshImport, RequiredExtensionsWeDoNotImplementAreRefused) {
+  nlohmann::json j = nlohmann::json::parse(MinimalGltf(kTriangleData));
+  j["extensionsUsed"] = {"EXT_meshopt_compression"};
+  j["extensionsRequired"] = {"EXT_meshopt_compression"};
+  auto r = ImportMesh(j.dump());
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kUnsupportedFormat);
+  EXPECT_NE(r.status().message().find("EXT_meshopt_compression"), std::string::npos);
+}
+
 TEST(HostileInput, MinimalGltfIsFine) {
   const ImportedMesh m = ImportOk(MinimalGltf(kTriangleData));
   EXPECT_EQ(m.mesh.triangles.size(), 1u);
