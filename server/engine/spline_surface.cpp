@@ -44,6 +44,11 @@ class SplineSurface final : public Surface {
     const int sv = Basis(d_.count_v, q, v, tv, dv_, d_.knots_v, order, nv);
 
     SurfacePoint s;
+    if (!rational_ && p == 3 && q == 3) {  // the common bicubic patch: unrolled
+      return order == 0   ? CombineBicubic<0>(su - p, sv - q, nu, nv)
+             : order == 1 ? CombineBicubic<1>(su - p, sv - q, nu, nv)
+                          : CombineBicubic<2>(su - p, sv - q, nu, nv);
+    }
     if (!rational_) {
       const Derivs<Vec3> a = Combine<Vec3>(points_, su - p, sv - q, nu, nv, order);
       s.p = a.p;
@@ -97,6 +102,31 @@ class SplineSurface final : public Surface {
         out.suu += nv[0][j] * r2;
         out.suv += nv[1][j] * r1;
         out.svv += nv[2][j] * r0;
+      }
+    }
+    return out;
+  }
+
+  // Combine for non-rational bicubic patches, with the degrees and the order
+  // known at compile time so that the loops unroll.
+  template <int kOrder>
+  SurfacePoint CombineBicubic(int i0, int j0, const double nu[3][kMaxSplineDegree + 1],
+                              const double nv[3][kMaxSplineDegree + 1]) const {
+    SurfacePoint out;
+    for (int j = 0; j < 4; ++j) {
+      const Vec3* cp = &points_[static_cast<size_t>(j0 + j) * d_.count_u + i0];
+      Vec3 r0 = nu[0][0] * cp[0] + nu[0][1] * cp[1] + nu[0][2] * cp[2] + nu[0][3] * cp[3];
+      out.p += nv[0][j] * r0;
+      if constexpr (kOrder >= 1) {
+        const Vec3 r1 = nu[1][0] * cp[0] + nu[1][1] * cp[1] + nu[1][2] * cp[2] + nu[1][3] * cp[3];
+        out.su += nv[0][j] * r1;
+        out.sv += nv[1][j] * r0;
+        if constexpr (kOrder >= 2) {
+          const Vec3 r2 = nu[2][0] * cp[0] + nu[2][1] * cp[1] + nu[2][2] * cp[2] + nu[2][3] * cp[3];
+          out.suu += nv[0][j] * r2;
+          out.suv += nv[1][j] * r1;
+          out.svv += nv[2][j] * r0;
+        }
       }
     }
     return out;
