@@ -14,6 +14,7 @@ packages=(
   libdraco-dev draco       # Draco meshes: library, and draco_decoder for round-trip tests
   libtinygltf-dev          # glTF / GLB
   assimp-testmodels        # real glTF, OBJ, PLY, STL, OFF files (and broken ones) for tests
+  clang-14 libclang-rt-14-dev  # libFuzzer for the mesh import fuzzer (tests/fuzz)
 )
 # Node.js runs the Khronos glTF validator (npm) in the tests; a machine that
 # already has node and npm (e.g. Node 20) keeps them.

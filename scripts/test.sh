@@ -25,5 +25,9 @@ echo "== unit tests under sanitizers"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build-asan --output-on-failure -j "$jobs"
 
+echo "== mesh import fuzzer (libFuzzer, fixed seed, 100000 inputs)"
+FUZZ_RUNS=100000 tests/fuzz/run.sh > build-fuzz.log 2>&1 || { tail -40 build-fuzz.log; exit 1; }
+grep -E "stat::number_of_executed_units" build-fuzz.log
+
 echo "== all tests (release)"
 ctest --test-dir build --output-on-failure -j "$jobs"

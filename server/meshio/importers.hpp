@@ -15,6 +15,11 @@ Status ReadOff(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
 Status ReadDraco(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out);
 Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits, ImportedMesh* out);
 
+// `text` with every byte that is not part of a valid UTF-8 sequence replaced
+// by '?', and cut to `max_bytes`: names from files end up in JSON (GLB) and
+// in messages, which must stay valid.
+std::string CleanName(std::string_view text, size_t max_bytes = 256);
+
 // kLimitExceeded when `actual` is over `limit`, naming what was counted.
 Status CheckLimit(const char* what, size_t actual, size_t limit);
 

@@ -7,6 +7,7 @@
 
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
+#include "meshio/importers.hpp"
 
 namespace surfdeform {
 namespace {
@@ -124,6 +125,8 @@ Status ValidateDracoOptions(const DracoOptions& o) {
   return Status::Ok();
 }
 
+static Result<std::string> ExportClean(const Mesh& mesh, MeshFormat format, const ExportOptions& o);
+
 Result<std::string> ExportMesh(const Mesh& mesh, MeshFormat format, const ExportOptions& o) {
   if (const std::string problem = CheckMesh(mesh); !problem.empty()) {
     return InvalidArgument("malformed mesh: " + problem, "mesh");
@@ -132,6 +135,27 @@ Result<std::string> ExportMesh(const Mesh& mesh, MeshFormat format, const Export
       !AllFinite(mesh.uv0) || !AllFinite(mesh.uv1) || !AllFinite(mesh.colors)) {
     return InvalidArgument("the mesh holds a non-finite value; it is never written", "mesh");
   }
+  ExportOptions clean = o;
+  for (std::string& m : clean.materials) m = meshio::CleanName(m);
+  Mesh named;  // names in groups end up in JSON: valid UTF-8 only
+  const Mesh* source = &mesh;
+  for (const MeshGroup& g : mesh.groups) {
+    if (meshio::CleanName(g.name) != g.name) {
+      named = mesh;
+      for (MeshGroup& ng : named.groups) ng.name = meshio::CleanName(ng.name);
+      source = &named;
+      break;
+    }
+  }
+  try {
+    return ExportClean(*source, format, clean);
+  } catch (const std::exception&) {
+    return Status(ErrorCode::kInternal, "the mesh could not be written");
+  }
+}
+
+static Result<std::string> ExportClean(const Mesh& mesh, MeshFormat format,
+                                       const ExportOptions& o) {
   switch (format) {
     case MeshFormat::kObj:
       return WriteObj(mesh, o);

@@ -2,6 +2,8 @@
 
 #include <array>
 #include <cmath>
+#include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -9,6 +11,31 @@
 
 namespace surfdeform {
 namespace meshio {
+
+std::string CleanName(std::string_view text, size_t max_bytes) {
+  std::string out;
+  for (size_t i = 0; i < text.size() && out.size() < max_bytes;) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    size_t len = c < 0x80           ? 1
+                 : (c >> 5) == 0x6  ? 2
+                 : (c >> 4) == 0xE  ? 3
+                 : (c >> 3) == 0x1E ? 4
+                                    : 0;
+    bool valid = len > 0 && i + len <= text.size() && !(len == 1 && c < 0x20);
+    for (size_t k = 1; valid && k < len; ++k) {
+      valid = (static_cast<unsigned char>(text[i + k]) >> 6) == 0x2;
+    }
+    if (valid && len == 2 && c < 0xC2) valid = false;  // overlong
+    if (valid) {
+      out.append(text.substr(i, len));
+      i += len;
+    } else {
+      out.push_back('?');
+      ++i;
+    }
+  }
+  return out;
+}
 
 Status CheckLimit(const char* what, size_t actual, size_t limit) {
   if (actual <= limit) return Status::Ok();
@@ -81,33 +108,46 @@ Result<ImportedMesh> ImportMesh(std::string_view bytes, const ImportLimits& limi
   ImportedMesh out;
   out.format = DetectMeshFormat(bytes);
   Status status;
-  switch (out.format) {
-    case MeshFormat::kObj:
-      status = meshio::ReadObj(bytes, limits, &out);
-      break;
-    case MeshFormat::kPly:
-      status = meshio::ReadPly(bytes, limits, &out);
-      break;
-    case MeshFormat::kStl:
-      status = meshio::ReadStl(bytes, limits, &out);
-      break;
-    case MeshFormat::kOff:
-      status = meshio::ReadOff(bytes, limits, &out);
-      break;
-    case MeshFormat::kDraco:
-      status = meshio::ReadDraco(bytes, limits, &out);
-      break;
-    case MeshFormat::kGlb:
-    case MeshFormat::kGltf:
-      status = meshio::ReadGltf(bytes, out.format == MeshFormat::kGlb, limits, &out);
-      break;
-    case MeshFormat::kUnknown:
-      return Status(ErrorCode::kUnsupportedFormat,
-                    "the bytes are in no supported mesh format (glTF/GLB, Draco, OBJ, PLY, STL, "
-                    "OFF)",
-                    "mesh");
+  // The readers call tinygltf, nlohmann-json and Draco, which may throw (bad
+  // allocation included): an exception is a rejected input, never a crash.
+  try {
+    switch (out.format) {
+      case MeshFormat::kObj:
+        status = meshio::ReadObj(bytes, limits, &out);
+        break;
+      case MeshFormat::kPly:
+        status = meshio::ReadPly(bytes, limits, &out);
+        break;
+      case MeshFormat::kStl:
+        status = meshio::ReadStl(bytes, limits, &out);
+        break;
+      case MeshFormat::kOff:
+        status = meshio::ReadOff(bytes, limits, &out);
+        break;
+      case MeshFormat::kDraco:
+        status = meshio::ReadDraco(bytes, limits, &out);
+        break;
+      case MeshFormat::kGlb:
+      case MeshFormat::kGltf:
+        status = meshio::ReadGltf(bytes, out.format == MeshFormat::kGlb, limits, &out);
+        break;
+      case MeshFormat::kUnknown:
+        return Status(ErrorCode::kUnsupportedFormat,
+                      "the bytes are in no supported mesh format (glTF/GLB, Draco, OBJ, PLY, STL, "
+                      "OFF)",
+                      "mesh");
+    }
+  } catch (const std::bad_alloc&) {
+    return Status(ErrorCode::kLimitExceeded, "the mesh needs more memory than is available",
+                  "mesh");
+  } catch (const std::exception&) {
+    return InvalidArgument(
+        std::string("the ") + MeshFormatName(out.format) + " data could not be read (malformed)",
+        "mesh");
   }
   SURFDEFORM_RETURN_IF_ERROR(status);
+  for (std::string& m : out.materials) m = meshio::CleanName(m);
+  for (MeshGroup& g : out.mesh.groups) g.name = meshio::CleanName(g.name);
   SURFDEFORM_RETURN_IF_ERROR(
       meshio::CheckLimit("vertices", out.mesh.positions.size(), limits.max_vertices));
   SURFDEFORM_RETURN_IF_ERROR(

@@ -238,11 +238,15 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
       return false;
     };
     if (is_vertex) {
-      if (has("nx")) mesh.normals.assign(e.count, Vec3::Zero());
-      if (has("s") || has("u") || has("texture_u") || has("texture_s")) {
+      // Any component allocates its attribute (a file may name "ny" but no "nx").
+      if (has("nx") || has("ny") || has("nz")) mesh.normals.assign(e.count, Vec3::Zero());
+      if (has("s") || has("u") || has("texture_u") || has("texture_s") || has("t") || has("v") ||
+          has("texture_v") || has("texture_t")) {
         mesh.uv0.assign(e.count, Vec2::Zero());
       }
-      if (has("red")) mesh.colors.assign(e.count, Vec4(0, 0, 0, 1));
+      if (has("red") || has("green") || has("blue") || has("alpha")) {
+        mesh.colors.assign(e.count, Vec4(0, 0, 0, 1));
+      }
     }
     for (size_t r = 0; r < e.count; ++r) {
       for (const Property& p : e.properties) {

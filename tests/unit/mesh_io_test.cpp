@@ -341,6 +341,38 @@ TEST(MeshImport, RequiredExtensionsWeDoNotImplementAreRefused) {
   EXPECT_NE(r.status().message().find("EXT_meshopt_compression"), std::string::npos);
 }
 
+TEST(HostileInput, InvalidUtf8NamesAreCleanedNotFatal) {
+  // Found by tests/fuzz: an OBJ material name with invalid UTF-8 made the GLB
+  // writer's JSON serialiser throw.
+  const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl bad\xff\xfe name\nf 1 2 3\n";
+  const ImportedMesh m = ImportOk(obj);
+  ASSERT_EQ(m.materials.size(), 1u);
+  EXPECT_EQ(m.materials[0], "bad?? name");
+  ExportOptions o;
+  o.materials = {
+      "also\xc0\xaf"
+      "bad"};
+  Mesh named = m.mesh;
+  named.groups[0].name = "\xed\xa0";
+  auto glb = ExportMesh(named, MeshFormat::kGlb, o);
+  ASSERT_TRUE(glb.ok()) << glb.status().ToString();
+  EXPECT_TRUE(ImportMesh(*glb).ok());
+}
+
+TEST(HostileInput, PlyAttributeWithoutItsFirstComponent) {
+  // Found by tests/fuzz: "ny" without "nx" wrote into unallocated normals.
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float ny\nproperty float t\nproperty uchar green\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0 1 0.5 10\n1 0 0 1 0.5 20\n0 1 0 1 0.5 30\n3 0 1 2\n";
+  const ImportedMesh m = ImportOk(ply);
+  ASSERT_EQ(m.mesh.normals.size(), 3u);
+  EXPECT_LT((m.mesh.normals[0] - Vec3::UnitY()).norm(), 1e-12);
+  EXPECT_NEAR(m.mesh.uv0[1].y(), 0.5, 1e-12);
+  EXPECT_NEAR(m.mesh.colors[2].y(), 30.0 / 255, 1e-12);
+}
+
 TEST(HostileInput, MinimalGltfIsFine) {
   const ImportedMesh m = ImportOk(MinimalGltf(kTriangleData));
   EXPECT_EQ(m.mesh.triangles.size(), 1u);
