@@ -13,6 +13,9 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev  # optional peer in benchmarks (ARAP, LSCM)
   libdraco-dev draco       # Draco meshes: library, and draco_decoder for round-trip tests
   libtinygltf-dev          # glTF / GLB
+  libcpp-httplib-dev       # the HTTP server (and the client in integration tests)
+  libssl-dev               # SHA-256 for surface ids and ETags (OpenSSL)
+  curl python3 python3-yaml  # the README's curl examples and the contract check, run as a test
   assimp-testmodels        # real glTF, OBJ, PLY, STL, OFF files (and broken ones) for tests
   clang-14 libclang-rt-14-dev  # libFuzzer for the mesh import fuzzer (tests/fuzz)
 )

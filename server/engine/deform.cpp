@@ -211,9 +211,20 @@ Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, 
   FlatLocator locator(sheet);
   const Eigen::AlignedBox2d& sb = locator.bounds();
   switch (o.center_mode) {
-    case CenterMode::kSheetCenter:
-      pl.target = sb.center();
+    case CenterMode::kSheetCenter: {
+      // The image of the surface's parameter midpoint (u, v) = (1/2, 1/2):
+      // inside the sheet whatever its shape (the middle of a bounding box is
+      // not, for an unrolled cone).
+      const double gu = 0.5 * (sheet.nu - 1);
+      const double gv = 0.5 * (sheet.nv - 1);
+      SheetLocation mid;
+      mid.i = std::min(static_cast<int>(gu), sheet.nu - 2);
+      mid.j = std::min(static_cast<int>(gv), sheet.nv - 2);
+      mid.s = gu - mid.i;
+      mid.t = gv - mid.j;
+      pl.target = locator.FlatPoint(mid);
       break;
+    }
     case CenterMode::kSheetUnits:
       pl.target = o.center;
       break;

@@ -38,6 +38,8 @@ struct PlacementOptions {
   AnchorMode anchor = AnchorMode::kCenter;            // the model height that lands on the surface:
   double anchor_value = 0.0;                          // with kValue, in model units along `up`
   CenterMode center_mode = CenterMode::kSheetCenter;  // where the footprint centre goes:
+                                                      // kSheetCenter: the image of the
+                                                      // surface's (u, v) = (1/2, 1/2);
   Vec2 center = Vec2::Zero();  // kSheetUnits: flat-sheet point; kFraction: of the sheet's
                                // bounding box, (0, 0) = its min corner, (1, 1) = max corner
   double rotation_deg = 0.0;   // footprint rotation about its centre, counter-clockwise

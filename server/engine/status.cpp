@@ -18,6 +18,14 @@ const char* ErrorCodeName(ErrorCode code) {
       return "outside_sheet";
     case ErrorCode::kUnsupportedFormat:
       return "unsupported_format";
+    case ErrorCode::kMalformed:
+      return "malformed";
+    case ErrorCode::kNotFound:
+      return "not_found";
+    case ErrorCode::kNotAcceptable:
+      return "not_acceptable";
+    case ErrorCode::kUnavailable:
+      return "unavailable";
     case ErrorCode::kInternal:
       return "internal";
   }
@@ -31,7 +39,9 @@ Status Status::WithFieldPrefix(const std::string& prefix) const {
     if (field_.front() != '[') joined += '.';
     joined += field_;
   }
-  return Status(code_, message_, joined);
+  Status s = *this;
+  s.field_ = joined;
+  return s;
 }
 
 std::string Status::ToString() const {

@@ -22,6 +22,10 @@ enum class ErrorCode {
   kNotConverged,       // a solver did not reach a usable result (e.g. folded cells remain)
   kOutsideSheet,       // a model's footprint leaves the flat sheet
   kUnsupportedFormat,  // bytes in no format the reader knows (or one it refuses)
+  kMalformed,          // a request that cannot be parsed (syntax, wrong types, unknown fields)
+  kNotFound,           // an id that names nothing (e.g. a surface no longer cached)
+  kNotAcceptable,      // no output format the caller accepts
+  kUnavailable,        // overloaded or shutting down: retry later
   kInternal,           // a bug: never caused by input
 };
 
@@ -35,10 +39,28 @@ class Status {
 
   static Status Ok() { return Status(); }
 
+  // kLimitExceeded with the published limit and the actual value, so that a
+  // caller can report both as numbers (e.g. in an HTTP problem response).
+  static Status LimitExceeded(std::string message, std::string field, double limit, double actual) {
+    return Status(ErrorCode::kLimitExceeded, std::move(message), std::move(field))
+        .WithLimit(limit, actual);
+  }
+  // A copy that also carries the limit that was hit and the actual value.
+  Status WithLimit(double limit, double actual) const {
+    Status s = *this;
+    s.has_limit_ = true;
+    s.limit_ = limit;
+    s.actual_ = actual;
+    return s;
+  }
+
   bool ok() const { return code_ == ErrorCode::kOk; }
   ErrorCode code() const { return code_; }
   const std::string& message() const { return message_; }
   const std::string& field() const { return field_; }
+  bool has_limit() const { return has_limit_; }
+  double limit() const { return limit_; }
+  double actual() const { return actual_; }
 
   // Prefixes the field path, so that a nested builder can report
   // "surface.control_points[3]" while the inner check only knows "control_points[3]".
@@ -50,6 +72,9 @@ class Status {
   ErrorCode code_ = ErrorCode::kOk;
   std::string message_;
   std::string field_;
+  bool has_limit_ = false;
+  double limit_ = 0.0;
+  double actual_ = 0.0;
 };
 
 inline Status InvalidArgument(std::string message, std::string field = {}) {

@@ -13,6 +13,7 @@
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
 #include "meshio/importers.hpp"
+#include "meshio/json_depth.hpp"
 
 namespace surfdeform::meshio {
 namespace {
@@ -34,28 +35,6 @@ bool RefuseWrite(std::string*, const std::string&, const std::vector<unsigned ch
 bool KeepNoImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                  const unsigned char*, int, void*) {
   return true;  // images are never decoded (and a loader must be set in 2.7.0)
-}
-
-// Deepest nesting of objects and arrays in a JSON text (strings skipped).
-int JsonDepth(std::string_view json) {
-  int depth = 0, deepest = 0;
-  bool in_string = false;
-  for (size_t i = 0; i < json.size(); ++i) {
-    const char c = json[i];
-    if (in_string) {
-      if (c == '\\')
-        ++i;
-      else if (c == '"')
-        in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '{' || c == '[') {
-      deepest = std::max(deepest, ++depth);
-    } else if (c == '}' || c == ']') {
-      --depth;
-    }
-  }
-  return deepest;
 }
 
 // The JSON chunk of a GLB (bounds-checked), or the text itself.
@@ -439,12 +418,13 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
                 ImportedMesh* out) {
   std::string_view json;
   SURFDEFORM_RETURN_IF_ERROR(JsonOf(bytes, binary, &json));
-  const int depth = JsonDepth(json);
+  const int depth = JsonNestingDepth(json);
   if (depth > limits.max_json_depth) {
-    return Status(ErrorCode::kLimitExceeded,
-                  "the glTF JSON nests " + std::to_string(depth) + " levels deep; the limit is " +
-                      std::to_string(limits.max_json_depth),
-                  "mesh");
+    return InvalidArgument("the glTF JSON nests " + std::to_string(depth) +
+                               " levels deep; the limit is " +
+                               std::to_string(limits.max_json_depth),
+                           "mesh")
+        .WithLimit(limits.max_json_depth, depth);
   }
   auto patched = DropDracoIndices(json);
   if (!patched.ok()) return patched.status();

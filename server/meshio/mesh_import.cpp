@@ -39,10 +39,9 @@ std::string CleanName(std::string_view text, size_t max_bytes) {
 
 Status CheckLimit(const char* what, size_t actual, size_t limit) {
   if (actual <= limit) return Status::Ok();
-  return Status(ErrorCode::kLimitExceeded,
-                std::string("the mesh has ") + std::to_string(actual) + " " + what +
-                    "; the limit is " + std::to_string(limit),
-                "mesh");
+  return Status::LimitExceeded(std::string("the mesh has ") + std::to_string(actual) + " " + what +
+                                   "; the limit is " + std::to_string(limit),
+                               "mesh", static_cast<double>(limit), static_cast<double>(actual));
 }
 
 void AppendPolygon(const uint32_t* corners, const Vec3* positions, size_t count, Mesh* mesh) {

@@ -400,8 +400,10 @@ TEST(HostileInput, DeepJsonIsRejectedBeforeParsing) {
               ",\"extras\":" + std::string(100000, '[') + std::string(100000, ']'));
   auto r = ImportMesh(deep);
   ASSERT_FALSE(r.ok());
-  EXPECT_EQ(r.status().code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(r.status().code(), ErrorCode::kInvalidArgument);  // 422 in the service
   EXPECT_NE(r.status().message().find("limit is 64"), std::string::npos);
+  EXPECT_TRUE(r.status().has_limit());
+  EXPECT_EQ(r.status().actual(), 100001);
 }
 
 TEST(HostileInput, TruncatedAndLyingGlb) {

@@ -1,0 +1,485 @@
+#include "proto/api.hpp"
+
+#include <type_traits>
+
+#include "proto/content_hash.hpp"
+#include "proto/json_object.hpp"
+
+namespace surfdeform::proto {
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kKinds[] = {"bezier", "bspline", "nurbs", "cylinder", "cone",
+                                  "sphere", "torus",   "wave",  "grid"};
+
+Status ReadFrame(JsonObject& o, Frame* frame) {
+  const json* v = o.Find("frame");
+  if (v == nullptr) return Status::Ok();
+  auto f = JsonObject::Open(*v, o.PathOf("frame"));
+  if (!f.ok()) return f.status();
+  SURFDEFORM_RETURN_IF_ERROR(f->Vector3("origin", &frame->origin));
+  SURFDEFORM_RETURN_IF_ERROR(f->Vector3("x_axis", &frame->x_axis));
+  SURFDEFORM_RETURN_IF_ERROR(f->Vector3("z_axis", &frame->z_axis));
+  return f->Finish();
+}
+
+json FrameJson(const Frame& f) {
+  return {{"origin", {f.origin.x(), f.origin.y(), f.origin.z()}},
+          {"x_axis", {f.x_axis.x(), f.x_axis.y(), f.x_axis.z()}},
+          {"z_axis", {f.z_axis.x(), f.z_axis.y(), f.z_axis.z()}}};
+}
+
+json PointsJson(const std::vector<Vec3>& points) {
+  json a = json::array();
+  for (const Vec3& p : points) a.push_back({p.x(), p.y(), p.z()});
+  return a;
+}
+
+Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
+  auto opened = JsonObject::Open(value, path);
+  if (!opened.ok()) return opened.status();
+  JsonObject& o = *opened;
+  if (o.Find("kind") == nullptr) {
+    return Malformed(
+        "is required (one of bezier, bspline, nurbs, cylinder, cone, sphere, torus, "
+        "wave, grid)",
+        o.PathOf("kind"));
+  }
+  int kind = -1;
+  SURFDEFORM_RETURN_IF_ERROR(o.Choice("kind", {std::begin(kKinds), std::end(kKinds)}, &kind));
+  SurfaceSpec spec;
+  switch (kind) {
+    case 0: {
+      BezierSpec s;
+      SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_u", &s.degree_u));
+      SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_v", &s.degree_v));
+      SURFDEFORM_RETURN_IF_ERROR(o.Points("control_points", &s.control_points));
+      spec = std::move(s);
+      break;
+    }
+    case 1:
+    case 2: {
+      BSplineSpec s;
+      s.rational = kind == 2;
+      SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_u", &s.degree_u));
+      SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_v", &s.degree_v));
+      SURFDEFORM_RETURN_IF_ERROR(o.Integer("count_u", &s.count_u));
+      SURFDEFORM_RETURN_IF_ERROR(o.Integer("count_v", &s.count_v));
+      SURFDEFORM_RETURN_IF_ERROR(o.Points("control_points", &s.control_points));
+      SURFDEFORM_RETURN_IF_ERROR(o.Numbers("knots_u", &s.knots_u));
+      SURFDEFORM_RETURN_IF_ERROR(o.Numbers("knots_v", &s.knots_v));
+      if (s.rational) SURFDEFORM_RETURN_IF_ERROR(o.Numbers("weights", &s.weights));
+      spec = std::move(s);
+      break;
+    }
+    case 3: {
+      CylinderSpec s;
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("radius", &s.radius));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("height", &s.height));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("angle_deg", &s.angle_deg));
+      SURFDEFORM_RETURN_IF_ERROR(ReadFrame(o, &s.frame));
+      spec = s;
+      break;
+    }
+    case 4: {
+      ConeSpec s;
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("radius_bottom", &s.radius_bottom));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("radius_top", &s.radius_top));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("height", &s.height));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("angle_deg", &s.angle_deg));
+      SURFDEFORM_RETURN_IF_ERROR(ReadFrame(o, &s.frame));
+      spec = s;
+      break;
+    }
+    case 5: {
+      SphereSpec s;
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("radius", &s.radius));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("lon_min_deg", &s.lon_min_deg));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("lon_max_deg", &s.lon_max_deg));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("lat_min_deg", &s.lat_min_deg));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("lat_max_deg", &s.lat_max_deg));
+      SURFDEFORM_RETURN_IF_ERROR(ReadFrame(o, &s.frame));
+      spec = s;
+      break;
+    }
+    case 6: {
+      TorusSpec s;
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("major_radius", &s.major_radius));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("minor_radius", &s.minor_radius));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("u_min_deg", &s.u_min_deg));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("u_max_deg", &s.u_max_deg));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("v_min_deg", &s.v_min_deg));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("v_max_deg", &s.v_max_deg));
+      SURFDEFORM_RETURN_IF_ERROR(ReadFrame(o, &s.frame));
+      spec = s;
+      break;
+    }
+    case 7: {
+      WaveSpec s;
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("length", &s.length));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("width", &s.width));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("amplitude", &s.amplitude));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("wavelength", &s.wavelength));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("speed", &s.speed));
+      SURFDEFORM_RETURN_IF_ERROR(o.Number("time", &s.time));
+      SURFDEFORM_RETURN_IF_ERROR(ReadFrame(o, &s.frame));
+      spec = s;
+      break;
+    }
+    default: {
+      GridSpec s;
+      SURFDEFORM_RETURN_IF_ERROR(o.Integer("nu", &s.nu));
+      SURFDEFORM_RETURN_IF_ERROR(o.Integer("nv", &s.nv));
+      SURFDEFORM_RETURN_IF_ERROR(o.Points("points", &s.points));
+      spec = std::move(s);
+      break;
+    }
+  }
+  SURFDEFORM_RETURN_IF_ERROR(o.Finish());
+  return spec;
+}
+
+json SurfaceJson(const SurfaceSpec& spec) {
+  return std::visit(
+      [](const auto& s) -> json {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, BezierSpec>) {
+          return {{"kind", "bezier"},
+                  {"degree_u", s.degree_u},
+                  {"degree_v", s.degree_v},
+                  {"control_points", PointsJson(s.control_points)}};
+        } else if constexpr (std::is_same_v<T, BSplineSpec>) {
+          json j = {{"kind", s.rational ? "nurbs" : "bspline"},
+                    {"degree_u", s.degree_u},
+                    {"degree_v", s.degree_v},
+                    {"count_u", s.count_u},
+                    {"count_v", s.count_v},
+                    {"control_points", PointsJson(s.control_points)},
+                    {"knots_u", s.knots_u},
+                    {"knots_v", s.knots_v}};
+          if (s.rational) j["weights"] = s.weights;
+          return j;
+        } else if constexpr (std::is_same_v<T, CylinderSpec>) {
+          return {{"kind", "cylinder"},
+                  {"radius", s.radius},
+                  {"height", s.height},
+                  {"angle_deg", s.angle_deg},
+                  {"frame", FrameJson(s.frame)}};
+        } else if constexpr (std::is_same_v<T, ConeSpec>) {
+          return {{"kind", "cone"},
+                  {"radius_bottom", s.radius_bottom},
+                  {"radius_top", s.radius_top},
+                  {"height", s.height},
+                  {"angle_deg", s.angle_deg},
+                  {"frame", FrameJson(s.frame)}};
+        } else if constexpr (std::is_same_v<T, SphereSpec>) {
+          return {{"kind", "sphere"},
+                  {"radius", s.radius},
+                  {"lon_min_deg", s.lon_min_deg},
+                  {"lon_max_deg", s.lon_max_deg},
+                  {"lat_min_deg", s.lat_min_deg},
+                  {"lat_max_deg", s.lat_max_deg},
+                  {"frame", FrameJson(s.frame)}};
+        } else if constexpr (std::is_same_v<T, TorusSpec>) {
+          return {{"kind", "torus"},
+                  {"major_radius", s.major_radius},
+                  {"minor_radius", s.minor_radius},
+                  {"u_min_deg", s.u_min_deg},
+                  {"u_max_deg", s.u_max_deg},
+                  {"v_min_deg", s.v_min_deg},
+                  {"v_max_deg", s.v_max_deg},
+                  {"frame", FrameJson(s.frame)}};
+        } else if constexpr (std::is_same_v<T, WaveSpec>) {
+          return {{"kind", "wave"},           {"length", s.length},         {"width", s.width},
+                  {"amplitude", s.amplitude}, {"wavelength", s.wavelength}, {"speed", s.speed},
+                  {"time", s.time},           {"frame", FrameJson(s.frame)}};
+        } else {
+          return {{"kind", "grid"}, {"nu", s.nu}, {"nv", s.nv}, {"points", PointsJson(s.points)}};
+        }
+      },
+      spec);
+}
+
+Status ReadSampling(JsonObject& parent, SamplingOptions* out) {
+  const json* v = parent.Find("sampling");
+  if (v == nullptr) return Status::Ok();
+  auto o = JsonObject::Open(*v, parent.PathOf("sampling"));
+  if (!o.ok()) return o.status();
+  SURFDEFORM_RETURN_IF_ERROR(o->Integer("nu", &out->nu));
+  SURFDEFORM_RETURN_IF_ERROR(o->Integer("nv", &out->nv));
+  SURFDEFORM_RETURN_IF_ERROR(o->Finish());
+  return ValidateSampling(*out).WithFieldPrefix(parent.PathOf("sampling"));
+}
+
+Status ReadFlatten(JsonObject& parent, FlattenOptions* out) {
+  const json* v = parent.Find("flatten");
+  if (v == nullptr) return Status::Ok();
+  auto o = JsonObject::Open(*v, parent.PathOf("flatten"));
+  if (!o.ok()) return o.status();
+  int method = out->method == FlattenMethod::kPaper ? 1 : 0;
+  SURFDEFORM_RETURN_IF_ERROR(o->Choice("method", {"majorization", "paper"}, &method));
+  out->method = method == 1 ? FlattenMethod::kPaper : FlattenMethod::kMajorization;
+  SURFDEFORM_RETURN_IF_ERROR(o->Integer("range", &out->range));
+  SURFDEFORM_RETURN_IF_ERROR(o->Number("tolerance", &out->tolerance));
+  SURFDEFORM_RETURN_IF_ERROR(o->Integer("max_iterations", &out->max_iterations));
+  SURFDEFORM_RETURN_IF_ERROR(o->Number("step", &out->step));
+  SURFDEFORM_RETURN_IF_ERROR(o->Boolean("exact_developable", &out->exact_developable));
+  SURFDEFORM_RETURN_IF_ERROR(o->Integer("lattice_factor", &out->lattice_factor));
+  SURFDEFORM_RETURN_IF_ERROR(o->Integer("relax_steps", &out->relax_steps));
+  SURFDEFORM_RETURN_IF_ERROR(o->Finish());
+  // The engine's own rules name the field without the prefix.
+  return ValidateFlattenOptions(*out).WithFieldPrefix(parent.PathOf("flatten"));
+}
+
+Status ReadSurfaceParts(JsonObject& o, SurfaceRequest* out) {
+  const json* surface = o.Find("surface");
+  if (surface == nullptr) return Malformed("is required", o.PathOf("surface"));
+  auto spec = ReadSurface(*surface, o.PathOf("surface"));
+  if (!spec.ok()) return spec.status();
+  out->surface = std::move(*spec);
+  SURFDEFORM_RETURN_IF_ERROR(ReadSampling(o, &out->sampling));
+  return ReadFlatten(o, &out->flatten);
+}
+
+Status ReadPlacement(JsonObject& parent, PlacementOptions* out) {
+  const json* v = parent.Find("placement");
+  if (v == nullptr) return ValidatePlacement(*out);
+  const std::string path = parent.PathOf("placement");
+  auto opened = JsonObject::Open(*v, path);
+  if (!opened.ok()) return opened.status();
+  JsonObject& o = *opened;
+  int up = 4;
+  SURFDEFORM_RETURN_IF_ERROR(o.Choice("up", {"+x", "-x", "+y", "-y", "+z", "-z"}, &up));
+  out->up = static_cast<UpAxis>(up);
+  if (const json* a = o.Find("anchor"); a != nullptr) {
+    if (a->is_number()) {
+      out->anchor = AnchorMode::kValue;
+      out->anchor_value = a->get<double>();
+    } else {
+      int anchor = 0;
+      SURFDEFORM_RETURN_IF_ERROR(o.Choice("anchor", {"bottom", "center", "top"}, &anchor));
+      out->anchor = static_cast<AnchorMode>(anchor);
+    }
+  }
+  if (const json* c = o.Find("center"); c != nullptr) {
+    if (c->is_string()) {
+      if (c->get_ref<const std::string&>() != "center") {
+        return InvalidArgument(
+            "must be \"center\", [x, y] in sheet units or {\"fraction\": [fx, fy]}",
+            o.PathOf("center"));
+      }
+      out->center_mode = CenterMode::kSheetCenter;
+    } else if (c->is_object()) {
+      auto f = JsonObject::Open(*c, o.PathOf("center"));
+      if (!f.ok()) return f.status();
+      const json* fr = f->Find("fraction");
+      if (fr == nullptr) return Malformed("is required", f->PathOf("fraction"));
+      SURFDEFORM_RETURN_IF_ERROR(ReadVec2(*fr, f->PathOf("fraction"), &out->center));
+      SURFDEFORM_RETURN_IF_ERROR(f->Finish());
+      out->center_mode = CenterMode::kFraction;
+    } else {
+      SURFDEFORM_RETURN_IF_ERROR(ReadVec2(*c, o.PathOf("center"), &out->center));
+      out->center_mode = CenterMode::kSheetUnits;
+    }
+  }
+  SURFDEFORM_RETURN_IF_ERROR(o.Number("rotation_deg", &out->rotation_deg));
+  if (const json* s = o.Find("scale"); s != nullptr) {
+    if (s->is_string() && s->get_ref<const std::string&>() == "fit") {
+      out->fit = true;
+    } else if (s->is_number()) {
+      out->fit = false;
+      out->scale = s->get<double>();
+    } else {
+      return Malformed("must be a positive number or \"fit\", got " + JsonTypeName(*s),
+                       o.PathOf("scale"));
+    }
+  }
+  SURFDEFORM_RETURN_IF_ERROR(o.Number("fit_margin", &out->fit_margin));
+  int outside = 0;
+  SURFDEFORM_RETURN_IF_ERROR(o.Choice("outside", {"error", "clamp", "extrapolate"}, &outside));
+  out->outside = static_cast<OutsideMode>(outside);
+  SURFDEFORM_RETURN_IF_ERROR(o.Finish());
+  Status s = ValidatePlacement(*out);
+  // ValidatePlacement already names "placement.*".
+  return s;
+}
+
+Status ReadOutput(JsonObject& parent, OutputOptions* out) {
+  const json* v = parent.Find("output");
+  if (v == nullptr) return Status::Ok();
+  auto o = JsonObject::Open(*v, parent.PathOf("output"));
+  if (!o.ok()) return o.status();
+  if (o->Find("format") != nullptr) {
+    int format = 0;
+    SURFDEFORM_RETURN_IF_ERROR(
+        o->Choice("format", {"drc", "glb", "glb_plain", "obj", "ply"}, &format));
+    out->format = static_cast<OutputFormat>(format);
+  }
+  if (const json* d = o->Find("draco"); d != nullptr) {
+    auto dj = JsonObject::Open(*d, o->PathOf("draco"));
+    if (!dj.ok()) return dj.status();
+    SURFDEFORM_RETURN_IF_ERROR(dj->Integer("position_bits", &out->draco.position_bits));
+    SURFDEFORM_RETURN_IF_ERROR(dj->Integer("normal_bits", &out->draco.normal_bits));
+    SURFDEFORM_RETURN_IF_ERROR(dj->Integer("uv_bits", &out->draco.uv_bits));
+    SURFDEFORM_RETURN_IF_ERROR(dj->Integer("color_bits", &out->draco.color_bits));
+    SURFDEFORM_RETURN_IF_ERROR(dj->Integer("speed", &out->draco.speed));
+    SURFDEFORM_RETURN_IF_ERROR(dj->Boolean("sequential", &out->draco.sequential));
+    SURFDEFORM_RETURN_IF_ERROR(dj->Finish());
+    SURFDEFORM_RETURN_IF_ERROR(ValidateDracoOptions(out->draco));  // names output.draco.*
+  }
+  return o->Finish();
+}
+
+}  // namespace
+
+const char* OutputFormatName(OutputFormat format) {
+  switch (format) {
+    case OutputFormat::kDrc:
+      return "drc";
+    case OutputFormat::kGlb:
+      return "glb";
+    case OutputFormat::kGlbPlain:
+      return "glb_plain";
+    case OutputFormat::kObj:
+      return "obj";
+    case OutputFormat::kPly:
+      return "ply";
+  }
+  return "drc";
+}
+
+const char* OutputMediaType(OutputFormat format) {
+  switch (format) {
+    case OutputFormat::kDrc:
+      return "application/octet-stream";
+    case OutputFormat::kGlb:
+    case OutputFormat::kGlbPlain:
+      return "model/gltf-binary";
+    case OutputFormat::kObj:
+      return "model/obj";
+    case OutputFormat::kPly:
+      return "application/x-ply";
+  }
+  return "application/octet-stream";
+}
+
+MeshFormat OutputMeshFormat(OutputFormat format) {
+  switch (format) {
+    case OutputFormat::kDrc:
+      return MeshFormat::kDraco;
+    case OutputFormat::kGlb:
+    case OutputFormat::kGlbPlain:
+      return MeshFormat::kGlb;
+    case OutputFormat::kObj:
+      return MeshFormat::kObj;
+    case OutputFormat::kPly:
+      return MeshFormat::kPly;
+  }
+  return MeshFormat::kDraco;
+}
+
+Result<SurfaceRequest> ParseSurfaceRequest(const json& body) {
+  auto o = JsonObject::Open(body, "");
+  if (!o.ok()) return o.status();
+  SurfaceRequest request;
+  SURFDEFORM_RETURN_IF_ERROR(ReadSurfaceParts(*o, &request));
+  SURFDEFORM_RETURN_IF_ERROR(o->Finish());
+  return request;
+}
+
+Result<DeformParams> ParseDeformParams(const json& body) {
+  auto opened = JsonObject::Open(body, "");
+  if (!opened.ok()) return opened.status();
+  JsonObject& o = *opened;
+  DeformParams params;
+  const bool inline_surface = o.Find("surface") != nullptr;
+  const json* id = o.Find("surface_id");
+  if (inline_surface == (id != nullptr)) {
+    return Malformed(
+        "give exactly one of \"surface\" (inline) and \"surface_id\" (from POST "
+        "/v1/surfaces)",
+        inline_surface ? "surface_id" : "surface");
+  }
+  if (inline_surface) {
+    SurfaceRequest request;
+    SURFDEFORM_RETURN_IF_ERROR(ReadSurfaceParts(o, &request));
+    params.surface = std::move(request);
+  } else {
+    if (!id->is_string()) {
+      return Malformed("must be a string, got " + JsonTypeName(*id), "surface_id");
+    }
+    params.surface_id = id->get<std::string>();
+    if (!IsSurfaceIdShaped(params.surface_id)) {
+      return InvalidArgument("must be an id returned by POST /v1/surfaces (32 hex digits)",
+                             "surface_id");
+    }
+    if (o.Find("sampling") != nullptr || o.Find("flatten") != nullptr) {
+      return Malformed(
+          "sampling and flatten belong to the surface named by surface_id; leave "
+          "them out",
+          o.Find("sampling") != nullptr ? "sampling" : "flatten");
+    }
+  }
+  SURFDEFORM_RETURN_IF_ERROR(ReadPlacement(o, &params.placement));
+  if (const json* v = o.Find("subdivision"); v != nullptr) {
+    auto s = JsonObject::Open(*v, "subdivision");
+    if (!s.ok()) return s.status();
+    int mode = 0;
+    SURFDEFORM_RETURN_IF_ERROR(s->Choice("mode", {"off"}, &mode));
+    SURFDEFORM_RETURN_IF_ERROR(s->Finish());
+  }
+  SURFDEFORM_RETURN_IF_ERROR(ReadOutput(o, &params.output));
+  SURFDEFORM_RETURN_IF_ERROR(o.Finish());
+  return params;
+}
+
+json CanonicalJson(const SurfaceRequest& r) {
+  const FlattenOptions& f = r.flatten;
+  return {{"surface", SurfaceJson(r.surface)},
+          {"sampling", {{"nu", r.sampling.nu}, {"nv", r.sampling.nv}}},
+          {"flatten",
+           {{"method", FlattenMethodName(f.method)},
+            {"range", f.range},
+            {"tolerance", f.tolerance},
+            {"max_iterations", f.max_iterations},
+            {"step", f.step},
+            {"exact_developable", f.exact_developable},
+            {"lattice_factor", f.lattice_factor},
+            {"relax_steps", f.relax_steps}}}};
+}
+
+std::string SurfaceId(const SurfaceRequest& request) {
+  // The prefix versions the flattening: a change to the algorithm that
+  // changes sheets must change it, so that old ids are not served new sheets.
+  const std::string text = "surfdeform-sheet-1\n" + CanonicalJson(request).dump();
+  return Sha256Hex(text, 32);
+}
+
+bool IsSurfaceIdShaped(std::string_view text) {
+  if (text.size() != 32) return false;
+  for (char c : text) {
+    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
+  }
+  return true;
+}
+
+json QualityJson(const FlattenQuality& q) {
+  return {{"stress", q.stress},
+          {"max_edge_error", q.max_edge_error},
+          {"area_ratio_min", q.area_ratio_min},
+          {"area_ratio_max", q.area_ratio_max},
+          {"folded_cells", q.folded_cells},
+          {"iterations", q.iterations},
+          {"converged", q.converged}};
+}
+
+json DeformStatsJson(const DeformStats& s) {
+  return {{"vertices", s.vertices},
+          {"triangles", s.triangles},
+          {"outside", s.outside},
+          {"max_outside_distance", s.max_outside_distance},
+          {"scale", s.scale}};
+}
+
+}  // namespace surfdeform::proto

@@ -1,0 +1,80 @@
+// The request types of the HTTP API and their JSON mapping (proto/openapi.yaml
+// is the contract; this is its C++ side, shared by the server and the client).
+// Field names are the engine's option-struct names, one to one; the engine's
+// own validation gives the value rules. Parsing is strict: unknown fields and
+// wrong types are kMalformed errors naming the JSON path.
+//
+// Not exposed: the engine's `threads` options (the server decides; results do
+// not depend on them).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "engine/deform.hpp"
+#include "engine/flatten.hpp"
+#include "engine/sample_grid.hpp"
+#include "engine/status.hpp"
+#include "engine/surface_spec.hpp"
+#include "meshio/mesh_export.hpp"
+#include "meshio/mesh_format.hpp"
+
+namespace surfdeform::proto {
+
+// POST /v1/surfaces, and the surface part of POST /v1/deform.
+struct SurfaceRequest {
+  SurfaceSpec surface;
+  SamplingOptions sampling;
+  FlattenOptions flatten;
+};
+
+// Output formats: Draco .drc, GLB with KHR_draco_mesh_compression, plain GLB,
+// OBJ, PLY.
+enum class OutputFormat { kDrc, kGlb, kGlbPlain, kObj, kPly };
+const char* OutputFormatName(OutputFormat format);  // "drc", "glb", "glb_plain", "obj", "ply"
+const char* OutputMediaType(OutputFormat format);
+MeshFormat OutputMeshFormat(OutputFormat format);
+
+struct OutputOptions {
+  std::optional<OutputFormat> format;  // unset: from the Accept header, else drc
+  DracoOptions draco;
+};
+
+// Refinement of large faces (the paper's section 3.2) is not implemented yet:
+// "off" is the only mode accepted.
+struct SubdivisionOptions {
+  std::string mode = "off";
+};
+
+// POST /v1/deform parameters: a surface inline (with its sampling and
+// flattening) or the id of a flattened one, and what to do with the mesh.
+struct DeformParams {
+  std::optional<SurfaceRequest> surface;  // inline ...
+  std::string surface_id;                 // ... or by id (exactly one of them)
+  PlacementOptions placement;
+  SubdivisionOptions subdivision;
+  OutputOptions output;
+};
+
+// Parse the request bodies. `body` is an object with "surface", "sampling"
+// and "flatten" (POST /v1/surfaces), or the deform parameters.
+Result<SurfaceRequest> ParseSurfaceRequest(const nlohmann::json& body);
+Result<DeformParams> ParseDeformParams(const nlohmann::json& body);
+
+// The surface request with every default filled in, in a canonical form
+// (sorted keys, shortest round-trip numbers): equal requests, equal text.
+nlohmann::json CanonicalJson(const SurfaceRequest& request);
+
+// The content hash that identifies a flattened surface: SHA-256 of the
+// canonical form (and the flattening algorithm's version), 32 hex digits.
+// The same on every replica.
+std::string SurfaceId(const SurfaceRequest& request);
+
+// True for a string that has the shape of a SurfaceId.
+bool IsSurfaceIdShaped(std::string_view text);
+
+nlohmann::json QualityJson(const FlattenQuality& quality);
+nlohmann::json DeformStatsJson(const DeformStats& stats);
+
+}  // namespace surfdeform::proto

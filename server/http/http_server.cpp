@@ -1,0 +1,450 @@
+#include "http/http_server.hpp"
+
+#include <httplib.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <regex>
+
+#include "http/embedded_files.hpp"
+#include "http/problem.hpp"
+#include "http/request_guard.hpp"
+
+namespace surfdeform::http {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
+// Per worker thread: the request being served. httplib runs the pre-routing
+// handler, the route and the logger of one request on one thread.
+struct RequestContext {
+  bool active = false;
+  Clock::time_point start;
+  std::string id;
+  bool cache_hit = false;
+  bool finished = false;  // logged and counted
+};
+thread_local RequestContext t_context;
+
+const std::regex kSurfaceRoute(R"(^/v1/surfaces/([^/]+)$)");
+const std::regex kSurfaceSvgRoute(R"(^/v1/surfaces/([^/]+)/flat\.svg$)");
+
+// Route label for metrics and the methods each path allows (for 405).
+std::string RouteOf(const std::string& path, std::string* allow = nullptr) {
+  struct Fixed {
+    const char* path;
+    const char* allow;
+  };
+  static const Fixed kFixed[] = {{"/", "GET, OPTIONS"},
+                                 {"/healthz", "GET, OPTIONS"},
+                                 {"/readyz", "GET, OPTIONS"},
+                                 {"/metrics", "GET, OPTIONS"},
+                                 {"/openapi.yaml", "GET, OPTIONS"},
+                                 {"/v1/info", "GET, OPTIONS"},
+                                 {"/v1/surfaces", "POST, OPTIONS"},
+                                 {"/v1/deform", "POST, OPTIONS"}};
+  for (const Fixed& f : kFixed) {
+    if (path == f.path) {
+      if (allow != nullptr) *allow = f.allow;
+      return f.path;
+    }
+  }
+  if (std::regex_match(path, kSurfaceSvgRoute)) {
+    if (allow != nullptr) *allow = "GET, OPTIONS";
+    return "/v1/surfaces/{id}/flat.svg";
+  }
+  if (std::regex_match(path, kSurfaceRoute)) {
+    if (allow != nullptr) *allow = "GET, OPTIONS";
+    return "/v1/surfaces/{id}";
+  }
+  return "other";
+}
+
+bool IsSafeRequestId(const std::string& id) {
+  if (id.empty() || id.size() > 64) return false;
+  for (char c : id) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '-' || c == '_' || c == '.';
+    if (!ok) return false;
+  }
+  return true;
+}
+
+std::string NewRequestId() {
+  thread_local std::mt19937_64 rng(std::random_device{}());
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(rng()));
+  return buf;
+}
+
+std::string ServerTiming(const std::vector<Timing>& timings) {
+  std::string out;
+  for (const Timing& t : timings) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s%s;dur=%.3f", out.empty() ? "" : ", ", t.name.c_str(), t.ms);
+    out += buf;
+  }
+  return out;
+}
+
+std::string ToAscii(const std::string& json_text) {
+  // Header values must stay ASCII: re-dump with \u escapes.
+  return json::parse(json_text, nullptr, false).dump(-1, ' ', true, json::error_handler_t::replace);
+}
+
+}  // namespace
+
+// httplib::Server with access to its listening socket, whose backlog httplib
+// 0.11.4 fixes at 5: a burst of connections (a load test, 50 browser tabs)
+// would overflow it.
+class Listener : public httplib::Server {
+ public:
+  void WidenBacklog(int backlog) {
+    const auto fd = svr_sock_.load();
+    if (fd != INVALID_SOCKET) ::listen(fd, backlog);  // Linux: updates the backlog
+  }
+};
+
+struct HttpServer::Impl {
+  Impl(Service& s, HttpOptions o) : service(s), options(std::move(o)) {}
+
+  Service& service;
+  const HttpOptions options;
+  Listener server;
+  Metrics metrics;
+  std::atomic<bool> ready{true};
+  std::mutex log_mutex;
+  int bound_port = 0;
+
+  bool AllowsOrigin(const std::string& origin) const {
+    for (const std::string& o : options.allowed_origins) {
+      if (o == "*" || o == origin) return true;
+    }
+    return false;
+  }
+
+  void SetCors(const httplib::Request& req, httplib::Response& res) const {
+    const std::string origin = req.get_header_value("Origin");
+    if (origin.empty() || !AllowsOrigin(origin)) return;
+    const bool any = options.allowed_origins.size() == 1 && options.allowed_origins[0] == "*";
+    res.set_header("Access-Control-Allow-Origin", any ? "*" : origin);
+    if (!any) res.set_header("Vary", "Origin");
+    res.set_header("Access-Control-Expose-Headers",
+                   "ETag, Server-Timing, X-Request-Id, X-Surfdeform-Stats, Retry-After, Location");
+  }
+
+  void Problem(const httplib::Request& req, httplib::Response& res, int http_status,
+               const Status& status) {
+    res.status = http_status;
+    res.set_content(ProblemJson(status, http_status, req.path, t_context.id), kProblemType);
+    if (http_status == 503) res.set_header("Retry-After", "1");
+  }
+
+  void Fail(const httplib::Request& req, httplib::Response& res, const Status& status) {
+    Problem(req, res, HttpStatusOf(status.code()), status);
+  }
+
+  void Send(const httplib::Request& req, httplib::Response& res, const Reply& reply,
+            int http_status = 200) {
+    const std::string etag = "\"" + reply.etag + "\"";
+    res.set_header("ETag", etag);
+    if (!reply.timings.empty()) res.set_header("Server-Timing", ServerTiming(reply.timings));
+    if (!reply.stats_json.empty()) res.set_header("X-Surfdeform-Stats", ToAscii(reply.stats_json));
+    t_context.cache_hit = reply.cache_hit;
+    if (req.method == "GET" && req.get_header_value("If-None-Match") == etag) {
+      res.status = 304;
+      return;
+    }
+    res.status = http_status;
+    res.set_content(reply.body, reply.content_type.c_str());
+  }
+
+  // Before the body is read: request id, CORS preflight, framing checks.
+  httplib::Server::HandlerResponse PreRouting(const httplib::Request& req, httplib::Response& res) {
+    t_context = RequestContext{};
+    t_context.active = true;
+    t_context.start = Clock::now();
+    const std::string given = req.get_header_value("X-Request-Id");
+    t_context.id = IsSafeRequestId(given) ? given : NewRequestId();
+    metrics.RequestStarted();
+    res.set_header("X-Request-Id", t_context.id);
+    SetCors(req, res);
+    // Range requests are ignored (RFC 9110 allows it): httplib 0.11.4 would
+    // multiply overlapping ranges into a huge response. The Request is not
+    // const where httplib made it; only its handler interface is.
+    const_cast<httplib::Request&>(req).ranges.clear();
+
+    if (auto rejection = CheckFraming(req, service.limits().max_body_bytes)) {
+      metrics.Rejected(std::to_string(rejection->http_status));
+      // The body was not read, so the connection cannot carry another
+      // request: httplib 0.11.4 decides keep-alive before routing, so the
+      // response goes out through a content provider that ends the
+      // connection once the body is written (returning false).
+      auto body = std::make_shared<std::string>(
+          ProblemJson(rejection->status, rejection->http_status, req.path, t_context.id));
+      res.status = rejection->http_status;
+      res.set_header("Connection", "close");
+      res.set_content_provider(body->size(), kProblemType,
+                               [body](size_t offset, size_t length, httplib::DataSink& sink) {
+                                 sink.write(body->data() + offset, length);
+                                 return false;
+                               });
+      // The logger does not run for a connection ended this way.
+      Finish(req, res.status, body->size());
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    if (req.method == "OPTIONS") {
+      res.status = 204;
+      std::string allow;
+      RouteOf(req.path, &allow);
+      res.set_header("Allow", allow.empty() ? "OPTIONS" : allow);
+      if (req.has_header("Origin") && AllowsOrigin(req.get_header_value("Origin"))) {
+        res.set_header("Access-Control-Allow-Methods", "GET, POST, OPTIONS");
+        res.set_header("Access-Control-Allow-Headers",
+                       "Content-Type, Accept, If-None-Match, X-Request-Id, X-Surfdeform-Params");
+        res.set_header("Access-Control-Max-Age", "600");
+      }
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+  }
+
+  // httplib's own errors (404, 400 from its parser, 413 from its payload
+  // limit) and handlers that set an error status without a body.
+  void OnError(const httplib::Request& req, httplib::Response& res) {
+    if (res.get_header_value("Content-Type") == kProblemType) return;
+    std::string allow;
+    const std::string route = RouteOf(req.path, &allow);
+    if (res.status == 404 && route != "other") {
+      res.set_header("Allow", allow);
+      Problem(req, res, 405,
+              Status(ErrorCode::kMalformed,
+                     req.method + " is not allowed on " + req.path + "; allowed: " + allow));
+      return;
+    }
+    const int status = res.status;
+    std::string detail = status == 404 ? "no such resource: see /openapi.yaml for the routes"
+                                       : std::string(StatusTitle(status));
+    Problem(req, res, status,
+            Status(status >= 500 ? ErrorCode::kInternal : ErrorCode::kMalformed, detail));
+  }
+
+  void OnException(const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+    std::string what = "unknown exception";
+    try {
+      if (ep) std::rethrow_exception(ep);
+    } catch (const std::exception& e) {
+      what = e.what();
+    } catch (...) {
+    }
+    Log(LogLevel::kError, json{{"event", "exception"},
+                               {"request_id", t_context.id},
+                               {"path", req.path},
+                               {"what", what}});
+    res.headers.erase("X-Surfdeform-Stats");
+    Problem(req, res, 500, Status(ErrorCode::kInternal, "internal error"));
+  }
+
+  void Log(LogLevel level, const json& line) {
+    if (level < options.log_level) return;
+    const std::string text = line.dump(-1, ' ', true, json::error_handler_t::replace);
+    std::lock_guard lock(log_mutex);
+    std::cout << text << '\n' << std::flush;
+  }
+
+  void AccessLog(const httplib::Request& req, const httplib::Response& res) {
+    if (t_context.finished) {  // counted already (an early rejection)
+      t_context = RequestContext{};
+      return;
+    }
+    Finish(req, res.status, res.body.size());
+  }
+
+  // Metrics and the access log line, once per request.
+  void Finish(const httplib::Request& req, int status, size_t bytes_out) {
+    double ms = 0.0;
+    if (t_context.active) {
+      ms = std::chrono::duration<double, std::milli>(Clock::now() - t_context.start).count();
+      metrics.RequestFinished(RouteOf(req.path), req.method, status, ms / 1000.0, req.body.size(),
+                              bytes_out);
+    }
+    const LogLevel level = status >= 500   ? LogLevel::kError
+                           : status >= 400 ? LogLevel::kWarn
+                                           : LogLevel::kInfo;
+    Log(level, json{{"event", "request"},
+                    {"request_id", t_context.id},
+                    {"method", req.method},
+                    {"path", req.path},
+                    {"status", status},
+                    {"bytes_in", req.body.size()},
+                    {"bytes_out", bytes_out},
+                    {"duration_ms", ms},
+                    {"cache_hit", t_context.cache_hit},
+                    {"remote", req.remote_addr}});
+    t_context = RequestContext{};
+    t_context.finished = true;
+  }
+
+  void Deform(const httplib::Request& req, httplib::Response& res) {
+    DeformRequest d;
+    d.accept = req.get_header_value("Accept");
+    std::string params;
+    if (req.is_multipart_form_data()) {
+      if (!req.has_file("mesh")) {
+        return Fail(req, res,
+                    Status(ErrorCode::kMalformed,
+                           "the multipart body needs a \"mesh\" part (the mesh file) and a "
+                           "\"params\" part (JSON)",
+                           "mesh"));
+      }
+      if (req.files.count("mesh") > 1 || req.files.count("params") > 1) {
+        return Fail(req, res,
+                    Status(ErrorCode::kMalformed, "give one \"mesh\" part and one \"params\" part",
+                           "mesh"));
+      }
+      // By reference: get_file_value returns a copy.
+      d.mesh = req.files.find("mesh")->second.content;
+      if (auto it = req.files.find("params"); it != req.files.end()) params = it->second.content;
+    } else {
+      const std::string type = req.get_header_value("Content-Type");
+      if (type.rfind("application/json", 0) == 0 || type.rfind("application/x-www-form", 0) == 0) {
+        return Fail(req, res,
+                    Status(ErrorCode::kUnsupportedFormat,
+                           "POST /v1/deform takes multipart/form-data (parts \"mesh\" and "
+                           "\"params\") or the raw mesh bytes with the parameters in the "
+                           "\"params\" query parameter or the X-Surfdeform-Params header",
+                           "Content-Type"));
+      }
+      d.mesh = req.body;
+      if (req.has_param("params")) {
+        params = req.get_param_value("params");
+      } else if (req.has_header("X-Surfdeform-Params")) {
+        params = req.get_header_value("X-Surfdeform-Params");
+      }
+    }
+    if (params.empty()) {
+      return Fail(req, res,
+                  Status(ErrorCode::kMalformed,
+                         "the deformation parameters are missing (a \"params\" JSON part, "
+                         "\"params\" query parameter or X-Surfdeform-Params header); at least "
+                         "{\"surface\": {...}} or {\"surface_id\": \"...\"}",
+                         "params"));
+    }
+    d.params = params;
+    auto reply = service.Deform(d);
+    if (!reply.ok()) return Fail(req, res, reply.status());
+    Send(req, res, *reply);
+  }
+
+  void Routes() {
+    server.Get("/", [this](const httplib::Request&, httplib::Response& res) {
+      res.set_content(kIndexHtml, "text/html; charset=utf-8");
+    });
+    server.Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
+      res.set_content("{\"status\":\"ok\"}", "application/json");
+    });
+    server.Get("/readyz", [this](const httplib::Request& req, httplib::Response& res) {
+      if (ready.load()) {
+        res.set_content("{\"ready\":true}", "application/json");
+      } else {
+        Problem(req, res, 503,
+                Status(ErrorCode::kUnavailable, "the server is shutting down (draining)"));
+      }
+    });
+    server.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
+      res.set_content(metrics.Render(service.cache_stats()), "text/plain; version=0.0.4");
+    });
+    server.Get("/openapi.yaml", [](const httplib::Request&, httplib::Response& res) {
+      res.set_content(kOpenApiYaml, "application/yaml");
+    });
+    server.Get("/v1/info", [this](const httplib::Request&, httplib::Response& res) {
+      res.set_content(service.InfoJson(), "application/json");
+    });
+    server.Post("/v1/surfaces", [this](const httplib::Request& req, httplib::Response& res) {
+      const std::string type = req.get_header_value("Content-Type");
+      if (type.rfind("application/json", 0) != 0) {
+        return Fail(
+            req, res,
+            Status(ErrorCode::kUnsupportedFormat,
+                   "POST /v1/surfaces takes application/json, got \"" + type.substr(0, 64) + "\"",
+                   "Content-Type"));
+      }
+      auto reply = service.CreateSurface(req.body);
+      if (!reply.ok()) return Fail(req, res, reply.status());
+      const json body = json::parse(reply->body);
+      res.set_header("Location", "/v1/surfaces/" + body.at("id").get<std::string>());
+      Send(req, res, *reply, reply->cache_hit ? 200 : 201);
+    });
+    server.Get(R"(/v1/surfaces/([^/]+)/flat\.svg)",
+               [this](const httplib::Request& req, httplib::Response& res) {
+                 auto reply = service.GetSurfaceSvg(req.matches[1].str());
+                 if (!reply.ok()) return Fail(req, res, reply.status());
+                 Send(req, res, *reply);
+               });
+    server.Get(R"(/v1/surfaces/([^/]+))",
+               [this](const httplib::Request& req, httplib::Response& res) {
+                 auto reply = service.GetSurface(req.matches[1].str());
+                 if (!reply.ok()) return Fail(req, res, reply.status());
+                 Send(req, res, *reply);
+               });
+    server.Post("/v1/deform",
+                [this](const httplib::Request& req, httplib::Response& res) { Deform(req, res); });
+  }
+};
+
+HttpServer::HttpServer(Service& service, HttpOptions options)
+    : impl_(std::make_unique<Impl>(service, std::move(options))) {
+  Impl* s = impl_.get();
+  httplib::Server& server = s->server;
+  const int workers = std::max(2, s->options.worker_threads);
+  server.new_task_queue = [workers] { return new httplib::ThreadPool(workers); };
+  server.set_payload_max_length(service.limits().max_body_bytes);
+  server.set_read_timeout(s->options.read_timeout_s, 0);
+  server.set_write_timeout(s->options.write_timeout_s, 0);
+  server.set_keep_alive_timeout(s->options.keep_alive_timeout_s);
+  server.set_keep_alive_max_count(
+      static_cast<size_t>(std::max(1, s->options.keep_alive_max_requests)));
+  server.set_pre_routing_handler(
+      [s](const httplib::Request& req, httplib::Response& res) { return s->PreRouting(req, res); });
+  server.set_error_handler(
+      [s](const httplib::Request& req, httplib::Response& res) { s->OnError(req, res); });
+  server.set_exception_handler([s](const httplib::Request& req, httplib::Response& res,
+                                   std::exception_ptr ep) { s->OnException(req, res, ep); });
+  server.set_logger(
+      [s](const httplib::Request& req, const httplib::Response& res) { s->AccessLog(req, res); });
+  s->Routes();
+}
+
+HttpServer::~HttpServer() = default;
+
+bool HttpServer::Bind() {
+  Impl& s = *impl_;
+  bool ok;
+  if (s.options.port == 0) {
+    s.bound_port = s.server.bind_to_any_port(s.options.host);
+    ok = s.bound_port > 0;
+  } else {
+    ok = s.server.bind_to_port(s.options.host, s.options.port);
+    s.bound_port = s.options.port;
+  }
+  if (ok) s.server.WidenBacklog(SOMAXCONN);
+  if (!ok) {
+    std::cerr << "surfdeform: cannot listen on " << s.options.host << ":" << s.options.port << "\n";
+  }
+  return ok;
+}
+
+int HttpServer::port() const { return impl_->bound_port; }
+
+void HttpServer::Run() { impl_->server.listen_after_bind(); }
+
+void HttpServer::Drain() { impl_->ready.store(false); }
+
+void HttpServer::Stop() { impl_->server.stop(); }
+
+}  // namespace surfdeform::http

@@ -1,0 +1,140 @@
+// surfdeform-server: flags and environment, signals, start.
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <iostream>
+#include <thread>
+
+#include "http/http_server.hpp"
+#include "service/service.hpp"
+
+namespace {
+
+surfdeform::http::LogLevel ParseLogLevel(const std::string& name) {
+  using surfdeform::http::LogLevel;
+  if (name == "debug") return LogLevel::kDebug;
+  if (name == "warn") return LogLevel::kWarn;
+  if (name == "error") return LogLevel::kError;
+  if (name == "off") return LogLevel::kOff;
+  return LogLevel::kInfo;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  surfdeform::ServiceOptions service_options;
+  surfdeform::ServiceLimits& limits = service_options.limits;
+  surfdeform::http::HttpOptions http_options;
+  std::string log_level = "info";
+  double drain_seconds = 0.0;
+  size_t cache_mib = limits.cache_bytes >> 20;
+  size_t body_mib = limits.max_body_bytes >> 20;
+
+  CLI::App app{
+      "surfdeform-server: deforms 3D meshes along parametric surfaces over HTTP.\n"
+      "Every flag can also be set by the environment variable shown beside it."};
+  app.add_option("--host", http_options.host, "Address to listen on")
+      ->envname("SURFDEFORM_HOST")
+      ->capture_default_str();
+  app.add_option("--port", http_options.port, "Port to listen on (0: any free port)")
+      ->envname("SURFDEFORM_PORT")
+      ->check(CLI::Range(0, 65535))
+      ->capture_default_str();
+  app.add_option("--http-threads", http_options.worker_threads,
+                 "Connections served at once (each keep-alive connection holds one)")
+      ->envname("SURFDEFORM_HTTP_THREADS")
+      ->check(CLI::Range(2, 1024))
+      ->capture_default_str();
+  app.add_option("--engine-threads", service_options.engine_threads,
+                 "Threads per flattening or deformation (0: one per core)")
+      ->envname("SURFDEFORM_ENGINE_THREADS")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
+  app.add_option("--cache-mib", cache_mib, "Byte budget of the flattened-surface cache, MiB")
+      ->envname("SURFDEFORM_CACHE_MIB")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  app.add_option("--max-body-mib", body_mib, "Largest request body, MiB")
+      ->envname("SURFDEFORM_MAX_BODY_MIB")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  app.add_option("--max-vertices", limits.max_vertices, "Largest input mesh, vertices")
+      ->envname("SURFDEFORM_MAX_VERTICES")
+      ->check(CLI::Range(1, 100'000'000))
+      ->capture_default_str();
+  app.add_option("--max-triangles", limits.max_triangles, "Largest input mesh, triangles")
+      ->envname("SURFDEFORM_MAX_TRIANGLES")
+      ->check(CLI::Range(1, 200'000'000))
+      ->capture_default_str();
+  app.add_option("--max-grid-side", limits.max_grid_side,
+                 "Largest flattening grid, samples per side (2..512)")
+      ->envname("SURFDEFORM_MAX_GRID_SIDE")
+      ->check(CLI::Range(2, 512))
+      ->capture_default_str();
+  app.add_option("--max-json-depth", limits.max_json_depth, "Deepest request JSON nesting")
+      ->envname("SURFDEFORM_MAX_JSON_DEPTH")
+      ->check(CLI::Range(4, 256))
+      ->capture_default_str();
+  app.add_option("--max-in-flight", limits.max_in_flight,
+                 "Flatten/deform requests at once before 503 (0: two per core)")
+      ->envname("SURFDEFORM_MAX_IN_FLIGHT")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  app.add_option("--allowed-origins", http_options.allowed_origins,
+                 "CORS origins allowed to call the API (\"*\": any)")
+      ->envname("SURFDEFORM_ALLOWED_ORIGINS")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--read-timeout", http_options.read_timeout_s, "Socket read timeout, seconds")
+      ->envname("SURFDEFORM_READ_TIMEOUT")
+      ->check(CLI::Range(1, 600))
+      ->capture_default_str();
+  app.add_option("--keep-alive-timeout", http_options.keep_alive_timeout_s,
+                 "Idle keep-alive connections are closed after this many seconds")
+      ->envname("SURFDEFORM_KEEP_ALIVE_TIMEOUT")
+      ->check(CLI::Range(1, 600))
+      ->capture_default_str();
+  app.add_option("--drain-seconds", drain_seconds,
+                 "On SIGTERM: report not ready this long before no longer accepting")
+      ->envname("SURFDEFORM_DRAIN_SECONDS")
+      ->check(CLI::Range(0.0, 600.0))
+      ->capture_default_str();
+  app.add_option("--log-level", log_level, "Access and error log level")
+      ->envname("SURFDEFORM_LOG_LEVEL")
+      ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}))
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  limits.cache_bytes = cache_mib << 20;
+  limits.max_body_bytes = body_mib << 20;
+  http_options.log_level = ParseLogLevel(log_level);
+
+  // Signals go to one waiting thread only (blocked everywhere else, inherited
+  // by every thread started after this).
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  surfdeform::Service service(service_options);
+  surfdeform::http::HttpServer server(service, http_options);
+  if (!server.Bind()) return 1;
+  std::cout << "{\"event\":\"listening\",\"host\":\"" << http_options.host
+            << "\",\"port\":" << server.port() << "}" << std::endl;
+
+  std::atomic<bool> stopped_by_signal{false};
+  std::thread signal_thread([&] {
+    int signal = 0;
+    sigwait(&signals, &signal);
+    stopped_by_signal = true;
+    std::cout << "{\"event\":\"draining\",\"signal\":" << signal << "}" << std::endl;
+    server.Drain();
+    std::this_thread::sleep_for(std::chrono::duration<double>(drain_seconds));
+    server.Stop();
+  });
+  signal_thread.detach();
+  server.Run();
+  std::cout << "{\"event\":\"stopped\"}" << std::endl;
+  return stopped_by_signal ? 0 : 1;
+}

@@ -1,0 +1,15 @@
+// A picture of a flat sheet: its grid cells coloured by local stretch (the
+// ratio of each cell's flat area to its area on the surface, on a log scale:
+// blue where the sheet is compressed, white where exact, red where
+// stretched), with a legend. Deterministic text: same sheet, same bytes.
+#pragma once
+
+#include <string>
+
+#include "engine/flatten.hpp"
+
+namespace surfdeform {
+
+std::string FlatSheetSvg(const FlatSheet& sheet, const std::string& title);
+
+}  // namespace surfdeform

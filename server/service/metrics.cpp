@@ -1,0 +1,102 @@
+#include "service/metrics.hpp"
+
+#include <cstdio>
+
+namespace surfdeform {
+namespace {
+
+std::string Number(double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+}  // namespace
+
+void Metrics::RequestFinished(const std::string& route, const std::string& method, int status,
+                              double seconds, uint64_t bytes_in, uint64_t bytes_out) {
+  in_flight_.fetch_sub(1, std::memory_order_relaxed);
+  std::lock_guard lock(mutex_);
+  ++requests_[{route, method, status}];
+  Histogram& h = latency_[route];
+  for (size_t k = 0; k < kBuckets.size(); ++k) {
+    if (seconds <= kBuckets[k]) ++h.counts[k];
+  }
+  ++h.count;
+  h.sum += seconds;
+  bytes_in_ += bytes_in;
+  bytes_out_ += bytes_out;
+}
+
+void Metrics::Rejected(const std::string& reason) {
+  std::lock_guard lock(mutex_);
+  ++rejected_[reason];
+}
+
+std::string Metrics::Render(const CacheStats& cache) const {
+  std::string out;
+  auto line = [&out](const std::string& text) { out += text + "\n"; };
+  std::lock_guard lock(mutex_);
+  line(
+      "# HELP surfdeform_http_requests_total HTTP requests answered, by route, method and status.");
+  line("# TYPE surfdeform_http_requests_total counter");
+  for (const auto& [key, count] : requests_) {
+    const auto& [route, method, status] = key;
+    line("surfdeform_http_requests_total{route=\"" + route + "\",method=\"" + method +
+         "\",status=\"" + std::to_string(status) + "\"} " + std::to_string(count));
+  }
+  line(
+      "# HELP surfdeform_http_request_duration_seconds Time from the request's headers to the "
+      "end of its response, by route.");
+  line("# TYPE surfdeform_http_request_duration_seconds histogram");
+  for (const auto& [route, h] : latency_) {
+    const std::string name = "surfdeform_http_request_duration_seconds";
+    for (size_t k = 0; k < kBuckets.size(); ++k) {
+      line(name + "_bucket{route=\"" + route + "\",le=\"" + Number(kBuckets[k]) + "\"} " +
+           std::to_string(h.counts[k]));
+    }
+    line(name + "_bucket{route=\"" + route + "\",le=\"+Inf\"} " + std::to_string(h.count));
+    line(name + "_sum{route=\"" + route + "\"} " + Number(h.sum));
+    line(name + "_count{route=\"" + route + "\"} " + std::to_string(h.count));
+  }
+  line(
+      "# HELP surfdeform_http_rejected_total Requests refused before their handler ran, by "
+      "reason.");
+  line("# TYPE surfdeform_http_rejected_total counter");
+  for (const auto& [reason, count] : rejected_) {
+    line("surfdeform_http_rejected_total{reason=\"" + reason + "\"} " + std::to_string(count));
+  }
+  line("# HELP surfdeform_http_request_bytes_total Request body bytes received.");
+  line("# TYPE surfdeform_http_request_bytes_total counter");
+  line("surfdeform_http_request_bytes_total " + std::to_string(bytes_in_));
+  line("# HELP surfdeform_http_response_bytes_total Response body bytes sent.");
+  line("# TYPE surfdeform_http_response_bytes_total counter");
+  line("surfdeform_http_response_bytes_total " + std::to_string(bytes_out_));
+  line("# HELP surfdeform_http_requests_in_flight Requests being handled now.");
+  line("# TYPE surfdeform_http_requests_in_flight gauge");
+  line("surfdeform_http_requests_in_flight " +
+       std::to_string(in_flight_.load(std::memory_order_relaxed)));
+
+  auto counter = [&](const char* name, const char* help, uint64_t value) {
+    line(std::string("# HELP surfdeform_cache_") + name + "_total " + help);
+    line(std::string("# TYPE surfdeform_cache_") + name + "_total counter");
+    line(std::string("surfdeform_cache_") + name + "_total " + std::to_string(value));
+  };
+  auto gauge = [&](const char* name, const char* help, uint64_t value) {
+    line(std::string("# HELP surfdeform_cache_") + name + " " + help);
+    line(std::string("# TYPE surfdeform_cache_") + name + " gauge");
+    line(std::string("surfdeform_cache_") + name + " " + std::to_string(value));
+  };
+  counter("hits", "Flattened-surface lookups served from the cache.", cache.hits);
+  counter("misses", "Flattened-surface lookups that had to flatten.", cache.misses);
+  counter("coalesced", "Lookups that waited for a concurrent flattening of the same surface.",
+          cache.coalesced);
+  counter("evictions", "Entries evicted to stay within the byte budget.", cache.evictions);
+  counter("failures", "Flattenings that failed (never cached).", cache.failures);
+  gauge("bytes", "Bytes held by cached flattened surfaces.", cache.bytes);
+  gauge("entries", "Flattened surfaces in the cache.", cache.entries);
+  gauge("capacity_bytes", "The cache's byte budget.", cache.capacity_bytes);
+  return out;
+}
+
+}  // namespace surfdeform

@@ -1,0 +1,47 @@
+// Request metrics in the Prometheus text exposition format (version 0.0.4):
+// requests by route, method and status; latency histograms by route; bytes in
+// and out; requests in flight; and the surface cache's counters.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+#include <tuple>
+
+#include "service/single_flight_cache.hpp"
+
+namespace surfdeform {
+
+class Metrics {
+ public:
+  // Upper bounds of the latency histogram buckets, in seconds.
+  static constexpr std::array<double, 12> kBuckets = {0.001, 0.0025, 0.005, 0.01, 0.025, 0.05,
+                                                      0.1,   0.25,   0.5,   1.0,  2.5,   10.0};
+
+  void RequestStarted() { in_flight_.fetch_add(1, std::memory_order_relaxed); }
+  void RequestFinished(const std::string& route, const std::string& method, int status,
+                       double seconds, uint64_t bytes_in, uint64_t bytes_out);
+  void Rejected(const std::string& reason);  // load shedding and early rejections
+
+  // The whole exposition, cache counters included.
+  std::string Render(const CacheStats& cache) const;
+
+ private:
+  struct Histogram {
+    std::array<uint64_t, kBuckets.size()> counts{};
+    uint64_t count = 0;
+    double sum = 0.0;
+  };
+  mutable std::mutex mutex_;
+  std::map<std::tuple<std::string, std::string, int>, uint64_t> requests_;
+  std::map<std::string, Histogram> latency_;
+  std::map<std::string, uint64_t> rejected_;
+  uint64_t bytes_in_ = 0;
+  uint64_t bytes_out_ = 0;
+  std::atomic<int64_t> in_flight_{0};
+};
+
+}  // namespace surfdeform

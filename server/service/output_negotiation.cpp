@@ -1,0 +1,63 @@
+#include "service/output_negotiation.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <string>
+
+namespace surfdeform {
+namespace {
+
+std::string Trim(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  std::string out(s);
+  std::transform(out.begin(), out.end(), out.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return out;
+}
+
+std::optional<proto::OutputFormat> FormatOfMediaType(const std::string& type) {
+  using proto::OutputFormat;
+  if (type == "application/octet-stream" || type == "application/x-draco" ||
+      type == "application/vnd.google.draco" || type == "*/*" || type == "application/*") {
+    return OutputFormat::kDrc;
+  }
+  if (type == "model/gltf-binary" || type == "model/*") return OutputFormat::kGlb;
+  if (type == "model/obj" || type == "text/plain" || type == "text/*") return OutputFormat::kObj;
+  if (type == "application/x-ply" || type == "application/ply") return OutputFormat::kPly;
+  return std::nullopt;
+}
+
+}  // namespace
+
+Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat> requested,
+                                               std::string_view accept) {
+  if (requested) return *requested;
+  if (Trim(accept).empty()) return proto::OutputFormat::kDrc;
+  std::string_view rest = accept;
+  while (!rest.empty()) {
+    const size_t comma = rest.find(',');
+    std::string_view item = rest.substr(0, comma);
+    rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+    const size_t semicolon = item.find(';');
+    const std::string type = Trim(item.substr(0, semicolon));
+    bool refused = false;
+    if (semicolon != std::string_view::npos) {
+      const std::string parameters = Trim(item.substr(semicolon + 1));
+      const size_t q = parameters.find("q=");
+      if (q != std::string::npos) {
+        const std::string value = parameters.substr(q + 2);
+        refused = value.find_first_not_of("0.") == std::string::npos;  // q=0, q=0.0, q=0.000
+      }
+    }
+    if (refused) continue;
+    if (auto format = FormatOfMediaType(type)) return *format;
+  }
+  return Status(ErrorCode::kNotAcceptable,
+                "the Accept header names no format this server writes; accept "
+                "application/octet-stream (Draco), model/gltf-binary, model/obj or "
+                "application/x-ply, or set output.format in the parameters",
+                "Accept");
+}
+
+}  // namespace surfdeform

@@ -1,0 +1,21 @@
+// Which output format a deform request gets: the one its parameters name,
+// else the first acceptable one in its Accept header, else Draco (.drc).
+#pragma once
+
+#include <optional>
+#include <string_view>
+
+#include "engine/status.hpp"
+#include "proto/api.hpp"
+
+namespace surfdeform {
+
+// Media types: application/octet-stream, application/x-draco,
+// application/vnd.google.draco -> drc; model/gltf-binary, model/* -> glb
+// (Draco-compressed); model/obj, text/plain -> obj; application/x-ply,
+// application/ply -> ply; */*, application/* or no header -> drc. Types with
+// q=0 are skipped. kNotAcceptable when the header names only other types.
+Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat> requested,
+                                               std::string_view accept);
+
+}  // namespace surfdeform

@@ -1,0 +1,342 @@
+#include "service/service.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "engine/deform.hpp"
+#include "engine/flatten.hpp"
+#include "engine/parallel.hpp"
+#include "engine/surface_spec.hpp"
+#include "meshio/mesh_export.hpp"
+#include "meshio/mesh_import.hpp"
+#include "proto/api.hpp"
+#include "proto/content_hash.hpp"
+#include "proto/json_object.hpp"
+#include "service/flat_sheet_svg.hpp"
+#include "service/output_negotiation.hpp"
+
+namespace surfdeform {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// A flattened surface as the cache holds it: immutable once built.
+struct CachedSurface {
+  std::string id;
+  proto::SurfaceRequest request;
+  std::unique_ptr<const Surface> surface;
+  FlatSheet sheet;
+  double flatten_ms = 0.0;
+  size_t bytes = 0;
+};
+
+size_t EstimateBytes(const CachedSurface& s) {
+  const size_t samples = s.sheet.points.size();
+  size_t spec = 0;
+  std::visit(
+      [&spec](const auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, BezierSpec>) spec = v.control_points.size() * 24;
+        if constexpr (std::is_same_v<T, BSplineSpec>) {
+          spec = v.control_points.size() * 32 + (v.knots_u.size() + v.knots_v.size()) * 8;
+        }
+        if constexpr (std::is_same_v<T, GridSpec>) spec = v.points.size() * 24 * 4;
+      },
+      s.request.surface);
+  // Samples: position, normal and flat position; the surface keeps about as
+  // much again as its spec (copies, derived coefficients).
+  return sizeof(CachedSurface) + samples * (24 + 24 + 16) + 2 * spec + 1024;
+}
+
+// Counts requests doing real work; refuses past the limit instead of queueing.
+class Admission {
+ public:
+  explicit Admission(int limit) : limit_(limit) {}
+  class Ticket {
+   public:
+    explicit Ticket(std::atomic<int>* count) : count_(count) {}
+    Ticket(Ticket&& o) noexcept : count_(std::exchange(o.count_, nullptr)) {}
+    Ticket(const Ticket&) = delete;
+    ~Ticket() {
+      if (count_ != nullptr) count_->fetch_sub(1);
+    }
+
+   private:
+    std::atomic<int>* count_;
+  };
+  Result<Ticket> Enter() {
+    if (count_.fetch_add(1) >= limit_) {
+      count_.fetch_sub(1);
+      return Status(ErrorCode::kUnavailable,
+                    "the server is busy: " + std::to_string(limit_) +
+                        " flatten/deform requests are in flight, its limit; retry in a second");
+    }
+    return Ticket(&count_);
+  }
+
+ private:
+  const int limit_;
+  std::atomic<int> count_{0};
+};
+
+json SheetSummary(const CachedSurface& s, bool cached) {
+  return {{"id", s.id},
+          {"cached", cached},
+          {"grid", {{"nu", s.sheet.nu}, {"nv", s.sheet.nv}}},
+          {"method", s.sheet.method},
+          {"quality", proto::QualityJson(s.sheet.quality)},
+          {"timing_ms", {{"flatten", s.flatten_ms}}}};
+}
+
+std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
+}  // namespace
+
+struct Service::Impl {
+  explicit Impl(ServiceOptions o)
+      : options(Normalised(o)),
+        cache(options.limits.cache_bytes, [](const CachedSurface& s) { return s.bytes; }),
+        admission(options.limits.max_in_flight) {}
+
+  static ServiceOptions Normalised(ServiceOptions o) {
+    if (o.limits.max_in_flight <= 0) {
+      o.limits.max_in_flight =
+          2 * static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    }
+    return o;
+  }
+
+  Status CheckGrid(const SamplingOptions& s) const {
+    const int side = std::max(s.nu, s.nv);
+    if (side > options.limits.max_grid_side) {
+      return Status::LimitExceeded(
+          "the sampling grid is " + std::to_string(s.nu) + " x " + std::to_string(s.nv) +
+              "; this server flattens at most " + std::to_string(options.limits.max_grid_side) +
+              " samples per side",
+          s.nu >= s.nv ? "sampling.nu" : "sampling.nv", options.limits.max_grid_side, side);
+    }
+    return Status::Ok();
+  }
+
+  // The flattened surface for `request`, from the cache or flattened now.
+  Result<std::shared_ptr<const CachedSurface>> Flattened(const proto::SurfaceRequest& request,
+                                                         bool* hit) {
+    SURFDEFORM_RETURN_IF_ERROR(CheckGrid(request.sampling));
+    const std::string id = proto::SurfaceId(request);
+    return cache.GetOrCompute(
+        id,
+        [&]() -> Result<std::shared_ptr<const CachedSurface>> {
+          const auto t0 = Clock::now();
+          auto surface = MakeSurface(request.surface);
+          if (!surface.ok()) return surface.status().WithFieldPrefix("surface");
+          FlattenOptions flatten = request.flatten;
+          flatten.threads = options.engine_threads;
+          auto sheet = FlattenSurface(**surface, request.sampling, flatten);
+          if (!sheet.ok()) {
+            const Status& s = sheet.status();
+            // Sampling errors name a sample of the surface.
+            return s.field().empty() ? Status(s.code(), s.message(), "surface") : s;
+          }
+          auto entry = std::make_shared<CachedSurface>();
+          entry->id = id;
+          entry->request = request;
+          entry->surface = std::move(*surface);
+          entry->sheet = std::move(*sheet);
+          entry->flatten_ms = MsSince(t0);
+          entry->bytes = EstimateBytes(*entry);
+          return std::shared_ptr<const CachedSurface>(std::move(entry));
+        },
+        hit);
+  }
+
+  Result<std::shared_ptr<const CachedSurface>> Lookup(std::string_view id) {
+    if (!proto::IsSurfaceIdShaped(id)) {
+      return Status(ErrorCode::kNotFound,
+                    "no surface has this id (ids are 32 hex digits from POST /v1/surfaces)", "id");
+    }
+    auto found = cache.Find(std::string(id));
+    if (found == nullptr) {
+      return Status(ErrorCode::kNotFound,
+                    "no flattened surface with this id is cached here (it may have been evicted): "
+                    "POST its description to /v1/surfaces again, or send it inline",
+                    "id");
+    }
+    return found;
+  }
+
+  const ServiceOptions options;
+  SingleFlightCache<CachedSurface> cache;
+  Admission admission;
+};
+
+Service::Service(ServiceOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+Service::~Service() = default;
+
+const ServiceLimits& Service::limits() const { return impl_->options.limits; }
+CacheStats Service::cache_stats() const { return impl_->cache.stats(); }
+
+Result<Reply> Service::CreateSurface(std::string_view body) {
+  auto ticket = impl_->admission.Enter();
+  if (!ticket.ok()) return ticket.status();
+  const auto t0 = Clock::now();
+  auto parsed = proto::ParseRequestJson(body, impl_->options.limits.max_json_depth, "body");
+  if (!parsed.ok()) return parsed.status();
+  auto request = proto::ParseSurfaceRequest(*parsed);
+  if (!request.ok()) return request.status();
+  const double parse_ms = MsSince(t0);
+  const auto t1 = Clock::now();
+  bool hit = false;
+  auto entry = impl_->Flattened(*request, &hit);
+  if (!entry.ok()) return entry.status();
+  Reply reply;
+  reply.cache_hit = hit;
+  json summary = SheetSummary(**entry, hit);
+  reply.body = Dump(summary);
+  reply.content_type = "application/json";
+  reply.timings = {{"parse", parse_ms}, {"flatten", MsSince(t1)}};
+  reply.stats_json = Dump({{"surface_id", (*entry)->id}, {"cached", hit}});
+  reply.etag = proto::Sha256Hex(reply.body, 32);
+  return reply;
+}
+
+Result<Reply> Service::GetSurface(std::string_view id) {
+  auto entry = impl_->Lookup(id);
+  if (!entry.ok()) return entry.status();
+  const CachedSurface& s = **entry;
+  json j = SheetSummary(s, true);
+  j["request"] = proto::CanonicalJson(s.request);
+  json points = json::array();
+  json flat = json::array();
+  for (const Vec3& p : s.sheet.points) points.push_back({p.x(), p.y(), p.z()});
+  for (const Vec2& p : s.sheet.flat) flat.push_back({p.x(), p.y()});
+  j["points"] = std::move(points);
+  j["flat"] = std::move(flat);
+  Reply reply;
+  reply.cache_hit = true;
+  reply.body = Dump(j);
+  reply.content_type = "application/json";
+  reply.etag = proto::Sha256Hex(reply.body, 32);
+  return reply;
+}
+
+Result<Reply> Service::GetSurfaceSvg(std::string_view id) {
+  auto entry = impl_->Lookup(id);
+  if (!entry.ok()) return entry.status();
+  Reply reply;
+  reply.cache_hit = true;
+  reply.body = FlatSheetSvg((*entry)->sheet, "surfdeform flat sheet " + (*entry)->id);
+  reply.content_type = "image/svg+xml";
+  reply.etag = proto::Sha256Hex(reply.body, 32);
+  return reply;
+}
+
+Result<Reply> Service::Deform(const DeformRequest& request) {
+  auto ticket = impl_->admission.Enter();
+  if (!ticket.ok()) return ticket.status();
+  const ServiceLimits& limits = impl_->options.limits;
+  const auto t0 = Clock::now();
+  auto parsed = proto::ParseRequestJson(request.params, limits.max_json_depth, "params");
+  if (!parsed.ok()) return parsed.status();
+  auto params = proto::ParseDeformParams(*parsed);
+  if (!params.ok()) return params.status();  // fields: JSON paths in the parameters
+  auto format = ChooseOutputFormat(params->output.format, request.accept);
+  if (!format.ok()) return format.status();
+  if (request.mesh.empty()) {
+    return Status(ErrorCode::kMalformed, "the request carries no mesh", "mesh");
+  }
+  ImportLimits import_limits;
+  import_limits.max_bytes = limits.max_body_bytes;
+  import_limits.max_vertices = limits.max_vertices;
+  import_limits.max_triangles = limits.max_triangles;
+  import_limits.max_json_depth = 2 * limits.max_json_depth;
+  auto imported = ImportMesh(request.mesh, import_limits);
+  if (!imported.ok()) return imported.status();
+  const double parse_ms = MsSince(t0);
+
+  const auto t1 = Clock::now();
+  bool hit = false;
+  std::shared_ptr<const CachedSurface> entry;
+  if (params->surface) {
+    auto flattened = impl_->Flattened(*params->surface, &hit);
+    if (!flattened.ok()) return flattened.status();
+    entry = *flattened;
+  } else {
+    auto found = impl_->Lookup(params->surface_id);
+    if (!found.ok()) {
+      Status s = found.status();
+      return Status(s.code(), s.message(), "surface_id");
+    }
+    entry = *found;
+    hit = true;
+  }
+  const double flatten_ms = MsSince(t1);
+
+  const auto t2 = Clock::now();
+  PlacementOptions placement = params->placement;
+  placement.threads = impl_->options.engine_threads;
+  auto deformed = DeformMesh(*entry->surface, entry->sheet, imported->mesh, placement);
+  if (!deformed.ok()) return deformed.status();
+  const double deform_ms = MsSince(t2);
+
+  const auto t3 = Clock::now();
+  ExportOptions export_options;
+  export_options.draco = params->output.draco;
+  export_options.glb_draco = *format == proto::OutputFormat::kGlb;
+  export_options.materials = imported->materials;
+  auto bytes = ExportMesh(deformed->mesh, proto::OutputMeshFormat(*format), export_options);
+  if (!bytes.ok()) return bytes.status();
+  const double encode_ms = MsSince(t3);
+
+  Reply reply;
+  reply.cache_hit = hit;
+  reply.body = std::move(*bytes);
+  reply.content_type = proto::OutputMediaType(*format);
+  reply.timings = {{"parse", parse_ms},
+                   {"flatten", flatten_ms},
+                   {"deform", deform_ms},
+                   {"subdivide", 0.0},
+                   {"encode", encode_ms}};
+  const DeformStats& st = deformed->stats;
+  json stats = {{"surface_id", entry->id},
+                {"cached", hit},
+                {"format", proto::OutputFormatName(*format)},
+                {"input_format", MeshFormatName(imported->format)},
+                {"vertices", st.vertices},
+                {"triangles", st.triangles},
+                {"subdivision", {{"mode", "off"}, {"vertices_added", 0}}},
+                {"placement", proto::DeformStatsJson(st)},
+                {"quality", proto::QualityJson(entry->sheet.quality)},
+                {"warnings", imported->warnings}};
+  reply.stats_json = Dump(stats);
+  reply.etag = proto::Sha256Hex(reply.body, 32);
+  return reply;
+}
+
+std::string Service::InfoJson() const {
+  const ServiceLimits& l = impl_->options.limits;
+  json j = {{"name", "surfdeform"},
+            {"version", SURFDEFORM_VERSION},
+            {"limits",
+             {{"max_body_bytes", l.max_body_bytes},
+              {"max_vertices", l.max_vertices},
+              {"max_triangles", l.max_triangles},
+              {"max_grid_side", l.max_grid_side},
+              {"max_json_depth", l.max_json_depth},
+              {"max_in_flight", l.max_in_flight},
+              {"cache_bytes", l.cache_bytes}}},
+            {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
+            {"output_formats", {"drc", "glb", "glb_plain", "obj", "ply"}},
+            {"surface_kinds",
+             {"bezier", "bspline", "nurbs", "cylinder", "cone", "sphere", "torus", "wave", "grid"}},
+            {"flatten_methods", {"majorization", "paper"}},
+            {"subdivision_modes", {"off"}}};
+  return Dump(j);
+}
+
+}  // namespace surfdeform

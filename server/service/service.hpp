@@ -1,0 +1,77 @@
+// What each request does, independent of HTTP: parse and validate, flatten
+// (through the surface cache), import, deform, export. The HTTP layer calls
+// this and maps its Status codes to HTTP in one place.
+//
+// Free of Eigen and of HTTP headers on purpose: httplib.h and Eigen must not
+// meet in one translation unit (see DESIGN.md).
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/status.hpp"
+#include "service/single_flight_cache.hpp"
+
+namespace surfdeform {
+
+// Published in GET /v1/info; every one is configurable from the command line.
+struct ServiceLimits {
+  size_t max_body_bytes = 64u << 20;  // request body (mesh plus parameters)
+  size_t max_vertices = 2'000'000;    // input mesh, after triangulation
+  size_t max_triangles = 4'000'000;
+  int max_grid_side = 256;  // sampling nu and nv (the engine allows 512)
+  int max_json_depth = 32;  // request JSON nesting (glTF JSON: twice this)
+  int max_in_flight = 0;    // flatten/deform requests at once; 0 = 2 per core
+  size_t cache_bytes = 256u << 20;
+};
+
+struct ServiceOptions {
+  ServiceLimits limits;
+  int engine_threads = 0;  // threads per flattening or deformation; 0 = one per core
+};
+
+struct Timing {
+  std::string name;  // parse, flatten, deform, encode
+  double ms = 0.0;
+};
+
+struct Reply {
+  std::string body;
+  std::string content_type;
+  std::vector<Timing> timings;
+  std::string stats_json;  // for a response header: counts, quality
+  std::string etag;        // over the body bytes (deterministic)
+  bool cache_hit = false;
+};
+
+struct DeformRequest {
+  std::string_view mesh;    // the mesh file's bytes
+  std::string_view params;  // the parameters' JSON
+  std::string accept;       // the Accept header (used when params name no format)
+};
+
+class Service {
+ public:
+  explicit Service(ServiceOptions options);
+  ~Service();
+  Service(const Service&) = delete;
+  Service& operator=(const Service&) = delete;
+
+  Result<Reply> CreateSurface(std::string_view body);  // POST /v1/surfaces
+  Result<Reply> GetSurface(std::string_view id);       // GET /v1/surfaces/{id}
+  Result<Reply> GetSurfaceSvg(std::string_view id);    // GET /v1/surfaces/{id}/flat.svg
+  Result<Reply> Deform(const DeformRequest& request);  // POST /v1/deform
+
+  std::string InfoJson() const;  // GET /v1/info
+  CacheStats cache_stats() const;
+  const ServiceLimits& limits() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace surfdeform

@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# The README's curl examples against the real server: both body forms of
+# POST /v1/deform, the surface routes, Draco output decoded by draco_decoder,
+# GLB output through the Khronos glTF validator, and a clean SIGTERM exit.
+# Usage: curl_examples.sh SERVER_BINARY
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+data="$here/../data"
+out=$(mktemp -d)
+server_pid=
+cleanup() {
+  [[ -n $server_pid ]] && kill -9 "$server_pid" 2> /dev/null || true
+  rm -rf "$out"
+}
+trap cleanup EXIT
+
+"$1" --host 127.0.0.1 --port 0 --log-level warn > "$out/server.log" &
+server_pid=$!
+for _ in $(seq 100); do
+  grep -q '"listening"' "$out/server.log" 2> /dev/null && break
+  sleep 0.05
+done
+port=$(sed -n 's/.*"port":\([0-9]*\).*/\1/p' "$out/server.log" | head -1)
+base="http://127.0.0.1:$port"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# Flatten the paper's Figure 10 surface once; deform by its id.
+surface=$(python3 -c 'import json,sys; s=json.load(open(sys.argv[1])); s.pop("description",None); print(json.dumps({"surface": s, "sampling": {"nu": 16, "nv": 16}}))' "$data/figure10.json")
+curl -sS -f -o "$out/surface.json" -H 'Content-Type: application/json' -d "$surface" "$base/v1/surfaces"
+id=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["id"])' "$out/surface.json")
+[[ $id =~ ^[0-9a-f]{32}$ ]] || fail "surface id '$id'"
+curl -sS -f -o "$out/flat.svg" "$base/v1/surfaces/$id/flat.svg"
+grep -q '</svg>' "$out/flat.svg" || fail "flat.svg"
+
+# Multipart: the bunny on the surface, Draco out, decoded by Draco's decoder.
+curl -sS -f -o "$out/bunny.drc" -D "$out/headers.txt" \
+  -F mesh=@"$data/bunny.ply" \
+  -F "params={\"surface_id\":\"$id\",\"placement\":{\"scale\":\"fit\"}}" \
+  "$base/v1/deform"
+grep -qi '^x-surfdeform-stats: .*"vertices":37706' "$out/headers.txt" || fail "stats header"
+draco_decoder -i "$out/bunny.drc" -o "$out/bunny.obj" > /dev/null
+faces=$(grep -c '^f ' "$out/bunny.obj")
+[[ $faces == 75408 ]] || fail "decoded $faces faces, expected 75408"
+
+# Raw body, parameters in the query string, GLB (Draco-compressed) out,
+# through the Khronos validator.
+params=$(python3 -c 'import sys,urllib.parse; print(urllib.parse.quote(sys.argv[1]))' \
+  '{"surface":{"kind":"cylinder","radius":1,"height":2,"angle_deg":180},"placement":{"scale":"fit"}}')
+curl -sS -f -o "$out/bunny.glb" -H 'Accept: model/gltf-binary' \
+  -H 'Content-Type: application/octet-stream' --data-binary @"$data/bunny.ply" \
+  "$base/v1/deform?params=$params"
+curl -sS -f -o "$out/bunny-plain.glb" -H 'Content-Type: application/octet-stream' \
+  -H 'X-Surfdeform-Params: {"surface":{"kind":"cylinder","radius":1,"height":2,"angle_deg":180},"placement":{"scale":"fit"},"output":{"format":"glb_plain"}}' \
+  --data-binary @"$data/bunny.ply" "$base/v1/deform"
+node "$here/../gltf/validate.mjs" "$out/bunny.glb" "$out/bunny-plain.glb"
+
+# An error is problem+json with the right status.
+status=$(curl -sS -o "$out/problem.json" -w '%{http_code}' -F mesh=@"$data/bunny.ply" \
+  -F 'params={"surface":{"kind":"cylinder","radius":0}}' "$base/v1/deform")
+[[ $status == 422 ]] || fail "zero radius gave $status"
+grep -q '"field":"surface.radius"' "$out/problem.json" || fail "problem field"
+
+# The contract: the served openapi.yaml is the committed one, every path in it
+# is routed (never 404), and its request examples are accepted.
+curl -sS -f -o "$out/openapi.yaml" "$base/openapi.yaml"
+cmp -s "$out/openapi.yaml" "$here/../../proto/openapi.yaml" || fail "served openapi.yaml differs"
+python3 - "$out/openapi.yaml" "$base" "$data/bunny.ply" <<'PY'
+import json, sys, urllib.request, urllib.error, yaml
+spec = yaml.safe_load(open(sys.argv[1]))
+base = sys.argv[2]
+def call(method, path, body=None, headers={}):
+    req = urllib.request.Request(base + path, data=body, method=method, headers=headers)
+    try:
+        with urllib.request.urlopen(req) as r:
+            return r.status
+    except urllib.error.HTTPError as e:
+        return e.code
+for path, item in spec["paths"].items():
+    concrete = path.replace("{id}", "0123456789abcdef0123456789abcdef")
+    for method in item:
+        status = call(method.upper(), concrete, b"{}" if method == "post" else None,
+                      {"Content-Type": "application/json"})
+        # An unknown id is 404 with problem+json; the route itself must exist.
+        assert status != 405, (method, path, status)
+        assert status != 404 or "{id}" in path, (method, path, status)
+examples = spec["paths"]["/v1/surfaces"]["post"]["requestBody"]["content"]["application/json"]["examples"]
+for name, ex in examples.items():
+    status = call("POST", "/v1/surfaces", json.dumps(ex["value"]).encode(), {"Content-Type": "application/json"})
+    assert status in (200, 201), (name, status)
+params = spec["components"]["schemas"]["DeformParams"]["example"]
+status = call("POST", "/v1/deform", open(sys.argv[3], "rb").read(),
+              {"Content-Type": "application/octet-stream", "X-Surfdeform-Params": json.dumps(params)})
+assert status == 200, ("DeformParams example", status)
+print("openapi: %d paths routed, %d examples accepted" % (len(spec["paths"]), len(examples) + 1))
+PY
+
+kill -TERM "$server_pid"
+wait "$server_pid" || fail "the server did not exit 0 on SIGTERM"
+server_pid=
+echo "curl examples: all passed"

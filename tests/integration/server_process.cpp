@@ -1,0 +1,75 @@
+#include "server_process.hpp"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+
+namespace surfdeform::testing {
+
+const char* ServerBinary() { return SURFDEFORM_SERVER_BINARY; }
+
+ServerProcess::ServerProcess(const std::vector<std::string>& args) {
+  // A server that refuses a body closes the connection while the client may
+  // still be sending it: that must be an error return, not a fatal signal.
+  signal(SIGPIPE, SIG_IGN);
+  int pipe_fds[2];
+  if (pipe(pipe_fds) != 0) return;
+  std::vector<std::string> argv_strings = {ServerBinary(), "--host", "127.0.0.1", "--port", "0"};
+  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
+  pid_ = fork();
+  if (pid_ == 0) {
+    dup2(pipe_fds[1], STDOUT_FILENO);
+    close(pipe_fds[0]);
+    close(pipe_fds[1]);
+    std::vector<char*> argv;
+    for (std::string& s : argv_strings) argv.push_back(s.data());
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  close(pipe_fds[1]);
+  out_fd_ = pipe_fds[0];
+  // Read until the "listening" line, then keep draining in the background.
+  std::string first;
+  char c;
+  while (read(out_fd_, &c, 1) == 1 && c != '\n') first.push_back(c);
+  const std::string key = "\"port\":";
+  const size_t at = first.find(key);
+  if (at != std::string::npos) port_ = std::atoi(first.c_str() + at + key.size());
+  log_ = first + "\n";
+  reader_ = std::thread([this] {
+    char buf[4096];
+    ssize_t n;
+    while ((n = read(out_fd_, buf, sizeof buf)) > 0) {
+      std::lock_guard lock(mutex_);
+      log_.append(buf, static_cast<size_t>(n));
+    }
+  });
+}
+
+int ServerProcess::Stop(int signal) {
+  if (pid_ <= 0) return -1;
+  kill(pid_, signal);
+  int status = 0;
+  waitpid(pid_, &status, 0);
+  pid_ = -1;
+  if (reader_.joinable()) reader_.join();
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return 128 + WTERMSIG(status);
+}
+
+std::string ServerProcess::Log() {
+  std::lock_guard lock(mutex_);
+  return log_;
+}
+
+ServerProcess::~ServerProcess() {
+  if (pid_ > 0) Stop(SIGKILL);
+  if (reader_.joinable()) reader_.join();
+  if (out_fd_ >= 0) close(out_fd_);
+}
+
+}  // namespace surfdeform::testing

@@ -1,0 +1,39 @@
+// Starts the real surfdeform-server binary on a free loopback port for a
+// test, and stops it with a signal. Its stdout (the JSON log) is collected.
+#pragma once
+
+#include <sys/types.h>
+
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace surfdeform::testing {
+
+class ServerProcess {
+ public:
+  // Starts the server with `--host 127.0.0.1 --port 0` plus `args`, and waits
+  // for its "listening" line. port() is 0 when it failed to start.
+  explicit ServerProcess(const std::vector<std::string>& args = {});
+  ~ServerProcess();  // SIGKILL if still running
+
+  int port() const { return port_; }
+  // Sends `signal` and waits for the exit; returns the exit status (or
+  // 128 + signal when killed by one).
+  int Stop(int signal);
+  std::string Log();  // what it printed so far
+
+ private:
+  pid_t pid_ = -1;
+  int port_ = 0;
+  int out_fd_ = -1;
+  std::thread reader_;
+  std::mutex mutex_;
+  std::string log_;
+};
+
+// The server binary (set by CMake).
+const char* ServerBinary();
+
+}  // namespace surfdeform::testing

@@ -1,0 +1,580 @@
+// The real server process on loopback, talked to with a real HTTP client
+// (cpp-httplib's) and raw sockets: every route, both body forms, the error
+// codes, CORS, request framing attacks, load shedding, single flight and
+// graceful shutdown. The Draco output is decoded by Draco's own draco_decoder.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "server_process.hpp"
+
+namespace surfdeform::testing {
+namespace {
+
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+// The paper's thin plate: a 1 x 0.5 x 0.05 box of 6 quads.
+std::string PlateObj() {
+  std::string obj;
+  for (int k = 0; k < 8; ++k) {
+    char line[96];
+    std::snprintf(line, sizeof line, "v %g %g %g\n", (k & 1) ? 0.5 : -0.5, (k & 2) ? 0.25 : -0.25,
+                  (k & 4) ? 0.025 : -0.025);
+    obj += line;
+  }
+  obj += "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  return obj;
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+const char kCylinder[] = R"({"kind":"cylinder","radius":2,"height":3,"angle_deg":180})";
+
+std::string SurfaceBody() {
+  return std::string(R"({"surface":)") + kCylinder + R"(,"sampling":{"nu":8,"nv":8}})";
+}
+
+std::string DeformParams(const std::string& extra = "") {
+  return std::string(R"({"surface":)") + kCylinder + R"(,"sampling":{"nu":8,"nv":8})" + extra + "}";
+}
+
+httplib::MultipartFormDataItems Multipart(const std::string& mesh, const std::string& params) {
+  return {{"mesh", mesh, "plate.obj", "application/octet-stream"},
+          {"params", params, "", "application/json"}};
+}
+
+// A problem+json response: its status, content type and fields.
+json Problem(const httplib::Result& r, int status) {
+  EXPECT_TRUE(r) << "no response";
+  if (!r) return json::object();
+  EXPECT_EQ(r->status, status) << r->body;
+  EXPECT_EQ(r->get_header_value("Content-Type"), "application/problem+json") << r->body;
+  json j = json::parse(r->body, nullptr, false);
+  EXPECT_FALSE(j.is_discarded()) << r->body;
+  if (j.is_discarded()) return json::object();
+  EXPECT_EQ(j.value("status", 0), status);
+  EXPECT_FALSE(j.value("detail", "").empty());
+  EXPECT_FALSE(j.value("request_id", "").empty());
+  return j;
+}
+
+// Raw bytes to the server; what comes back until it closes (or `wait`).
+struct RawReply {
+  std::string bytes;
+  bool closed = false;  // the server ended the connection
+};
+
+RawReply Raw(int port, const std::string& request, std::chrono::milliseconds wait = 3000ms) {
+  RawReply out;
+  int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<uint16_t>(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    close(fd);
+    return out;
+  }
+  timeval tv{static_cast<time_t>(wait.count() / 1000),
+             static_cast<suseconds_t>((wait.count() % 1000) * 1000)};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  size_t sent = 0;
+  while (sent < request.size()) {
+    const ssize_t n = send(fd, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
+    if (n <= 0) break;
+    sent += static_cast<size_t>(n);
+  }
+  char buf[65536];
+  for (;;) {
+    const ssize_t n = recv(fd, buf, sizeof buf, 0);
+    if (n == 0) {
+      out.closed = true;
+      break;
+    }
+    if (n < 0) break;  // timeout
+    out.bytes.append(buf, static_cast<size_t>(n));
+  }
+  close(fd);
+  return out;
+}
+
+int CountResponses(const std::string& bytes) {
+  int count = 0;
+  for (size_t at = bytes.find("HTTP/1.1 "); at != std::string::npos;
+       at = bytes.find("HTTP/1.1 ", at + 1)) {
+    ++count;
+  }
+  return count;
+}
+
+class ServerTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    server_ =
+        new ServerProcess({"--log-level", "warn", "--max-body-mib", "4", "--max-grid-side", "64",
+                           "--max-vertices", "100", "--allowed-origins", "https://viewer.example"});
+    ASSERT_GT(server_->port(), 0) << "the server did not start";
+  }
+  static void TearDownTestSuite() {
+    delete server_;
+    server_ = nullptr;
+  }
+  httplib::Client Client() const {
+    httplib::Client c("127.0.0.1", server_->port());
+    c.set_read_timeout(30, 0);
+    return c;
+  }
+  int port() const { return server_->port(); }
+  static ServerProcess* server_;
+};
+ServerProcess* ServerTest::server_ = nullptr;
+
+TEST_F(ServerTest, HealthReadinessInfoContractAndIndex) {
+  auto c = Client();
+  auto r = c.Get("/healthz");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+  EXPECT_FALSE(r->get_header_value("X-Request-Id").empty());
+  r = c.Get("/readyz");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+  r = c.Get("/v1/info");
+  ASSERT_TRUE(r);
+  const json info = json::parse(r->body);
+  EXPECT_EQ(info.at("limits").at("max_body_bytes"), 4 << 20);
+  EXPECT_EQ(info.at("limits").at("max_grid_side"), 64);
+  EXPECT_EQ(info.at("surface_kinds").size(), 9u);
+  r = c.Get("/openapi.yaml");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->body.rfind("openapi: 3", 0), 0u);
+  EXPECT_NE(r->body.find("/v1/deform:"), std::string::npos);
+  r = c.Get("/");
+  ASSERT_TRUE(r);
+  EXPECT_NE(r->body.find("<html"), std::string::npos);
+  // A request id the caller gives is echoed.
+  r = c.Get("/healthz", {{"X-Request-Id", "batch-42.7"}});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->get_header_value("X-Request-Id"), "batch-42.7");
+}
+
+TEST_F(ServerTest, SurfacesAreCreatedCachedAndServed) {
+  auto c = Client();
+  auto r = c.Post("/v1/surfaces", SurfaceBody(), "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_TRUE(r->status == 201 || r->status == 200) << r->body;
+  const json created = json::parse(r->body);
+  const std::string id = created.at("id");
+  EXPECT_EQ(r->get_header_value("Location"), "/v1/surfaces/" + id);
+  EXPECT_NE(r->get_header_value("Server-Timing").find("flatten;dur="), std::string::npos);
+  r = c.Post("/v1/surfaces", SurfaceBody(), "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+  EXPECT_TRUE(json::parse(r->body).at("cached").get<bool>());
+
+  r = c.Get("/v1/surfaces/" + id);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200);
+  const json sheet = json::parse(r->body);
+  EXPECT_EQ(sheet.at("flat").size(), 64u);
+  const std::string etag = r->get_header_value("ETag");
+  ASSERT_FALSE(etag.empty());
+  r = c.Get("/v1/surfaces/" + id, {{"If-None-Match", etag}});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 304);
+  r = c.Get("/v1/surfaces/" + id + "/flat.svg");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+  EXPECT_EQ(r->get_header_value("Content-Type"), "image/svg+xml");
+
+  json p = Problem(c.Get("/v1/surfaces/0123456789abcdef0123456789abcdef"), 404);
+  EXPECT_EQ(p.value("field", ""), "id");
+  Problem(c.Get("/v1/surfaces/..%2F..%2Fetc%2Fpasswd"), 404);
+}
+
+// Draco's own decoder reads what the service wrote.
+TEST_F(ServerTest, DeformMultipartGivesDracoThatDracoDecodes) {
+  auto c = Client();
+  auto r = c.Post("/v1/deform", Multipart(PlateObj(), DeformParams()));
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(r->get_header_value("Content-Type"), "application/octet-stream");
+  const json stats = json::parse(r->get_header_value("X-Surfdeform-Stats"));
+  EXPECT_EQ(stats.at("vertices"), 8);
+  EXPECT_EQ(stats.at("triangles"), 12);
+  for (const char* phase : {"parse", "flatten", "deform", "subdivide", "encode"}) {
+    EXPECT_NE(r->get_header_value("Server-Timing").find(std::string(phase) + ";dur="),
+              std::string::npos);
+  }
+  char dir[] = "/tmp/surfdeform-it-XXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  const std::string drc = std::string(dir) + "/out.drc";
+  const std::string obj = std::string(dir) + "/out.obj";
+  std::ofstream(drc, std::ios::binary) << r->body;
+  ASSERT_EQ(std::system(("draco_decoder -i " + drc + " -o " + obj + " > /dev/null").c_str()), 0);
+  const std::string decoded = ReadFile(obj);
+  int faces = 0;
+  std::istringstream lines(decoded);
+  std::string line;
+  double max_radius_error = 0.0;
+  while (std::getline(lines, line)) {
+    if (line.rfind("f ", 0) == 0) ++faces;
+    if (line.rfind("v ", 0) == 0) {
+      double x, y, z;
+      ASSERT_EQ(std::sscanf(line.c_str(), "v %lf %lf %lf", &x, &y, &z), 3);
+      // On the cylinder of radius 2, within half the plate's thickness.
+      max_radius_error = std::max(max_radius_error, std::abs(std::hypot(x, y) - 2.0) - 0.025);
+    }
+  }
+  EXPECT_EQ(faces, 12);
+  EXPECT_LT(max_radius_error, 1e-3);  // 14-bit quantization of a 4-unit box
+  std::system(("rm -rf " + std::string(dir)).c_str());
+}
+
+TEST_F(ServerTest, DeformRawBodyWithParamsInQueryOrHeader) {
+  auto c = Client();
+  // Query parameter (URL-encoded by the client), GLB from Accept.
+  const std::string query =
+      "/v1/deform?params=" + httplib::detail::encode_query_param(DeformParams());
+  auto r = c.Post(query.c_str(), {{"Accept", "model/gltf-binary"}}, PlateObj(),
+                  "application/octet-stream");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(r->get_header_value("Content-Type"), "model/gltf-binary");
+  EXPECT_EQ(r->body.substr(0, 4), "glTF");
+  const std::string etag = r->get_header_value("ETag");
+
+  // Header form, by surface id: same surface, same bytes, same ETag.
+  const json stats = json::parse(r->get_header_value("X-Surfdeform-Stats"));
+  const std::string id = stats.at("surface_id");
+  auto again = c.Post("/v1/deform",
+                      {{"Accept", "model/gltf-binary"},
+                       {"X-Surfdeform-Params", R"({"surface_id":")" + id + R"("})"}},
+                      PlateObj(), "application/octet-stream");
+  ASSERT_TRUE(again);
+  ASSERT_EQ(again->status, 200) << again->body;
+  EXPECT_EQ(again->body, r->body);
+  EXPECT_EQ(again->get_header_value("ETag"), etag);
+  EXPECT_TRUE(json::parse(again->get_header_value("X-Surfdeform-Stats")).at("cached").get<bool>());
+
+  // OBJ and PLY for debugging keep the vertex count.
+  auto obj =
+      c.Post("/v1/deform", Multipart(PlateObj(), DeformParams(R"(,"output":{"format":"obj"})")));
+  ASSERT_TRUE(obj);
+  EXPECT_EQ(obj->get_header_value("Content-Type"), "model/obj");
+  EXPECT_EQ(std::count(obj->body.begin(), obj->body.end(), '\n') >= 8 + 12, true);
+}
+
+TEST_F(ServerTest, ErrorsAreProblemJsonWithTheRightStatus) {
+  auto c = Client();
+  // 400: malformed JSON, an unknown field (with its path), a missing part.
+  json p = Problem(c.Post("/v1/surfaces", "{\"surface\":", "application/json"), 400);
+  EXPECT_EQ(p.value("code", ""), "malformed");
+  p = Problem(
+      c.Post("/v1/surfaces", R"({"surface":{"kind":"cylinder","raduis":1}})", "application/json"),
+      400);
+  EXPECT_EQ(p.value("field", ""), "surface.raduis");
+  p = Problem(
+      c.Post("/v1/deform", httplib::MultipartFormDataItems{{"params", DeformParams(), "", ""}}),
+      400);
+  EXPECT_EQ(p.value("field", ""), "mesh");
+  p = Problem(c.Post("/v1/deform", PlateObj(), "application/octet-stream"), 400);
+  EXPECT_EQ(p.value("field", ""), "params");
+  const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  p = Problem(c.Post("/v1/deform", Multipart(PlateObj(), deep)), 400);
+  EXPECT_EQ(p.value("limit", 0), 32);
+  // 404, 405.
+  Problem(c.Get("/nowhere"), 404);
+  auto r = c.Get("/v1/deform");
+  p = Problem(r, 405);
+  EXPECT_EQ(r->get_header_value("Allow"), "POST, OPTIONS");
+  // 406: no acceptable output format.
+  Problem(c.Post("/v1/deform", {{"Accept", "image/png"}}, Multipart(PlateObj(), DeformParams())),
+          406);
+  // 413: grid over the published limit, with the limit and the actual value.
+  p = Problem(
+      c.Post("/v1/surfaces", R"({"surface":{"kind":"cylinder"},"sampling":{"nu":65,"nv":8}})",
+             "application/json"),
+      413);
+  EXPECT_EQ(p.value("limit", 0), 64);
+  EXPECT_EQ(p.value("actual", 0), 65);
+  EXPECT_EQ(p.value("field", ""), "sampling.nu");
+  // 415: not JSON for /v1/surfaces; bytes in no mesh format.
+  Problem(c.Post("/v1/surfaces", SurfaceBody(), "text/plain"), 415);
+  p = Problem(c.Post("/v1/deform", Multipart("\x89PNG\r\n\x1a\n not a mesh", DeformParams())), 415);
+  EXPECT_EQ(p.value("field", ""), "mesh");
+  // 422: a degenerate surface, a model that does not fit, a bad value.
+  p = Problem(
+      c.Post("/v1/surfaces", R"({"surface":{"kind":"cylinder","radius":0}})", "application/json"),
+      422);
+  EXPECT_EQ(p.value("field", ""), "surface.radius");
+  p = Problem(
+      c.Post("/v1/deform", Multipart(PlateObj(), DeformParams(R"(,"placement":{"scale":50})"))),
+      422);
+  EXPECT_EQ(p.value("code", ""), "outside_sheet");
+  EXPECT_NE(p.value("detail", "").find("8 of 8 vertices"), std::string::npos) << p.dump();
+  // A number past the double range (JSON has no Inf) is out of range.
+  p = Problem(c.Post("/v1/deform",
+                     Multipart(PlateObj(), DeformParams(R"(,"placement":{"rotation_deg":1e999})"))),
+              422);
+  // A PLY that claims more vertices than its bytes hold.
+  p = Problem(c.Post("/v1/deform",
+                     Multipart("ply\nformat binary_little_endian 1.0\nelement vertex 4294967295\n"
+                               "property float x\nproperty float y\nproperty float z\nend_header\n",
+                               DeformParams())),
+              422);
+  EXPECT_EQ(p.value("field", ""), "mesh");
+  // Checklist 17: one vertex over the published limit (100 here).
+  std::string obj;
+  for (int k = 0; k < 101; ++k) obj += "v " + std::to_string(k) + " 0 0\n";
+  obj += "f 1 2 3\n";
+  p = Problem(c.Post("/v1/deform", Multipart(obj, DeformParams())), 413);
+  EXPECT_EQ(p.value("limit", 0), 100);
+  EXPECT_EQ(p.value("actual", 0), 101);
+  // A body over the published size: refused from its Content-Length, before
+  // it is read (a client still sending then sees the connection close).
+  RawReply big = Raw(port(),
+                     "POST /v1/deform HTTP/1.1\r\nHost: x\r\nContent-Type: "
+                     "application/octet-stream\r\nContent-Length: " +
+                         std::to_string(5 << 20) + "\r\n\r\nply\n");
+  EXPECT_EQ(big.bytes.rfind("HTTP/1.1 413", 0), 0u) << big.bytes;
+  EXPECT_NE(big.bytes.find("\"limit\":4194304"), std::string::npos) << big.bytes;
+  EXPECT_NE(big.bytes.find("\"actual\":5242880"), std::string::npos) << big.bytes;
+}
+
+TEST_F(ServerTest, CorsPreflightAndHeadersOnErrors) {
+  auto c = Client();
+  httplib::Headers origin = {{"Origin", "https://viewer.example"},
+                             {"Access-Control-Request-Method", "POST"}};
+  auto r = c.Options("/v1/deform", origin);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 204);
+  EXPECT_EQ(r->get_header_value("Access-Control-Allow-Origin"), "https://viewer.example");
+  EXPECT_NE(r->get_header_value("Access-Control-Allow-Methods").find("POST"), std::string::npos);
+  EXPECT_NE(r->get_header_value("Access-Control-Allow-Headers").find("Content-Type"),
+            std::string::npos);
+  r = c.Post("/v1/surfaces", origin, "{", "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 400);
+  EXPECT_EQ(r->get_header_value("Access-Control-Allow-Origin"), "https://viewer.example");
+  EXPECT_NE(r->get_header_value("Access-Control-Expose-Headers").find("X-Surfdeform-Stats"),
+            std::string::npos);
+  // Another origin gets no CORS grant.
+  r = c.Get("/healthz", {{"Origin", "https://evil.example"}});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->get_header_value("Access-Control-Allow-Origin"), "");
+}
+
+// RELIABILITY.md checklist 1-7: framing attacks get an answer before any body
+// is read, the connection is closed, and left-over bytes are never parsed as
+// another request.
+TEST_F(ServerTest, RequestFramingAttacks) {
+  const std::string smuggled = "GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n";
+  const std::string head =
+      "POST /v1/surfaces HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n";
+  struct Case {
+    std::string headers;
+    int status;
+  };
+  const Case cases[] = {
+      {"Content-Length: abc\r\n", 400},
+      {"Content-Length: -1\r\n", 400},
+      {"Content-Length: 5\r\nContent-Length: 6\r\n", 400},
+      {"Content-Length: 99999999999\r\n", 413},
+      {"Transfer-Encoding: chunked\r\n", 411},
+      {"Content-Encoding: gzip\r\nContent-Length: 10\r\n", 415},
+      {"", 411},  // no length at all
+  };
+  for (const Case& k : cases) {
+    const auto t0 = std::chrono::steady_clock::now();
+    RawReply reply = Raw(port(), head + k.headers + "\r\n" + smuggled);
+    EXPECT_TRUE(reply.closed) << k.headers;
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, 2s) << k.headers;
+    EXPECT_EQ(CountResponses(reply.bytes), 1) << k.headers << reply.bytes;
+    EXPECT_EQ(reply.bytes.rfind("HTTP/1.1 " + std::to_string(k.status), 0), 0u)
+        << k.headers << reply.bytes;
+    EXPECT_NE(reply.bytes.find("application/problem+json"), std::string::npos);
+  }
+  // Thousands of overlapping ranges: ignored, one plain response.
+  std::string ranges = "bytes=0-5";
+  for (int k = 0; k < 1500; ++k) ranges += ",0-5";
+  RawReply reply =
+      Raw(port(), "GET /openapi.yaml HTTP/1.1\r\nHost: x\r\nConnection: close\r\nRange: " + ranges +
+                      "\r\n\r\n");
+  EXPECT_EQ(reply.bytes.rfind("HTTP/1.1 200", 0), 0u);
+  EXPECT_EQ(reply.bytes.find("multipart/byteranges"), std::string::npos);
+  // A 1 MB header line and 10,000 headers.
+  reply = Raw(port(), "GET /healthz HTTP/1.1\r\nHost: x\r\nX-Big: " + std::string(1 << 20, 'a') +
+                          "\r\n\r\n");
+  EXPECT_TRUE(reply.bytes.rfind("HTTP/1.1 400", 0) == 0 ||
+              reply.bytes.rfind("HTTP/1.1 431", 0) == 0)
+      << reply.bytes.substr(0, 100);
+  std::string many = "GET /healthz HTTP/1.1\r\nHost: x\r\n";
+  for (int k = 0; k < 10000; ++k) many += "X-H" + std::to_string(k) + ": 1\r\n";
+  reply = Raw(port(), many + "\r\n");
+  EXPECT_EQ(reply.bytes.rfind("HTTP/1.1 431", 0), 0u) << reply.bytes.substr(0, 100);
+  // Disconnect mid-upload: the server carries on.
+  Raw(port(), head + "Content-Length: 100000\r\n\r\n" + std::string(5000, 'x'), 100ms);
+  auto c = Client();
+  auto r = c.Get("/healthz");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+}
+
+TEST_F(ServerTest, MetricsCountRequestsAndTheCache) {
+  auto c = Client();
+  ASSERT_TRUE(c.Get("/healthz"));
+  auto r = c.Get("/metrics");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+  for (const char* name :
+       {"surfdeform_http_requests_total{route=\"/healthz\",method=\"GET\",status=\"200\"}",
+        "surfdeform_http_request_duration_seconds_bucket{route=\"/healthz\",le=\"+Inf\"}",
+        "surfdeform_http_requests_in_flight", "surfdeform_cache_hits_total",
+        "surfdeform_cache_misses_total", "surfdeform_cache_evictions_total",
+        "surfdeform_cache_bytes", "surfdeform_cache_entries",
+        "surfdeform_http_response_bytes_total"}) {
+    EXPECT_NE(r->body.find(name), std::string::npos) << name;
+  }
+}
+
+double MetricValue(const std::string& text, const std::string& name) {
+  const size_t at = text.find("\n" + name + " ");
+  if (at == std::string::npos) return -1;
+  return std::atof(text.c_str() + at + name.size() + 2);
+}
+
+// Checklist 21: 50 identical concurrent requests on a cold cache flatten once
+// and get identical bytes and ETags.
+TEST(ServerConcurrency, IdenticalRequestsOnAColdCacheFlattenOnce) {
+  ServerProcess server({"--log-level", "warn", "--max-in-flight", "64", "--http-threads", "64"});
+  ASSERT_GT(server.port(), 0);
+  const std::string body =
+      R"({"surface":{"kind":"bezier","degree_u":2,"degree_v":2,"control_points":[[0,0,0],[1,0,0.5],
+      [2,0,0],[0,1,0.3],[1,1,1],[2,1,0.3],[0,2,0],[1,2,0.5],[2,2,0]]},"sampling":{"nu":40,"nv":40}})";
+  constexpr int kClients = 50;
+  std::vector<std::string> etags(kClients), bodies(kClients);
+  std::vector<int> statuses(kClients, 0);
+  std::vector<std::thread> threads;
+  std::atomic<bool> go{false};
+  for (int t = 0; t < kClients; ++t) {
+    threads.emplace_back([&, t] {
+      httplib::Client c("127.0.0.1", server.port());
+      c.set_read_timeout(60, 0);
+      while (!go) std::this_thread::yield();
+      auto r = c.Post("/v1/surfaces", body, "application/json");
+      if (!r) {
+        statuses[t] = -static_cast<int>(r.error());
+        return;
+      }
+      statuses[t] = r->status;
+      etags[t] = json::parse(r->body).at("id");
+    });
+  }
+  go = true;
+  for (auto& t : threads) t.join();
+  int created = 0;
+  for (int t = 0; t < kClients; ++t) {
+    EXPECT_TRUE(statuses[t] == 200 || statuses[t] == 201) << statuses[t];
+    created += statuses[t] == 201;
+    EXPECT_EQ(etags[t], etags[0]);
+  }
+  EXPECT_EQ(created, 1);
+  httplib::Client c("127.0.0.1", server.port());
+  auto m = c.Get("/metrics");
+  ASSERT_TRUE(m);
+  EXPECT_EQ(MetricValue(m->body, "surfdeform_cache_misses_total"), 1);
+  EXPECT_EQ(MetricValue(m->body, "surfdeform_cache_entries"), 1);
+}
+
+// Checklist 9: past the work-in-flight limit, 503 with Retry-After at once
+// (no queue), and the server stays healthy.
+TEST(ServerConcurrency, OverloadIsShedWith503) {
+  ServerProcess server({"--log-level", "warn", "--max-in-flight", "1"});
+  ASSERT_GT(server.port(), 0);
+  // A slow request holds the only slot: the paper's gradient descent on a
+  // 48 x 48 grid (about 2 s here).
+  const std::string slow =
+      R"({"surface":{"kind":"wave"},"sampling":{"nu":48,"nv":48},"flatten":{"method":"paper"}})";
+  std::atomic<int> slow_status{0};
+  std::thread holder([&] {
+    httplib::Client c("127.0.0.1", server.port());
+    c.set_read_timeout(120, 0);
+    auto r = c.Post("/v1/surfaces", slow, "application/json");
+    slow_status = r ? r->status : -1;
+  });
+  std::this_thread::sleep_for(300ms);
+  httplib::Client c("127.0.0.1", server.port());
+  const auto t0 = std::chrono::steady_clock::now();
+  auto r = c.Post("/v1/surfaces", SurfaceBody(), "application/json");
+  ASSERT_TRUE(r);
+  if (slow_status.load() == 0) {  // the slow one is still running: we were shed
+    EXPECT_EQ(r->status, 503) << r->body;
+    EXPECT_EQ(r->get_header_value("Retry-After"), "1");
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, 1s);
+    auto h = c.Get("/healthz");
+    ASSERT_TRUE(h);
+    EXPECT_EQ(h->status, 200);
+  } else {
+    ADD_FAILURE() << "the slow request finished in under 300 ms; make it slower";
+  }
+  holder.join();
+  EXPECT_EQ(slow_status.load(), 201);
+}
+
+// Checklist 24: SIGTERM under load: readiness goes false, requests in flight
+// finish, the process exits 0.
+TEST(ServerShutdown, SigtermFinishesInFlightRequestsAndExitsZero) {
+  ServerProcess server({"--log-level", "warn", "--drain-seconds", "0.5", "--max-in-flight", "32"});
+  ASSERT_GT(server.port(), 0);
+  const int port = server.port();
+  constexpr int kClients = 6;
+  std::vector<int> statuses(kClients, 0);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kClients; ++t) {
+    threads.emplace_back([&, t] {
+      httplib::Client c("127.0.0.1", port);
+      c.set_read_timeout(120, 0);
+      // Each a distinct slow flattening (different time: different surface).
+      const std::string body = R"({"surface":{"kind":"wave","time":)" + std::to_string(t) +
+                               R"(},"sampling":{"nu":40,"nv":40},"flatten":{"method":"paper"}})";
+      auto r = c.Post("/v1/surfaces", body, "application/json");
+      statuses[t] = r ? r->status : -1;
+    });
+  }
+  std::this_thread::sleep_for(300ms);
+  pid_t pid = -1;
+  (void)pid;
+  std::thread stopper([&] { EXPECT_EQ(server.Stop(SIGTERM), 0); });
+  std::this_thread::sleep_for(150ms);
+  {
+    httplib::Client c("127.0.0.1", port);
+    auto r = c.Get("/readyz");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 503);  // draining
+  }
+  for (auto& t : threads) t.join();
+  stopper.join();
+  for (int t = 0; t < kClients; ++t) EXPECT_EQ(statuses[t], 201) << "client " << t;
+  EXPECT_NE(server.Log().find("\"event\":\"stopped\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace surfdeform::testing

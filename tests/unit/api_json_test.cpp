@@ -1,0 +1,181 @@
+// The API's JSON mapping: strict parsing, JSON paths in errors, canonical ids.
+#include "proto/api.hpp"
+
+#include <gtest/gtest.h>
+
+#include "meshio/json_depth.hpp"
+#include "proto/json_object.hpp"
+
+namespace surfdeform::proto {
+namespace {
+
+using nlohmann::json;
+
+Status ParseError(const std::string& text) {
+  auto j = ParseRequestJson(text, 32, "body");
+  if (!j.ok()) return j.status();
+  auto r = ParseSurfaceRequest(*j);
+  return r.ok() ? Status::Ok() : r.status();
+}
+
+Status DeformError(const std::string& text) {
+  auto j = ParseRequestJson(text, 32, "params");
+  if (!j.ok()) return j.status();
+  auto r = ParseDeformParams(*j);
+  return r.ok() ? Status::Ok() : r.status();
+}
+
+TEST(ApiJson, ParsesEveryKindAndKeepsDefaults) {
+  const char* kinds[] = {
+      R"({"surface":{"kind":"bezier","degree_u":1,"degree_v":1,
+          "control_points":[[0,0,0],[1,0,0],[0,1,0],[1,1,1]]}})",
+      R"({"surface":{"kind":"bspline","degree_u":1,"degree_v":1,"count_u":2,"count_v":2,
+          "control_points":[[0,0,0],[1,0,0],[0,1,0],[1,1,1]],"knots_u":[0,0,1,1],"knots_v":[0,0,1,1]}})",
+      R"({"surface":{"kind":"nurbs","degree_u":1,"degree_v":1,"count_u":2,"count_v":2,
+          "control_points":[[0,0,0],[1,0,0],[0,1,0],[1,1,1]],"knots_u":[0,0,1,1],"knots_v":[0,0,1,1],
+          "weights":[1,2,1,1]}})",
+      R"({"surface":{"kind":"cylinder","radius":2,"frame":{"origin":[1,2,3]}}})",
+      R"({"surface":{"kind":"cone","radius_bottom":2,"radius_top":1}})",
+      R"({"surface":{"kind":"sphere","radius":2}})",
+      R"({"surface":{"kind":"torus","major_radius":3}})",
+      R"({"surface":{"kind":"wave","time":0.5}})",
+      R"({"surface":{"kind":"grid","nu":2,"nv":2,"points":[[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}})"};
+  for (const char* text : kinds) {
+    auto r = ParseSurfaceRequest(json::parse(text));
+    ASSERT_TRUE(r.ok()) << text << ": " << r.status().ToString();
+    EXPECT_EQ(r->sampling.nu, 16);
+    EXPECT_EQ(r->flatten.range, 3);
+    // The canonical form parses back to the same id.
+    auto again = ParseSurfaceRequest(CanonicalJson(*r));
+    ASSERT_TRUE(again.ok()) << again.status().ToString();
+    EXPECT_EQ(SurfaceId(*again), SurfaceId(*r)) << text;
+  }
+  auto c = ParseSurfaceRequest(json::parse(R"({"surface":{"kind":"cylinder","radius":2,
+      "frame":{"origin":[1,2,3]}},"sampling":{"nu":8,"nv":9},"flatten":{"method":"paper","range":2}})"));
+  ASSERT_TRUE(c.ok());
+  const auto& cyl = std::get<CylinderSpec>(c->surface);
+  EXPECT_EQ(cyl.radius, 2.0);
+  EXPECT_EQ(cyl.height, 1.0);  // default kept
+  EXPECT_EQ(cyl.frame.origin, Vec3(1, 2, 3));
+  EXPECT_EQ(c->sampling.nv, 9);
+  EXPECT_EQ(c->flatten.method, FlattenMethod::kPaper);
+  EXPECT_EQ(c->flatten.range, 2);
+}
+
+TEST(ApiJson, UnknownFieldsAreErrorsWithPathAndSuggestion) {
+  Status s = ParseError(R"({"surface":{"kind":"cylinder","radius":1,"heigth":2}})");
+  EXPECT_EQ(s.code(), ErrorCode::kMalformed);
+  EXPECT_EQ(s.field(), "surface.heigth");
+  EXPECT_NE(s.message().find("did you mean \"height\""), std::string::npos) << s.message();
+
+  s = ParseError(R"({"surface":{"kind":"cylinder"},"samplng":{"nu":4}})");
+  EXPECT_EQ(s.field(), "samplng");
+  s = ParseError(
+      R"({"surface":{"kind":"cylinder"},"flatten":{"method":"majorization","rnage":3}})");
+  EXPECT_EQ(s.field(), "flatten.rnage");
+  s = ParseError(R"({"surface":{"kind":"cylinder","frame":{"orign":[0,0,0]}}})");
+  EXPECT_EQ(s.field(), "surface.frame.orign");
+  // A field of another kind is unknown for this one.
+  s = ParseError(R"({"surface":{"kind":"cylinder","radius_top":1}})");
+  EXPECT_EQ(s.field(), "surface.radius_top");
+}
+
+TEST(ApiJson, TypeErrorsNameTheJsonPath) {
+  Status s = ParseError(R"({"surface":{"kind":"bezier","degree_u":1,"degree_v":1,
+      "control_points":[[0,0,0],[1,0,0],[0,1,"x"],[1,1,1]]}})");
+  EXPECT_EQ(s.code(), ErrorCode::kMalformed);
+  EXPECT_EQ(s.field(), "surface.control_points[2][2]");
+  s = ParseError(R"({"surface":{"kind":"cylinder","radius":"1"}})");
+  EXPECT_EQ(s.field(), "surface.radius");
+  EXPECT_NE(s.message().find("a string"), std::string::npos);
+  s = ParseError(R"({"surface":{"kind":"spiral"}})");
+  EXPECT_EQ(s.code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(s.field(), "surface.kind");
+  s = ParseError(R"({"surface":{"radius":1}})");
+  EXPECT_EQ(s.field(), "surface.kind");
+  s = ParseError(R"([1,2])");
+  EXPECT_EQ(s.code(), ErrorCode::kMalformed);
+  s = ParseError(R"({"surface":{"kind":"cylinder"},"sampling":{"nu":4.5}})");
+  EXPECT_EQ(s.field(), "sampling.nu");
+}
+
+TEST(ApiJson, OutOfRangeValuesAreInvalidArguments) {
+  Status s = ParseError(R"({"surface":{"kind":"cylinder"},"sampling":{"nu":1}})");
+  EXPECT_EQ(s.code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(s.field(), "sampling.nu");
+  s = ParseError(R"({"surface":{"kind":"cylinder"},"flatten":{"range":0}})");
+  EXPECT_EQ(s.code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(s.field(), "flatten.range");
+  s = DeformError(R"({"surface":{"kind":"cylinder"},"placement":{"scale":-1}})");
+  EXPECT_EQ(s.code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(s.field(), "placement.scale");
+  s = DeformError(R"({"surface":{"kind":"cylinder"},"output":{"draco":{"speed":11}}})");
+  EXPECT_EQ(s.code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(s.field(), "output.draco.speed");
+}
+
+TEST(ApiJson, SyntaxAndDepth) {
+  Status s = ParseError(R"({"surface": )");
+  EXPECT_EQ(s.code(), ErrorCode::kMalformed);
+  EXPECT_NE(s.message().find("byte"), std::string::npos);
+  const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  s = ParseError(deep);
+  EXPECT_EQ(s.code(), ErrorCode::kMalformed);
+  EXPECT_TRUE(s.has_limit());
+  EXPECT_EQ(s.limit(), 32);
+  EXPECT_EQ(s.actual(), 100000);
+  // Brackets inside strings do not count.
+  EXPECT_EQ(surfdeform::JsonNestingDepth(R"({"a":"[[[[{{{{\"]]"})"), 1);
+}
+
+TEST(ApiJson, DeformParams) {
+  auto r = ParseDeformParams(json::parse(R"({"surface_id":"0123456789abcdef0123456789abcdef",
+      "placement":{"up":"-y","anchor":0.25,"center":{"fraction":[0.5,0.25]},"rotation_deg":30,
+                   "scale":"fit","fit_margin":0.1,"outside":"clamp"},
+      "subdivision":{"mode":"off"},
+      "output":{"format":"glb","draco":{"position_bits":16,"sequential":true}}})"));
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_FALSE(r->surface.has_value());
+  EXPECT_EQ(r->placement.up, UpAxis::kNegY);
+  EXPECT_EQ(r->placement.anchor, AnchorMode::kValue);
+  EXPECT_EQ(r->placement.anchor_value, 0.25);
+  EXPECT_EQ(r->placement.center_mode, CenterMode::kFraction);
+  EXPECT_EQ(r->placement.center, Vec2(0.5, 0.25));
+  EXPECT_TRUE(r->placement.fit);
+  EXPECT_EQ(r->placement.outside, OutsideMode::kClamp);
+  EXPECT_EQ(r->output.format, OutputFormat::kGlb);
+  EXPECT_EQ(r->output.draco.position_bits, 16);
+  EXPECT_TRUE(r->output.draco.sequential);
+
+  // Exactly one of surface and surface_id.
+  EXPECT_EQ(DeformError(R"({"placement":{}})").field(), "surface");
+  EXPECT_EQ(DeformError(R"({"surface":{"kind":"cylinder"},"surface_id":"x"})").field(),
+            "surface_id");
+  EXPECT_EQ(DeformError(R"({"surface_id":"not-an-id"})").code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(
+      DeformError(R"({"surface":{"kind":"cylinder"},"subdivision":{"mode":"adaptive"}})").field(),
+      "subdivision.mode");
+  EXPECT_EQ(
+      DeformError(R"({"surface":{"kind":"cylinder"},"placement":{"center":"middle"}})").field(),
+      "placement.center");
+}
+
+TEST(ApiJson, IdsAreContentHashes) {
+  auto a = ParseSurfaceRequest(json::parse(R"({"surface":{"kind":"cylinder","radius":1}})"));
+  // Same content spelled differently: key order, explicit defaults, 1 vs 1.0.
+  auto b = ParseSurfaceRequest(json::parse(
+      R"({"sampling":{"nv":16},"surface":{"radius":1.0,"height":1,"kind":"cylinder"}})"));
+  auto c =
+      ParseSurfaceRequest(json::parse(R"({"surface":{"kind":"cylinder","radius":1.0000001}})"));
+  auto d = ParseSurfaceRequest(
+      json::parse(R"({"surface":{"kind":"cylinder","radius":1},"sampling":{"nu":17}})"));
+  ASSERT_TRUE(a.ok() && b.ok() && c.ok() && d.ok());
+  EXPECT_EQ(SurfaceId(*a), SurfaceId(*b));
+  EXPECT_NE(SurfaceId(*a), SurfaceId(*c));
+  EXPECT_NE(SurfaceId(*a), SurfaceId(*d));
+  EXPECT_TRUE(IsSurfaceIdShaped(SurfaceId(*a)));
+  EXPECT_FALSE(IsSurfaceIdShaped("../../etc/passwd"));
+}
+
+}  // namespace
+}  // namespace surfdeform::proto

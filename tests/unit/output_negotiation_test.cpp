@@ -1,0 +1,40 @@
+// Output format from parameters and the Accept header.
+#include "service/output_negotiation.hpp"
+
+#include <gtest/gtest.h>
+
+namespace surfdeform {
+namespace {
+
+using proto::OutputFormat;
+
+OutputFormat Chosen(std::string_view accept) {
+  auto r = ChooseOutputFormat(std::nullopt, accept);
+  EXPECT_TRUE(r.ok()) << accept;
+  return r.ok() ? *r : OutputFormat::kDrc;
+}
+
+TEST(OutputNegotiation, AcceptHeader) {
+  EXPECT_EQ(Chosen(""), OutputFormat::kDrc);
+  EXPECT_EQ(Chosen("*/*"), OutputFormat::kDrc);
+  EXPECT_EQ(Chosen("application/octet-stream"), OutputFormat::kDrc);
+  EXPECT_EQ(Chosen("model/gltf-binary"), OutputFormat::kGlb);
+  EXPECT_EQ(Chosen("Model/GLTF-Binary; q=0.9"), OutputFormat::kGlb);
+  EXPECT_EQ(Chosen("text/html, model/obj;q=0.5"), OutputFormat::kObj);
+  EXPECT_EQ(Chosen("application/x-ply"), OutputFormat::kPly);
+  EXPECT_EQ(Chosen("model/gltf-binary;q=0, application/octet-stream"), OutputFormat::kDrc);
+}
+
+TEST(OutputNegotiation, ParametersWinAndUnknownTypesAreRefused) {
+  auto r = ChooseOutputFormat(OutputFormat::kPly, "model/gltf-binary");
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(*r, OutputFormat::kPly);
+  r = ChooseOutputFormat(std::nullopt, "image/png, text/html");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kNotAcceptable);
+  r = ChooseOutputFormat(std::nullopt, "model/gltf-binary;q=0");
+  EXPECT_FALSE(r.ok());
+}
+
+}  // namespace
+}  // namespace surfdeform

@@ -1,0 +1,155 @@
+// The service without HTTP: requests end to end, limits, the cache through it.
+#include "service/service.hpp"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "meshio/mesh_export.hpp"
+#include "meshio/mesh_import.hpp"
+#include "support/test_meshes.hpp"
+
+namespace surfdeform {
+namespace {
+
+using nlohmann::json;
+
+const char kCylinder[] =
+    R"({"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180},"sampling":{"nu":8,"nv":8}})";
+
+std::string PlateObj() {
+  auto bytes = ExportMesh(testing::ThinPlate(1.0, 0.5, 0.05), MeshFormat::kObj);
+  EXPECT_TRUE(bytes.ok());
+  return bytes.ok() ? *bytes : std::string();
+}
+
+TEST(Service, FlattensOnceAndServesTheSheet) {
+  Service service({});
+  auto first = service.CreateSurface(kCylinder);
+  ASSERT_TRUE(first.ok()) << first.status().ToString();
+  EXPECT_FALSE(first->cache_hit);
+  const json summary = json::parse(first->body);
+  const std::string id = summary.at("id");
+  EXPECT_EQ(summary.at("method"), "exact");
+  EXPECT_EQ(summary.at("quality").at("folded_cells"), 0);
+
+  auto second = service.CreateSurface(kCylinder);
+  ASSERT_TRUE(second.ok());
+  EXPECT_TRUE(second->cache_hit);
+  EXPECT_EQ(json::parse(second->body).at("id"), id);
+
+  auto sheet = service.GetSurface(id);
+  ASSERT_TRUE(sheet.ok());
+  const json j = json::parse(sheet->body);
+  ASSERT_EQ(j.at("flat").size(), 64u);
+  ASSERT_EQ(j.at("points").size(), 64u);
+  // The unrolled half cylinder: pi * r wide along u, height along v.
+  const json& last = j.at("flat")[63];
+  EXPECT_NEAR(last[0].get<double>(), 3.14159265358979 * 2, 1e-9);
+  EXPECT_NEAR(last[1].get<double>(), 3.0, 1e-9);
+  EXPECT_EQ(sheet->etag, service.GetSurface(id)->etag);
+
+  auto svg = service.GetSurfaceSvg(id);
+  ASSERT_TRUE(svg.ok());
+  EXPECT_EQ(svg->body.rfind("<?xml", 0), 0u);
+  EXPECT_NE(svg->body.find("</svg>"), std::string::npos);
+  EXPECT_EQ(std::count(svg->body.begin(), svg->body.end(), '\n') > 49, true);  // 49 cells
+}
+
+TEST(Service, DeformsInlineAndById) {
+  Service service({});
+  const std::string plate = PlateObj();
+  auto inline_reply = service.Deform(
+      {plate, std::string(R"({"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180},
+          "sampling":{"nu":8,"nv":8},"output":{"format":"obj"}})"),
+       ""});
+  ASSERT_TRUE(inline_reply.ok()) << inline_reply.status().ToString();
+  EXPECT_EQ(inline_reply->content_type, "model/obj");
+  const json stats = json::parse(inline_reply->stats_json);
+  EXPECT_EQ(stats.at("vertices"), 8);
+  EXPECT_EQ(stats.at("triangles"), 12);
+  const std::string id = stats.at("surface_id");
+
+  // Same surface by id: the same bytes.
+  auto by_id =
+      service.Deform({plate, R"({"surface_id":")" + id + R"(","output":{"format":"obj"}})", ""});
+  ASSERT_TRUE(by_id.ok()) << by_id.status().ToString();
+  EXPECT_TRUE(by_id->cache_hit);
+  EXPECT_EQ(by_id->body, inline_reply->body);
+  EXPECT_EQ(by_id->etag, inline_reply->etag);
+
+  // Every vertex lands at radius 2 +- half the thickness (anchor: center).
+  auto back = ImportMesh(by_id->body);
+  ASSERT_TRUE(back.ok());
+  for (const Vec3& p : back->mesh.positions) {
+    EXPECT_NEAR(p.head<2>().norm(), 2.0, 0.025 + 1e-6);
+  }
+  // Accept picks the format when the parameters do not.
+  auto glb = service.Deform({plate, R"({"surface_id":")" + id + R"("})", "model/gltf-binary"});
+  ASSERT_TRUE(glb.ok());
+  EXPECT_EQ(glb->body.substr(0, 4), "glTF");
+}
+
+TEST(Service, ErrorsSayWhatAndWhere) {
+  ServiceOptions options;
+  options.limits.max_grid_side = 32;
+  options.limits.max_vertices = 4;
+  Service service(options);
+  auto r = service.CreateSurface(R"({"surface":{"kind":"cylinder"},"sampling":{"nu":8,"nv":64}})");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(r.status().field(), "sampling.nv");
+  EXPECT_EQ(r.status().limit(), 32);
+  EXPECT_EQ(r.status().actual(), 64);
+
+  r = service.CreateSurface(R"({"surface":{"kind":"cylinder","radius":0}})");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().field(), "surface.radius");
+
+  EXPECT_EQ(service.GetSurface("0123456789abcdef0123456789abcdef").status().code(),
+            ErrorCode::kNotFound);
+  EXPECT_EQ(service.GetSurface("../etc/passwd").status().code(), ErrorCode::kNotFound);
+
+  const std::string plate = PlateObj();
+  r = service.Deform({plate, R"({"surface":{"kind":"cylinder"}})", ""});
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kLimitExceeded);  // 8 vertices, limit 4
+  EXPECT_EQ(r.status().limit(), 4);
+  EXPECT_GT(r.status().actual(), 4);
+
+  Service roomy({});
+  r = roomy.Deform({plate, R"({"surface":{"kind":"cylinder"},"placement":{"scale":100}})", ""});
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kOutsideSheet);
+  r = roomy.Deform({std::string("not a mesh at all"), R"({"surface":{"kind":"cylinder"}})", ""});
+  EXPECT_EQ(r.status().code(), ErrorCode::kUnsupportedFormat);
+  r = roomy.Deform({plate, R"({"surface":{"kind":"cylinder"}})", "image/png"});
+  EXPECT_EQ(r.status().code(), ErrorCode::kNotAcceptable);
+  r = roomy.Deform({plate, R"({"surface":{"kind":"cylinder"},"placement":{"up":"z"}})", ""});
+  EXPECT_EQ(r.status().field(), "placement.up");
+}
+
+TEST(Service, ConcurrentIdenticalRequestsFlattenOnce) {
+  ServiceOptions options;
+  options.limits.max_in_flight = 16;
+  Service service(options);
+  const char* body =
+      R"({"surface":{"kind":"bezier","degree_u":2,"degree_v":2,"control_points":[[0,0,0],[1,0,0.5],[2,0,0],
+        [0,1,0.3],[1,1,1],[2,1,0.3],[0,2,0],[1,2,0.5],[2,2,0]]},"sampling":{"nu":24,"nv":24}})";
+  std::vector<std::string> etags(8);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 8; ++t) {
+    threads.emplace_back([&, t] {
+      auto r = service.CreateSurface(body);
+      if (r.ok()) etags[t] = json::parse(r->body).at("id");
+    });
+  }
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(service.cache_stats().misses, 1u);
+  for (int t = 1; t < 8; ++t) EXPECT_EQ(etags[t], etags[0]);
+  EXPECT_FALSE(etags[0].empty());
+}
+
+}  // namespace
+}  // namespace surfdeform
