@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "http/http_server.hpp"
+#include "service/allocator_tuning.hpp"
 #include "service/service.hpp"
 
 namespace {
@@ -81,6 +82,11 @@ int main(int argc, char** argv) {
       ->envname("SURFDEFORM_MAX_IN_FLIGHT")
       ->check(CLI::Range(0, 4096))
       ->capture_default_str();
+  app.add_option("--flatten-budget-ms", limits.flatten_time_budget_ms,
+                 "A flattening that takes longer than this fails with 413 (milliseconds)")
+      ->envname("SURFDEFORM_FLATTEN_BUDGET_MS")
+      ->check(CLI::Range(1.0, 3.6e6))
+      ->capture_default_str();
   app.add_option("--allowed-origins", http_options.allowed_origins,
                  "CORS origins allowed to call the API (\"*\": any)")
       ->envname("SURFDEFORM_ALLOWED_ORIGINS")
@@ -105,6 +111,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  surfdeform::TuneAllocatorForServing();
   limits.cache_bytes = cache_mib << 20;
   limits.max_body_bytes = body_mib << 20;
   http_options.log_level = ParseLogLevel(log_level);

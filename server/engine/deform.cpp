@@ -42,8 +42,34 @@ Mat3 AxisBasis(UpAxis up) {
   return m;
 }
 
-// Convex hull (Andrew's monotone chain), counter-clockwise.
-std::vector<Vec2> ConvexHull(std::vector<Vec2> p) {
+// Convex hull (Andrew's monotone chain), counter-clockwise. Points strictly
+// inside the quadrilateral of the four axis-extreme points cannot be on the
+// hull and are dropped first (Akl-Toussaint): for a scanned model that is
+// nearly all of them, which saves most of the sort.
+std::vector<Vec2> ConvexHull(const std::vector<Vec2>& points) {
+  std::vector<Vec2> p;
+  if (points.size() > 64) {
+    Vec2 quad[4] = {points[0], points[0], points[0], points[0]};  // min x, min y, max x, max y
+    for (const Vec2& q : points) {
+      if (q.x() < quad[0].x()) quad[0] = q;
+      if (q.y() < quad[1].y()) quad[1] = q;
+      if (q.x() > quad[2].x()) quad[2] = q;
+      if (q.y() > quad[3].y()) quad[3] = q;
+    }
+    auto strictly_inside = [&quad](const Vec2& q) {
+      for (int k = 0; k < 4; ++k) {  // counter-clockwise quadrilateral
+        const Vec2 e = quad[(k + 1) % 4] - quad[k];
+        const Vec2 r = q - quad[k];
+        if (e.x() * r.y() - e.y() * r.x() <= 0.0) return false;
+      }
+      return true;
+    };
+    for (const Vec2& q : points) {
+      if (!strictly_inside(q)) p.push_back(q);
+    }
+  } else {
+    p = points;
+  }
   std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
     return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
   });
@@ -105,19 +131,24 @@ Result<double> FitScale(const FlatLocator& locator, const std::vector<Vec2>& foo
   if (!(extent > 0.0)) {
     return Degenerate("the model's footprint is a single point: nothing to fit", "placement.scale");
   }
+  // Outline samples at most `spacing` apart: when every sample is inside the
+  // sheet and at least `margin` from its boundary, every point of the outline
+  // is at least margin - spacing / 2 > 0 from it, so the outline is inside.
+  const Eigen::AlignedBox2d& sheet_box = locator.bounds();
+  const double spacing =
+      margin > 0.0 ? margin : 0.01 * sheet_box.sizes().minCoeff();  // no margin: 1% of the sheet
   auto inside_at = [&](double s) {
-    const int steps = 8;  // outline samples per hull edge
+    int hint = -1;
     for (size_t k = 0; k < hull.size(); ++k) {
-      const Vec2& a = hull[k];
-      const Vec2& b = hull[(k + 1) % hull.size()];
+      const Vec2 a = base.target + s * (base.rotation * (hull[k] - base.centre));
+      const Vec2 b =
+          base.target + s * (base.rotation * (hull[(k + 1) % hull.size()] - base.centre));
+      const int steps = std::clamp(static_cast<int>(std::ceil((b - a).norm() / spacing)), 1, 4096);
       for (int q = 0; q < steps; ++q) {
-        const Vec2 p = a + (b - a) * (static_cast<double>(q) / steps);
-        const Vec2 placed = base.target + s * (base.rotation * (p - base.centre));
+        const Vec2 placed = a + (b - a) * (static_cast<double>(q) / steps);
         SheetLocation l;
-        if (!locator.Locate(placed, &l)) return false;
-        double d;
-        locator.NearestOnBoundary(placed, &d);
-        if (d < margin) return false;
+        if (!locator.Locate(placed, &l, &hint)) return false;
+        if (locator.BoundaryWithin(placed, margin)) return false;
       }
     }
     return true;
@@ -130,8 +161,8 @@ Result<double> FitScale(const FlatLocator& locator, const std::vector<Vec2>& foo
   }
   double lo = 0.0;
   double hi = locator.bounds().diagonal().norm() / extent;
-  // To a relative 1e-6: far below the margin's own precision.
-  for (int it = 0; it < 60 && hi - lo > 1e-6 * hi; ++it) {
+  // To a relative 1e-5: far below the margin's own precision.
+  for (int it = 0; it < 60 && hi - lo > 1e-5 * hi; ++it) {
     const double mid = 0.5 * (lo + hi);
     (inside_at(mid) ? lo : hi) = mid;
   }
@@ -161,8 +192,14 @@ Status ValidatePlacement(const PlacementOptions& o) {
   return Status::Ok();
 }
 
-Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
-                                const PlacementOptions& o) {
+namespace {
+
+// The deformation of `mesh` into `*result`. result->mesh is either empty
+// (then everything but the attributes that are recomputed is copied from
+// `mesh`) or `mesh` itself (in place: each vertex reads only its own input
+// before writing its output).
+Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
+              const PlacementOptions& o, DeformResult* result_out) {
   const auto t0 = std::chrono::steady_clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidatePlacement(o));
   if (const std::string problem = CheckMesh(mesh); !problem.empty()) {
@@ -242,9 +279,20 @@ Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, 
   const Mat3 normal_linear = linear.inverse().transpose();
 
   // Deformation, vertex by vertex.
-  DeformResult result;
+  DeformResult& result = *result_out;
   Mesh& out = result.mesh;
-  out = mesh;  // attributes, triangles and groups carry over
+  if (&out != &mesh) {
+    // Attributes, triangles and groups carry over; positions, normals and
+    // tangents are all written below, so they are only sized, not copied.
+    out.triangles = mesh.triangles;
+    out.groups = mesh.groups;
+    out.uv0 = mesh.uv0;
+    out.uv1 = mesh.uv1;
+    out.colors = mesh.colors;
+    out.positions.resize(n);
+    out.normals.resize(mesh.normals.size());
+    out.tangents.resize(mesh.tangents.size());
+  }
   const bool need_frame = !mesh.normals.empty() || !mesh.tangents.empty();
   const Vec2 param_scale = locator.ParameterScale();
   const bool exact = sheet.method == "exact" && surface.InverseUnrolling(Vec2(1, 1)).has_value();
@@ -369,6 +417,23 @@ Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, 
   }
   st.time_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
+                                const PlacementOptions& options) {
+  DeformResult result;
+  SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, mesh, options, &result));
+  return result;
+}
+
+Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
+                                const PlacementOptions& options) {
+  DeformResult result;
+  result.mesh = std::move(mesh);
+  SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, result.mesh, options, &result));
   return result;
 }
 

@@ -76,5 +76,9 @@ Status ValidatePlacement(const PlacementOptions& options);
 // when the footprint leaves the sheet and outside = kError.
 Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
                                 const PlacementOptions& options);
+// The same, reusing the input's buffers (no copy of the mesh): for callers
+// that no longer need the undeformed mesh.
+Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
+                                const PlacementOptions& options);
 
 }  // namespace surfdeform

@@ -51,6 +51,18 @@ bool InverseBilinear(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c,
 
 FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv), flat_(sheet.flat) {
   for (const Vec2& p : flat_) bounds_.extend(p);
+  auto add_segment = [this](const Vec2& a, const Vec2& b) {
+    const double len2 = (b - a).squaredNorm();
+    boundary_.push_back({a, b - a, len2 > 0.0 ? 1.0 / len2 : 0.0});
+  };
+  for (int i = 0; i + 1 < nu_; ++i) {
+    add_segment(Corner(i, 0), Corner(i + 1, 0));
+    add_segment(Corner(i, nv_ - 1), Corner(i + 1, nv_ - 1));
+  }
+  for (int j = 0; j + 1 < nv_; ++j) {
+    add_segment(Corner(0, j), Corner(0, j + 1));
+    add_segment(Corner(nu_ - 1, j), Corner(nu_ - 1, j + 1));
+  }
   const int cells = (nu_ - 1) * (nv_ - 1);
   const Vec2 size = bounds_.sizes().cwiseMax(1e-300);
   cell_bounds_.resize(cells);
@@ -158,6 +170,16 @@ SheetLocation FlatLocator::NearestOnBoundary(const Vec2& p, double* distance) co
   }
   *distance = best;
   return loc;
+}
+
+bool FlatLocator::BoundaryWithin(const Vec2& p, double distance) const {
+  const double limit = distance * distance;
+  for (const Segment& s : boundary_) {
+    const Vec2 ap = p - s.a;
+    const double w = std::clamp(ap.dot(s.ab) * s.inv_len2, 0.0, 1.0);
+    if ((ap - w * s.ab).squaredNorm() < limit) return true;
+  }
+  return false;
 }
 
 Vec2 FlatLocator::FlatPoint(const SheetLocation& l) const {

@@ -47,6 +47,11 @@ class FlatLocator {
   }
   Vec2 ParameterScale() const { return Vec2(1.0 / (nu_ - 1), 1.0 / (nv_ - 1)); }
 
+  // True when some point of the sheet's boundary is closer to p than
+  // `distance` (strictly): the fit's margin test, without square roots and
+  // with an early exit.
+  bool BoundaryWithin(const Vec2& p, double distance) const;
+
   // Bounding box of the sheet.
   const Eigen::AlignedBox2d& bounds() const { return bounds_; }
 
@@ -57,6 +62,12 @@ class FlatLocator {
   std::vector<Vec2> flat_;
   Eigen::AlignedBox2d bounds_;
   bool TryCell(int cell, const Vec2& p, SheetLocation* out) const;
+
+  struct Segment {
+    Vec2 a, ab;
+    double inv_len2;  // 1 / |ab|^2, 0 for a degenerate segment
+  };
+  std::vector<Segment> boundary_;  // the sheet's outline, for BoundaryWithin
 
   std::vector<Eigen::AlignedBox2d> cell_bounds_;  // per cell, slightly enlarged
   int bx_ = 1, by_ = 1;                           // buckets along x and y

@@ -71,6 +71,10 @@ Status ValidateFlattenOptions(const FlattenOptions& o) {
     return InvalidArgument("must be from 0 (one per core) to 256, got " + std::to_string(o.threads),
                            "threads");
   }
+  if (!(o.time_budget_ms >= 0.0 && o.time_budget_ms < 1e12)) {
+    return InvalidArgument("must be a non-negative number of milliseconds (0 = none)",
+                           "time_budget_ms");
+  }
   if (o.relax_steps < 0 || o.relax_steps > 8) {
     return InvalidArgument("must be from 0 to 8, got " + std::to_string(o.relax_steps),
                            "relax_steps");
@@ -91,6 +95,11 @@ Flattener& Flattener::operator=(Flattener&&) noexcept = default;
 Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,
                                      const FlatSheet* warm_start) {
   const auto t0 = Clock::now();
+  const internal::Deadline deadline =
+      options_.time_budget_ms > 0.0
+          ? t0 + std::chrono::duration_cast<Clock::duration>(
+                     std::chrono::duration<double, std::milli>(options_.time_budget_ms))
+          : internal::kNoDeadline;
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
   auto grid = SampleSurface(surface, sampling);
   if (!grid.ok()) return grid.status();
@@ -144,10 +153,19 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
       }
       const int max_it = options_.max_iterations > 0 ? options_.max_iterations : 3000;
       stats = internal::SolveMajorization(*lap, edges, options_.tolerance, max_it, options_.threads,
-                                          &x);
+                                          &x, deadline);
     } else {
       const int max_it = options_.max_iterations > 0 ? options_.max_iterations : 200000;
-      stats = internal::SolvePaperDescent(edges, options_.step, options_.tolerance, max_it, &x);
+      stats = internal::SolvePaperDescent(edges, options_.step, options_.tolerance, max_it, &x,
+                                          deadline);
+    }
+    if (stats.out_of_time) {
+      return Status::LimitExceeded(
+          "the flattening did not converge within the time budget of " +
+              std::to_string(static_cast<long long>(options_.time_budget_ms)) + " ms (" +
+              std::to_string(stats.iterations) +
+              " iterations); use method \"majorization\", a coarser grid or a looser tolerance",
+          "flatten", options_.time_budget_ms, MsSince(t0));
     }
     sheet.method = FlattenMethodName(options_.method);
     sheet.quality.iterations = stats.iterations;

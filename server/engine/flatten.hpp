@@ -55,6 +55,7 @@ struct FlattenOptions {
   int lattice_factor = 0;         // distance integration lattice per cell side; 0 = automatic
   int relax_steps = 2;            // geodesic relaxation steps per pair; 0 = straight segments
   int threads = 0;                // worker threads; 0 = one per core. Results do not depend on it.
+  double time_budget_ms = 0.0;    // the solver stops with kLimitExceeded past this; 0 = none
 };
 
 // Quality of a flat sheet. Stress and the other measures are always taken over

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <chrono>
 #include <memory>
 #include <vector>
 
@@ -14,7 +15,11 @@ namespace surfdeform::internal {
 struct SolveStats {
   int iterations = 0;
   bool converged = false;
+  bool out_of_time = false;  // stopped at the deadline
 };
+
+using Deadline = std::chrono::steady_clock::time_point;
+inline constexpr Deadline kNoDeadline = Deadline::max();
 
 // The stopping rule shared by the iterative solvers: C changed by at most
 // `tolerance` of itself in the last iteration, or reached zero (relative to
@@ -61,11 +66,12 @@ std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range);
 // depend on it.
 SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<GridEdge>& edges,
                              double tolerance, int max_iterations, int threads,
-                             std::vector<Vec2>* x);
+                             std::vector<Vec2>* x, Deadline deadline = kNoDeadline);
 
 // The paper's gradient descent from the layout in `x`, in place. step <= 0: automatic.
 SolveStats SolvePaperDescent(const std::vector<GridEdge>& edges, double step, double tolerance,
-                             int max_iterations, std::vector<Vec2>* x);
+                             int max_iterations, std::vector<Vec2>* x,
+                             Deadline deadline = kNoDeadline);
 
 // Half the paper's C: sum over the edges (each pair once) of (d - |X_i - X_j|)^2.
 double Stress(const std::vector<GridEdge>& edges, const std::vector<Vec2>& x);

@@ -134,7 +134,7 @@ class GuttmanRightHandSide {
 
 SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<GridEdge>& edges,
                              double tolerance, int max_iterations, int threads,
-                             std::vector<Vec2>* positions) {
+                             std::vector<Vec2>* positions, Deadline deadline) {
   threads = ResolveThreads(threads);
   const int n = static_cast<int>(positions->size());
   const int nu = factor.nu, nv = factor.nv;
@@ -175,6 +175,10 @@ SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<Gr
       break;
     }
     if (it == max_iterations) break;
+    if (std::chrono::steady_clock::now() > deadline) {
+      stats.out_of_time = true;
+      break;
+    }
     previous = stress;
     factor.Solve(&rhs, threads);
     stats.iterations = it + 1;

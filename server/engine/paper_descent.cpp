@@ -13,7 +13,7 @@
 namespace surfdeform::internal {
 
 SolveStats SolvePaperDescent(const std::vector<GridEdge>& edges, double step, double tolerance,
-                             int max_iterations, std::vector<Vec2>* x) {
+                             int max_iterations, std::vector<Vec2>* x, Deadline deadline) {
   std::vector<Vec2>& pos = *x;
   const int n = static_cast<int>(pos.size());
   if (!(step > 0.0)) {
@@ -47,6 +47,10 @@ SolveStats SolvePaperDescent(const std::vector<GridEdge>& edges, double step, do
       break;
     }
     if (it == max_iterations || !std::isfinite(stress)) break;
+    if (std::chrono::steady_clock::now() > deadline) {
+      stats.out_of_time = true;
+      break;
+    }
     previous = stress;
     for (int i = 0; i < n; ++i) pos[i] -= step * grad[i];
     stats.iterations = it + 1;

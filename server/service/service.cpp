@@ -137,6 +137,7 @@ struct Service::Impl {
           if (!surface.ok()) return surface.status().WithFieldPrefix("surface");
           FlattenOptions flatten = request.flatten;
           flatten.threads = options.engine_threads;
+          flatten.time_budget_ms = options.limits.flatten_time_budget_ms;
           auto sheet = FlattenSurface(**surface, request.sampling, flatten);
           if (!sheet.ok()) {
             const Status& s = sheet.status();
@@ -280,7 +281,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   const auto t2 = Clock::now();
   PlacementOptions placement = params->placement;
   placement.threads = impl_->options.engine_threads;
-  auto deformed = DeformMesh(*entry->surface, entry->sheet, imported->mesh, placement);
+  auto deformed = DeformMesh(*entry->surface, entry->sheet, std::move(imported->mesh), placement);
   if (!deformed.ok()) return deformed.status();
   const double deform_ms = MsSince(t2);
 
@@ -329,6 +330,7 @@ std::string Service::InfoJson() const {
               {"max_grid_side", l.max_grid_side},
               {"max_json_depth", l.max_json_depth},
               {"max_in_flight", l.max_in_flight},
+              {"flatten_time_budget_ms", l.flatten_time_budget_ms},
               {"cache_bytes", l.cache_bytes}}},
             {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
             {"output_formats", {"drc", "glb", "glb_plain", "obj", "ply"}},

@@ -118,6 +118,18 @@ TEST(Service, ErrorsSayWhatAndWhere) {
   EXPECT_EQ(r.status().limit(), 4);
   EXPECT_GT(r.status().actual(), 4);
 
+  ServiceOptions hurried;
+  hurried.limits.flatten_time_budget_ms = 30;
+  Service slow(hurried);
+  r = slow.CreateSurface(
+      R"({"surface":{"kind":"wave"},"sampling":{"nu":64,"nv":64},"flatten":{"method":"paper"}})");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(r.status().field(), "flatten");
+  EXPECT_EQ(r.status().limit(), 30);
+  EXPECT_GT(r.status().actual(), 30);
+  EXPECT_EQ(slow.cache_stats().entries, 0u);
+
   Service roomy({});
   r = roomy.Deform({plate, R"({"surface":{"kind":"cylinder"},"placement":{"scale":100}})", ""});
   ASSERT_FALSE(r.ok());
