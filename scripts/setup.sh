@@ -20,8 +20,12 @@ packages=(
   clang-14 libclang-rt-14-dev  # libFuzzer for the mesh import fuzzer (tests/fuzz)
 )
 # Node.js runs the Khronos glTF validator (npm) in the tests; a machine that
-# already has node and npm (e.g. Node 20) keeps them.
-command -v node > /dev/null && command -v npm > /dev/null || packages+=(nodejs npm)
+# already has node and npm (e.g. Node 20) keeps them. SURFDEFORM_SETUP_BUILD_ONLY=1
+# (the Docker image's build stage) skips what only the tests need.
+build_only=${SURFDEFORM_SETUP_BUILD_ONLY:-0}
+if [[ $build_only != 1 ]]; then
+  command -v node > /dev/null && command -v npm > /dev/null || packages+=(nodejs npm)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -43,7 +47,7 @@ fi
 
 # npm packages, pinned by the committed package-lock.json.
 root=$(cd "$(dirname "$0")/.." && pwd)
-if [[ ! -d "$root/tests/gltf/node_modules/gltf-validator" ]]; then
+if [[ $build_only != 1 && ! -d "$root/tests/gltf/node_modules/gltf-validator" ]]; then
   echo "setup: npm ci in tests/gltf"
   npm ci --prefix "$root/tests/gltf" --no-audit --no-fund --loglevel=error
 fi

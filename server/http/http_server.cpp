@@ -13,6 +13,7 @@
 #include "http/embedded_files.hpp"
 #include "http/problem.hpp"
 #include "http/request_guard.hpp"
+#include "proto/content_hash.hpp"
 
 namespace surfdeform::http {
 namespace {
@@ -212,6 +213,31 @@ struct HttpServer::Impl {
       return httplib::Server::HandlerResponse::Handled;
     }
     return httplib::Server::HandlerResponse::Unhandled;
+  }
+
+  // After every route: the headers every response carries. An ETag over the
+  // body where the route set none (the body is deterministic for the same
+  // state), and the total time in Server-Timing.
+  void PostRouting(const httplib::Request& req, httplib::Response& res) {
+    if (res.status == 200 && !res.body.empty() && !res.has_header("ETag")) {
+      const std::string etag = "\"" + proto::Sha256Hex(res.body, 32) + "\"";
+      res.set_header("ETag", etag);
+      if (req.method == "GET" && req.get_header_value("If-None-Match") == etag) {
+        res.status = 304;  // no body, and no length of one
+        res.body.clear();
+        res.headers.erase("Content-Length");
+        res.headers.erase("Content-Type");
+      }
+    }
+    if (t_context.active) {
+      const double ms =
+          std::chrono::duration<double, std::milli>(Clock::now() - t_context.start).count();
+      char total[48];
+      std::snprintf(total, sizeof total, "total;dur=%.3f", ms);
+      std::string timing = res.get_header_value("Server-Timing");
+      res.headers.erase("Server-Timing");
+      res.set_header("Server-Timing", timing.empty() ? std::string(total) : timing + ", " + total);
+    }
   }
 
   // httplib's own errors (404, 400 from its parser, 413 from its payload
@@ -414,6 +440,8 @@ HttpServer::HttpServer(Service& service, HttpOptions options)
       static_cast<size_t>(std::max(1, s->options.keep_alive_max_requests)));
   server.set_pre_routing_handler(
       [s](const httplib::Request& req, httplib::Response& res) { return s->PreRouting(req, res); });
+  server.set_post_routing_handler(
+      [s](const httplib::Request& req, httplib::Response& res) { s->PostRouting(req, res); });
   server.set_error_handler(
       [s](const httplib::Request& req, httplib::Response& res) { s->OnError(req, res); });
   server.set_exception_handler([s](const httplib::Request& req, httplib::Response& res,

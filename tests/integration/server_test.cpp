@@ -169,6 +169,13 @@ TEST_F(ServerTest, HealthReadinessInfoContractAndIndex) {
   r = c.Get("/");
   ASSERT_TRUE(r);
   EXPECT_NE(r->body.find("<html"), std::string::npos);
+  // Every response carries Server-Timing and, with a body, an ETag.
+  EXPECT_NE(r->get_header_value("Server-Timing").find("total;dur="), std::string::npos);
+  const std::string etag = r->get_header_value("ETag");
+  EXPECT_FALSE(etag.empty());
+  r = c.Get("/", {{"If-None-Match", etag}});
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 304);
   // A request id the caller gives is echoed.
   r = c.Get("/healthz", {{"X-Request-Id", "batch-42.7"}});
   ASSERT_TRUE(r);
@@ -436,6 +443,75 @@ TEST_F(ServerTest, RequestFramingAttacks) {
   auto r = c.Get("/healthz");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 200);
+}
+
+// A glTF document with one triangle whose buffer is at `uri`.
+std::string Gltf(const std::string& uri, const std::string& accessor_extra = "",
+                 const std::string& extras = "") {
+  return R"({"asset":{"version":"2.0"},"buffers":[{"uri":")" + uri +
+         R"(","byteLength":36}],"bufferViews":[{"buffer":0,"byteLength":36}],)"
+         R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3")" +
+         accessor_extra +
+         R"(}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"nodes":[{"mesh":0}],)"
+         R"("scenes":[{"nodes":[0]}])" +
+         extras + "}";
+}
+
+// RELIABILITY.md checklist 10-16 and 19 through the HTTP API: hostile mesh
+// bytes get a clear 4xx, never a file read, a path in the text, or a crash.
+TEST_F(ServerTest, HostileMeshesGetClearErrors) {
+  auto c = Client();
+  const std::string triangle =
+      "data:application/octet-stream;base64,"
+      "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA";  // 3 points, 36 bytes
+  // The well-formed document works (the control).
+  auto ok = c.Post("/v1/deform", Multipart(Gltf(triangle), DeformParams()));
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->status, 200) << ok->body;
+  struct Case {
+    const char* what;
+    std::string mesh;
+    int status;
+  };
+  const Case cases[] = {
+      // 10: URIs that would read files.
+      {"relative path", Gltf("../../../../etc/passwd"), 422},
+      {"absolute path", Gltf("/etc/passwd"), 422},
+      {"directory", Gltf("/"), 422},
+      // 11: accessors past their buffers.
+      // (over the published element limit before it is over the buffer: 413
+      // with the limit and the claimed count)
+      {"huge count", Gltf(triangle, R"(,"count":4000000000)"), 413},
+      {"huge stride", Gltf(triangle, R"(,"byteOffset":1000000)"), 422},
+      // 12: deep nesting in extras.
+      {"deep extras",
+       Gltf(triangle, "", R"(,"extras":)" + std::string(100000, '[') + std::string(100000, ']')),
+       422},
+      // 13: a GLB whose chunk claims more than there is.
+      {"truncated GLB", std::string("glTF\x02\0\0\0\xff\xff\0\0\x40\0\0\0JSON{}", 22), 422},
+      // 16: lying PLY, tiny STL, negative OBJ index.
+      {"PLY list count",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+       "y\nproperty float z\nelement face 1\nproperty list uchar int "
+       "vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n4294967295 0 1 2\n",
+       422},
+      {"OBJ negative index", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -99999\n", 422},
+      // 19: bytes in no format, whatever the name says.
+      {"PNG named .glb", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16), 415},
+  };
+  for (const Case& k : cases) {
+    auto r = c.Post("/v1/deform", Multipart(k.mesh, DeformParams()));
+    json p = Problem(r, k.status);
+    EXPECT_EQ(p.value("field", ""), "mesh") << k.what << ": " << p.dump();
+    const std::string detail = p.value("detail", "");
+    EXPECT_EQ(detail.find("/etc"), std::string::npos) << k.what << ": " << detail;
+    EXPECT_EQ(detail.find("/work"), std::string::npos) << k.what << ": " << detail;
+    EXPECT_EQ(detail.find("/tmp"), std::string::npos) << k.what << ": " << detail;
+  }
+  // The server is still fine.
+  auto h = c.Get("/healthz");
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->status, 200);
 }
 
 TEST_F(ServerTest, MetricsCountRequestsAndTheCache) {
