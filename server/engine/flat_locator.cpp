@@ -197,4 +197,67 @@ Eigen::Matrix2d FlatLocator::FlatJacobian(const SheetLocation& l) const {
   return m;
 }
 
+void FlatLocator::CellsAlongSegment(const Vec2& a, const Vec2& b, std::vector<int>* cells) const {
+  cells->clear();
+  // Row by row of buckets: the x-range the segment covers within the row's
+  // y-range, widened by a hair so that a segment on a bucket border sees both.
+  const Vec2 ra = (a - bounds_.min()).cwiseQuotient(bucket_size_);
+  const Vec2 rb = (b - bounds_.min()).cwiseQuotient(bucket_size_);
+  constexpr double kPad = 1e-7;
+  const double y_lo = std::min(ra.y(), rb.y()) - kPad, y_hi = std::max(ra.y(), rb.y()) + kPad;
+  const int row0 = std::max(0, static_cast<int>(std::floor(y_lo)));
+  const int row1 = std::min(by_ - 1, static_cast<int>(std::floor(y_hi)));
+  for (int y = row0; y <= row1; ++y) {
+    const double lo = std::max(y_lo, static_cast<double>(y));
+    const double hi = std::min(y_hi, static_cast<double>(y + 1));
+    double x_lo, x_hi;
+    if (std::abs(rb.y() - ra.y()) < 1e-300) {
+      x_lo = std::min(ra.x(), rb.x());
+      x_hi = std::max(ra.x(), rb.x());
+    } else {
+      auto x_at = [&](double yy) {
+        const double w = std::clamp((yy - ra.y()) / (rb.y() - ra.y()), 0.0, 1.0);
+        return ra.x() + w * (rb.x() - ra.x());
+      };
+      x_lo = std::min(x_at(lo), x_at(hi));
+      x_hi = std::max(x_at(lo), x_at(hi));
+    }
+    AppendBucketRow(y, std::max(0, static_cast<int>(std::floor(x_lo - kPad))),
+                    std::min(bx_ - 1, static_cast<int>(std::floor(x_hi + kPad))), cells);
+  }
+  SortUnique(cells);
+}
+
+void FlatLocator::CellsInBox(const Eigen::AlignedBox2d& box, std::vector<int>* cells) const {
+  cells->clear();
+  const Vec2 lo = (box.min() - bounds_.min()).cwiseQuotient(bucket_size_);
+  const Vec2 hi = (box.max() - bounds_.min()).cwiseQuotient(bucket_size_);
+  const int x0 = std::max(0, static_cast<int>(std::floor(lo.x())));
+  const int x1 = std::min(bx_ - 1, static_cast<int>(std::floor(hi.x())));
+  const int y0 = std::max(0, static_cast<int>(std::floor(lo.y())));
+  const int y1 = std::min(by_ - 1, static_cast<int>(std::floor(hi.y())));
+  for (int y = y0; y <= y1; ++y) AppendBucketRow(y, x0, x1, cells);
+  SortUnique(cells);
+}
+
+void FlatLocator::AppendBucketRow(int y, int x0, int x1, std::vector<int>* cells) const {
+  for (int x = x0; x <= x1; ++x) {
+    const int bucket = x + bx_ * y;
+    cells->insert(cells->end(), bucket_cells_.begin() + bucket_start_[bucket],
+                  bucket_cells_.begin() + bucket_start_[bucket + 1]);
+  }
+}
+
+void FlatLocator::SortUnique(std::vector<int>* cells) {
+  std::sort(cells->begin(), cells->end());
+  cells->erase(std::unique(cells->begin(), cells->end()), cells->end());
+}
+
+double FlatLocator::CellMinSide(int cell) const {
+  const int i = cell % (nu_ - 1), j = cell / (nu_ - 1);
+  const Vec2 &p00 = Corner(i, j), &p10 = Corner(i + 1, j);
+  const Vec2 &p01 = Corner(i, j + 1), &p11 = Corner(i + 1, j + 1);
+  return std::min({(p10 - p00).norm(), (p11 - p10).norm(), (p11 - p01).norm(), (p01 - p00).norm()});
+}
+
 }  // namespace surfdeform

@@ -55,6 +55,22 @@ class FlatLocator {
   // Bounding box of the sheet.
   const Eigen::AlignedBox2d& bounds() const { return bounds_; }
 
+  int nu() const { return nu_; }
+  int nv() const { return nv_; }
+  // Flat position of grid node (i, j).
+  const Vec2& Node(int i, int j) const { return flat_[i + nu_ * j]; }
+  // Cell index i + (nu - 1) j of a location.
+  int CellIndex(const SheetLocation& l) const { return l.i + (nu_ - 1) * l.j; }
+  // The shortest side of a cell (by index) on the sheet.
+  double CellMinSide(int cell) const;
+
+  // The cells (indices, sorted, each once) whose bounds meet the buckets that
+  // the segment a-b passes through: every cell the segment crosses, and a few
+  // near it.
+  void CellsAlongSegment(const Vec2& a, const Vec2& b, std::vector<int>* cells) const;
+  // The same for the buckets that meet a box.
+  void CellsInBox(const Eigen::AlignedBox2d& box, std::vector<int>* cells) const;
+
  private:
   const Vec2& Corner(int i, int j) const { return flat_[i + nu_ * j]; }
 
@@ -68,6 +84,10 @@ class FlatLocator {
     double inv_len2;  // 1 / |ab|^2, 0 for a degenerate segment
   };
   std::vector<Segment> boundary_;  // the sheet's outline, for BoundaryWithin
+  // Appends the cells of buckets x0..x1 of row y, then (last call) sorts and
+  // removes repeats.
+  void AppendBucketRow(int y, int x0, int x1, std::vector<int>* cells) const;
+  static void SortUnique(std::vector<int>* cells);
 
   std::vector<Eigen::AlignedBox2d> cell_bounds_;  // per cell, slightly enlarged
   int bx_ = 1, by_ = 1;                           // buckets along x and y

@@ -1,5 +1,10 @@
 #include "support/test_meshes.hpp"
 
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <tuple>
+
 namespace surfdeform::testing {
 
 Mesh ThinPlate(double size_x, double size_y, double thickness) {
@@ -36,6 +41,58 @@ Mesh FlatGrid(double x0, double y0, double sx, double sy, int nx, int ny, double
     }
   }
   return m;
+}
+
+Mesh UvSphere(double radius, int slices, int stacks) {
+  Mesh m;
+  const double pi = std::numbers::pi;
+  m.positions.emplace_back(0, 0, -radius);
+  for (int j = 1; j < stacks; ++j) {
+    const double phi = -pi / 2 + pi * j / stacks;
+    for (int i = 0; i < slices; ++i) {
+      const double theta = 2 * pi * i / slices;
+      m.positions.emplace_back(radius * std::cos(phi) * std::cos(theta),
+                               radius * std::cos(phi) * std::sin(theta), radius * std::sin(phi));
+    }
+  }
+  m.positions.emplace_back(0, 0, radius);
+  auto ring = [slices](int j, int i) {
+    return static_cast<uint32_t>(1 + (j - 1) * slices + (i % slices));
+  };
+  const uint32_t top = static_cast<uint32_t>(m.positions.size() - 1);
+  for (int i = 0; i < slices; ++i) {
+    m.triangles.push_back({0, ring(1, i + 1), ring(1, i)});
+    m.triangles.push_back({top, ring(stacks - 1, i), ring(stacks - 1, i + 1)});
+    for (int j = 1; j + 1 < stacks; ++j) {
+      m.triangles.push_back({ring(j, i), ring(j, i + 1), ring(j + 1, i + 1)});
+      m.triangles.push_back({ring(j, i), ring(j + 1, i + 1), ring(j + 1, i)});
+    }
+  }
+  return m;
+}
+
+std::string ClosedManifoldProblem(const Mesh& mesh) {
+  using Key = std::tuple<double, double, double>;
+  std::map<Key, int> ids;
+  auto id = [&](uint32_t v) {
+    const Vec3& p = mesh.positions[v];
+    return ids.try_emplace(Key(p.x(), p.y(), p.z()), static_cast<int>(ids.size())).first->second;
+  };
+  std::map<std::pair<int, int>, int> directed;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const int w[3] = {id(tri[0]), id(tri[1]), id(tri[2])};
+    if (w[0] == w[1] || w[1] == w[2] || w[2] == w[0]) {
+      return "triangle " + std::to_string(t) + " repeats a position";
+    }
+    for (int k = 0; k < 3; ++k) ++directed[{w[k], w[(k + 1) % 3]}];
+  }
+  for (const auto& [edge, count] : directed) {
+    if (count != 1) return "a directed edge is used " + std::to_string(count) + " times";
+    const auto back = directed.find({edge.second, edge.first});
+    if (back == directed.end()) return "an edge has no opposite (a crack or a T-junction)";
+  }
+  return "";
 }
 
 }  // namespace surfdeform::testing

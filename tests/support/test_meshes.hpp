@@ -1,6 +1,8 @@
 // Meshes built in code for tests and benchmarks.
 #pragma once
 
+#include <string>
+
 #include "engine/mesh.hpp"
 
 namespace surfdeform::testing {
@@ -13,5 +15,14 @@ Mesh ThinPlate(double size_x, double size_y, double thickness);
 // at height z, with normals +Z, tangents +X, uv0 = (x, y) and per-vertex
 // colours, triangulated.
 Mesh FlatGrid(double x0, double y0, double sx, double sy, int nx, int ny, double z);
+
+// A closed, manifold, outward-wound UV sphere of `slices` x `stacks` quads
+// (poles as triangle fans), centred at the origin.
+Mesh UvSphere(double radius, int slices, int stacks);
+
+// Edge-manifold check by position: every edge (vertices matched by exact
+// position) is used by exactly two triangles, once in each direction, and no
+// triangle repeats a position. Returns the first violation, or "".
+std::string ClosedManifoldProblem(const Mesh& mesh);
 
 }  // namespace surfdeform::testing

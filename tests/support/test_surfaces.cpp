@@ -43,6 +43,32 @@ BSplineSpec NurbsCone(double r0, double r1, double h, double angle_deg) {
   return s;
 }
 
+Target Flattened(const SurfaceSpec& spec, int n) {
+  Target t;
+  t.surface = MakeValid(spec);
+  if (t.surface == nullptr) return t;
+  auto r = FlattenSurface(*t.surface, {n, n});
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  if (r.ok()) t.sheet = std::move(r).value();
+  return t;
+}
+
+BSplineSpec BumpOnAPlane(double height) {
+  BSplineSpec s;
+  s.count_u = s.count_v = 10;
+  for (int k = 0; k < 4; ++k) s.knots_u.push_back(0.0);
+  for (int k = 1; k <= 6; ++k) s.knots_u.push_back(k / 7.0);
+  for (int k = 0; k < 4; ++k) s.knots_u.push_back(1.0);
+  s.knots_v = s.knots_u;
+  for (int j = 0; j < 10; ++j) {
+    for (int i = 0; i < 10; ++i) {
+      const bool bump = i >= 6 && i <= 7 && j >= 6 && j <= 7;
+      s.control_points.emplace_back(2.0 * i / 9, 2.0 * j / 9, bump ? height : 0.0);
+    }
+  }
+  return s;
+}
+
 GridSpec GridCylinder(double radius, double height, double angle_deg, int nu, int nv) {
   GridSpec g;
   g.nu = nu;

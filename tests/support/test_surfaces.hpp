@@ -3,6 +3,7 @@
 
 #include <memory>
 
+#include "engine/flatten.hpp"
 #include "engine/surface_spec.hpp"
 
 namespace surfdeform::testing {
@@ -19,5 +20,18 @@ BSplineSpec NurbsCone(double r0, double r1, double h, double angle_deg);
 // A cylinder of the given radius and height over angle_deg as a `grid` of
 // nu x nv points on it.
 GridSpec GridCylinder(double radius, double height, double angle_deg, int nu, int nv);
+
+// A surface and its flat sheet (sampled n x n, default flattening).
+struct Target {
+  std::unique_ptr<Surface> surface;
+  FlatSheet sheet;
+};
+// A failure to build or flatten is a test failure (then the sheet is empty).
+Target Flattened(const SurfaceSpec& spec, int n);
+
+// A flat square sheet [0, 2]^2 with one smooth bump of the given height in the
+// quarter around (1.5, 1.5): a uniform cubic B-spline over 10 x 10 control
+// points, flat (zero curvature) away from the bump.
+BSplineSpec BumpOnAPlane(double height);
 
 }  // namespace surfdeform::testing

@@ -16,19 +16,8 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-struct Target {
-  std::unique_ptr<Surface> surface;
-  FlatSheet sheet;
-};
-
-Target Flattened(const SurfaceSpec& spec, int n) {
-  Target t;
-  t.surface = testing::MakeValid(spec);
-  auto r = FlattenSurface(*t.surface, {n, n});
-  EXPECT_TRUE(r.ok()) << r.status().ToString();
-  if (r.ok()) t.sheet = std::move(r).value();
-  return t;
-}
+using testing::Flattened;
+using testing::Target;
 
 Mesh DeformOk(const Target& t, const Mesh& m, const PlacementOptions& o) {
   auto r = DeformMesh(*t.surface, t.sheet, m, o);

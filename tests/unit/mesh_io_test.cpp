@@ -522,5 +522,31 @@ TEST(Bunny, DeformsOnTheFigure10SurfaceWithEveryAttributeKept) {
   }
 }
 
+// The paper reports no subdivision for its dolphin, whose polygons are all
+// smaller than the grid: the bunny on the paper's surfaces, at the default
+// settings, gains no vertex (nothing is larger than a cell), and stays
+// within the automatic tolerance.
+TEST(Bunny, GainsNoVertexOnThePapersSurfacesAtTheDefaultSubdivision) {
+  const Mesh bunny = ImportOk(ReadFile(testing::DataPath("bunny.ply"))).mesh;
+  for (int figure : {8, 9, 10}) {
+    auto surface = testing::MakeValid(
+        testing::LoadBezierFile(testing::DataPath("figure" + std::to_string(figure) + ".json")));
+    const int n = figure == 10 ? 16 : 10;
+    auto sheet = FlattenSurface(*surface, {n, n});
+    ASSERT_TRUE(sheet.ok());
+    PlacementOptions o;
+    o.fit = true;
+    auto r = DeformMesh(*surface, *sheet, Mesh(bunny), o, SubdivisionOptions{});
+    ASSERT_TRUE(r.ok()) << r.status().ToString();
+    const SubdivisionStats& st = r->stats.subdivision;
+    EXPECT_EQ(st.mode, SubdivisionMode::kAdaptive);
+    // Few or none: at most 0.1%, where an edge strays past the tolerance.
+    EXPECT_LE(st.vertices_after, st.vertices_before + st.vertices_before / 1000) << figure;
+    EXPECT_EQ(st.edge_points_considered, 0u) << figure;  // no face larger than a cell
+    EXPECT_GT(st.tolerance, 0.0);
+    EXPECT_LE(std::max(st.max_deviation, st.max_estimated_deviation), st.tolerance) << figure;
+  }
+}
+
 }  // namespace
 }  // namespace surfdeform

@@ -1,0 +1,232 @@
+#include "engine/placement.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+namespace surfdeform {
+namespace {
+
+using Mat3 = Eigen::Matrix3d;
+
+// Rows: the model directions that become a, b (in-plane) and h (height);
+// right-handed, so footprints are not mirrored.
+Mat3 AxisBasis(UpAxis up) {
+  Mat3 m;
+  switch (up) {
+    case UpAxis::kPosZ:
+      m << 1, 0, 0, 0, 1, 0, 0, 0, 1;
+      break;
+    case UpAxis::kNegZ:
+      m << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+      break;
+    case UpAxis::kPosX:
+      m << 0, 1, 0, 0, 0, 1, 1, 0, 0;
+      break;
+    case UpAxis::kNegX:
+      m << 0, 1, 0, 0, 0, -1, -1, 0, 0;
+      break;
+    case UpAxis::kPosY:
+      m << 0, 0, 1, 1, 0, 0, 0, 1, 0;
+      break;
+    case UpAxis::kNegY:
+      m << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+      break;
+  }
+  return m;
+}
+
+// Convex hull (Andrew's monotone chain), counter-clockwise. Points strictly
+// inside the quadrilateral of the four axis-extreme points cannot be on the
+// hull and are dropped first (Akl-Toussaint): for a scanned model that is
+// nearly all of them, which saves most of the sort.
+std::vector<Vec2> ConvexHull(const std::vector<Vec2>& points) {
+  std::vector<Vec2> p;
+  if (points.size() > 64) {
+    Vec2 quad[4] = {points[0], points[0], points[0], points[0]};  // min x, min y, max x, max y
+    for (const Vec2& q : points) {
+      if (q.x() < quad[0].x()) quad[0] = q;
+      if (q.y() < quad[1].y()) quad[1] = q;
+      if (q.x() > quad[2].x()) quad[2] = q;
+      if (q.y() > quad[3].y()) quad[3] = q;
+    }
+    auto strictly_inside = [&quad](const Vec2& q) {
+      for (int k = 0; k < 4; ++k) {  // counter-clockwise quadrilateral
+        const Vec2 e = quad[(k + 1) % 4] - quad[k];
+        const Vec2 r = q - quad[k];
+        if (e.x() * r.y() - e.y() * r.x() <= 0.0) return false;
+      }
+      return true;
+    };
+    for (const Vec2& q : points) {
+      if (!strictly_inside(q)) p.push_back(q);
+    }
+  } else {
+    p = points;
+  }
+  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  if (p.size() < 3) return p;
+  std::vector<Vec2> h(2 * p.size());
+  size_t k = 0;
+  auto turn = [](const Vec2& o, const Vec2& a, const Vec2& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  for (size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && turn(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && turn(h[k - 2], h[k - 1], p[i - 1]) <= 0) --k;
+    h[k++] = p[i - 1];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+std::string Num(double x) {
+  std::ostringstream os;
+  os.precision(6);
+  os << x;
+  return os.str();
+}
+
+// The largest scale at which the footprint, outlined by its convex hull, stays
+// inside the sheet at least `margin` from its boundary. The sheet is simply
+// connected, so a hull outline inside it encloses only sheet points.
+Result<double> FitScale(const FlatLocator& locator, const std::vector<Vec2>& footprint,
+                        const Placement& base, double margin) {
+  std::vector<Vec2> hull = ConvexHull(footprint);
+  double extent = 0.0;
+  for (const Vec2& p : hull) extent = std::max(extent, (p - base.centre).norm());
+  if (!(extent > 0.0)) {
+    return Degenerate("the model's footprint is a single point: nothing to fit", "placement.scale");
+  }
+  // Outline samples at most `spacing` apart: when every sample is inside the
+  // sheet and at least `margin` from its boundary, every point of the outline
+  // is at least margin - spacing / 2 > 0 from it, so the outline is inside.
+  const Eigen::AlignedBox2d& sheet_box = locator.bounds();
+  const double spacing =
+      margin > 0.0 ? margin : 0.01 * sheet_box.sizes().minCoeff();  // no margin: 1% of the sheet
+  auto inside_at = [&](double s) {
+    int hint = -1;
+    for (size_t k = 0; k < hull.size(); ++k) {
+      const Vec2 a = base.target + s * (base.rotation * (hull[k] - base.centre));
+      const Vec2 b =
+          base.target + s * (base.rotation * (hull[(k + 1) % hull.size()] - base.centre));
+      const int steps = std::clamp(static_cast<int>(std::ceil((b - a).norm() / spacing)), 1, 4096);
+      for (int q = 0; q < steps; ++q) {
+        const Vec2 placed = a + (b - a) * (static_cast<double>(q) / steps);
+        SheetLocation l;
+        if (!locator.Locate(placed, &l, &hint)) return false;
+        if (locator.BoundaryWithin(placed, margin)) return false;
+      }
+    }
+    return true;
+  };
+  if (!inside_at(0.0)) {
+    return Status(ErrorCode::kOutsideSheet,
+                  "the footprint's centre is not inside the flat sheet (with the margin), so no "
+                  "scale fits; move placement.center",
+                  "placement.center");
+  }
+  double lo = 0.0;
+  double hi = locator.bounds().diagonal().norm() / extent;
+  // To a relative 1e-5: far below the margin's own precision.
+  for (int it = 0; it < 60 && hi - lo > 1e-5 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (inside_at(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+}  // namespace
+
+Status ValidatePlacement(const PlacementOptions& o) {
+  if (!std::isfinite(o.anchor_value)) {
+    return InvalidArgument("must be a finite number", "placement.anchor");
+  }
+  if (!o.center.allFinite()) return InvalidArgument("must be finite", "placement.center");
+  if (!std::isfinite(o.rotation_deg)) {
+    return InvalidArgument("must be a finite number", "placement.rotation_deg");
+  }
+  if (!o.fit && !(std::isfinite(o.scale) && o.scale > 0.0)) {
+    return InvalidArgument("must be a positive finite number or \"fit\", got " + Num(o.scale),
+                           "placement.scale");
+  }
+  if (!(o.fit_margin >= 0.0 && o.fit_margin < 0.5)) {
+    return InvalidArgument("must be in [0, 0.5), got " + Num(o.fit_margin), "placement.fit_margin");
+  }
+  if (o.threads < 0 || o.threads > 256) {
+    return InvalidArgument("must be from 0 to 256", "placement.threads");
+  }
+  return Status::Ok();
+}
+
+Result<Placement> ComputePlacement(const FlatLocator& locator, const FlatSheet& sheet,
+                                   const std::vector<Vec3>& positions, const PlacementOptions& o) {
+  const size_t n = positions.size();
+  Placement pl;
+  pl.basis = AxisBasis(o.up);
+  Eigen::AlignedBox3d box;
+  std::vector<Vec2> footprint(n);
+  for (size_t k = 0; k < n; ++k) {
+    const Vec3 q = pl.basis * positions[k];
+    box.extend(q);
+    footprint[k] = q.head<2>();
+  }
+  if (n == 0) box.extend(Vec3::Zero());
+  pl.centre = 0.5 * (box.min().head<2>() + box.max().head<2>());
+  switch (o.anchor) {
+    case AnchorMode::kBottom:
+      pl.h0 = box.min().z();
+      break;
+    case AnchorMode::kCenter:
+      pl.h0 = 0.5 * (box.min().z() + box.max().z());
+      break;
+    case AnchorMode::kTop:
+      pl.h0 = box.max().z();
+      break;
+    case AnchorMode::kValue:
+      pl.h0 = o.anchor_value;
+      break;
+  }
+  const double angle = o.rotation_deg * std::numbers::pi / 180.0;
+  pl.rotation << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  const Eigen::AlignedBox2d& sb = locator.bounds();
+  switch (o.center_mode) {
+    case CenterMode::kSheetCenter: {
+      // The image of the surface's parameter midpoint (u, v) = (1/2, 1/2):
+      // inside the sheet whatever its shape (the middle of a bounding box is
+      // not, for an unrolled cone).
+      const double gu = 0.5 * (sheet.nu - 1);
+      const double gv = 0.5 * (sheet.nv - 1);
+      SheetLocation mid;
+      mid.i = std::min(static_cast<int>(gu), sheet.nu - 2);
+      mid.j = std::min(static_cast<int>(gv), sheet.nv - 2);
+      mid.s = gu - mid.i;
+      mid.t = gv - mid.j;
+      pl.target = locator.FlatPoint(mid);
+      break;
+    }
+    case CenterMode::kSheetUnits:
+      pl.target = o.center;
+      break;
+    case CenterMode::kFraction:
+      pl.target = sb.min() + o.center.cwiseProduct(sb.sizes());
+      break;
+  }
+  pl.scale = o.scale;
+  if (o.fit) {
+    auto s = FitScale(locator, footprint, pl, o.fit_margin * sb.sizes().minCoeff());
+    if (!s.ok()) return s.status();
+    pl.scale = *s;
+  }
+  return pl;
+}
+
+}  // namespace surfdeform

@@ -1,0 +1,82 @@
+// Placing a model on a flat sheet: which model axis becomes the surface
+// normal, which model height lands on the surface, and where the footprint
+// goes on the sheet (centre, rotation, scale or fit).
+//
+// The model axis `up` becomes the surface normal; the model's height along
+// it, measured from `anchor`, becomes the distance h along the normal. The
+// other two axes (right-handed with `up`) give the in-plane footprint (a, b),
+// which is rotated by rotation_deg about its centre, scaled by `scale` (or the
+// largest scale that keeps it inside the sheet with a margin, `fit`), and
+// centred at `center` on the flat sheet. Units are the model's and the
+// surface's own. The placement is affine: interpolating model points and
+// placing them commute, which the subdivision relies on.
+#pragma once
+
+#include <vector>
+
+#include "engine/flat_locator.hpp"
+#include "engine/flatten.hpp"
+#include "engine/geometry_types.hpp"
+#include "engine/sheet_map.hpp"
+#include "engine/status.hpp"
+
+namespace surfdeform {
+
+enum class UpAxis { kPosX, kNegX, kPosY, kNegY, kPosZ, kNegZ };
+enum class AnchorMode { kBottom, kCenter, kTop, kValue };
+enum class CenterMode { kSheetCenter, kSheetUnits, kFraction };
+
+struct PlacementOptions {
+  UpAxis up = UpAxis::kPosZ;                          // model axis that becomes the surface normal
+  AnchorMode anchor = AnchorMode::kCenter;            // the model height that lands on the surface:
+  double anchor_value = 0.0;                          // with kValue, in model units along `up`
+  CenterMode center_mode = CenterMode::kSheetCenter;  // where the footprint centre goes:
+                                                      // kSheetCenter: the image of the
+                                                      // surface's (u, v) = (1/2, 1/2);
+  Vec2 center = Vec2::Zero();  // kSheetUnits: flat-sheet point; kFraction: of the sheet's
+                               // bounding box, (0, 0) = its min corner, (1, 1) = max corner
+  double rotation_deg = 0.0;   // footprint rotation about its centre, counter-clockwise
+  double scale = 1.0;          // uniform scale of the model (ignored with fit)
+  bool fit = false;            // largest scale that keeps the footprint inside the sheet
+  double fit_margin = 0.02;    // with fit: margin, as a fraction of the sheet's smaller side
+  OutsideMode outside = OutsideMode::kError;  // footprint points outside the sheet:
+  // kError: fail and say how many and how far; kClamp: move them to the nearest
+  // point of the sheet's boundary; kExtrapolate: continue the nearest boundary
+  // cell's map past the boundary (continuous; the surface is evaluated past its
+  // parameter range, where every kind continues smoothly).
+  int threads = 0;  // 0 = one per core
+};
+
+Status ValidatePlacement(const PlacementOptions& options);
+
+// A model point p goes to placed coordinates Apply(p) = (a, b, h): a flat
+// point (a, b) of the sheet and a height h along the surface normal.
+struct Placement {
+  Eigen::Matrix3d basis = Eigen::Matrix3d::Identity();  // model -> (a, b, h) directions
+  Vec2 centre = Vec2::Zero();  // footprint centre, in (a, b) before the transform
+  double h0 = 0.0;             // model height that lands on the surface
+  Eigen::Matrix2d rotation = Eigen::Matrix2d::Identity();
+  double scale = 1.0;
+  Vec2 target = Vec2::Zero();  // where the centre goes on the sheet
+
+  Vec3 Apply(const Vec3& p) const {
+    const Vec3 q = basis * p;
+    const Vec2 ab = target + scale * (rotation * (q.head<2>() - centre));
+    return Vec3(ab.x(), ab.y(), scale * (q.z() - h0));
+  }
+  // The linear part of Apply.
+  Eigen::Matrix3d Linear() const {
+    Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+    r.topLeftCorner<2, 2>() = rotation;
+    return scale * r * basis;
+  }
+};
+
+// The placement of a model with these vertex positions (all finite). Errors:
+// kDegenerate for a footprint that cannot be fitted, kOutsideSheet when the
+// fit's centre is off the sheet.
+Result<Placement> ComputePlacement(const FlatLocator& locator, const FlatSheet& sheet,
+                                   const std::vector<Vec3>& positions,
+                                   const PlacementOptions& options);
+
+}  // namespace surfdeform

@@ -1,0 +1,83 @@
+#include "engine/sheet_map.hpp"
+
+#include <algorithm>
+
+namespace surfdeform {
+
+SheetMap::SheetMap(const Surface& surface, const FlatSheet& sheet)
+    : surface_(surface), sheet_(sheet), locator_(sheet) {
+  exact_ = sheet.method == "exact" && surface.InverseUnrolling(Vec2(1, 1)).has_value();
+  raw_from_sheet_ = sheet.frame_linear.inverse();
+  sheet_size_ = locator_.bounds().diagonal().norm();
+}
+
+SheetParameters SheetMap::Parameters(const Vec2& ab, OutsideMode outside, bool want_jacobian,
+                                     int* hint) const {
+  SheetParameters r;
+  if (exact_) {
+    // Developable kinds: invert the closed-form unrolling (exact, where the
+    // cell-wise bilinear map is only second-order accurate on a cone).
+    auto inverse = [&](const Vec2& p) {
+      return *surface_.InverseUnrolling(raw_from_sheet_ * (p - sheet_.frame_offset));
+    };
+    r.uv = inverse(ab);
+    constexpr double kIn = 1e-9;
+    if (!(r.uv.x() >= -kIn && r.uv.x() <= 1 + kIn && r.uv.y() >= -kIn && r.uv.y() <= 1 + kIn)) {
+      r.outside = true;
+      locator_.NearestOnBoundary(ab, &r.outside_distance);
+      if (outside == OutsideMode::kClamp) r.uv = r.uv.cwiseMax(0.0).cwiseMin(1.0);
+    }
+    if (want_jacobian) {
+      const double step = 1e-6 * sheet_size_;
+      r.duv.col(0) = (inverse(ab + Vec2(step, 0)) - inverse(ab - Vec2(step, 0))) / (2 * step);
+      r.duv.col(1) = (inverse(ab + Vec2(0, step)) - inverse(ab - Vec2(0, step))) / (2 * step);
+    }
+    return r;
+  }
+  SheetLocation loc;
+  if (!locator_.Locate(ab, &loc, hint)) {
+    loc = locator_.NearestOnBoundary(ab, &r.outside_distance);
+    r.outside = true;
+    if (outside == OutsideMode::kExtrapolate) {
+      // Continue the boundary cell's map: d(s, t) = J^-1 (p - q).
+      const Vec2 q = locator_.FlatPoint(loc);
+      const Vec2 d = locator_.FlatJacobian(loc).inverse() * (ab - q);
+      loc.s += d.x();
+      loc.t += d.y();
+    }
+  }
+  r.uv = locator_.Parameters(loc);
+  if (want_jacobian) {
+    r.duv = locator_.ParameterScale().asDiagonal() * locator_.FlatJacobian(loc).inverse();
+  }
+  return r;
+}
+
+Vec3 SheetMap::Position(const Vec3& abh, OutsideMode outside, int* hint) const {
+  if (outside == OutsideMode::kError) outside = OutsideMode::kExtrapolate;
+  const SheetParameters p = Parameters(abh.head<2>(), outside, false, hint);
+  const SurfacePoint s = surface_.Evaluate(p.uv.x(), p.uv.y(), 1);
+  return s.p + abh.z() * UnitNormal(s);
+}
+
+Eigen::Matrix3d DeformJacobian(const SurfacePoint& s, const SheetParameters& p, double h,
+                               Vec3* unit_normal) {
+  const Vec3 cross = s.su.cross(s.sv);
+  const double cross_len = cross.norm();
+  const Vec3 nrm = cross / cross_len;
+  // Derivatives of the unit normal (Weingarten): N_x = (n_x - N (N . n_x)) / |n|.
+  const Vec3 nu_raw = s.suu.cross(s.sv) + s.su.cross(s.suv);
+  const Vec3 nv_raw = s.suv.cross(s.sv) + s.su.cross(s.svv);
+  const Vec3 n_u = (nu_raw - nrm * nrm.dot(nu_raw)) / cross_len;
+  const Vec3 n_v = (nv_raw - nrm * nrm.dot(nv_raw)) / cross_len;
+  const Vec3 fu = s.su + h * n_u;
+  const Vec3 fv = s.sv + h * n_v;
+  Eigen::Matrix3d jac;
+  jac.col(0) = fu * p.duv(0, 0) + fv * p.duv(1, 0);
+  jac.col(1) = fu * p.duv(0, 1) + fv * p.duv(1, 1);
+  jac.col(2) = nrm;
+  *unit_normal = nrm;
+  return jac;
+}
+
+}  // namespace surfdeform

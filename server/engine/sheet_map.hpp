@@ -1,0 +1,69 @@
+// The map from the flat sheet back onto the surface, for a point of the sheet
+// and a height: F(a, b, h) = S(u, v) + h N(u, v), where (u, v) are the surface
+// parameters of the flat point (a, b).
+//
+// (a, b) -> (u, v): the exact inverse of the bilinear map of the sheet cell
+// that holds (a, b) (FlatLocator, O(1)); for analytic cylinders and cones
+// unrolled in closed form, the inverse of that unrolling (exact). The surface
+// is evaluated exactly at (u, v), never interpolated from the grid. Used by the
+// deformation for every vertex and by the subdivision for every point it
+// measures or adds, so both see the same map.
+#pragma once
+
+#include "engine/flat_locator.hpp"
+#include "engine/flatten.hpp"
+#include "engine/geometry_types.hpp"
+#include "engine/surface.hpp"
+
+namespace surfdeform {
+
+enum class OutsideMode { kError, kClamp, kExtrapolate };
+
+// Where a flat point lands on the surface.
+struct SheetParameters {
+  Vec2 uv = Vec2::Zero();
+  Eigen::Matrix2d duv = Eigen::Matrix2d::Zero();  // d(u, v)/d(a, b), when asked for
+  bool outside = false;                           // (a, b) is not on the sheet
+  double outside_distance = 0.0;                  // then: its distance from the sheet
+};
+
+class SheetMap {
+ public:
+  // Keeps references: `surface` and `sheet` must outlive the map.
+  SheetMap(const Surface& surface, const FlatSheet& sheet);
+
+  // The parameters of flat point `ab`. Outside the sheet: kClamp moves the
+  // point to the nearest point of the sheet's boundary, kExtrapolate continues
+  // the nearest boundary cell's map (the surface is evaluated past its
+  // parameter range, where every kind continues smoothly); with kError the
+  // result is only flagged (and uv is unspecified). `hint` is the cell to try
+  // first (the previous point's), updated; may be null.
+  SheetParameters Parameters(const Vec2& ab, OutsideMode outside, bool want_jacobian,
+                             int* hint) const;
+
+  // F(a, b, h): the position only. Outside points as kExtrapolate unless
+  // `outside` says otherwise (kError is taken as kExtrapolate here: callers
+  // that must refuse outside points check Parameters first).
+  Vec3 Position(const Vec3& abh, OutsideMode outside, int* hint) const;
+
+  const FlatLocator& locator() const { return locator_; }
+  const FlatSheet& sheet() const { return sheet_; }
+  const Surface& surface() const { return surface_; }
+
+ private:
+  const Surface& surface_;
+  const FlatSheet& sheet_;
+  FlatLocator locator_;
+  bool exact_ = false;  // invert the closed-form unrolling instead of the cells
+  Eigen::Matrix2d raw_from_sheet_ = Eigen::Matrix2d::Identity();
+  double sheet_size_ = 1.0;  // diagonal of the sheet's bounding box
+};
+
+// The unit normal and the Jacobian d F / d(a, b, h) at a flat point with
+// parameters `p` and height h, from the surface's first and second
+// derivatives `s` there (Weingarten: the normal's derivatives follow from
+// the second derivatives). Columns: d/da, d/db, d/dh (= N).
+Eigen::Matrix3d DeformJacobian(const SurfacePoint& s, const SheetParameters& p, double h,
+                               Vec3* unit_normal);
+
+}  // namespace surfdeform
