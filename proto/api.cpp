@@ -425,9 +425,13 @@ Result<DeformParams> ParseDeformParams(const json& body) {
   if (const json* v = o.Find("subdivision"); v != nullptr) {
     auto s = JsonObject::Open(*v, "subdivision");
     if (!s.ok()) return s.status();
-    int mode = 0;
-    SURFDEFORM_RETURN_IF_ERROR(s->Choice("mode", {"off"}, &mode));
+    int mode = static_cast<int>(params.subdivision.mode);
+    SURFDEFORM_RETURN_IF_ERROR(s->Choice("mode", {"off", "adaptive", "uniform"}, &mode));
+    params.subdivision.mode = static_cast<SubdivisionMode>(mode);
+    SURFDEFORM_RETURN_IF_ERROR(s->Number("epsilon", &params.subdivision.epsilon));
+    SURFDEFORM_RETURN_IF_ERROR(s->Number("tolerance", &params.subdivision.tolerance));
     SURFDEFORM_RETURN_IF_ERROR(s->Finish());
+    SURFDEFORM_RETURN_IF_ERROR(ValidateSubdivision(params.subdivision));
   }
   SURFDEFORM_RETURN_IF_ERROR(ReadOutput(o, &params.output));
   SURFDEFORM_RETURN_IF_ERROR(o.Finish());
@@ -472,6 +476,25 @@ json QualityJson(const FlattenQuality& q) {
           {"folded_cells", q.folded_cells},
           {"iterations", q.iterations},
           {"converged", q.converged}};
+}
+
+json SubdivisionStatsJson(const SubdivisionStats& s) {
+  return {{"mode", SubdivisionModeName(s.mode)},
+          {"vertices_before", s.vertices_before},
+          {"triangles_before", s.triangles_before},
+          {"vertices_after", s.vertices_after},
+          {"triangles_after", s.triangles_after},
+          {"vertices_added", s.vertices_after - s.vertices_before},
+          {"edge_points_considered", s.edge_points_considered},
+          {"edge_points_kept", s.edge_points_kept},
+          {"face_points_considered", s.face_points_considered},
+          {"face_points_kept", s.face_points_kept},
+          {"refinement_points", s.refinement_points},
+          {"epsilon", s.epsilon},
+          {"tolerance", s.tolerance},
+          {"max_deviation", s.max_deviation},
+          {"max_estimated_deviation", s.max_estimated_deviation},
+          {"measured_points", s.measured_points}};
 }
 
 json DeformStatsJson(const DeformStats& s) {

@@ -16,6 +16,7 @@
 #include "engine/flatten.hpp"
 #include "engine/sample_grid.hpp"
 #include "engine/status.hpp"
+#include "engine/subdivide.hpp"
 #include "engine/surface_spec.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_format.hpp"
@@ -41,19 +42,13 @@ struct OutputOptions {
   DracoOptions draco;
 };
 
-// Refinement of large faces (the paper's section 3.2) is not implemented yet:
-// "off" is the only mode accepted.
-struct SubdivisionOptions {
-  std::string mode = "off";
-};
-
 // POST /v1/deform parameters: a surface inline (with its sampling and
 // flattening) or the id of a flattened one, and what to do with the mesh.
 struct DeformParams {
   std::optional<SurfaceRequest> surface;  // inline ...
   std::string surface_id;                 // ... or by id (exactly one of them)
   PlacementOptions placement;
-  SubdivisionOptions subdivision;
+  SubdivisionOptions subdivision;  // mode, epsilon, tolerance (limits: the server's)
   OutputOptions output;
 };
 
@@ -76,5 +71,6 @@ bool IsSurfaceIdShaped(std::string_view text);
 
 nlohmann::json QualityJson(const FlattenQuality& quality);
 nlohmann::json DeformStatsJson(const DeformStats& stats);
+nlohmann::json SubdivisionStatsJson(const SubdivisionStats& stats);
 
 }  // namespace surfdeform::proto

@@ -73,6 +73,16 @@ int main(int argc, char** argv) {
       ->envname("SURFDEFORM_MAX_GRID_SIDE")
       ->check(CLI::Range(2, 512))
       ->capture_default_str();
+  app.add_option("--max-output-vertices", limits.max_output_vertices,
+                 "Largest deformed mesh after subdivision, vertices (over it: 413)")
+      ->envname("SURFDEFORM_MAX_OUTPUT_VERTICES")
+      ->check(CLI::Range(1, 200'000'000))
+      ->capture_default_str();
+  app.add_option("--max-output-triangles", limits.max_output_triangles,
+                 "Largest deformed mesh after subdivision, triangles (over it: 413)")
+      ->envname("SURFDEFORM_MAX_OUTPUT_TRIANGLES")
+      ->check(CLI::Range(1, 400'000'000))
+      ->capture_default_str();
   app.add_option("--max-json-depth", limits.max_json_depth, "Deepest request JSON nesting")
       ->envname("SURFDEFORM_MAX_JSON_DEPTH")
       ->check(CLI::Range(4, 256))

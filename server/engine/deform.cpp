@@ -176,6 +176,10 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
   });
   st.vertices = n;
   st.triangles = in.triangles.size();
+  if (st.subdivision.mode == SubdivisionMode::kOff) {
+    st.subdivision.vertices_before = st.subdivision.vertices_after = n;
+    st.subdivision.triangles_before = st.subdivision.triangles_after = st.triangles;
+  }
   st.scale = pl.scale;
   for (int c = 0; c < threads; ++c) {
     st.outside += outside[c];

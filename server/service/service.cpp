@@ -281,9 +281,15 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   const auto t2 = Clock::now();
   PlacementOptions placement = params->placement;
   placement.threads = impl_->options.engine_threads;
-  auto deformed = DeformMesh(*entry->surface, entry->sheet, std::move(imported->mesh), placement);
+  SubdivisionOptions subdivision = params->subdivision;
+  subdivision.threads = impl_->options.engine_threads;
+  subdivision.max_vertices = limits.max_output_vertices;
+  subdivision.max_triangles = limits.max_output_triangles;
+  auto deformed =
+      DeformMesh(*entry->surface, entry->sheet, std::move(imported->mesh), placement, subdivision);
   if (!deformed.ok()) return deformed.status();
-  const double deform_ms = MsSince(t2);
+  const double subdivide_ms = deformed->stats.subdivide_ms;
+  const double deform_ms = MsSince(t2) - subdivide_ms;
 
   const auto t3 = Clock::now();
   ExportOptions export_options;
@@ -301,7 +307,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   reply.timings = {{"parse", parse_ms},
                    {"flatten", flatten_ms},
                    {"deform", deform_ms},
-                   {"subdivide", 0.0},
+                   {"subdivide", subdivide_ms},
                    {"encode", encode_ms}};
   const DeformStats& st = deformed->stats;
   json stats = {{"surface_id", entry->id},
@@ -310,7 +316,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
                 {"input_format", MeshFormatName(imported->format)},
                 {"vertices", st.vertices},
                 {"triangles", st.triangles},
-                {"subdivision", {{"mode", "off"}, {"vertices_added", 0}}},
+                {"subdivision", proto::SubdivisionStatsJson(st.subdivision)},
                 {"placement", proto::DeformStatsJson(st)},
                 {"quality", proto::QualityJson(entry->sheet.quality)},
                 {"warnings", imported->warnings}};
@@ -328,6 +334,8 @@ std::string Service::InfoJson() const {
               {"max_vertices", l.max_vertices},
               {"max_triangles", l.max_triangles},
               {"max_grid_side", l.max_grid_side},
+              {"max_output_vertices", l.max_output_vertices},
+              {"max_output_triangles", l.max_output_triangles},
               {"max_json_depth", l.max_json_depth},
               {"max_in_flight", l.max_in_flight},
               {"flatten_time_budget_ms", l.flatten_time_budget_ms},
@@ -337,7 +345,7 @@ std::string Service::InfoJson() const {
             {"surface_kinds",
              {"bezier", "bspline", "nurbs", "cylinder", "cone", "sphere", "torus", "wave", "grid"}},
             {"flatten_methods", {"majorization", "paper"}},
-            {"subdivision_modes", {"off"}}};
+            {"subdivision_modes", {"off", "adaptive", "uniform"}}};
   return Dump(j);
 }
 

@@ -128,9 +128,9 @@ int CountResponses(const std::string& bytes) {
 class ServerTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    server_ =
-        new ServerProcess({"--log-level", "warn", "--max-body-mib", "4", "--max-grid-side", "64",
-                           "--max-vertices", "100", "--allowed-origins", "https://viewer.example"});
+    server_ = new ServerProcess({"--log-level", "warn", "--max-body-mib", "4", "--max-grid-side",
+                                 "64", "--max-vertices", "100", "--max-output-vertices", "5000",
+                                 "--allowed-origins", "https://viewer.example"});
     ASSERT_GT(server_->port(), 0) << "the server did not start";
   }
   static void TearDownTestSuite() {
@@ -224,8 +224,9 @@ TEST_F(ServerTest, DeformMultipartGivesDracoThatDracoDecodes) {
   ASSERT_EQ(r->status, 200) << r->body;
   EXPECT_EQ(r->get_header_value("Content-Type"), "application/octet-stream");
   const json stats = json::parse(r->get_header_value("X-Surfdeform-Stats"));
-  EXPECT_EQ(stats.at("vertices"), 8);
-  EXPECT_EQ(stats.at("triangles"), 12);
+  EXPECT_GT(stats.at("vertices"), 8);  // subdivided to follow the cylinder
+  const int triangles = stats.at("triangles");
+  EXPECT_EQ(stats.at("subdivision").at("triangles_after"), triangles);
   for (const char* phase : {"parse", "flatten", "deform", "subdivide", "encode"}) {
     EXPECT_NE(r->get_header_value("Server-Timing").find(std::string(phase) + ";dur="),
               std::string::npos);
@@ -250,9 +251,51 @@ TEST_F(ServerTest, DeformMultipartGivesDracoThatDracoDecodes) {
       max_radius_error = std::max(max_radius_error, std::abs(std::hypot(x, y) - 2.0) - 0.025);
     }
   }
-  EXPECT_EQ(faces, 12);
+  EXPECT_EQ(faces, triangles);
   EXPECT_LT(max_radius_error, 1e-3);  // 14-bit quantization of a 4-unit box
   std::system(("rm -rf " + std::string(dir)).c_str());
+}
+
+// Subdivision through the API: the default follows the surface within its
+// tolerance, "off" keeps the input, and an output past the published limit is
+// a 413 with the limit and the size reached.
+TEST_F(ServerTest, SubdivisionModesToleranceAndTheOutputLimit) {
+  auto c = Client();
+  auto stats_of = [&](const std::string& subdivision) {
+    auto r = c.Post("/v1/deform",
+                    Multipart(PlateObj(), DeformParams(R"(,"subdivision":)" + subdivision)));
+    EXPECT_TRUE(r);
+    if (!r) return json::object();
+    EXPECT_EQ(r->status, 200) << r->body;
+    return json::parse(r->get_header_value("X-Surfdeform-Stats")).at("subdivision");
+  };
+  const json off = stats_of(R"({"mode":"off"})");
+  EXPECT_EQ(off.at("mode"), "off");
+  EXPECT_EQ(off.at("vertices_after"), 8);
+  const json fine = stats_of(R"({"mode":"adaptive","tolerance":1e-4})");
+  const json coarse = stats_of(R"({"mode":"adaptive","tolerance":1e-2})");
+  EXPECT_GT(fine.at("vertices_after"), coarse.at("vertices_after"));
+  EXPECT_LE(fine.at("max_deviation").get<double>(), 1e-4);
+  EXPECT_LE(coarse.at("max_deviation").get<double>(), 1e-2);
+  const json uniform = stats_of(R"({"mode":"uniform"})");
+  EXPECT_EQ(uniform.at("edge_points_kept"), uniform.at("edge_points_considered"));
+
+  json p =
+      Problem(c.Post("/v1/deform",
+                     Multipart(PlateObj(), DeformParams(R"(,"subdivision":{"tolerance":1e-7})"))),
+              413);
+  EXPECT_EQ(p.value("limit", 0), 5000);
+  EXPECT_GT(p.value("actual", 0), 5000);
+  EXPECT_EQ(p.value("field", "").rfind("subdivision", 0), 0u) << p.dump();
+  p = Problem(c.Post("/v1/deform",
+                     Multipart(PlateObj(), DeformParams(R"(,"subdivision":{"tolerance":-1})"))),
+              422);
+  EXPECT_EQ(p.value("field", ""), "subdivision.tolerance");
+  auto info = c.Get("/v1/info");
+  ASSERT_TRUE(info);
+  const json j = json::parse(info->body);
+  EXPECT_EQ(j.at("limits").at("max_output_vertices"), 5000);
+  EXPECT_EQ(j.at("subdivision_modes"), json({"off", "adaptive", "uniform"}));
 }
 
 TEST_F(ServerTest, DeformRawBodyWithParamsInQueryOrHeader) {

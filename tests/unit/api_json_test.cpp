@@ -152,9 +152,29 @@ TEST(ApiJson, DeformParams) {
   EXPECT_EQ(DeformError(R"({"surface":{"kind":"cylinder"},"surface_id":"x"})").field(),
             "surface_id");
   EXPECT_EQ(DeformError(R"({"surface_id":"not-an-id"})").code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(DeformError(R"({"surface":{"kind":"cylinder"},"subdivision":{"mode":"fine"}})").field(),
+            "subdivision.mode");
   EXPECT_EQ(
-      DeformError(R"({"surface":{"kind":"cylinder"},"subdivision":{"mode":"adaptive"}})").field(),
-      "subdivision.mode");
+      DeformError(R"({"surface":{"kind":"cylinder"},"subdivision":{"tolerance":-1}})").field(),
+      "subdivision.tolerance");
+  EXPECT_EQ(DeformError(R"({"surface":{"kind":"cylinder"},"subdivision":{"epsilon":"x"}})").field(),
+            "subdivision.epsilon");
+  EXPECT_EQ(DeformError(R"({"surface":{"kind":"cylinder"},"subdivision":{"tolerence":1}})").field(),
+            "subdivision.tolerence");
+}
+
+TEST(ApiJson, SubdivisionDefaultsToAdaptiveAndReadsItsOptions) {
+  auto d = ParseDeformParams(json::parse(R"({"surface":{"kind":"cylinder"}})"));
+  ASSERT_TRUE(d.ok());
+  EXPECT_EQ(d->subdivision.mode, SubdivisionMode::kAdaptive);
+  EXPECT_EQ(d->subdivision.tolerance, 0.0);
+  auto r = ParseDeformParams(json::parse(
+      R"({"surface":{"kind":"cylinder"},
+          "subdivision":{"mode":"uniform","epsilon":0.5,"tolerance":0.002}})"));
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_EQ(r->subdivision.mode, SubdivisionMode::kUniform);
+  EXPECT_EQ(r->subdivision.epsilon, 0.5);
+  EXPECT_EQ(r->subdivision.tolerance, 0.002);
   EXPECT_EQ(
       DeformError(R"({"surface":{"kind":"cylinder"},"placement":{"center":"middle"}})").field(),
       "placement.center");

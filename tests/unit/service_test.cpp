@@ -67,9 +67,25 @@ TEST(Service, DeformsInlineAndById) {
   ASSERT_TRUE(inline_reply.ok()) << inline_reply.status().ToString();
   EXPECT_EQ(inline_reply->content_type, "model/obj");
   const json stats = json::parse(inline_reply->stats_json);
-  EXPECT_EQ(stats.at("vertices"), 8);
-  EXPECT_EQ(stats.at("triangles"), 12);
+  // Adaptive subdivision by default: the plate's large faces follow the cylinder.
+  EXPECT_EQ(stats.at("subdivision").at("mode"), "adaptive");
+  EXPECT_EQ(stats.at("subdivision").at("vertices_before"), 8);
+  EXPECT_EQ(stats.at("subdivision").at("triangles_before"), 12);
+  EXPECT_GT(stats.at("vertices"), 8);
+  EXPECT_EQ(stats.at("vertices"), stats.at("subdivision").at("vertices_after"));
+  EXPECT_EQ(stats.at("triangles"), stats.at("subdivision").at("triangles_after"));
+  EXPECT_LE(stats.at("subdivision").at("max_deviation").get<double>(),
+            stats.at("subdivision").at("tolerance").get<double>());
   const std::string id = stats.at("surface_id");
+
+  // Subdivision off keeps the input's vertices and faces.
+  auto off = service.Deform(
+      {plate,
+       R"({"surface_id":")" + id + R"(","subdivision":{"mode":"off"},"output":{"format":"obj"}})",
+       ""});
+  ASSERT_TRUE(off.ok()) << off.status().ToString();
+  EXPECT_EQ(json::parse(off->stats_json).at("vertices"), 8);
+  EXPECT_EQ(json::parse(off->stats_json).at("triangles"), 12);
 
   // Same surface by id: the same bytes.
   auto by_id =
