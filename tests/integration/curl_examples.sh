@@ -5,7 +5,7 @@
 # Usage: curl_examples.sh SERVER_BINARY
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-data="$here/../data"
+data="$here/../../client/web/samples"
 out=$(mktemp -d)
 server_pid=
 cleanup() {

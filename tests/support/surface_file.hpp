@@ -1,4 +1,4 @@
-// Loads the Bezier surface files of tests/data (the surface part of an API
+// Loads the Bezier surface files of client/web/samples (the surface part of an API
 // request) for tests and benchmarks. The API's own JSON mapping lives in proto/.
 #pragma once
 
@@ -8,7 +8,7 @@
 
 namespace surfdeform::testing {
 
-// Absolute path of a file in tests/data.
+// Absolute path of a sample file (client/web/samples: the paper surfaces, the bunny).
 std::string DataPath(const std::string& name);
 
 // Reads a {"kind": "bezier", ...} file; aborts the test program on a bad file.

@@ -1,0 +1,263 @@
+#include "cli/commands.hpp"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+namespace surfdeform::cli {
+namespace {
+
+using nlohmann::json;
+
+int ExitFor(const HttpFailure& f) {
+  if (f.unreachable || f.status >= 500) return kExitUnavailable;
+  return kExitRefused;
+}
+
+void ConfigureRetries(const Connection& c, ApiClient* client) {
+  if (!c.verbose) return;
+  client->set_on_retry([](int attempt, const std::string& why, double wait) {
+    std::fprintf(stderr, "retry %d: %s; waiting %.1f s\n", attempt, why.c_str(), wait);
+  });
+}
+
+// JSON text, or the name of a file holding it.
+bool ReadJsonArgument(const std::string& text_or_file, json* out, std::string* error) {
+  std::string text = text_or_file;
+  const size_t first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos || (text[first] != '{' && text[first] != '[')) {
+    if (!ReadFileBytes(text_or_file, &text, error)) return false;
+  }
+  *out = json::parse(text, nullptr, false);
+  if (out->is_discarded()) {
+    *error = text_or_file.size() < 80 ? "not valid JSON: " + text_or_file : "not valid JSON";
+    return false;
+  }
+  return true;
+}
+
+// {"surface": ..., "sampling": ..., "flatten": ...} from a surface file: a
+// whole surface request, or a bare surface ({"kind": ...}).
+bool ReadSurfaceRequest(const std::string& file, json* out, std::string* error) {
+  json j;
+  if (!ReadJsonArgument(file, &j, error)) return false;
+  if (!j.is_object()) {
+    *error = file + ": a surface file holds a JSON object";
+    return false;
+  }
+  *out = j.contains("surface") ? j : json{{"surface", j}};
+  return true;
+}
+
+}  // namespace
+
+int RunInfo(const Connection& c) {
+  ApiClient client(c.server, c.retry, c.timeout_s);
+  ConfigureRetries(c, &client);
+  HttpReply r;
+  HttpFailure f;
+  if (!client.Get("/v1/info", &r, &f)) {
+    std::fprintf(stderr, "surfdeform: %s: %s\n", c.server.c_str(), f.message.c_str());
+    return ExitFor(f);
+  }
+  const json j = json::parse(r.body, nullptr, false);
+  std::printf("%s\n", j.is_discarded() ? r.body.c_str() : j.dump(2).c_str());
+  return kExitOk;
+}
+
+int RunHealth(const Connection& c) {
+  ApiClient client(c.server, c.retry, c.timeout_s);
+  ConfigureRetries(c, &client);
+  HttpReply r;
+  HttpFailure f;
+  if (!client.Get("/healthz", &r, &f)) {
+    std::fprintf(stderr, "surfdeform: %s: %s\n", c.server.c_str(), f.message.c_str());
+    return ExitFor(f);
+  }
+  HttpReply ready;
+  HttpFailure not_ready;
+  const bool is_ready = client.Get("/readyz", &ready, &not_ready);
+  std::printf("%s: live, %s\n", c.server.c_str(), is_ready ? "ready" : "not ready (draining)");
+  return is_ready ? kExitOk : kExitUnavailable;
+}
+
+int RunFlatten(const Connection& c, const std::string& surface_file, const std::string& svg_path,
+               bool json_output) {
+  json request;
+  std::string error;
+  if (!ReadSurfaceRequest(surface_file, &request, &error)) {
+    std::fprintf(stderr, "surfdeform: %s\n", error.c_str());
+    return kExitLocalFile;
+  }
+  ApiClient client(c.server, c.retry, c.timeout_s);
+  ConfigureRetries(c, &client);
+  HttpReply r;
+  HttpFailure f;
+  if (!client.PostJson("/v1/surfaces", request.dump(), &r, &f)) {
+    std::fprintf(stderr, "surfdeform: %s\n", f.message.c_str());
+    return ExitFor(f);
+  }
+  const json j = json::parse(r.body, nullptr, false);
+  if (j.is_discarded() || !j.contains("id")) {
+    std::fprintf(stderr, "surfdeform: unexpected reply from the server\n");
+    return kExitUnavailable;
+  }
+  if (json_output) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    const json& q = j["quality"];
+    std::printf("id %s%s\n", j["id"].get<std::string>().c_str(),
+                j.value("cached", false) ? " (cached)" : "");
+    std::printf("grid %dx%d, method %s, %.1f ms\n", j["grid"].value("nu", 0),
+                j["grid"].value("nv", 0), j.value("method", "").c_str(),
+                j["timing_ms"].value("flatten", 0.0));
+    std::printf("stress %.4g, max edge error %.4g, area ratio %.4g..%.4g, folded cells %d\n",
+                q.value("stress", 0.0), q.value("max_edge_error", 0.0),
+                q.value("area_ratio_min", 0.0), q.value("area_ratio_max", 0.0),
+                q.value("folded_cells", 0));
+  }
+  if (!svg_path.empty()) {
+    HttpReply svg;
+    if (!client.Get("/v1/surfaces/" + j["id"].get<std::string>() + "/flat.svg", &svg, &f)) {
+      std::fprintf(stderr, "surfdeform: %s\n", f.message.c_str());
+      return ExitFor(f);
+    }
+    if (!WriteFileAtomically(svg_path, svg.body, &error)) {
+      std::fprintf(stderr, "surfdeform: %s\n", error.c_str());
+      return kExitLocalFile;
+    }
+  }
+  return kExitOk;
+}
+
+bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* out,
+                        std::string* error) {
+  json params = json::object();
+  if (!o.params.empty()) {
+    if (!ReadJsonArgument(o.params, &params, error)) return false;
+    if (!params.is_object()) {
+      *error = "--params: a JSON object is needed";
+      return false;
+    }
+  }
+  if (!o.surface_file.empty()) {
+    json request;
+    if (!ReadSurfaceRequest(o.surface_file, &request, error)) return false;
+    params.erase("surface_id");
+    for (const char* key : {"surface", "sampling", "flatten"}) {
+      if (request.contains(key)) params[key] = request[key];
+    }
+  }
+  if (!o.surface_id.empty()) {
+    for (const char* key : {"surface", "sampling", "flatten"}) params.erase(key);
+    params["surface_id"] = o.surface_id;
+  }
+  if (!params.contains("surface") && !params.contains("surface_id")) {
+    *error = "no surface: give --surface FILE, --surface-id ID, or a surface in --params";
+    return false;
+  }
+  if (!o.subdivision.empty()) params["subdivision"]["mode"] = o.subdivision;
+  if (o.tolerance > 0.0) params["subdivision"]["tolerance"] = o.tolerance;
+  if (!o.scale.empty()) {
+    if (o.scale == "fit") {
+      params["placement"]["scale"] = "fit";
+    } else {
+      char* end = nullptr;
+      const double s = std::strtod(o.scale.c_str(), &end);
+      if (end == o.scale.c_str() || *end != '\0') {
+        *error = "--scale: \"fit\" or a number, got " + o.scale;
+        return false;
+      }
+      params["placement"]["scale"] = s;
+    }
+  }
+  out->kind = kind;
+  out->decode = false;
+  json& output = params["output"];
+  switch (kind) {
+    case OutputKind::kDrc:
+      output["format"] = "drc";
+      out->accept = "application/octet-stream";
+      break;
+    case OutputKind::kGlb:
+      output["format"] = "glb";
+      out->accept = "model/gltf-binary";
+      break;
+    case OutputKind::kObj:
+    case OutputKind::kPly:
+      if (o.lossless) {
+        output["format"] = kind == OutputKind::kObj ? "obj" : "ply";
+      } else {
+        // Draco over the wire (a fraction of the bytes), decoded here; the
+        // sequential encoding keeps the vertex order.
+        output["format"] = "drc";
+        output["draco"]["sequential"] = true;
+        out->decode = true;
+      }
+      out->accept = "";
+      break;
+  }
+  out->params = params.dump();
+  return true;
+}
+
+int DeformFile(ApiClient& client, const DeformRequest& request, const std::string& mesh_path,
+               const std::string& out_path, std::string* message) {
+  std::string mesh;
+  if (!ReadFileBytes(mesh_path, &mesh, message)) return kExitLocalFile;
+  const size_t slash = mesh_path.find_last_of('/');
+  const std::string name = slash == std::string::npos ? mesh_path : mesh_path.substr(slash + 1);
+  HttpReply r;
+  HttpFailure f;
+  if (!client.PostMesh("/v1/deform", mesh, name, request.params, request.accept, &r, &f)) {
+    *message = f.message;
+    return ExitFor(f);
+  }
+  std::string bytes = std::move(r.body);
+  if (request.decode) {
+    std::string decoded;
+    if (!DracoTo(bytes, request.kind, &decoded, message)) return kExitLocalFile;
+    bytes = std::move(decoded);
+  }
+  if (!WriteFileAtomically(out_path, bytes, message)) return kExitLocalFile;
+  const json stats = json::parse(r.stats, nullptr, false);
+  if (!stats.is_discarded() && stats.is_object()) {
+    const json sub = stats.value("subdivision", json::object());
+    *message = std::to_string(stats.value("vertices", 0)) + " vertices, " +
+               std::to_string(stats.value("triangles", 0)) + " triangles" +
+               (sub.value("vertices_added", 0) > 0
+                    ? " (" + std::to_string(sub.value("vertices_added", 0)) + " added)"
+                    : "") +
+               ", " + std::to_string(bytes.size()) + " bytes";
+  }
+  return kExitOk;
+}
+
+int RunDeform(const Connection& c, const DeformOptions& o, const std::string& mesh_path,
+              const std::string& out_path) {
+  const auto kind = OutputKindOf(out_path);
+  if (!kind) {
+    std::fprintf(stderr,
+                 "surfdeform: %s: the output's extension picks the format: .drc, .glb, "
+                 ".obj or .ply\n",
+                 out_path.c_str());
+    return kExitUsage;
+  }
+  DeformRequest request;
+  std::string error;
+  if (!BuildDeformRequest(o, *kind, &request, &error)) {
+    std::fprintf(stderr, "surfdeform: %s\n", error.c_str());
+    return error.rfind("cannot read", 0) == 0 ? kExitLocalFile : kExitUsage;
+  }
+  ApiClient client(c.server, c.retry, c.timeout_s);
+  ConfigureRetries(c, &client);
+  std::string message;
+  const int code = DeformFile(client, request, mesh_path, out_path, &message);
+  if (code != kExitOk) {
+    std::fprintf(stderr, "surfdeform: %s: %s\n", mesh_path.c_str(), message.c_str());
+    return code;
+  }
+  std::printf("%s -> %s: %s\n", mesh_path.c_str(), out_path.c_str(), message.c_str());
+  return kExitOk;
+}
+
+}  // namespace surfdeform::cli

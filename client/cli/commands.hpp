@@ -1,0 +1,71 @@
+// The subcommands of the `surfdeform` command-line client. Each returns the
+// process exit code (see ExitCode) and prints what a person needs: results on
+// stdout, progress and errors on stderr.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cli/api_client.hpp"
+#include "cli/output_files.hpp"
+
+namespace surfdeform::cli {
+
+// Documented in `surfdeform --help` and the README.
+enum ExitCode {
+  kExitOk = 0,
+  kExitUsage = 1,        // bad flags or arguments
+  kExitRefused = 2,      // the server refused the request (4xx): fix the request
+  kExitUnavailable = 3,  // the server could not be reached or failed (5xx), after retries
+  kExitLocalFile = 4,    // an input could not be read or an output written or decoded
+  kExitPartial = 5,      // batch: some files failed, the others are done
+};
+
+struct Connection {
+  std::string server = "http://127.0.0.1:8080";
+  RetryPolicy retry;
+  double timeout_s = 300.0;
+  bool verbose = false;  // report retries
+};
+
+// What a deformation asks for: the surface, inline (a file holding an API
+// surface request, or just its "surface" object) or by id, and the other
+// parameters (a JSON object, inline or a file), with a few overrides.
+struct DeformOptions {
+  std::string surface_file;
+  std::string surface_id;
+  std::string params;       // JSON text, or a file name
+  std::string subdivision;  // "off", "adaptive", "uniform" or empty
+  double tolerance = 0.0;   // > 0: subdivision.tolerance
+  std::string scale;        // "fit" or a number, or empty
+  bool lossless = false;    // .obj/.ply: ask for them instead of decoding Draco locally
+};
+
+int RunInfo(const Connection& c);
+int RunHealth(const Connection& c);
+int RunFlatten(const Connection& c, const std::string& surface_file, const std::string& svg_path,
+               bool json_output);
+int RunDeform(const Connection& c, const DeformOptions& o, const std::string& mesh_path,
+              const std::string& out_path);
+int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std::string>& inputs,
+             const std::string& out_dir, const std::string& extension, int jobs, bool force);
+
+// Shared by deform and batch.
+struct DeformRequest {
+  std::string params;  // the JSON sent
+  std::string accept;
+  OutputKind kind = OutputKind::kDrc;
+  bool decode = false;  // the reply is Draco to turn into OBJ/PLY here
+};
+
+// The request for an output of `kind`, from the options; false with a message
+// (a usage error) when they do not make a request.
+bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* out,
+                        std::string* error);
+
+// One mesh through the server into `out_path`. Returns an exit code; on
+// failure *message says why, on success it summarises the result.
+int DeformFile(ApiClient& client, const DeformRequest& request, const std::string& mesh_path,
+               const std::string& out_path, std::string* message);
+
+}  // namespace surfdeform::cli

@@ -1,0 +1,109 @@
+// surfdeform: the command-line client of a surfdeform server, for batch jobs.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <thread>
+
+#include "cli/commands.hpp"
+
+namespace {
+
+constexpr char kExitCodes[] = R"(Exit codes:
+  0  success
+  1  usage: bad flags or arguments
+  2  the server refused the request (4xx; its message is printed): fix the request
+  3  the server could not be reached or failed (5xx), after retrying what is safe to retry
+     (connection errors, 503 with Retry-After); 4xx are never retried
+  4  a local file could not be read, written or decoded
+  5  batch: some files failed (each is reported with the server's message); the rest are done
+Server: --server URL or SURFDEFORM_SERVER (default http://127.0.0.1:8080).)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace surfdeform::cli;
+  CLI::App app{"surfdeform: bend 3D models along curved surfaces through a surfdeform server."};
+  app.footer(kExitCodes);
+  app.require_subcommand(1);
+  Connection c;
+  app.add_option("--server", c.server, "Server URL")
+      ->envname("SURFDEFORM_SERVER")
+      ->capture_default_str();
+  app.add_option("--retries", c.retry.attempts,
+                 "Attempts in all for connection errors and 503 (with backoff)")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  app.add_option("--timeout", c.timeout_s, "Seconds to wait for one reply")
+      ->check(CLI::Range(1.0, 86400.0))
+      ->capture_default_str();
+  app.add_flag("-v,--verbose", c.verbose, "Report retries on stderr");
+
+  app.add_subcommand("info", "Print the server's version, limits, formats and surface kinds");
+  app.add_subcommand("health", "Check that the server is live and ready (exit 0) or not (3)");
+
+  auto* flatten = app.add_subcommand(
+      "flatten", "Flatten a surface: print its id and quality; optionally save the flat sheet");
+  std::string surface_file, svg_path;
+  bool json_output = false;
+  flatten
+      ->add_option("surface", surface_file,
+                   "JSON file: a surface request {surface, sampling, flatten} or a bare surface "
+                   "{kind, ...}")
+      ->required();
+  flatten->add_option("--svg", svg_path, "Save the flat sheet, coloured by stretch, as SVG");
+  flatten->add_flag("--json", json_output, "Print the server's JSON reply");
+
+  DeformOptions d;
+  auto add_deform_options = [&d](CLI::App* sub) {
+    sub->add_option("--surface", d.surface_file,
+                    "JSON file: a surface request {surface, sampling, flatten} or a bare surface");
+    sub->add_option("--surface-id", d.surface_id, "A surface already flattened (see flatten)");
+    sub->add_option("--params", d.params,
+                    "The deform parameters (placement, subdivision, output.draco ...): JSON text "
+                    "or a file");
+    sub->add_option("--scale", d.scale, "placement.scale: \"fit\" or a number");
+    sub->add_option("--subdivision", d.subdivision, "subdivision.mode")
+        ->check(CLI::IsMember({"off", "adaptive", "uniform"}));
+    sub->add_option("--tolerance", d.tolerance, "subdivision.tolerance, surface units")
+        ->check(CLI::PositiveNumber);
+    sub->add_flag("--lossless", d.lossless,
+                  "For .obj/.ply, ask the server for them instead of Draco decoded here "
+                  "(more bytes over the wire, no quantization)");
+  };
+  auto* deform = app.add_subcommand(
+      "deform", "Deform one mesh; the output's extension (.drc .glb .obj .ply) picks its format");
+  std::string mesh_path, out_path;
+  deform->add_option("mesh", mesh_path, "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  deform->add_option("-o,--output", out_path, "Output file")->required();
+  add_deform_options(deform);
+
+  auto* batch = app.add_subcommand(
+      "batch", "Deform many meshes with one set of parameters into a folder (resumable)");
+  std::vector<std::string> inputs;
+  std::string out_dir, extension = ".glb";
+  int jobs = static_cast<int>(std::max(2u, std::thread::hardware_concurrency()));
+  bool force = false;
+  batch->add_option("inputs", inputs, "Mesh files and folders (their mesh files)")->required();
+  batch->add_option("-o,--output-dir", out_dir, "Output folder (created)")->required();
+  batch->add_option("--ext", extension, "Output format: .drc .glb .obj .ply")
+      ->capture_default_str();
+  batch->add_option("-j,--jobs", jobs, "Requests at once")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  batch->add_flag("--force", force, "Redo files whose output exists (default: skip them)");
+  add_deform_options(batch);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitUsage;
+  }
+  if (app.got_subcommand("info")) return RunInfo(c);
+  if (app.got_subcommand("health")) return RunHealth(c);
+  if (flatten->parsed()) return RunFlatten(c, surface_file, svg_path, json_output);
+  if (deform->parsed()) return RunDeform(c, d, mesh_path, out_path);
+  if (batch->parsed()) return RunBatch(c, d, inputs, out_dir, extension, jobs, force);
+  return kExitUsage;
+}

@@ -1,0 +1,133 @@
+#!/usr/bin/env bash
+# The `surfdeform` command-line client against the real server: every
+# subcommand, every output format through a real decoder, the documented exit
+# codes, retries (503 and unreachable) but never on 4xx, and batch runs that
+# report failures per file and resume.
+# Usage: cli_test.sh SERVER_BINARY CLI_BINARY
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+samples="$here/../../client/web/samples"
+server_bin=$1
+cli=$2
+out=$(mktemp -d)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill -9 "$p" 2> /dev/null || true; done
+  rm -rf "$out"
+}
+trap cleanup EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# Starts a server with the given flags; prints its base URL.
+start_server() {
+  local log="$out/server-$RANDOM.log"
+  "$server_bin" --host 127.0.0.1 --port 0 --log-level warn "$@" > "$log" &
+  pids+=($!)
+  for _ in $(seq 200); do
+    grep -q '"listening"' "$log" 2> /dev/null && break
+    sleep 0.05
+  done
+  echo "http://127.0.0.1:$(sed -n 's/.*"port":\([0-9]*\).*/\1/p' "$log" | head -1)"
+}
+
+# Runs the client, expecting exit code $1; stdout and stderr go to $out/o, $out/e.
+expect() {
+  local want=$1
+  shift
+  local code=0
+  "$cli" "$@" > "$out/o" 2> "$out/e" || code=$?
+  [[ $code == "$want" ]] || fail "surfdeform $*: exit $code, expected $want; stderr: $(cat "$out/e")"
+}
+
+base=$(start_server)
+export SURFDEFORM_SERVER=$base
+
+# health, info.
+expect 0 health
+grep -q "live, ready" "$out/o" || fail "health output"
+expect 0 info
+python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); assert "max_output_vertices" in j["limits"]' "$out/o" \
+  || fail "info JSON"
+
+# flatten: id, quality, the SVG of the flat sheet.
+python3 -c 'import json,sys; s=json.load(open(sys.argv[1])); s.pop("description"); json.dump({"surface": s, "sampling": {"nu": 16, "nv": 16}}, open(sys.argv[2], "w"))' \
+  "$samples/figure10.json" "$out/figure10.json"
+expect 0 flatten "$out/figure10.json" --svg "$out/flat.svg"
+id=$(sed -n 's/^id \([0-9a-f]\{32\}\).*/\1/p' "$out/o")
+[[ -n $id ]] || fail "flatten printed no id: $(cat "$out/o")"
+grep -q "stress" "$out/o" || fail "flatten printed no quality"
+grep -q '</svg>' "$out/flat.svg" || fail "flat.svg"
+expect 0 flatten "$out/figure10.json" --json
+grep -q '"cached": true' "$out/o" || fail "second flatten is not a cache hit"
+
+# deform: the output's extension picks the format; each checked by a real reader.
+cyl='{"kind":"cylinder","radius":1,"height":2,"angle_deg":180}'
+echo "$cyl" > "$out/cylinder.json"
+expect 0 deform "$samples/bunny.ply" --surface "$out/cylinder.json" --scale fit -o "$out/bunny.drc"
+draco_decoder -i "$out/bunny.drc" -o "$out/bunny_drc.obj" > /dev/null || fail "draco_decoder"
+[[ $(grep -c '^f ' "$out/bunny_drc.obj") == 75408 ]] || fail "decoded .drc face count"
+expect 0 deform "$samples/bunny.ply" --surface-id "$id" --scale fit -o "$out/bunny.glb"
+[[ $(head -c 4 "$out/bunny.glb") == glTF ]] || fail ".glb magic"
+# OBJ and PLY: Draco over the wire decoded here (sequential: vertex order kept),
+# or --lossless straight from the server; with subdivision off both keep the
+# bunny's 37,706 vertices in order.
+expect 0 deform "$samples/bunny.ply" --surface-id "$id" --scale fit --subdivision off -o "$out/a.obj"
+expect 0 deform "$samples/bunny.ply" --surface-id "$id" --scale fit --subdivision off --lossless -o "$out/b.obj"
+[[ $(grep -c '^v ' "$out/a.obj") == 37706 && $(grep -c '^v ' "$out/b.obj") == 37706 ]] || fail "OBJ vertex counts"
+python3 - "$out/a.obj" "$out/b.obj" << 'EOF' || fail "Draco-decoded OBJ differs from the lossless one beyond quantization"
+import sys
+def verts(p):
+    return [tuple(map(float, l.split()[1:4])) for l in open(p) if l.startswith("v ")]
+a, b = verts(sys.argv[1]), verts(sys.argv[2])
+span = max(max(v[i] for v in b) - min(v[i] for v in b) for i in range(3))
+worst = max(max(abs(x - y) for x, y in zip(p, q)) for p, q in zip(a, b))
+assert worst < span * 2 ** -13, (worst, span)
+EOF
+expect 0 deform "$samples/bunny.ply" --surface-id "$id" --scale fit -o "$out/bunny.ply"
+head -c 3 "$out/bunny.ply" | grep -q ply || fail ".ply header"
+
+# Exit codes: usage 1, refused 2 (not retried), local file 4, unreachable 3.
+expect 1 deform "$samples/bunny.ply" --surface-id "$id" -o "$out/bunny.stl"
+expect 1 deform "$samples/bunny.ply" -o "$out/x.drc"
+expect 2 -v deform "$samples/bunny.ply" --surface-id "$id" --scale 50 -o "$out/big.drc"
+grep -q "fall outside the flat sheet" "$out/e" || fail "the server's message: $(cat "$out/e")"
+grep -q "retry" "$out/e" && fail "a 4xx was retried"
+[[ ! -e $out/big.drc ]] || fail "an output was written for a refused request"
+echo 'not json' > "$out/bad.json"
+expect 4 flatten "$out/missing.json"
+expect 4 flatten "$out/bad.json"
+expect 3 --server http://127.0.0.1:1 --retries 2 -v health
+grep -q "retry 1" "$out/e" || fail "no retry report for a connection error"
+
+# 503: a server with one slot, held by a slow flattening; the client retries
+# until the slot frees, then succeeds.
+busy=$(start_server --max-in-flight 1 --flatten-budget-ms 600000)
+curl -sS -o /dev/null -H 'Content-Type: application/json' \
+  -d '{"surface":{"kind":"wave"},"sampling":{"nu":40,"nv":40},"flatten":{"method":"paper"}}' \
+  "$busy/v1/surfaces" &
+holder=$!
+sleep 0.3
+expect 0 --server "$busy" --retries 100 -v deform "$samples/bunny.ply" --surface "$out/cylinder.json" --scale fit -o "$out/retried.drc"
+grep -q "busy (503)" "$out/e" || echo "note: the slow request finished before the client's request"
+wait $holder || true
+[[ -s $out/retried.drc ]] || fail "no output after retries"
+
+# batch: a folder with two good meshes and a broken one.
+mkdir -p "$out/in"
+cp "$samples/bunny.ply" "$out/in/bunny.ply"
+printf 'v -0.5 -0.25 -0.025\nv 0.5 -0.25 -0.025\nv 0.5 0.25 -0.025\nv -0.5 0.25 -0.025\nf 1 2 3 4\n' > "$out/in/plate.obj"
+printf 'v 0 0 0\nf 1 2 99999\n' > "$out/in/broken.obj"
+expect 5 batch "$out/in" -o "$out/batch" --ext .glb --surface "$out/cylinder.json" --scale fit -j 3
+[[ -s $out/batch/bunny.glb && -s $out/batch/plate.glb && ! -e $out/batch/broken.glb ]] || fail "batch outputs"
+grep -q "FAILED .*broken.obj: HTTP 422" "$out/o" || fail "batch failure line: $(cat "$out/o")"
+grep -q "^ok .*plate.obj" "$out/o" || fail "plain progress lines when not a terminal"
+grep -q "2 done, 0 skipped, 1 failed" "$out/e" || fail "batch summary: $(cat "$out/e")"
+ls "$out/batch" | grep -q part && fail "a partial file was left behind"
+# Resumed: done outputs are skipped, the broken one is tried again.
+stamp=$(stat -c %Y "$out/batch/bunny.glb")
+expect 5 batch "$out/in" -o "$out/batch" --ext .glb --surface "$out/cylinder.json" --scale fit
+grep -q "0 done, 2 skipped, 1 failed" "$out/e" || fail "resumed batch: $(cat "$out/e")"
+rm "$out/in/broken.obj"
+expect 0 batch "$out/in" -o "$out/batch" --ext .glb --surface "$out/cylinder.json" --scale fit --force
+grep -q "2 done, 0 skipped, 0 failed" "$out/e" || fail "forced batch: $(cat "$out/e")"
+echo "cli: all checks passed"
