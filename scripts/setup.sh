@@ -19,12 +19,15 @@ packages=(
   assimp-testmodels        # real glTF, OBJ, PLY, STL, OFF files (and broken ones) for tests
   clang-14 libclang-rt-14-dev  # libFuzzer for the mesh import fuzzer (tests/fuzz)
 )
-# Node.js runs the Khronos glTF validator (npm) in the tests; a machine that
-# already has node and npm (e.g. Node 20) keeps them. SURFDEFORM_SETUP_BUILD_ONLY=1
-# (the Docker image's build stage) skips what only the tests need.
+# npm installs the web viewer's three.js (client/web) and, for the tests, the
+# Khronos glTF validator and playwright-core (which drives Debian's Chromium:
+# no browser download). A machine that already has node and npm (e.g. Node 20)
+# keeps them. SURFDEFORM_SETUP_BUILD_ONLY=1 (the Docker image's build stage)
+# skips what only the tests need.
 build_only=${SURFDEFORM_SETUP_BUILD_ONLY:-0}
+command -v node > /dev/null && command -v npm > /dev/null || packages+=(nodejs npm)
 if [[ $build_only != 1 ]]; then
-  command -v node > /dev/null && command -v npm > /dev/null || packages+=(nodejs npm)
+  packages+=(chromium)  # the viewer's browser test
 fi
 
 missing=()
@@ -45,9 +48,16 @@ else
   "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-# npm packages, pinned by the committed package-lock.json.
+# npm packages, pinned by the committed package-lock.json files.
 root=$(cd "$(dirname "$0")/.." && pwd)
-if [[ $build_only != 1 && ! -d "$root/tests/gltf/node_modules/gltf-validator" ]]; then
-  echo "setup: npm ci in tests/gltf"
-  npm ci --prefix "$root/tests/gltf" --no-audit --no-fund --loglevel=error
+npm_ci() {  # folder, a package that shows it is installed
+  if [[ ! -d "$root/$1/node_modules/$2" ]]; then
+    echo "setup: npm ci in $1"
+    npm ci --prefix "$root/$1" --no-audit --no-fund --loglevel=error
+  fi
+}
+npm_ci client/web three
+if [[ $build_only != 1 ]]; then
+  npm_ci tests/gltf gltf-validator
+  npm_ci tests/browser playwright-core
 fi

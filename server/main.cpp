@@ -102,6 +102,12 @@ int main(int argc, char** argv) {
       ->envname("SURFDEFORM_ALLOWED_ORIGINS")
       ->delimiter(',')
       ->capture_default_str();
+  http_options.web_root = SURFDEFORM_WEB_ROOT;
+  app.add_option("--web-root", http_options.web_root,
+                 "The web viewer's folder (client/web, with npm's node_modules/three); empty: a "
+                 "landing page instead")
+      ->envname("SURFDEFORM_WEB_ROOT")
+      ->capture_default_str();
   app.add_option("--read-timeout", http_options.read_timeout_s, "Socket read timeout, seconds")
       ->envname("SURFDEFORM_READ_TIMEOUT")
       ->check(CLI::Range(1, 600))

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -367,10 +368,39 @@ struct HttpServer::Impl {
     Send(req, res, *reply);
   }
 
+  // The viewer's static files (GET and HEAD only; httplib refuses paths
+  // that leave the mounted folders). Returns false when there is no viewer.
+  bool MountViewer() {
+    const std::string& root = options.web_root;
+    if (root.empty() || !std::filesystem::is_directory(root + "/public")) return false;
+    for (const auto& [ext, type] : std::initializer_list<std::pair<const char*, const char*>>{
+             {"js", "text/javascript"},
+             {"mjs", "text/javascript"},
+             {"wasm", "application/wasm"},
+             {"json", "application/json"},
+             {"css", "text/css"},
+             {"html", "text/html; charset=utf-8"},
+             {"svg", "image/svg+xml"},
+             {"ply", "application/octet-stream"},
+             {"glb", "model/gltf-binary"},
+             {"drc", "application/octet-stream"}}) {
+      server.set_file_extension_and_mimetype_mapping(ext, type);
+    }
+    httplib::Headers cache = {{"Cache-Control", "no-cache"}};
+    bool ok = server.set_mount_point("/", root + "/public", cache);
+    ok = ok && server.set_mount_point("/samples", root + "/samples", cache);
+    if (std::filesystem::is_directory(root + "/node_modules/three")) {
+      ok = ok && server.set_mount_point("/vendor/three", root + "/node_modules/three", cache);
+    }
+    return ok;
+  }
+
   void Routes() {
-    server.Get("/", [this](const httplib::Request&, httplib::Response& res) {
-      res.set_content(kIndexHtml, "text/html; charset=utf-8");
-    });
+    if (!MountViewer()) {
+      server.Get("/", [](const httplib::Request&, httplib::Response& res) {
+        res.set_content(kIndexHtml, "text/html; charset=utf-8");
+      });
+    }
     server.Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
       res.set_content("{\"status\":\"ok\"}", "application/json");
     });

@@ -26,6 +26,10 @@ struct HttpOptions {
   int keep_alive_timeout_s = 5;
   int keep_alive_max_requests = 100;
   LogLevel log_level = LogLevel::kInfo;
+  // The web viewer's folder (client/web): public/ is served at /, samples/ at
+  // /samples/ and node_modules/three at /vendor/three/. Empty or missing: / is
+  // a small landing page built in.
+  std::string web_root;
 };
 
 class HttpServer {

@@ -18,16 +18,20 @@ cleanup() {
 trap cleanup EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-# Starts a server with the given flags; prints its base URL.
+# Starts a server with the given flags and sets the variable named $1 to its
+# base URL (not in a subshell: the cleanup must know the pid).
 start_server() {
+  local var=$1
+  shift
   local log="$out/server-$RANDOM.log"
   "$server_bin" --host 127.0.0.1 --port 0 --log-level warn "$@" > "$log" &
   pids+=($!)
+  disown  # killed by the cleanup, quietly
   for _ in $(seq 200); do
     grep -q '"listening"' "$log" 2> /dev/null && break
     sleep 0.05
   done
-  echo "http://127.0.0.1:$(sed -n 's/.*"port":\([0-9]*\).*/\1/p' "$log" | head -1)"
+  printf -v "$var" 'http://127.0.0.1:%s' "$(sed -n 's/.*"port":\([0-9]*\).*/\1/p' "$log" | head -1)"
 }
 
 # Runs the client, expecting exit code $1; stdout and stderr go to $out/o, $out/e.
@@ -39,7 +43,7 @@ expect() {
   [[ $code == "$want" ]] || fail "surfdeform $*: exit $code, expected $want; stderr: $(cat "$out/e")"
 }
 
-base=$(start_server)
+start_server base
 export SURFDEFORM_SERVER=$base
 
 # health, info.
@@ -101,7 +105,7 @@ grep -q "retry 1" "$out/e" || fail "no retry report for a connection error"
 
 # 503: a server with one slot, held by a slow flattening; the client retries
 # until the slot frees, then succeeds.
-busy=$(start_server --max-in-flight 1 --flatten-budget-ms 600000)
+start_server busy --max-in-flight 1 --flatten-budget-ms 600000
 curl -sS -o /dev/null -H 'Content-Type: application/json' \
   -d '{"surface":{"kind":"wave"},"sampling":{"nu":40,"nv":40},"flatten":{"method":"paper"}}' \
   "$busy/v1/surfaces" &

@@ -1,0 +1,59 @@
+// The surfdeform REST API from the browser. Every error reply is RFC 9457
+// problem+json; it becomes an ApiError whose message a person can act on.
+
+export class ApiError extends Error {
+  constructor(status, problem) {
+    let text = problem.detail || problem.title || `HTTP ${status}`;
+    const extra = [];
+    if (problem.field) extra.push(`field ${problem.field}`);
+    if (problem.limit !== undefined && problem.actual !== undefined) {
+      extra.push(`limit ${problem.limit}, actual ${problem.actual}`);
+    }
+    if (extra.length) text += ` (${extra.join('; ')})`;
+    super(`${problem.title || 'Error'} (${status}): ${text}`);
+    this.status = status;
+    this.problem = problem;
+  }
+}
+
+async function checked(response) {
+  if (response.ok) return response;
+  let problem;
+  try {
+    problem = await response.json();
+  } catch {
+    problem = { title: response.statusText, detail: `the server answered ${response.status}` };
+  }
+  throw new ApiError(response.status, problem);
+}
+
+// POST /v1/surfaces: {id, cached, grid, method, quality, timing_ms}.
+export async function createSurface(request) {
+  const r = await checked(await fetch('/v1/surfaces', {
+    method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(request),
+  }));
+  return r.json();
+}
+
+// GET /v1/surfaces/{id}: the summary plus points (surface) and flat (sheet).
+export async function getSurface(id) {
+  return (await checked(await fetch(`/v1/surfaces/${id}`))).json();
+}
+
+// POST /v1/deform (multipart: mesh + params). Returns the bytes, the stats
+// header and the Server-Timing entries.
+export async function deform(meshBytes, meshName, params, accept) {
+  const form = new FormData();
+  form.append('mesh', new Blob([meshBytes]), meshName);
+  form.append('params', JSON.stringify(params));
+  const r = await checked(await fetch('/v1/deform', {
+    method: 'POST', body: form, headers: accept ? { Accept: accept } : {},
+  }));
+  const stats = JSON.parse(r.headers.get('X-Surfdeform-Stats') || '{}');
+  const timing = {};
+  for (const part of (r.headers.get('Server-Timing') || '').split(',')) {
+    const m = part.trim().match(/^([\w-]+);dur=([\d.]+)/);
+    if (m) timing[m[1]] = Number(m[2]);
+  }
+  return { bytes: await r.arrayBuffer(), stats, timing };
+}

@@ -1,0 +1,299 @@
+// The surfdeform viewer: pick or edit a surface, see its flat sheet and the
+// model's footprint on it, place the model, see it deformed in 3D.
+//
+// Flow: surface spec -> POST /v1/surfaces (flattened once, cached by the
+// server) -> GET /v1/surfaces/{id} (sheet and samples) -> POST /v1/deform by
+// id with the placement -> GLB with Draco -> three.js. Edits coalesce: while
+// a request runs, later edits wait and only the newest is sent.
+// document.body.dataset.state is "loading", "ready" or "error" (tests wait on it).
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+
+import { createSurface, deform, getSurface } from './api.js';
+import { dracoLoader, footprint, readPositions } from './footprint.js';
+import { ModelView } from './model_view.js';
+import { sampleModel, surfacePreset } from './samples.js';
+import { SheetView } from './sheet_view.js';
+
+const $ = (id) => document.getElementById(id);
+
+const state = {
+  spec: null,            // the surface spec being shown
+  grid: 16,
+  surfaceId: null,
+  model: null,           // {name, bytes, positions}
+  placement: { center: null, rotation_deg: 0, scale: 'fit' },
+  fitNext: true,         // the next deformation fits the model to the sheet
+  recentre: true,        // a new surface: centre and fit the model when its sheet arrives
+  surfacePending: false, // a surface is being flattened: deformations wait for it
+  lastStats: null,
+  lastError: null,
+};
+
+const sheetView = new SheetView($('sheet'), (placement, final) => {
+  state.placement = placement;
+  showPlacement();
+  scheduleDeform(final ? 0 : 120);
+});
+const modelView = new ModelView($('view3d'), (index, point, final) => {
+  state.spec.control_points[index] = point.map((x) => Math.round(x * 1e6) / 1e6);
+  if (final) scheduleSurface();
+});
+const gltf = new GLTFLoader().setDRACOLoader(dracoLoader());
+
+function setState(s) { document.body.dataset.state = s; }
+
+function showError(error) {
+  state.lastError = error ? String(error.message || error) : null;
+  $('error').hidden = !error;
+  $('error').textContent = state.lastError || '';
+  if (error) setState('error');
+}
+
+function list(el, entries) {
+  el.replaceChildren(...entries.flatMap(([k, v]) => {
+    const dt = document.createElement('dt');
+    dt.textContent = k;
+    const dd = document.createElement('dd');
+    dd.textContent = v;
+    return [dt, dd];
+  }));
+}
+
+const fmt = (x, digits = 4) => (typeof x === 'number' ? Number(x.toPrecision(digits)).toString() : String(x));
+
+function showPlacement() {
+  const p = state.placement;
+  $('rotation').value = p.rotation_deg;
+  $('rotation-value').textContent = `${Math.round(p.rotation_deg)}°`;
+  if (typeof p.scale === 'number') $('scale').value = fmt(p.scale, 5);
+  sheetView.setPlacement(p);
+}
+
+function updateFootprint() {
+  sheetView.setFootprint(state.model ? footprint(state.model.positions, $('up').value) : null);
+}
+
+// --- surface -------------------------------------------------------------
+
+let surfaceRun = 0;
+async function refreshSurface() {
+  const run = ++surfaceRun;
+  setState('loading');
+  try {
+    const request = { surface: state.spec, sampling: { nu: state.grid, nv: state.grid } };
+    const summary = await createSurface(request);
+    const sheet = await getSurface(summary.id);
+    if (run !== surfaceRun) return;  // a newer edit is on its way
+    state.surfaceId = summary.id;
+    state.surfacePending = false;
+    const q = summary.quality;
+    state.surfaceInfo = [
+      ['surface id', summary.id.slice(0, 12) + '…'],
+      ['flatten', `${summary.method}, ${fmt(summary.timing_ms.flatten, 3)} ms${summary.cached ? ' (cached)' : ''}`],
+      ['stress', fmt(q.stress)],
+      ['max edge error', fmt(q.max_edge_error)],
+      ['cell area ratio', `${fmt(q.area_ratio_min)} … ${fmt(q.area_ratio_max)}`],
+      ['folded cells', q.folded_cells],
+    ];
+    list($('quality'), state.surfaceInfo);
+    sheetView.setSheet(sheet);
+    modelView.setSurface(sheet.points, sheet.grid.nu, sheet.grid.nv);
+    modelView.setControlPoints(state.spec.kind === 'bezier' ? state.spec.control_points : []);
+    if (!state.placement.center || state.recentre) {
+      state.placement.center = sheetView.sheetCentre();
+      state.fitNext = true;
+      state.recentre = false;
+    }
+    showPlacement();
+    showError(null);
+    scheduleDeform(0);
+  } catch (e) {
+    if (run === surfaceRun) {
+      state.surfacePending = false;
+      showError(e);
+    }
+  }
+}
+
+let surfaceTimer = 0;
+function scheduleSurface() {
+  state.surfacePending = true;
+  clearTimeout(surfaceTimer);
+  surfaceTimer = setTimeout(refreshSurface, 150);
+}
+
+// --- deformation ---------------------------------------------------------
+
+function deformParams(format) {
+  const p = state.placement;
+  return {
+    surface_id: state.surfaceId,
+    placement: {
+      up: $('up').value,
+      anchor: $('anchor').value,
+      center: p.center,
+      rotation_deg: p.rotation_deg,
+      scale: state.fitNext ? 'fit' : p.scale,
+    },
+    subdivision: { mode: $('subdivision').value },
+    output: { format },
+  };
+}
+
+let deforming = false, pending = false, deformTimer = 0;
+function scheduleDeform(delay) {
+  clearTimeout(deformTimer);
+  deformTimer = setTimeout(runDeform, delay);
+}
+
+async function runDeform() {
+  // Without a model or a surface, or while a new surface is on its way (which
+  // deforms when it arrives), there is nothing to send.
+  if (!state.surfaceId || !state.model || state.surfacePending) return;
+  if (deforming) {
+    pending = true;
+    return;
+  }
+  deforming = true;
+  setState('loading');
+  try {
+    const t0 = performance.now();
+    const { bytes, stats, timing } = await deform(state.model.bytes, state.model.name,
+                                                  deformParams('glb'), 'model/gltf-binary');
+    const scene = (await gltf.parseAsync(bytes, '')).scene;
+    modelView.setModel(scene);
+    if (state.fitNext) {
+      state.fitNext = false;
+      state.placement.scale = stats.placement.scale;
+      showPlacement();
+    }
+    state.lastStats = stats;
+    const sub = stats.subdivision || {};
+    list($('timings'), [
+      ['vertices', `${stats.vertices} (${sub.vertices_added || 0} added)`],
+      ['triangles', stats.triangles],
+      ['subdivision', `${sub.mode}${sub.tolerance ? `, tolerance ${fmt(sub.tolerance, 3)}` : ''}`],
+      ...['parse', 'flatten', 'deform', 'subdivide', 'encode'].map((k) => [k, `${fmt(timing[k] || 0, 3)} ms`]),
+      ['round trip', `${fmt(performance.now() - t0, 3)} ms, ${bytes.byteLength} bytes`],
+    ]);
+    showError(null);
+    setState('ready');
+  } catch (e) {
+    showError(e);
+  } finally {
+    deforming = false;
+    if (pending) {
+      pending = false;
+      scheduleDeform(0);
+    }
+  }
+}
+
+async function download(format) {
+  try {
+    const accept = format === 'glb' ? 'model/gltf-binary' : 'application/octet-stream';
+    const { bytes } = await deform(state.model.bytes, state.model.name, deformParams(format), accept);
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(new Blob([bytes]));
+    a.download = `${state.model.name.replace(/\.[^.]*$/, '')}-deformed.${format}`;
+    a.click();
+    setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+  } catch (e) {
+    showError(e);
+  }
+}
+
+// --- models --------------------------------------------------------------
+
+async function useModel(name, bytes) {
+  state.model = { name, bytes, positions: await readPositions(name, bytes) };
+  $('model-name').textContent = `${name} (${bytes.byteLength} bytes)` +
+      (state.model.positions ? '' : ' — the browser cannot outline it; the server reads it');
+  state.fitNext = true;
+  state.placement.rotation_deg = 0;
+  if (sheetView.sheet) state.placement.center = sheetView.sheetCentre();
+  updateFootprint();
+  showPlacement();
+  scheduleDeform(0);
+}
+
+async function useFile(file) {
+  if (file) await useModel(file.name, await file.arrayBuffer());
+}
+
+// --- wiring --------------------------------------------------------------
+
+$('preset').addEventListener('change', async () => {
+  try {
+    state.spec = await surfacePreset($('preset').value);
+    state.recentre = true;
+    modelView.framed = false;
+    scheduleSurface();
+  } catch (e) {
+    showError(e);
+  }
+});
+$('grid').addEventListener('change', () => {
+  state.grid = Math.max(4, Math.min(64, Number($('grid').value) || 16));
+  state.recentre = true;
+  scheduleSurface();
+});
+$('sample').addEventListener('change', async () => {
+  const m = await sampleModel($('sample').value);
+  await useModel(m.name, m.bytes);
+});
+$('upload').addEventListener('change', (e) => useFile(e.target.files[0]));
+document.addEventListener('dragover', (e) => {
+  e.preventDefault();
+  document.body.classList.add('dragover');
+});
+document.addEventListener('dragleave', () => document.body.classList.remove('dragover'));
+document.addEventListener('drop', (e) => {
+  e.preventDefault();
+  document.body.classList.remove('dragover');
+  useFile(e.dataTransfer.files[0]);
+});
+$('rotation').addEventListener('input', () => {
+  state.placement.rotation_deg = Number($('rotation').value);
+  showPlacement();
+  scheduleDeform(120);
+});
+$('scale').addEventListener('change', () => {
+  const s = Number($('scale').value);
+  if (s > 0) {
+    state.placement.scale = s;
+    state.fitNext = false;
+    showPlacement();
+    scheduleDeform(0);
+  }
+});
+$('fit').addEventListener('click', () => {
+  state.fitNext = true;
+  scheduleDeform(0);
+});
+for (const id of ['up', 'anchor', 'subdivision']) {
+  $(id).addEventListener('change', () => {
+    if (id === 'up') {
+      state.fitNext = true;
+      updateFootprint();
+    }
+    scheduleDeform(0);
+  });
+}
+$('download-glb').addEventListener('click', () => download('glb'));
+$('download-drc').addEventListener('click', () => download('drc'));
+
+// For tests and the curious: the state and the model's share of the 3D canvas.
+window.surfdeformViewer = { state, modelCoverage: () => modelView.modelCoverage() };
+
+(async () => {
+  try {
+    state.spec = await surfacePreset($('preset').value);
+    state.surfacePending = true;
+    const m = await sampleModel($('sample').value);
+    await useModel(m.name, m.bytes);
+    await refreshSurface();
+  } catch (e) {
+    showError(e);
+  }
+})();

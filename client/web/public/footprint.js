@@ -1,0 +1,106 @@
+// A model's footprint on the flat sheet, computed in the browser so that it
+// can be drawn and dragged before the server deforms the model: the model is
+// read with three.js's loaders, turned by the placement's up axis exactly as
+// the server turns it (engine/placement.cpp), and outlined by its convex hull.
+import * as THREE from 'three';
+import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { OBJLoader } from 'three/addons/loaders/OBJLoader.js';
+import { PLYLoader } from 'three/addons/loaders/PLYLoader.js';
+import { STLLoader } from 'three/addons/loaders/STLLoader.js';
+
+let draco = null;
+export function dracoLoader() {
+  if (!draco) {
+    draco = new DRACOLoader();
+    draco.setDecoderPath('/vendor/three/examples/jsm/libs/draco/');
+  }
+  return draco;
+}
+
+function positionsOf(object) {
+  object.updateMatrixWorld(true);
+  const out = [];
+  const v = new THREE.Vector3();
+  object.traverse((o) => {
+    const p = o.geometry && o.geometry.getAttribute('position');
+    if (!p) return;
+    for (let k = 0; k < p.count; ++k) {
+      v.fromBufferAttribute(p, k).applyMatrix4(o.matrixWorld);
+      out.push(v.x, v.y, v.z);
+    }
+  });
+  return out;
+}
+
+function offPositions(text) {
+  const words = text.replace(/#[^\n]*/g, ' ').split(/\s+/).filter(Boolean);
+  if (!/OFF$/.test(words[0])) return [];
+  const n = Number(words[1]);
+  return words.slice(4, 4 + 3 * n).map(Number);
+}
+
+// Vertex positions [x, y, z, ...] of a mesh file, or null when the browser
+// cannot read it (the server may still: its errors are shown then).
+export async function readPositions(name, bytes) {
+  const ext = name.toLowerCase().split('.').pop();
+  try {
+    switch (ext) {
+      case 'ply': return positionsOf(new THREE.Mesh(new PLYLoader().parse(bytes)));
+      case 'stl': return positionsOf(new THREE.Mesh(new STLLoader().parse(bytes)));
+      case 'obj': return positionsOf(new OBJLoader().parse(new TextDecoder().decode(bytes)));
+      case 'off': return offPositions(new TextDecoder().decode(bytes));
+      case 'glb': case 'gltf': {
+        const loader = new GLTFLoader().setDRACOLoader(dracoLoader());
+        return positionsOf((await loader.parseAsync(bytes, '')).scene);
+      }
+      case 'drc': {
+        const geometry = await new Promise((resolve, reject) => {
+          dracoLoader().parse(bytes, resolve, reject);
+        });
+        return positionsOf(new THREE.Mesh(geometry));
+      }
+      default: return null;
+    }
+  } catch {
+    return null;
+  }
+}
+
+// Model axis -> (a, b, h), rows as the server's AxisBasis.
+const kBasis = {
+  '+z': [[1, 0, 0], [0, 1, 0], [0, 0, 1]], '-z': [[1, 0, 0], [0, -1, 0], [0, 0, -1]],
+  '+x': [[0, 1, 0], [0, 0, 1], [1, 0, 0]], '-x': [[0, 1, 0], [0, 0, -1], [-1, 0, 0]],
+  '+y': [[0, 0, 1], [1, 0, 0], [0, 1, 0]], '-y': [[0, 0, 1], [-1, 0, 0], [0, -1, 0]],
+};
+
+// {hull: [[a, b], ...] counter-clockwise, centre: [a, b]} in model units
+// before placement; null without positions.
+export function footprint(positions, up) {
+  if (!positions || positions.length < 3) return null;
+  const m = kBasis[up] || kBasis['+z'];
+  const pts = [];
+  let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+  for (let k = 0; k < positions.length; k += 3) {
+    const x = positions[k], y = positions[k + 1], z = positions[k + 2];
+    const a = m[0][0] * x + m[0][1] * y + m[0][2] * z;
+    const b = m[1][0] * x + m[1][1] * y + m[1][2] * z;
+    pts.push([a, b]);
+    lo = [Math.min(lo[0], a), Math.min(lo[1], b)];
+    hi = [Math.max(hi[0], a), Math.max(hi[1], b)];
+  }
+  pts.sort((p, q) => p[0] - q[0] || p[1] - q[1]);
+  const cross = (o, a, b) => (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+  const lower = [], upper = [];
+  for (const p of pts) {
+    while (lower.length >= 2 && cross(lower[lower.length - 2], lower[lower.length - 1], p) <= 0) lower.pop();
+    lower.push(p);
+  }
+  for (let k = pts.length - 1; k >= 0; --k) {
+    const p = pts[k];
+    while (upper.length >= 2 && cross(upper[upper.length - 2], upper[upper.length - 1], p) <= 0) upper.pop();
+    upper.push(p);
+  }
+  const hull = lower.slice(0, -1).concat(upper.slice(0, -1));
+  return { hull, centre: [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2] };
+}

@@ -1,0 +1,173 @@
+// The 3D view (three.js): the surface, its Bezier control points (draggable),
+// and the deformed model the server returned, with orbit controls.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+
+export class ModelView {
+  // onControlPoint(index, [x, y, z], final) when the person drags a control point.
+  constructor(container, onControlPoint) {
+    this.container = container;
+    this.onControlPoint = onControlPoint;
+    // preserveDrawingBuffer: tests (and screenshots) read the canvas's pixels.
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
+    container.appendChild(this.renderer.domElement);
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(0xeef1f4);
+    this.camera = new THREE.PerspectiveCamera(40, 4 / 3, 0.01, 1000);
+    this.camera.up.set(0, 0, 1);
+    this.camera.position.set(3, -4, 3);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x666677, 2.0));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.6);
+    sun.position.set(2, -3, 5);
+    this.scene.add(sun);
+    this.surface = null;
+    this.model = null;
+    this.handles = new THREE.Group();
+    this.scene.add(this.handles);
+    this.framed = false;
+    this.raycaster = new THREE.Raycaster();
+    const el = this.renderer.domElement;
+    el.addEventListener('pointerdown', (e) => this.down(e));
+    el.addEventListener('pointermove', (e) => this.move(e));
+    el.addEventListener('pointerup', (e) => this.up(e));
+    new ResizeObserver(() => this.resize()).observe(container);
+    this.resize();
+    this.renderer.setAnimationLoop(() => {
+      this.controls.update();
+      this.renderer.render(this.scene, this.camera);
+    });
+  }
+
+  resize() {
+    const w = this.container.clientWidth || 480;
+    const h = Math.round((w * 3) / 4);
+    this.renderer.setSize(w, h);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+  }
+
+  // The sampled surface (points u fastest), a translucent sheet.
+  setSurface(points, nu, nv) {
+    if (this.surface) this.scene.remove(this.surface);
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.Float32BufferAttribute(points.flat(), 3));
+    const index = [];
+    for (let j = 0; j + 1 < nv; ++j) {
+      for (let i = 0; i + 1 < nu; ++i) {
+        const a = i + nu * j, b = a + 1, c = a + nu + 1, d = a + nu;
+        index.push(a, b, c, a, c, d);
+      }
+    }
+    geometry.setIndex(index);
+    geometry.computeVertexNormals();
+    this.surface = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({
+      color: 0x88aacc, transparent: true, opacity: 0.35, side: THREE.DoubleSide,
+      depthWrite: false,
+    }));
+    this.scene.add(this.surface);
+    if (!this.framed) this.frame(this.surface);
+  }
+
+  // Bezier control points as draggable handles (an empty list hides them).
+  setControlPoints(points) {
+    this.handles.clear();
+    if (!points.length) return;
+    const box = new THREE.Box3().setFromArray(points.flat());
+    const r = 0.015 * box.getSize(new THREE.Vector3()).length();
+    const geometry = new THREE.SphereGeometry(r, 12, 8);
+    const material = new THREE.MeshStandardMaterial({ color: 0xff8822 });
+    points.forEach((p, k) => {
+      const s = new THREE.Mesh(geometry, material);
+      s.position.set(...p);
+      s.userData.index = k;
+      this.handles.add(s);
+    });
+  }
+
+  // The deformed model (a three.js object from the GLB the server sent).
+  setModel(object) {
+    if (this.model) this.scene.remove(this.model);
+    this.model = object;
+    object.traverse((o) => {
+      if (o.isMesh) {
+        if (!o.geometry.getAttribute('normal')) o.geometry.computeVertexNormals();
+        o.material = new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
+                                                      side: THREE.DoubleSide });
+      }
+    });
+    this.scene.add(object);
+    if (!this.framed) {
+      this.frame(object);
+      this.framed = true;
+    }
+  }
+
+  frame(object) {
+    const sphere = new THREE.Box3().setFromObject(object).getBoundingSphere(new THREE.Sphere());
+    if (!isFinite(sphere.radius) || sphere.radius === 0) return;
+    this.controls.target.copy(sphere.center);
+    const dir = new THREE.Vector3(0.5, -0.8, 0.6).normalize();
+    this.camera.position.copy(sphere.center).addScaledVector(dir, sphere.radius * 2.6);
+    this.camera.near = sphere.radius / 100;
+    this.camera.far = sphere.radius * 100;
+    this.camera.updateProjectionMatrix();
+  }
+
+  pointer(e) {
+    const r = this.renderer.domElement.getBoundingClientRect();
+    return new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1,
+                             -((e.clientY - r.top) / r.height) * 2 + 1);
+  }
+
+  down(e) {
+    if (!this.handles.children.length) return;
+    this.raycaster.setFromCamera(this.pointer(e), this.camera);
+    const hit = this.raycaster.intersectObjects(this.handles.children)[0];
+    if (!hit) return;
+    this.controls.enabled = false;
+    const size = new THREE.Box3().setFromObject(this.handles).getSize(new THREE.Vector3()).length();
+    this.drag = { handle: hit.object, y: e.clientY, z: hit.object.position.z, size };
+    this.renderer.domElement.setPointerCapture(e.pointerId);
+  }
+
+  move(e) {
+    if (!this.drag) return;
+    const h = this.drag.handle;
+    if (e.shiftKey) {  // sideways: on the horizontal plane through the point
+      this.raycaster.setFromCamera(this.pointer(e), this.camera);
+      const plane = new THREE.Plane(new THREE.Vector3(0, 0, 1), -h.position.z);
+      const p = this.raycaster.ray.intersectPlane(plane, new THREE.Vector3());
+      if (p) h.position.set(p.x, p.y, h.position.z);
+    } else {  // up and down
+      h.position.z = this.drag.z + ((this.drag.y - e.clientY) / 200) * this.drag.size * 0.25;
+    }
+    this.onControlPoint(h.userData.index, h.position.toArray(), false);
+  }
+
+  up() {
+    if (!this.drag) return;
+    const h = this.drag.handle;
+    this.drag = null;
+    this.controls.enabled = true;
+    this.onControlPoint(h.userData.index, h.position.toArray(), true);
+  }
+
+  // The share of the canvas (0..1) that shows the model: its warm colour,
+  // unlike the background and the bluish surface.
+  modelCoverage() {
+    const src = this.renderer.domElement;
+    const c = document.createElement('canvas');
+    c.width = src.width;
+    c.height = src.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(src, 0, 0);
+    const px = ctx.getImageData(0, 0, c.width, c.height).data;
+    let model = 0;
+    for (let k = 0; k < px.length; k += 4) {
+      if (px[k] - px[k + 2] > 30) ++model;
+    }
+    return model / (px.length / 4);
+  }
+}

@@ -1,0 +1,36 @@
+// Surface presets (the paper's Bezier figures, served from /samples/, and
+// analytic kinds) and sample models.
+
+export async function surfacePreset(name) {
+  if (name.startsWith('figure')) {
+    const r = await fetch(`/samples/${name}.json`);
+    if (!r.ok) throw new Error(`cannot load the preset ${name}`);
+    const spec = await r.json();
+    delete spec.description;  // a note for people; the API takes surface fields only
+    return spec;
+  }
+  switch (name) {
+    case 'cylinder': return { kind: 'cylinder', radius: 1, height: 2, angle_deg: 180 };
+    case 'cone': return { kind: 'cone', radius_bottom: 1, radius_top: 0.5, height: 1, angle_deg: 240 };
+    case 'wave': return { kind: 'wave', length: 4, width: 1.5, amplitude: 0.25, wavelength: 2 };
+    default: throw new Error(`no preset ${name}`);
+  }
+}
+
+// The paper's thin plate: a box of 6 quads (OBJ), 1 x 0.6 x 0.05.
+export function thinPlateObj() {
+  const v = [];
+  for (let k = 0; k < 8; ++k) {
+    v.push(`v ${k & 1 ? 0.5 : -0.5} ${k & 2 ? 0.3 : -0.3} ${k & 4 ? 0.025 : -0.025}`);
+  }
+  return `${v.join('\n')}\nf 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n`;
+}
+
+export async function sampleModel(name) {
+  if (name === 'plate') {
+    return { name: 'thin-plate.obj', bytes: new TextEncoder().encode(thinPlateObj()).buffer };
+  }
+  const r = await fetch('/samples/bunny.ply');
+  if (!r.ok) throw new Error('cannot load the bunny sample');
+  return { name: 'bunny.ply', bytes: await r.arrayBuffer() };
+}

@@ -1,0 +1,166 @@
+// The flat sheet in 2D: its cells coloured by how much flattening changed
+// their area (like the paper's Figure 11), and the model's footprint on it,
+// which the person drags (move), wheels (scale) and Shift-wheels (rotate).
+
+function cellArea(p, q, r, s) {  // quad p q r s, as two triangles (2D or 3D)
+  const tri = (a, b, c) => {
+    const u = a.map((x, i) => b[i] - x), v = a.map((x, i) => c[i] - x);
+    if (u.length === 2) return Math.abs(u[0] * v[1] - u[1] * v[0]) / 2;
+    const n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    return Math.hypot(...n) / 2;
+  };
+  return tri(p, q, r) + tri(p, r, s);
+}
+
+export class SheetView {
+  // onPlacement({center, rotation_deg, scale}) is called while the person edits.
+  constructor(canvas, onPlacement) {
+    this.canvas = canvas;
+    this.ctx = canvas.getContext('2d');
+    this.onPlacement = onPlacement;
+    this.sheet = null;
+    this.footprint = null;
+    this.placement = null;
+    canvas.addEventListener('pointerdown', (e) => this.down(e));
+    canvas.addEventListener('pointermove', (e) => this.move(e));
+    canvas.addEventListener('pointerup', (e) => this.up(e));
+    canvas.addEventListener('wheel', (e) => this.wheel(e), { passive: false });
+  }
+
+  setSheet(sheet) {
+    const { nu, nv } = sheet.grid;
+    const ratios = [];
+    for (let j = 0; j + 1 < nv; ++j) {
+      for (let i = 0; i + 1 < nu; ++i) {
+        const k = [i + nu * j, i + 1 + nu * j, i + 1 + nu * (j + 1), i + nu * (j + 1)];
+        const flat = cellArea(...k.map((x) => sheet.flat[x]));
+        const surf = cellArea(...k.map((x) => sheet.points[x]));
+        ratios.push(surf > 0 ? flat / surf : 1);
+      }
+    }
+    let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+    for (const [x, y] of sheet.flat) {
+      lo = [Math.min(lo[0], x), Math.min(lo[1], y)];
+      hi = [Math.max(hi[0], x), Math.max(hi[1], y)];
+    }
+    const spread = Math.max(0.01, ...ratios.map((r) => Math.abs(Math.log(r))));
+    this.sheet = { nu, nv, flat: sheet.flat, ratios, spread, lo, hi };
+    this.draw();
+  }
+
+  // The centre of the sheet: the image of (u, v) = (1/2, 1/2), as the server's "center".
+  sheetCentre() {
+    const { nu, nv, flat } = this.sheet;
+    const gu = (nu - 1) / 2, gv = (nv - 1) / 2;
+    const i = Math.min(Math.floor(gu), nu - 2), j = Math.min(Math.floor(gv), nv - 2);
+    const s = gu - i, t = gv - j;
+    const p = (a, b) => flat[a + nu * b];
+    return [0, 1].map((c) => (1 - s) * (1 - t) * p(i, j)[c] + s * (1 - t) * p(i + 1, j)[c] +
+                             s * t * p(i + 1, j + 1)[c] + (1 - s) * t * p(i, j + 1)[c]);
+  }
+
+  setFootprint(footprint) { this.footprint = footprint; this.draw(); }
+  setPlacement(placement) { this.placement = placement; this.draw(); }
+
+  // Sheet units <-> canvas pixels (y up on the sheet).
+  frame() {
+    const { lo, hi } = this.sheet;
+    const w = this.canvas.width, h = this.canvas.height, pad = 16;
+    const k = Math.min((w - 2 * pad) / (hi[0] - lo[0] || 1), (h - 2 * pad) / (hi[1] - lo[1] || 1));
+    const ox = (w - k * (hi[0] - lo[0])) / 2, oy = (h - k * (hi[1] - lo[1])) / 2;
+    return {
+      toPx: ([x, y]) => [ox + k * (x - lo[0]), h - oy - k * (y - lo[1])],
+      toSheet: ([px, py]) => [lo[0] + (px - ox) / k, lo[1] + (h - oy - py) / k],
+    };
+  }
+
+  placed() {  // the footprint's hull on the sheet
+    const f = this.footprint, p = this.placement;
+    if (!f || !p || typeof p.scale !== 'number') return null;
+    const a = (p.rotation_deg * Math.PI) / 180, c = Math.cos(a), s = Math.sin(a);
+    return f.hull.map(([x, y]) => {
+      const dx = x - f.centre[0], dy = y - f.centre[1];
+      return [p.center[0] + p.scale * (c * dx - s * dy), p.center[1] + p.scale * (s * dx + c * dy)];
+    });
+  }
+
+  draw() {
+    const ctx = this.ctx;
+    ctx.fillStyle = '#fafafa';
+    ctx.fillRect(0, 0, this.canvas.width, this.canvas.height);
+    if (!this.sheet) return;
+    const { nu, nv, flat, ratios, spread } = this.sheet;
+    const { toPx } = this.frame();
+    for (let j = 0; j + 1 < nv; ++j) {
+      for (let i = 0; i + 1 < nu; ++i) {
+        const x = Math.log(ratios[i + (nu - 1) * j]) / spread;  // -1 .. 1
+        const w = Math.round(255 * (1 - Math.abs(x)));
+        ctx.fillStyle = x > 0 ? `rgb(255,${w},${w})` : `rgb(${w},${w},255)`;
+        ctx.strokeStyle = '#8888';
+        ctx.beginPath();
+        for (const [a, b] of [[i, j], [i + 1, j], [i + 1, j + 1], [i, j + 1]]) {
+          ctx.lineTo(...toPx(flat[a + nu * b]));
+        }
+        ctx.closePath();
+        ctx.fill();
+        ctx.stroke();
+      }
+    }
+    const hull = this.placed();
+    if (hull) {
+      ctx.fillStyle = 'rgba(30, 120, 60, 0.25)';
+      ctx.strokeStyle = '#174';
+      ctx.lineWidth = 2;
+      ctx.beginPath();
+      for (const p of hull) ctx.lineTo(...toPx(p));
+      ctx.closePath();
+      ctx.fill();
+      ctx.stroke();
+      ctx.lineWidth = 1;
+    }
+    ctx.fillStyle = '#333';
+    ctx.font = '12px sans-serif';
+    ctx.fillText(`area change up to ${(100 * (Math.exp(spread) - 1)).toFixed(2)}%`, 8, 16);
+  }
+
+  eventPoint(e) {
+    const r = this.canvas.getBoundingClientRect();
+    return this.frame().toSheet([(e.clientX - r.left) * (this.canvas.width / r.width),
+                                 (e.clientY - r.top) * (this.canvas.height / r.height)]);
+  }
+
+  down(e) {
+    if (!this.sheet || !this.placement || typeof this.placement.scale !== 'number') return;
+    this.drag = { start: this.eventPoint(e), center: [...this.placement.center] };
+    this.canvas.setPointerCapture(e.pointerId);
+    this.canvas.style.cursor = 'grabbing';
+  }
+
+  move(e) {
+    if (!this.drag) return;
+    const p = this.eventPoint(e);
+    this.placement.center = [this.drag.center[0] + p[0] - this.drag.start[0],
+                             this.drag.center[1] + p[1] - this.drag.start[1]];
+    this.draw();
+    this.onPlacement(this.placement, false);
+  }
+
+  up() {
+    if (!this.drag) return;
+    this.drag = null;
+    this.canvas.style.cursor = 'grab';
+    this.onPlacement(this.placement, true);
+  }
+
+  wheel(e) {
+    if (!this.placement || typeof this.placement.scale !== 'number') return;
+    e.preventDefault();
+    if (e.shiftKey) {
+      this.placement.rotation_deg = ((this.placement.rotation_deg + Math.sign(e.deltaY || e.deltaX) * 5 + 540) % 360) - 180;
+    } else {
+      this.placement.scale *= e.deltaY < 0 ? 1.05 : 1 / 1.05;
+    }
+    this.draw();
+    this.onPlacement(this.placement, true);
+  }
+}

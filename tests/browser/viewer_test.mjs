@@ -1,0 +1,134 @@
+// The web viewer in a real browser: Debian's Chromium driven by playwright-core
+// loads the page from the real server, deforms the bundled bunny, checks that
+// the 3D canvas shows the model (its pixels, not the DOM), switches surface
+// and model, drags the footprint, uploads a broken mesh and expects the
+// server's error on the page, and saves screenshots as test artifacts.
+// Nothing may be fetched from anywhere but the server (no CDN).
+// Usage: node viewer_test.mjs SERVER_BINARY ARTIFACT_DIR
+import { spawn } from 'node:child_process';
+import { mkdirSync } from 'node:fs';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+
+const [serverBin, artifacts] = process.argv.slice(2);
+mkdirSync(artifacts, { recursive: true });
+const failures = [];
+const check = (ok, what) => {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+  if (!ok) failures.push(what);
+};
+
+const server = spawn(serverBin, ['--host', '127.0.0.1', '--port', '0', '--log-level', 'warn'],
+                     { stdio: ['ignore', 'pipe', 'inherit'] });
+const port = await new Promise((resolve, reject) => {
+  let out = '';
+  server.stdout.on('data', (d) => {
+    out += d;
+    const m = out.match(/"listening".*"port":(\d+)/);
+    if (m) resolve(Number(m[1]));
+  });
+  server.on('exit', (code) => reject(new Error(`the server exited (${code})`)));
+  setTimeout(() => reject(new Error('the server did not start')), 20000);
+});
+const base = `http://127.0.0.1:${port}`;
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+         '--disable-background-networking', '--disable-component-update', '--disable-sync',
+         '--no-first-run', '--disable-quic'],
+});
+try {
+  const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
+  const foreign = [];
+  const pageErrors = [];
+  page.on('request', (r) => {
+    const url = r.url();
+    if (!url.startsWith(base) && !url.startsWith('blob:') && !url.startsWith('data:')) foreign.push(url);
+  });
+  page.on('pageerror', (e) => pageErrors.push(String(e)));
+  const shot = (name) => page.screenshot({ path: path.join(artifacts, `${name}.png`) });
+  const settled = async (state, what) => {
+    try {
+      await page.waitForFunction(
+        (s) => document.body.dataset.state === s, state, { timeout: 90000 });
+      return true;
+    } catch {
+      check(false, `${what}: state ${await page.evaluate(() => document.body.dataset.state)}, ` +
+                   `error ${await page.evaluate(() => window.surfdeformViewer?.state.lastError)}`);
+      await shot(`failed-${what.replace(/\W+/g, '-')}`);
+      return false;
+    }
+  };
+  const stats = () => page.evaluate(() => window.surfdeformViewer.state.lastStats);
+  const coverage = () => page.evaluate(() => window.surfdeformViewer.modelCoverage());
+
+  await page.goto(base + '/');
+  if (await settled('ready', 'the bunny on Figure 10')) {
+    await page.waitForTimeout(300);  // a frame or two after the model arrived
+    const s = await stats();
+    check(s && s.input_format === 'ply' && s.triangles >= 75408, `bunny deformed (${s && s.triangles} triangles)`);
+    const c = await coverage();
+    check(c > 0.01, `the 3D canvas shows the model (${(100 * c).toFixed(1)}% of its pixels)`);
+    const quality = await page.textContent('#quality');
+    check(/stress/.test(quality), 'flatten quality shown');
+    await shot('bunny-figure10');
+  }
+
+  await page.selectOption('#preset', 'cylinder');
+  await page.selectOption('#sample', 'plate');
+  await page.waitForTimeout(500);
+  if (await settled('ready', 'the plate on a cylinder')) {
+    await page.waitForTimeout(300);
+    const s = await stats();
+    check(s && s.subdivision.vertices_added > 0,
+          `the plate follows the cylinder (${s && s.subdivision.vertices_added} vertices added)`);
+    check(await coverage() > 0.005, 'the plate is on the canvas');
+    await shot('plate-cylinder');
+  }
+
+  // Halve the scale (the fit fills the sheet), then drag the footprint on the
+  // sheet: the model is deformed again where it lands.
+  const fitted = await page.evaluate(() => window.surfdeformViewer.state.placement.scale);
+  await page.fill('#scale', String(fitted / 2));
+  await page.press('#scale', 'Enter');
+  await page.waitForTimeout(300);
+  await settled('ready', 'at half the scale');
+  const before = await page.evaluate(() => [...window.surfdeformViewer.state.placement.center]);
+  const box = await page.locator('#sheet').boundingBox();
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width / 2 + 40, box.y + box.height / 2, { steps: 5 });
+  await page.mouse.up();
+  await page.waitForTimeout(400);
+  if (await settled('ready', 'after dragging the footprint')) {
+    const center = await page.evaluate(() => window.surfdeformViewer.state.placement.center);
+    const s = await stats();
+    check(center[0] > before[0] + 0.05 && Math.abs(center[1] - before[1]) < 0.05,
+          `the footprint moved right (centre ${before.map((x) => x.toFixed(2))} -> ${center.map((x) => x.toFixed(2))})`);
+    check(s.placement.scale === fitted / 2, 'deformed at the scale the person chose');
+    await shot('plate-moved');
+  }
+
+  // A broken upload: the server's problem detail appears on the page.
+  await page.setInputFiles('#upload', {
+    name: 'broken.obj', mimeType: 'text/plain', buffer: Buffer.from('v 0 0 0\nf 1 2 99999\n'),
+  });
+  if (await settled('error', 'a broken upload')) {
+    const text = await page.textContent('#error');
+    check(/422/.test(text) && /mesh/i.test(text), `the server's error is shown: ${text.trim().slice(0, 120)}`);
+    check(await page.isVisible('#error'), 'the error box is visible');
+    await shot('broken-upload');
+  }
+
+  check(foreign.length === 0, `nothing fetched from elsewhere${foreign.length ? ': ' + foreign[0] : ''}`);
+  check(pageErrors.length === 0, `no uncaught page errors${pageErrors.length ? ': ' + pageErrors[0] : ''}`);
+} finally {
+  await browser.close();
+  server.kill('SIGTERM');
+}
+if (failures.length) {
+  console.error(`${failures.length} check(s) failed; screenshots in ${artifacts}`);
+  process.exit(1);
+}
+console.log(`viewer: all checks passed; screenshots in ${artifacts}`);
