@@ -76,8 +76,9 @@ int main(int argc, char** argv) {
   const std::string id = json::parse(created->body).at("id");
   std::printf("surface: Figure 10 Bezier, 16x16, flattened once (%s)\n\n",
               created->get_header_value("Server-Timing").c_str());
-  std::printf("%-11s %8s %9s | %8s %8s %8s %8s | %9s %10s\n", "model", "vertices", "e2e ms",
-              "parse", "deform", "encode", "other", "draco ms", "e2e/draco");
+  std::printf("%-11s %-8s %8s %9s | %8s %8s %8s %8s %8s | %9s %10s\n", "model", "subdiv",
+              "vertices", "e2e ms", "parse", "deform", "subdiv", "encode", "other", "draco ms",
+              "e2e/draco");
 
   struct Model {
     const char* name;
@@ -85,52 +86,54 @@ int main(int argc, char** argv) {
   };
   const Model models[] = {{"thin plate", PlateObj()},
                           {"bunny", ReadFile(std::string(SURFDEFORM_DATA_DIR) + "/bunny.ply")}};
-  const std::string params =
-      json{{"surface_id", id}, {"placement", {{"scale", "fit"}, {"anchor", "center"}}}}.dump();
-  for (const Model& m : models) {
-    // The same deformation as PLY: the peer's input, in the same vertex order.
-    auto ply = client.Post(
-        "/v1/deform",
-        {{"X-Surfdeform-Params", json{{"surface_id", id},
-                                      {"placement", {{"scale", "fit"}, {"anchor", "center"}}},
-                                      {"output", {{"format", "ply"}}}}
-                                     .dump()}},
-        m.bytes, "application/octet-stream");
-    if (!ply || ply->status != 200) return 1;
-    surfdeform::bench::DracoPeer peer(ply->body);
-    if (!peer.ok()) return 1;
-    // Request and peer alternate, so that the machine's drift hits both.
-    std::vector<double> e2e, draco, parse, deform, encode;
-    int vertices = 0;
-    for (int k = 0; k < repeat + 2; ++k) {
-      const auto t0 = Clock::now();
-      auto r = client.Post("/v1/deform", {{"X-Surfdeform-Params", params}}, m.bytes,
-                           "application/octet-stream");
-      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-      if (!r || r->status != 200) {
-        std::fprintf(stderr, "request failed: %s\n", r ? r->body.c_str() : "no response");
-        return 1;
+  for (const char* mode : {"off", "adaptive"})
+    for (const Model& m : models) {
+      const json base = {{"surface_id", id},
+                         {"placement", {{"scale", "fit"}, {"anchor", "center"}}},
+                         {"subdivision", {{"mode", mode}}}};
+      const std::string params = base.dump();
+      json as_ply = base;
+      as_ply["output"] = {{"format", "ply"}};
+      // The same deformation as PLY: the peer's input, in the same vertex order.
+      auto ply = client.Post("/v1/deform", {{"X-Surfdeform-Params", as_ply.dump()}}, m.bytes,
+                             "application/octet-stream");
+      if (!ply || ply->status != 200) return 1;
+      surfdeform::bench::DracoPeer peer(ply->body);
+      if (!peer.ok()) return 1;
+      // Request and peer alternate, so that the machine's drift hits both.
+      std::vector<double> e2e, draco, parse, deform, subdivide, encode;
+      int vertices = 0;
+      for (int k = 0; k < repeat + 2; ++k) {
+        const auto t0 = Clock::now();
+        auto r = client.Post("/v1/deform", {{"X-Surfdeform-Params", params}}, m.bytes,
+                             "application/octet-stream");
+        const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        if (!r || r->status != 200) {
+          std::fprintf(stderr, "request failed: %s\n", r ? r->body.c_str() : "no response");
+          return 1;
+        }
+        const double peer_ms = peer.EncodeMs();
+        if (k < 2) continue;  // warm-up
+        e2e.push_back(ms);
+        draco.push_back(peer_ms);
+        const std::string timing = r->get_header_value("Server-Timing");
+        parse.push_back(Phase(timing, "parse"));
+        deform.push_back(Phase(timing, "deform"));
+        subdivide.push_back(Phase(timing, "subdivide"));
+        encode.push_back(Phase(timing, "encode"));
+        vertices = json::parse(r->get_header_value("X-Surfdeform-Stats")).at("vertices");
       }
-      const double peer_ms = peer.EncodeMs();
-      if (k < 2) continue;  // warm-up
-      e2e.push_back(ms);
-      draco.push_back(peer_ms);
-      const std::string timing = r->get_header_value("Server-Timing");
-      parse.push_back(Phase(timing, "parse"));
-      deform.push_back(Phase(timing, "deform"));
-      encode.push_back(Phase(timing, "encode"));
-      vertices = json::parse(r->get_header_value("X-Surfdeform-Stats")).at("vertices");
+      auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+      };
+      const double total = median(e2e);
+      const double other =
+          total - median(parse) - median(deform) - median(subdivide) - median(encode);
+      std::printf("%-11s %-8s %8d %9.3f | %8.3f %8.3f %8.3f %8.3f %8.3f | %9.3f %9.2fx\n", m.name,
+                  mode, vertices, total, median(parse), median(deform), median(subdivide),
+                  median(encode), other, median(draco), total / median(draco));
     }
-    auto median = [](std::vector<double> v) {
-      std::sort(v.begin(), v.end());
-      return v[v.size() / 2];
-    };
-    const double total = median(e2e);
-    const double other = total - median(parse) - median(deform) - median(encode);
-    std::printf("%-11s %8d %9.3f | %8.3f %8.3f %8.3f %8.3f | %9.3f %9.2fx\n", m.name, vertices,
-                total, median(parse), median(deform), median(encode), other, median(draco),
-                total / median(draco));
-  }
   std::printf(
       "\ne2e: client-measured request time (loopback, keep-alive); parse/deform/encode: "
       "the server's Server-Timing; other: HTTP, multipart-free raw body, copies.\n"
