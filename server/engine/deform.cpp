@@ -1,7 +1,6 @@
 #include "engine/deform.hpp"
 
 #include <chrono>
-#include <sstream>
 
 #include "engine/parallel.hpp"
 #include "engine/sheet_map.hpp"
@@ -10,23 +9,6 @@ namespace surfdeform {
 namespace {
 
 using Mat3 = Eigen::Matrix3d;
-
-std::string Num(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
-
-Status OutsideError(size_t count, size_t n, double worst) {
-  return Status(ErrorCode::kOutsideSheet,
-                std::to_string(count) + " of " + std::to_string(n) +
-                    " vertices fall outside the flat sheet, the farthest " + Num(worst) +
-                    " sheet units away; scale the model down, move it (placement.center), use "
-                    "placement.scale \"fit\", or set placement.outside to \"clamp\" or "
-                    "\"extrapolate\"",
-                "placement");
-}
 
 // The deformation of `mesh` into `*result_out`. result_out->mesh is either
 // empty (then everything but the attributes that are recomputed is copied
@@ -66,30 +48,13 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
   if (subdivision != nullptr && subdivision->mode != SubdivisionMode::kOff &&
       !mesh.triangles.empty()) {
     const auto ts = std::chrono::steady_clock::now();
+    // Placed coordinates; footprints off the sheet are reported by the loop
+    // below (subdivision continues the map past the border meanwhile).
     placed.resize(n_input);
     const int threads = n_input >= 4096 ? ResolveThreads(o.threads) : 1;
-    std::vector<size_t> outside(threads, 0);
-    std::vector<double> worst(threads, 0.0);
-    ParallelChunks(static_cast<int>(n_input), threads, [&](int chunk, int begin, int end) {
-      int hint = -1;
-      for (int k = begin; k < end; ++k) {
-        placed[k] = pl.Apply(mesh.positions[k]);
-        if (o.outside != OutsideMode::kError) continue;
-        // The input's footprint must be on the sheet before it is refined.
-        const SheetParameters p = map.Parameters(placed[k].head<2>(), o.outside, false, &hint);
-        if (p.outside) {
-          ++outside[chunk];
-          worst[chunk] = std::max(worst[chunk], p.outside_distance);
-        }
-      }
+    ParallelChunks(static_cast<int>(n_input), threads, [&](int, int begin, int end) {
+      for (int k = begin; k < end; ++k) placed[k] = pl.Apply(mesh.positions[k]);
     });
-    size_t out_count = 0;
-    double out_worst = 0.0;
-    for (int c = 0; c < threads; ++c) {
-      out_count += outside[c];
-      out_worst = std::max(out_worst, worst[c]);
-    }
-    if (out_count > 0) return OutsideError(out_count, n_input, out_worst);
     SubdivisionOptions so = *subdivision;
     if (so.threads == 0) so.threads = o.threads;
     auto refined = Subdivide(mesh, placed, map, o.outside, so);
@@ -186,7 +151,7 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
     st.max_outside_distance = std::max(st.max_outside_distance, worst[c]);
   }
   if (st.outside > 0 && o.outside == OutsideMode::kError) {
-    return OutsideError(st.outside, n_input, st.max_outside_distance);
+    return OutsideSheetError(st.outside, n_input, st.max_outside_distance);
   }
   for (int c = 0; c < threads; ++c) {
     if (bad[c] >= 0) {

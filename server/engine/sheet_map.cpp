@@ -1,6 +1,7 @@
 #include "engine/sheet_map.hpp"
 
 #include <algorithm>
+#include <sstream>
 
 namespace surfdeform {
 
@@ -46,6 +47,7 @@ SheetParameters SheetMap::Parameters(const Vec2& ab, OutsideMode outside, bool w
       loc.t += d.y();
     }
   }
+  if (!r.outside) r.cell = locator_.CellIndex(loc);
   r.uv = locator_.Parameters(loc);
   if (want_jacobian) {
     r.duv = locator_.ParameterScale().asDiagonal() * locator_.FlatJacobian(loc).inverse();
@@ -58,6 +60,15 @@ Vec3 SheetMap::Position(const Vec3& abh, OutsideMode outside, int* hint) const {
   const SheetParameters p = Parameters(abh.head<2>(), outside, false, hint);
   const SurfacePoint s = surface_.Evaluate(p.uv.x(), p.uv.y(), 1);
   return s.p + abh.z() * UnitNormal(s);
+}
+
+Status OutsideSheetError(size_t count, size_t n, double worst) {
+  std::ostringstream os;
+  os.precision(6);
+  os << count << " of " << n << " vertices fall outside the flat sheet, the farthest " << worst
+     << " sheet units away; scale the model down, move it (placement.center), use "
+        "placement.scale \"fit\", or set placement.outside to \"clamp\" or \"extrapolate\"";
+  return Status(ErrorCode::kOutsideSheet, os.str(), "placement");
 }
 
 Eigen::Matrix3d DeformJacobian(const SurfacePoint& s, const SheetParameters& p, double h,

@@ -13,6 +13,7 @@
 #include "engine/flat_locator.hpp"
 #include "engine/flatten.hpp"
 #include "engine/geometry_types.hpp"
+#include "engine/status.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {
@@ -25,7 +26,12 @@ struct SheetParameters {
   Eigen::Matrix2d duv = Eigen::Matrix2d::Zero();  // d(u, v)/d(a, b), when asked for
   bool outside = false;                           // (a, b) is not on the sheet
   double outside_distance = 0.0;                  // then: its distance from the sheet
+  int cell = -1;  // the sheet cell that holds (a, b) (cell-wise maps only; else -1)
 };
+
+// kOutsideSheet: `count` of `n` vertices fall outside the sheet, the farthest
+// `worst` sheet units away, and what to do about it.
+Status OutsideSheetError(size_t count, size_t n, double worst);
 
 class SheetMap {
  public:

@@ -125,13 +125,15 @@ struct CellEstimate {
   double curvature = -1.0;  // < 0: not computed
   double twist = 0.0;
   double kink = 0.0;
+  double min_side = 0.0;  // the cell's shortest side on the sheet
 };
 class Subdivider {
  public:
   Subdivider(const Mesh& mesh, const std::vector<Vec3>& placed, const SheetMap& map,
              OutsideMode outside, const SubdivisionOptions& o)
       : mesh_(mesh), placed_(placed), map_(map), locator_(map.locator()), options_(o) {
-    outside_ = outside == OutsideMode::kError ? OutsideMode::kExtrapolate : outside;
+    refuse_outside_ = outside == OutsideMode::kError;
+    outside_ = refuse_outside_ ? OutsideMode::kExtrapolate : outside;
     threads_ = mesh.triangles.size() >= 2048 ? ResolveThreads(o.threads) : 1;
     uniform_ = o.mode == SubdivisionMode::kUniform;
     tolerance_ = o.tolerance;
@@ -160,7 +162,7 @@ class Subdivider {
   void FindFacePoints();
   void Mark();
   std::vector<Chord> Chords(const Face& f) const;
-  void LocateVertices();
+  Status LocateVertices();
   void DeformVertices();
   bool ChordKept(const Face& f, const Chord& chord) const;
   bool ChordTurns(const Chord& chord, const GridNodeInside& node) const;
@@ -180,7 +182,8 @@ class Subdivider {
   const SheetMap& map_;
   const FlatLocator& locator_;
   const SubdivisionOptions& options_;
-  OutsideMode outside_;
+  OutsideMode outside_;          // for points the subdivision adds
+  bool refuse_outside_ = false;  // input vertices off the sheet are an error
   int threads_ = 1;
   bool uniform_ = false;
   bool refine_ = false;
@@ -560,24 +563,44 @@ void Subdivider::ComputeCellEstimates() {
   for (size_t c = 0; c < seen.size(); ++c) {
     if (seen[c]) needed.push_back(static_cast<int>(c));
   }
+  // The largest principal curvature at every node of those cells, once.
+  std::vector<int> nodes;
+  std::vector<char> node_seen(static_cast<size_t>(nu) * nv, 0);
+  for (int c : needed) {
+    const int i = c % cu, j = c / cu;
+    for (int dj = 0; dj < 2; ++dj)
+      for (int di = 0; di < 2; ++di) {
+        const int node = i + di + nu * (j + dj);
+        if (!node_seen[node]) {
+          node_seen[node] = 1;
+          nodes.push_back(node);
+        }
+      }
+  }
+  std::vector<double> node_curvature(node_seen.size(), 0.0);
+  ParallelChunks(static_cast<int>(nodes.size()), threads_, [&](int, int begin, int end) {
+    for (int q = begin; q < end; ++q) {
+      const int node = nodes[q];
+      const SurfacePoint s = map_.surface().Evaluate(static_cast<double>(node % nu) / cu,
+                                                     static_cast<double>(node / nu) / cv, 2);
+      node_curvature[node] = MaxAbsCurvature(s);
+    }
+  });
   ParallelChunks(static_cast<int>(needed.size()), threads_, [&](int, int begin, int end) {
     int hint = -1;
     for (int q = begin; q < end; ++q) {
       const int c = needed[q];
       const int i = c % cu, j = c / cu;
       double kappa = 0.0;
-      for (int dj = 0; dj < 2; ++dj) {
-        for (int di = 0; di < 2; ++di) {
-          const SurfacePoint s = map_.surface().Evaluate(static_cast<double>(i + di) / cu,
-                                                         static_cast<double>(j + dj) / cv, 2);
-          kappa = std::max(kappa, MaxAbsCurvature(s));
-        }
-      }
+      for (int dj = 0; dj < 2; ++dj)
+        for (int di = 0; di < 2; ++di)
+          kappa = std::max(kappa, node_curvature[i + di + nu * (j + dj)]);
       const Vec2 &p00 = locator_.Node(i, j), &p10 = locator_.Node(i + 1, j);
       const Vec2 &p01 = locator_.Node(i, j + 1), &p11 = locator_.Node(i + 1, j + 1);
       const double side = locator_.CellMinSide(c);
       CellEstimate& e = cells_[c];
       e.curvature = kappa;
+      e.min_side = side;
       e.twist = side > 0.0 ? (p00 - p10 + p11 - p01).norm() / (side * side) : kInf;
       // Kinks: the second difference across each side's middle, at the
       // surface and at the model's largest height.
@@ -610,7 +633,7 @@ bool Subdivider::Block(int a, int b, int c, std::array<int, 4>* cells) const {
 
 double Subdivider::BlockSide(const std::array<int, 4>& cells) const {
   double side = kInf;
-  for (int c : cells) side = std::min(side, locator_.CellMinSide(c));
+  for (int c : cells) side = std::min(side, cells_[c].min_side);
   return side;
 }
 
@@ -1183,17 +1206,40 @@ Result<SubdivisionResult> Subdivider::Assemble() {
   return r;
 }
 
-void Subdivider::LocateVertices() {
+// Each input vertex's cell (-1 off the sheet); with outside = error, the
+// count of those off the sheet and the worst distance, as the deformation
+// would report them (before any work is spent refining a model that fails).
+Status Subdivider::LocateVertices() {
   const size_t n = mesh_.positions.size();
   vertex_cell_.resize(n);
-  ParallelChunks(static_cast<int>(n), threads_, [&](int, int begin, int end) {
+  std::vector<size_t> outside(threads_, 0);
+  std::vector<double> worst(threads_, 0.0);
+  const bool exact = map_.sheet().method == "exact";
+  ParallelChunks(static_cast<int>(n), threads_, [&](int chunk, int begin, int end) {
     int hint = -1;
     for (int k = begin; k < end; ++k) {
-      SheetLocation l;
-      vertex_cell_[k] =
-          locator_.Locate(placed_[k].head<2>(), &l, &hint) ? locator_.CellIndex(l) : -1;
+      const Vec2 ab = placed_[k].head<2>();
+      const SheetParameters p = map_.Parameters(ab, OutsideMode::kError, false, &hint);
+      if (p.outside) {
+        ++outside[chunk];
+        worst[chunk] = std::max(worst[chunk], p.outside_distance);
+      }
+      int cell = p.cell;
+      if (exact) {  // the closed-form inverse located nothing: find the cell
+        SheetLocation l;
+        cell = locator_.Locate(ab, &l, &hint) ? locator_.CellIndex(l) : -1;
+      }
+      vertex_cell_[k] = cell;
     }
   });
+  size_t count = 0;
+  double far = 0.0;
+  for (int c = 0; c < threads_; ++c) {
+    count += outside[c];
+    far = std::max(far, worst[c]);
+  }
+  if (refuse_outside_ && count > 0) return OutsideSheetError(count, n, far);
+  return Status::Ok();
 }
 
 void Subdivider::DeformVertices() {
@@ -1214,7 +1260,7 @@ Result<SubdivisionResult> Subdivider::Run() {
   stats_.epsilon = uniform_ ? 0.0 : options_.epsilon;
   stats_.tolerance = refine_ ? tolerance_ : 0.0;
 
-  LocateVertices();
+  SURFDEFORM_RETURN_IF_ERROR(LocateVertices());
   ComputeCellEstimates();
   if (Screen()) {
     SubdivisionResult r;

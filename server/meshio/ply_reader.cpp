@@ -45,12 +45,51 @@ size_t SizeOf(Type t) {
   return 1;
 }
 
+// What a property's values become, decided once per element rather than by
+// comparing names for every value.
+enum class Role {
+  kIgnored,
+  kX,
+  kY,
+  kZ,
+  kNx,
+  kNy,
+  kNz,
+  kU,
+  kV,
+  kRed,
+  kGreen,
+  kBlue,
+  kAlpha,
+  kIndices
+};
+
 struct Property {
   std::string name;
   Type type = Type::kFloat32;
   bool is_list = false;
   Type count_type = Type::kUInt8;
+  Role role = Role::kIgnored;
 };
+
+Role RoleOf(const std::string& n, bool is_vertex, bool is_face) {
+  if (is_face)
+    return n == "vertex_indices" || n == "vertex_index" ? Role::kIndices : Role::kIgnored;
+  if (!is_vertex) return Role::kIgnored;
+  if (n == "x") return Role::kX;
+  if (n == "y") return Role::kY;
+  if (n == "z") return Role::kZ;
+  if (n == "nx") return Role::kNx;
+  if (n == "ny") return Role::kNy;
+  if (n == "nz") return Role::kNz;
+  if (n == "s" || n == "u" || n == "texture_u" || n == "texture_s") return Role::kU;
+  if (n == "t" || n == "v" || n == "texture_v" || n == "texture_t") return Role::kV;
+  if (n == "red") return Role::kRed;
+  if (n == "green") return Role::kGreen;
+  if (n == "blue") return Role::kBlue;
+  if (n == "alpha") return Role::kAlpha;
+  return Role::kIgnored;
+}
 
 struct Element {
   std::string name;
@@ -248,8 +287,10 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
         mesh.colors.assign(e.count, Vec4(0, 0, 0, 1));
       }
     }
+    std::vector<Property> props = e.properties;
+    for (Property& p : props) p.role = RoleOf(p.name, is_vertex, is_face);
     for (size_t r = 0; r < e.count; ++r) {
-      for (const Property& p : e.properties) {
+      for (const Property& p : props) {
         if (p.is_list) {
           double count;
           if (!body.Read(p.count_type, &count)) return PlyError("the file ends inside " + e.name);
@@ -263,7 +304,7 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
           for (size_t k = 0; k < n; ++k) {
             double index;
             if (!body.Read(p.type, &index)) return PlyError("the file ends inside " + e.name);
-            if (is_face && (p.name == "vertex_indices" || p.name == "vertex_index")) {
+            if (p.role == Role::kIndices) {
               if (!(index >= 0) || index >= static_cast<double>(mesh.positions.size())) {
                 return PlyError("face " + std::to_string(r) + " uses vertex " +
                                 std::to_string(static_cast<long long>(index)) + " of " +
@@ -272,7 +313,7 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
               poly[k] = static_cast<uint32_t>(index);
             }
           }
-          if (is_face && (p.name == "vertex_indices" || p.name == "vertex_index")) {
+          if (p.role == Role::kIndices) {
             if (n < 3) return PlyError("face " + std::to_string(r) + " has fewer than 3 corners");
             Vec3 corner_positions[kMaxPolygon];
             for (size_t k = 0; k < n; ++k) corner_positions[k] = mesh.positions[poly[k]];
@@ -282,28 +323,47 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
         }
         double x;
         if (!body.Read(p.type, &x)) return PlyError("the file ends inside " + e.name);
-        if (!is_vertex) continue;
-        const std::string& n = p.name;
-        if (n == "x")
-          mesh.positions[r].x() = x;
-        else if (n == "y")
-          mesh.positions[r].y() = x;
-        else if (n == "z")
-          mesh.positions[r].z() = x;
-        else if (n == "nx")
-          mesh.normals[r].x() = x;
-        else if (n == "ny")
-          mesh.normals[r].y() = x;
-        else if (n == "nz")
-          mesh.normals[r].z() = x;
-        else if (n == "s" || n == "u" || n == "texture_u" || n == "texture_s")
-          mesh.uv0[r].x() = x;
-        else if (n == "t" || n == "v" || n == "texture_v" || n == "texture_t")
-          mesh.uv0[r].y() = x;
-        else if (n == "red" || n == "green" || n == "blue" || n == "alpha") {
-          const int c = n == "red" ? 0 : n == "green" ? 1 : n == "blue" ? 2 : 3;
-          const bool integer = p.type != Type::kFloat32 && p.type != Type::kFloat64;
-          mesh.colors[r][c] = integer ? x / 255.0 : x;
+        const bool integer = p.type != Type::kFloat32 && p.type != Type::kFloat64;
+        switch (p.role) {
+          case Role::kX:
+            mesh.positions[r].x() = x;
+            break;
+          case Role::kY:
+            mesh.positions[r].y() = x;
+            break;
+          case Role::kZ:
+            mesh.positions[r].z() = x;
+            break;
+          case Role::kNx:
+            mesh.normals[r].x() = x;
+            break;
+          case Role::kNy:
+            mesh.normals[r].y() = x;
+            break;
+          case Role::kNz:
+            mesh.normals[r].z() = x;
+            break;
+          case Role::kU:
+            mesh.uv0[r].x() = x;
+            break;
+          case Role::kV:
+            mesh.uv0[r].y() = x;
+            break;
+          case Role::kRed:
+            mesh.colors[r][0] = integer ? x / 255.0 : x;
+            break;
+          case Role::kGreen:
+            mesh.colors[r][1] = integer ? x / 255.0 : x;
+            break;
+          case Role::kBlue:
+            mesh.colors[r][2] = integer ? x / 255.0 : x;
+            break;
+          case Role::kAlpha:
+            mesh.colors[r][3] = integer ? x / 255.0 : x;
+            break;
+          case Role::kIgnored:
+          case Role::kIndices:
+            break;
         }
       }
     }
