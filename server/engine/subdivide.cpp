@@ -127,6 +127,15 @@ struct CellEstimate {
   double kink = 0.0;
   double min_side = 0.0;  // the cell's shortest side on the sheet
 };
+// kLimitExceeded: the refinement would pass an output-size limit.
+Status OverLimit(const char* what, size_t limit, size_t actual) {
+  return Status::LimitExceeded(
+      "the subdivision would produce more than " + std::to_string(limit) + " " + what +
+          " (the server's limit) at this tolerance; raise "
+          "subdivision.tolerance or epsilon, or use a coarser grid",
+      "subdivision.tolerance", static_cast<double>(limit), static_cast<double>(actual));
+}
+
 class Subdivider {
  public:
   Subdivider(const Mesh& mesh, const std::vector<Vec3>& placed, const SheetMap& map,
@@ -351,7 +360,6 @@ void Subdivider::FindFacePoints() {
   ParallelChunks(static_cast<int>(faces_.size()), threads_, [&](int, int begin, int end) {
     std::vector<GridNodeInside> nodes;
     std::vector<int> scratch;
-    int hint = -1;
     for (int fi = begin; fi < end; ++fi) {
       Face& f = faces_[fi];
       if (!f.large) continue;
@@ -367,7 +375,6 @@ void Subdivider::FindFacePoints() {
         f.points[k].across_u_line = std::abs(NormalCurvature(s, Vec2(1, 0)));
         f.points[k].across_v_line = std::abs(NormalCurvature(s, Vec2(0, 1)));
       }
-      (void)hint;
     }
   });
   if (uniform_) return;
@@ -1188,20 +1195,10 @@ Result<SubdivisionResult> Subdivider::Assemble() {
   st.vertices_after = out.positions.size();
   st.triangles_after = out.triangles.size();
   if (st.vertices_after > options_.max_vertices) {
-    return Status::LimitExceeded(
-        "the subdivided mesh would have " + std::to_string(st.vertices_after) +
-            " vertices, over the limit of " + std::to_string(options_.max_vertices) +
-            "; raise subdivision.tolerance or epsilon",
-        "subdivision", static_cast<double>(options_.max_vertices),
-        static_cast<double>(st.vertices_after));
+    return OverLimit("vertices", options_.max_vertices, st.vertices_after);
   }
   if (st.triangles_after > options_.max_triangles) {
-    return Status::LimitExceeded(
-        "the subdivided mesh would have " + std::to_string(st.triangles_after) +
-            " triangles, over the limit of " + std::to_string(options_.max_triangles) +
-            "; raise subdivision.tolerance or epsilon",
-        "subdivision", static_cast<double>(options_.max_triangles),
-        static_cast<double>(st.triangles_after));
+    return OverLimit("triangles", options_.max_triangles, st.triangles_after);
   }
   return r;
 }
@@ -1281,11 +1278,7 @@ Result<SubdivisionResult> Subdivider::Run() {
   Mark();
   RefineEdges();
   if (over_limit_) {
-    return Status::LimitExceeded(
-        "the subdivision needs more than " + std::to_string(options_.max_vertices) +
-            " new vertices for this tolerance; raise subdivision.tolerance or epsilon",
-        "subdivision.tolerance", static_cast<double>(options_.max_vertices),
-        static_cast<double>(added_.load()));
+    return OverLimit("new vertices", options_.max_vertices, added_.load());
   }
   outputs_.resize(faces_.size());
   ParallelChunks(static_cast<int>(faces_.size()), threads_, [&](int, int begin, int end) {
@@ -1293,11 +1286,7 @@ Result<SubdivisionResult> Subdivider::Run() {
     for (int f = begin; f < end; ++f) RefineFace(f, &outputs_[f], &hint);
   });
   if (over_limit_) {
-    return Status::LimitExceeded(
-        "the subdivision needs more than " + std::to_string(options_.max_vertices) +
-            " new vertices for this tolerance; raise subdivision.tolerance or epsilon",
-        "subdivision.tolerance", static_cast<double>(options_.max_vertices),
-        static_cast<double>(added_.load()));
+    return OverLimit("new vertices", options_.max_vertices, added_.load());
   }
   if (failed_) {
     return Status(ErrorCode::kInternal, "the subdivision could not re-triangulate a face");
