@@ -16,8 +16,8 @@
 // Robustness: predicates are evaluated in doubles with tolerances relative to
 // the face's size; a point within 1e-9 of the face's size of an existing point
 // is that point, and one within that distance of an edge is inserted on the
-// edge. Numbers are in the frame's units; no allocation beyond the point and
-// triangle arrays.
+// edge (orientation tests are signed distances). Numbers are in the frame's
+// units.
 #pragma once
 
 #include <array>
@@ -94,7 +94,6 @@ class FaceTriangulation {
   std::vector<int> vtri_;  // a triangle incident to each point
   double size_ = 1.0;      // the face's diameter
   double eps_len_ = 0.0;   // coincidence distance
-  double eps_area_ = 0.0;  // orientation tolerance (twice an area)
   uint32_t clock_ = 0;
   std::vector<int> touched_;
 };

@@ -208,7 +208,7 @@ class Subdivider {
   std::vector<FaceOutput> outputs_;
   std::atomic<size_t> added_{0};  // points added so far, for the size limit
   std::atomic<bool> over_limit_{false};
-  bool failed_ = false;  // an invariant of the triangulation broke (a bug)
+  std::atomic<bool> failed_{false};  // an invariant of the triangulation broke (a bug)
   SubdivisionStats stats_;
 };
 
