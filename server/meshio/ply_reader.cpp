@@ -1,6 +1,8 @@
 // PLY, ascii and binary (either byte order). Vertex properties x y z, nx ny nz,
 // s t / u v / texture_u texture_v, red green blue alpha; faces from the list
 // vertex_indices (or vertex_index); other elements and properties are skipped.
+#include <algorithm>
+#include <array>
 #include <bit>
 #include <cstring>
 #include <optional>
@@ -97,6 +99,56 @@ struct Element {
   std::vector<Property> properties;
 };
 
+// A binary value in host byte order as a double.
+double Decode(Type type, const unsigned char* raw) {
+  switch (type) {
+    case Type::kInt8:
+      return static_cast<int8_t>(raw[0]);
+    case Type::kUInt8:
+      return raw[0];
+    case Type::kInt16: {
+      int16_t x;
+      std::memcpy(&x, raw, 2);
+      return x;
+    }
+    case Type::kUInt16: {
+      uint16_t x;
+      std::memcpy(&x, raw, 2);
+      return x;
+    }
+    case Type::kInt32: {
+      int32_t x;
+      std::memcpy(&x, raw, 4);
+      return x;
+    }
+    case Type::kUInt32: {
+      uint32_t x;
+      std::memcpy(&x, raw, 4);
+      return x;
+    }
+    case Type::kFloat32: {
+      float x;
+      std::memcpy(&x, raw, 4);
+      return x;
+    }
+    case Type::kFloat64: {
+      double x;
+      std::memcpy(&x, raw, 8);
+      return x;
+    }
+  }
+  return 0.0;
+}
+
+// A binary value of `type` at `at`, in the file's byte order.
+double Load(const char* at, Type type, bool swap) {
+  if (!swap) return Decode(type, reinterpret_cast<const unsigned char*>(at));
+  unsigned char raw[8];
+  const size_t size = SizeOf(type);
+  for (size_t k = 0; k < size; ++k) raw[k] = static_cast<unsigned char>(at[size - 1 - k]);
+  return Decode(type, raw);
+}
+
 enum class Encoding { kAscii, kLittle, kBig };
 
 // Reads values from the body, bounds-checked.
@@ -115,54 +167,16 @@ class BodyReader {
     }
     const size_t size = SizeOf(type);
     if (bytes_.size() < size) return false;
-    unsigned char raw[8];
-    std::memcpy(raw, bytes_.data(), size);
+    *out = Load(bytes_.data(), type, swapped());
     bytes_.remove_prefix(size);
-    const bool swap = (enc_ == Encoding::kBig) == (std::endian::native == std::endian::little);
-    if (swap) std::reverse(raw, raw + size);
-    switch (type) {
-      case Type::kInt8:
-        *out = static_cast<int8_t>(raw[0]);
-        break;
-      case Type::kUInt8:
-        *out = raw[0];
-        break;
-      case Type::kInt16: {
-        int16_t x;
-        std::memcpy(&x, raw, 2);
-        *out = x;
-        break;
-      }
-      case Type::kUInt16: {
-        uint16_t x;
-        std::memcpy(&x, raw, 2);
-        *out = x;
-        break;
-      }
-      case Type::kInt32: {
-        int32_t x;
-        std::memcpy(&x, raw, 4);
-        *out = x;
-        break;
-      }
-      case Type::kUInt32: {
-        uint32_t x;
-        std::memcpy(&x, raw, 4);
-        *out = x;
-        break;
-      }
-      case Type::kFloat32: {
-        float x;
-        std::memcpy(&x, raw, 4);
-        *out = x;
-        break;
-      }
-      case Type::kFloat64: {
-        std::memcpy(out, raw, 8);
-        break;
-      }
-    }
     return true;
+  }
+
+  // Binary only: the bytes not read yet, and skipping those a fast path consumed.
+  std::string_view bytes() const { return bytes_; }
+  void Skip(size_t n) { bytes_.remove_prefix(n); }
+  bool swapped() const {
+    return (enc_ == Encoding::kBig) == (std::endian::native == std::endian::little);
   }
 
   // Bytes (binary) or characters (ascii) left: a bound on how many values can follow.
@@ -178,6 +192,115 @@ class BodyReader {
 };
 
 Status PlyError(const std::string& what) { return InvalidArgument("PLY: " + what, "mesh"); }
+
+// Stores a vertex property's value by its role (integer colours are 0-255).
+void Assign(const Property& p, size_t r, double x, Mesh* mesh) {
+  const bool integer = p.type != Type::kFloat32 && p.type != Type::kFloat64;
+  switch (p.role) {
+    case Role::kX:
+      mesh->positions[r].x() = x;
+      break;
+    case Role::kY:
+      mesh->positions[r].y() = x;
+      break;
+    case Role::kZ:
+      mesh->positions[r].z() = x;
+      break;
+    case Role::kNx:
+      mesh->normals[r].x() = x;
+      break;
+    case Role::kNy:
+      mesh->normals[r].y() = x;
+      break;
+    case Role::kNz:
+      mesh->normals[r].z() = x;
+      break;
+    case Role::kU:
+      mesh->uv0[r].x() = x;
+      break;
+    case Role::kV:
+      mesh->uv0[r].y() = x;
+      break;
+    case Role::kRed:
+      mesh->colors[r][0] = integer ? x / 255.0 : x;
+      break;
+    case Role::kGreen:
+      mesh->colors[r][1] = integer ? x / 255.0 : x;
+      break;
+    case Role::kBlue:
+      mesh->colors[r][2] = integer ? x / 255.0 : x;
+      break;
+    case Role::kAlpha:
+      mesh->colors[r][3] = integer ? x / 255.0 : x;
+      break;
+    case Role::kIgnored:
+    case Role::kIndices:
+      break;
+  }
+}
+
+// Binary fast paths: they read the leading records of an element whose layout
+// is plain, and return how many they read; the general loop reads the rest
+// (and reports whatever is wrong there, with the same messages).
+//
+// Records of fixed-size properties only (typically the vertices).
+size_t ReadFixedRecords(const std::vector<Property>& props, size_t count, BodyReader* body,
+                        Mesh* mesh) {
+  size_t stride = 0;
+  for (const Property& p : props) {
+    if (p.is_list) return 0;
+    stride += SizeOf(p.type);
+  }
+  struct Field {
+    const Property* property;
+    size_t offset;
+  };
+  std::vector<Field> fields;
+  size_t offset = 0;
+  for (const Property& p : props) {
+    if (p.role != Role::kIgnored) fields.push_back({&p, offset});
+    offset += SizeOf(p.type);
+  }
+  const std::string_view bytes = body->bytes();
+  const size_t n = stride == 0 ? 0 : std::min(count, bytes.size() / stride);
+  const bool swap = body->swapped();
+  for (size_t r = 0; r < n; ++r) {
+    const char* record = bytes.data() + r * stride;
+    for (const Field& f : fields) {
+      Assign(*f.property, r, Load(record + f.offset, f.property->type, swap), mesh);
+    }
+  }
+  body->Skip(n * stride);
+  return n;
+}
+
+// Faces that are only a list of 8-bit count and 32-bit indices, while each is
+// a triangle of vertices that exist.
+size_t ReadTriangleRecords(const std::vector<Property>& props, size_t count, BodyReader* body,
+                           Mesh* mesh) {
+  if (props.size() != 1 || !props[0].is_list || props[0].role != Role::kIndices) return 0;
+  const Property& p = props[0];
+  if (p.count_type != Type::kUInt8 && p.count_type != Type::kInt8) return 0;
+  if (p.type != Type::kInt32 && p.type != Type::kUInt32) return 0;
+  const std::string_view bytes = body->bytes();
+  const bool swap = body->swapped();
+  const size_t vertices = mesh->positions.size();
+  size_t r = 0, at = 0;
+  for (; r < count && at + 13 <= bytes.size() && bytes[at] == 3; ++r, at += 13) {
+    std::array<uint32_t, 3> t;
+    std::memcpy(t.data(), bytes.data() + at + 1, 12);
+    bool valid = true;
+    for (uint32_t& index : t) {
+      if (swap) index = __builtin_bswap32(index);
+      // A negative int32 reads as an unsigned value >= 2^31: out of range too.
+      valid &= index < vertices;
+    }
+    if (!valid) break;
+    mesh->triangles.push_back(t);
+  }
+  body->Skip(at);
+  return r;
+}
 
 }  // namespace
 
@@ -289,7 +412,12 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
     }
     std::vector<Property> props = e.properties;
     for (Property& p : props) p.role = RoleOf(p.name, is_vertex, is_face);
-    for (size_t r = 0; r < e.count; ++r) {
+    size_t r = 0;
+    if (*encoding != Encoding::kAscii) {
+      r = is_face ? ReadTriangleRecords(props, e.count, &body, &mesh)
+                  : ReadFixedRecords(props, e.count, &body, &mesh);
+    }
+    for (; r < e.count; ++r) {
       for (const Property& p : props) {
         if (p.is_list) {
           double count;
@@ -323,48 +451,7 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
         }
         double x;
         if (!body.Read(p.type, &x)) return PlyError("the file ends inside " + e.name);
-        const bool integer = p.type != Type::kFloat32 && p.type != Type::kFloat64;
-        switch (p.role) {
-          case Role::kX:
-            mesh.positions[r].x() = x;
-            break;
-          case Role::kY:
-            mesh.positions[r].y() = x;
-            break;
-          case Role::kZ:
-            mesh.positions[r].z() = x;
-            break;
-          case Role::kNx:
-            mesh.normals[r].x() = x;
-            break;
-          case Role::kNy:
-            mesh.normals[r].y() = x;
-            break;
-          case Role::kNz:
-            mesh.normals[r].z() = x;
-            break;
-          case Role::kU:
-            mesh.uv0[r].x() = x;
-            break;
-          case Role::kV:
-            mesh.uv0[r].y() = x;
-            break;
-          case Role::kRed:
-            mesh.colors[r][0] = integer ? x / 255.0 : x;
-            break;
-          case Role::kGreen:
-            mesh.colors[r][1] = integer ? x / 255.0 : x;
-            break;
-          case Role::kBlue:
-            mesh.colors[r][2] = integer ? x / 255.0 : x;
-            break;
-          case Role::kAlpha:
-            mesh.colors[r][3] = integer ? x / 255.0 : x;
-            break;
-          case Role::kIgnored:
-          case Role::kIndices:
-            break;
-        }
+        Assign(p, r, x, &mesh);
       }
     }
     if (is_face) {

@@ -435,6 +435,88 @@ TEST(HostileInput, PlyListCountsAndClaims) {
   EXPECT_FALSE(ImportMesh(claim).ok());
 }
 
+// A PLY file of four vertices (x y z as `position_type`, an ignored uchar
+// "flags" between y and z) and the given faces (list uchar int), in `format`:
+// "ascii", "binary_little_endian" or "binary_big_endian".
+std::string SmallPly(const std::string& format, const std::string& position_type,
+                     const std::vector<std::vector<int32_t>>& faces) {
+  const double xyz[4][3] = {{0, 0, 0}, {1, 0, 0.5}, {1, 1, -2}, {0, 1, 0.25}};
+  std::ostringstream out;
+  out << "ply\nformat " << format << " 1.0\nelement vertex 4\nproperty " << position_type
+      << " x\nproperty " << position_type << " y\nproperty uchar flags\nproperty " << position_type
+      << " z\nelement face " << faces.size()
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+  const bool big = format == "binary_big_endian";
+  auto put = [&](const void* p, size_t n) {
+    const char* c = static_cast<const char*>(p);
+    for (size_t k = 0; k < n; ++k) out.put(c[big ? n - 1 - k : k]);
+  };
+  for (const auto& v : xyz) {
+    if (format == "ascii") {
+      out << v[0] << ' ' << v[1] << " 7 " << v[2] << '\n';
+      continue;
+    }
+    const uint8_t flags = 7;
+    for (int c = 0; c < 3; ++c) {
+      if (c == 2) put(&flags, 1);
+      if (position_type == "double") {
+        put(&v[c], 8);
+      } else {
+        const float f = static_cast<float>(v[c]);
+        put(&f, 4);
+      }
+    }
+  }
+  for (const auto& f : faces) {
+    if (format == "ascii") {
+      out << f.size();
+      for (int32_t i : f) out << ' ' << i;
+      out << '\n';
+      continue;
+    }
+    const uint8_t n = static_cast<uint8_t>(f.size());
+    put(&n, 1);
+    for (int32_t i : f) put(&i, 4);
+  }
+  return out.str();
+}
+
+TEST(MeshImport, BinaryPlyReadsAsAsciiInBothByteOrders) {
+  // Triangles, then a quad (the general path takes over), then a triangle again.
+  const std::vector<std::vector<int32_t>> faces = {{0, 1, 2}, {0, 2, 3}, {0, 1, 2, 3}, {3, 2, 1}};
+  const ImportedMesh ascii = ImportOk(SmallPly("ascii", "float", faces));
+  ASSERT_EQ(ascii.mesh.triangles.size(), 5u);
+  for (const std::string format : {"binary_little_endian", "binary_big_endian"}) {
+    for (const std::string type : {"float", "double"}) {
+      const ImportedMesh binary = ImportOk(SmallPly(format, type, faces));
+      EXPECT_EQ(binary.mesh.triangles, ascii.mesh.triangles) << format << " " << type;
+      ASSERT_EQ(binary.mesh.positions.size(), 4u);
+      for (size_t k = 0; k < 4; ++k) {
+        EXPECT_EQ(binary.mesh.positions[k], ascii.mesh.positions[k]) << format << " " << k;
+      }
+    }
+  }
+  EXPECT_EQ(ascii.mesh.positions[2], Vec3(1, 1, -2));
+}
+
+TEST(HostileInput, BinaryPlyBadIndicesAreNamed) {
+  for (const std::string format : {"binary_little_endian", "binary_big_endian"}) {
+    auto past = ImportMesh(SmallPly(format, "float", {{0, 1, 2}, {0, 2, 4}}));
+    ASSERT_FALSE(past.ok());
+    EXPECT_NE(past.status().message().find("face 1 uses vertex 4 of 4"), std::string::npos)
+        << past.status().message();
+    auto negative = ImportMesh(SmallPly(format, "float", {{0, 1, 2}, {0, -1, 2}}));
+    ASSERT_FALSE(negative.ok());
+    EXPECT_NE(negative.status().message().find("face 1 uses vertex -1 of 4"), std::string::npos)
+        << negative.status().message();
+    const std::string whole = SmallPly(format, "float", {{0, 1, 2}, {0, 2, 3}});
+    auto cut = ImportMesh(whole.substr(0, whole.size() - 2));
+    ASSERT_FALSE(cut.ok());
+    EXPECT_NE(cut.status().message().find("ends inside face"), std::string::npos)
+        << cut.status().message();
+  }
+}
+
 TEST(HostileInput, ObjNegativeIndexOutOfRange) {
   auto r = ImportMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -99999 1 2\n");
   ASSERT_FALSE(r.ok());
