@@ -212,6 +212,34 @@ TEST(Deform, FitKeepsTheFootprintInsideWithTheMargin) {
   EXPECT_FALSE(DeformMesh(*t.surface, t.sheet, m, o).ok());
 }
 
+TEST(Deform, FitDependsOnlyOnTheFootprintsOutline) {
+  // 48 points on an ellipse (all on the convex hull) and, with them, 20,000
+  // inside it, many close to the outline, and midpoints of the outline's edges:
+  // the fitted scale must be the one of the outline alone, so the hull's
+  // shortcuts (dropping points that cannot be on it) lose no hull vertex.
+  const Target t = Flattened(testing::LoadBezierFile(testing::DataPath("figure9.json")), 10);
+  const SheetMap map(*t.surface, t.sheet);
+  std::vector<Vec3> outline, all;
+  for (int k = 0; k < 48; ++k) {
+    const double a = 2 * kPi * (k + 0.37 * std::sin(7.0 * k)) / 48;
+    outline.push_back(Vec3(3 * std::cos(a), 1.2 * std::sin(a), 0.1 * k));
+  }
+  all = outline;
+  for (int k = 0; k < 48; ++k) all.push_back(0.5 * (outline[k] + outline[(k + 1) % 48]));
+  for (int k = 0; k < 20000; ++k) {
+    const double a = 0.7 * k, r = 1.0 - std::pow(std::fmod(0.618034 * k, 1.0), 4);
+    all.push_back(Vec3(0.99 * r * 3 * std::cos(a), 0.99 * r * 1.2 * std::sin(a), 0.0));
+  }
+  PlacementOptions o;
+  o.fit = true;
+  o.rotation_deg = 20;
+  auto alone = ComputePlacement(map.locator(), t.sheet, outline, o);
+  auto with_cloud = ComputePlacement(map.locator(), t.sheet, all, o);
+  ASSERT_TRUE(alone.ok() && with_cloud.ok());
+  EXPECT_GT(alone->scale, 0.1);
+  EXPECT_EQ(with_cloud->scale, alone->scale);
+}
+
 TEST(Deform, UpAxisChoosesTheNormalDirection) {
   const Target t = Flattened(testing::LoadBezierFile(testing::DataPath("figure8.json")), 10);
   const Mesh z_up = testing::ThinPlate(2.0, 1.0, 0.3);
