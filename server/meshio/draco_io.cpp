@@ -5,6 +5,7 @@
 #include <draco/mesh/mesh.h>
 
 #include <cmath>
+#include <vector>
 
 #include "meshio/importers.hpp"
 
@@ -62,18 +63,18 @@ Status PeekCounts(std::string_view bytes, uint64_t* faces, uint64_t* points) {
   return bad("unknown encoding method " + std::to_string(method));
 }
 
+// Adds a float attribute of `components` per vertex, value(k, out) writing
+// vertex k's; the values go into Draco's buffer in one write.
+template <typename Value>
 int AddAttribute(draco::Mesh* dm, draco::GeometryAttribute::Type type, int components, size_t n,
-                 const std::function<void(size_t, float*)>& value) {
+                 const Value& value) {
   draco::GeometryAttribute ga;
   ga.Init(type, nullptr, static_cast<uint8_t>(components), draco::DT_FLOAT32, false,
           sizeof(float) * components, 0);
   const int id = dm->AddAttribute(ga, true, static_cast<uint32_t>(n));
-  draco::PointAttribute* att = dm->attribute(id);
-  float buf[4];
-  for (size_t k = 0; k < n; ++k) {
-    value(k, buf);
-    att->SetAttributeValue(draco::AttributeValueIndex(static_cast<uint32_t>(k)), buf);
-  }
+  std::vector<float> values(n * components);
+  for (size_t k = 0; k < n; ++k) value(k, values.data() + k * components);
+  dm->attribute(id)->buffer()->Write(0, values.data(), values.size() * sizeof(float));
   return id;
 }
 
@@ -84,8 +85,11 @@ Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& o, int ids
   const size_t n = mesh.positions.size();
   draco::Mesh dm;
   dm.set_num_points(static_cast<uint32_t>(n));
-  for (const auto& t : mesh.triangles) {
-    dm.AddFace({draco::PointIndex(t[0]), draco::PointIndex(t[1]), draco::PointIndex(t[2])});
+  dm.SetNumFaces(mesh.triangles.size());
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& t = mesh.triangles[f];
+    dm.SetFace(draco::FaceIndex(static_cast<uint32_t>(f)),
+               {draco::PointIndex(t[0]), draco::PointIndex(t[1]), draco::PointIndex(t[2])});
   }
   int local[6] = {-1, -1, -1, -1, -1, -1};
   using GA = draco::GeometryAttribute;
