@@ -1,6 +1,7 @@
 #include "engine/deform.hpp"
 
 #include <chrono>
+#include <cmath>
 
 #include "engine/parallel.hpp"
 #include "engine/sheet_map.hpp"
@@ -44,7 +45,8 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
   DeformResult& result = *result_out;
   DeformStats& st = result.stats;
   const Mesh* source = &mesh;
-  std::vector<Vec3> placed;  // empty: placed on the fly
+  std::vector<Vec3> placed;    // empty: placed on the fly
+  std::vector<Vec2> known_uv;  // the input vertices' parameters, if the subdivision found them
   if (subdivision != nullptr && subdivision->mode != SubdivisionMode::kOff &&
       !mesh.triangles.empty()) {
     const auto ts = std::chrono::steady_clock::now();
@@ -60,6 +62,7 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
     auto refined = Subdivide(mesh, placed, map, o.outside, so);
     if (!refined.ok()) return refined.status();
     st.subdivision = refined->stats;
+    known_uv = std::move(refined->input_uv);
     if (refined->unchanged) {
       if (&result.mesh != &mesh) result.mesh = Mesh{};  // as without subdivision
     } else {
@@ -102,7 +105,12 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
       const bool added = static_cast<size_t>(k) >= n_input;
       const OutsideMode mode =
           added && o.outside == OutsideMode::kError ? OutsideMode::kExtrapolate : o.outside;
-      const SheetParameters p = map.Parameters(abh.head<2>(), mode, need_frame, &hint);
+      SheetParameters p;
+      if (!need_frame && static_cast<size_t>(k) < known_uv.size() && !std::isnan(known_uv[k].x())) {
+        p.uv = known_uv[k];  // located on the sheet by the subdivision already
+      } else {
+        p = map.Parameters(abh.head<2>(), mode, need_frame, &hint);
+      }
       if (p.outside && !added) {
         ++outside[chunk];
         worst[chunk] = std::max(worst[chunk], p.outside_distance);

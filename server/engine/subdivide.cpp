@@ -201,6 +201,7 @@ class Subdivider {
   std::vector<uint32_t> weld_;    // input vertex -> welded id (smallest index at its position)
   std::vector<Vec3> deformed_;    // input vertex -> deformed position
   std::vector<int> vertex_cell_;  // input vertex -> its sheet cell, -1 outside
+  std::vector<Vec2> vertex_uv_;   // input vertex -> its surface parameters, NaN outside
   std::vector<Edge> edges_;
   std::vector<uint32_t> edge_faces_;
   std::vector<Face> faces_;
@@ -1209,6 +1210,7 @@ Result<SubdivisionResult> Subdivider::Assemble() {
 Status Subdivider::LocateVertices() {
   const size_t n = mesh_.positions.size();
   vertex_cell_.resize(n);
+  vertex_uv_.resize(n);
   std::vector<size_t> outside(threads_, 0);
   std::vector<double> worst(threads_, 0.0);
   const bool exact = map_.sheet().method == "exact";
@@ -1221,6 +1223,7 @@ Status Subdivider::LocateVertices() {
         ++outside[chunk];
         worst[chunk] = std::max(worst[chunk], p.outside_distance);
       }
+      vertex_uv_[k] = p.outside ? Vec2::Constant(std::numeric_limits<double>::quiet_NaN()) : p.uv;
       int cell = p.cell;
       if (exact) {  // the closed-form inverse located nothing: find the cell
         SheetLocation l;
@@ -1265,6 +1268,7 @@ Result<SubdivisionResult> Subdivider::Run() {
     r.stats = stats_;
     r.stats.vertices_after = r.stats.vertices_before;
     r.stats.triangles_after = r.stats.triangles_before;
+    r.input_uv = std::move(vertex_uv_);
     r.stats.time_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return r;
@@ -1293,6 +1297,7 @@ Result<SubdivisionResult> Subdivider::Run() {
   }
   auto result = Assemble();
   if (!result.ok()) return result;
+  result->input_uv = std::move(vertex_uv_);
   result->stats.time_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return result;

@@ -271,6 +271,31 @@ TEST(Subdivide, DeformMeshWithSubdivisionPlacesEveryVertexExactly) {
   EXPECT_EQ(d->stats.vertices, r.model.positions.size());
 }
 
+// A model finer than the grid that needs nothing (the screen passes) deforms
+// exactly as without subdivision, with and without normals to carry (the
+// deformation reuses the surface parameters the screen found).
+TEST(Subdivide, AModelThatNeedsNothingDeformsAsWithoutSubdivision) {
+  const Target t = Figure(10, 16);
+  const Mesh positions_only = testing::UvSphere(1.0, 96, 48);
+  Mesh with_normals = positions_only;
+  ComputeVertexNormals(&with_normals);
+  for (const Mesh& m : {positions_only, with_normals}) {
+    auto off = DeformMesh(*t.surface, t.sheet, m, Fit());
+    auto adaptive = DeformMesh(*t.surface, t.sheet, Mesh(m), Fit(), Adaptive(1e-2));
+    ASSERT_TRUE(off.ok() && adaptive.ok());
+    ASSERT_EQ(adaptive->stats.subdivision.vertices_after, m.positions.size())
+        << "the sphere was refined: choose a finer model";
+    ASSERT_EQ(adaptive->mesh.positions.size(), off->mesh.positions.size());
+    for (size_t k = 0; k < m.positions.size(); ++k) {
+      EXPECT_LT((adaptive->mesh.positions[k] - off->mesh.positions[k]).norm(), 1e-12) << k;
+    }
+    ASSERT_EQ(adaptive->mesh.normals.size(), off->mesh.normals.size());
+    for (size_t k = 0; k < m.normals.size(); ++k) {
+      EXPECT_LT((adaptive->mesh.normals[k] - off->mesh.normals[k]).norm(), 1e-12) << k;
+    }
+  }
+}
+
 // Random closed meshes (jittered spheres and plates), random placements,
 // random targets and tolerances: always valid, closed, consistently oriented.
 TEST(Subdivide, RandomMeshesGiveValidConformingOrientableOutput) {
