@@ -97,6 +97,13 @@ int main(int argc, char** argv) {
       ->envname("SURFDEFORM_FLATTEN_BUDGET_MS")
       ->check(CLI::Range(1.0, 3.6e6))
       ->capture_default_str();
+  app.add_option("--request-budget-ms", limits.request_time_budget_ms,
+                 "A request whose parsing, flattening, deformation and subdivision take longer "
+                 "than this fails with 413 (milliseconds; the encoding after them is bounded by "
+                 "the output size limits)")
+      ->envname("SURFDEFORM_REQUEST_BUDGET_MS")
+      ->check(CLI::Range(1.0, 3.6e6))
+      ->capture_default_str();
   app.add_option("--allowed-origins", http_options.allowed_origins,
                  "CORS origins allowed to call the API (\"*\": any)")
       ->envname("SURFDEFORM_ALLOWED_ORIGINS")

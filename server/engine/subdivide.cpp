@@ -145,6 +145,10 @@ class Subdivider {
     outside_ = refuse_outside_ ? OutsideMode::kExtrapolate : outside;
     threads_ = mesh.triangles.size() >= 2048 ? ResolveThreads(o.threads) : 1;
     uniform_ = o.mode == SubdivisionMode::kUniform;
+    if (o.time_budget_ms > 0.0) {
+      deadline_ = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                               std::chrono::duration<double, std::milli>(o.time_budget_ms));
+    }
     tolerance_ = o.tolerance;
     if (!uniform_ && tolerance_ == 0.0 && o.epsilon == 0.0) {
       tolerance_ = 1e-3 * locator_.bounds().diagonal().norm();
@@ -181,6 +185,14 @@ class Subdivider {
   bool Block(int a, int b, int c, std::array<int, 4>* cells) const;
   double BlockSide(const std::array<int, 4>& cells) const;  // shortest cell side
   bool Screen();  // true when no face needs anything: the mesh stays as it is
+  // True once the time budget is spent (then every loop that checks stops).
+  bool OutOfTime() {
+    if (out_of_time_.load(std::memory_order_relaxed)) return true;
+    if (std::chrono::steady_clock::now() <= deadline_) return false;
+    out_of_time_ = true;
+    return true;
+  }
+  Status TimeUp() const;
   double Estimate(const std::array<int, 4>& cells, double length, double dh, double h) const;
   void RefineEdges();
   void RefineFace(size_t fi, FaceOutput* out, int* hint);
@@ -209,6 +221,9 @@ class Subdivider {
   std::vector<FaceOutput> outputs_;
   std::atomic<size_t> added_{0};  // points added so far, for the size limit
   std::atomic<bool> over_limit_{false};
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
+  std::atomic<bool> out_of_time_{false};
   std::atomic<bool> failed_{false};  // an invariant of the triangulation broke (a bug)
   SubdivisionStats stats_;
 };
@@ -752,7 +767,7 @@ void Subdivider::RefineEdges() {
       int depth;
     };
     std::vector<Span> stack;
-    for (int e = begin; e < end; ++e) {
+    for (int e = begin; e < end && !OutOfTime(); ++e) {
       Edge& edge = edges_[e];
       std::vector<double> ts;
       for (const EdgePoint& p : edge.points) {
@@ -1006,7 +1021,7 @@ void Subdivider::RefineFace(size_t fi, FaceOutput* out, int* hint) {
       if (d > target) queue.push({d, static_cast<int>(t), tri.triangles()[t].stamp});
     }
     tri.TakeTouched();
-    while (!queue.empty() && !over_limit_.load()) {
+    while (!queue.empty() && !over_limit_.load() && !OutOfTime()) {
       const auto [priority, t, stamp] = queue.top();
       queue.pop();
       if (tri.triangles()[t].stamp != stamp) continue;
@@ -1079,6 +1094,16 @@ void Subdivider::RefineFace(size_t fi, FaceOutput* out, int* hint) {
     const auto& v = tri.triangles()[t].v;
     out->triangles.push_back({v[0], v[1], v[2]});
   }
+}
+
+Status Subdivider::TimeUp() const {
+  const double spent =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  return Status::LimitExceeded(
+      "the subdivision did not finish within its time budget of " +
+          std::to_string(static_cast<long long>(options_.time_budget_ms)) +
+          " ms; raise subdivision.tolerance or epsilon, use mode \"off\", or a coarser grid",
+      "subdivision", options_.time_budget_ms, spent);
 }
 
 Result<SubdivisionResult> Subdivider::Assemble() {
@@ -1273,25 +1298,28 @@ Result<SubdivisionResult> Subdivider::Run() {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return r;
   }
-  Weld();
-  DeformVertices();
-  BuildEdges();
-  FindEdgePoints();
-  ClassifyFaces();
-  FindFacePoints();
-  Mark();
-  RefineEdges();
+  // Each phase is bounded by the input's size; the refinement, by the output
+  // limits and the time budget.
+  for (void (Subdivider::*phase)() :
+       {&Subdivider::Weld, &Subdivider::DeformVertices, &Subdivider::BuildEdges,
+        &Subdivider::FindEdgePoints, &Subdivider::ClassifyFaces, &Subdivider::FindFacePoints,
+        &Subdivider::Mark, &Subdivider::RefineEdges}) {
+    if (OutOfTime()) return TimeUp();
+    (this->*phase)();
+  }
   if (over_limit_) {
     return OverLimit("new vertices", options_.max_vertices, added_.load());
   }
+  if (OutOfTime()) return TimeUp();
   outputs_.resize(faces_.size());
   ParallelChunks(static_cast<int>(faces_.size()), threads_, [&](int, int begin, int end) {
     int hint = -1;
-    for (int f = begin; f < end; ++f) RefineFace(f, &outputs_[f], &hint);
+    for (int f = begin; f < end && !OutOfTime(); ++f) RefineFace(f, &outputs_[f], &hint);
   });
   if (over_limit_) {
     return OverLimit("new vertices", options_.max_vertices, added_.load());
   }
+  if (OutOfTime()) return TimeUp();
   if (failed_) {
     return Status(ErrorCode::kInternal, "the subdivision could not re-triangulate a face");
   }
@@ -1331,6 +1359,10 @@ Status ValidateSubdivision(const SubdivisionOptions& o) {
   }
   if (o.threads < 0 || o.threads > 256) {
     return InvalidArgument("must be from 0 to 256", "subdivision.threads");
+  }
+  if (!(std::isfinite(o.time_budget_ms) && o.time_budget_ms >= 0.0)) {
+    return InvalidArgument("must be a finite number >= 0 (milliseconds; 0 = none)",
+                           "subdivision.time_budget_ms");
   }
   return Status::Ok();
 }

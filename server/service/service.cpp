@@ -1,5 +1,6 @@
 #include "service/service.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <thread>
@@ -94,6 +95,40 @@ json SheetSummary(const CachedSurface& s, bool cached) {
           {"timing_ms", {{"flatten", s.flatten_ms}}}};
 }
 
+// A request's time budget: what is left of it, and the error once it is spent.
+class RequestClock {
+ public:
+  explicit RequestClock(double budget_ms) : start_(Clock::now()), budget_ms_(budget_ms) {}
+  double remaining_ms() const { return budget_ms_ - MsSince(start_); }
+  // kLimitExceeded when the budget is spent, naming the phase it ran out in.
+  Status Check(const char* phase) const {
+    const double spent = MsSince(start_);
+    if (spent <= budget_ms_) return Status::Ok();
+    return Status::LimitExceeded(
+        "this server's time budget of " + std::to_string(static_cast<long long>(budget_ms_)) +
+            " ms per request ran out in the request's " + phase + " (" +
+            std::to_string(static_cast<long long>(spent)) +
+            " ms spent); send a smaller mesh or grid, or ask for a looser subdivision",
+        "request", budget_ms_, spent);
+  }
+  // A budget for the next phase: what is left, at most `cap` (> 0).
+  double BudgetFor(double cap) const { return std::max(1.0, std::min(cap, remaining_ms())); }
+
+ private:
+  Clock::time_point start_;
+  double budget_ms_;
+};
+
+// A phase's error; but a phase stopped by its time budget (kLimitExceeded on
+// the field "flatten" or "subdivision", not an output limit) once the
+// request's own budget is spent reports the request's budget.
+Status WithinBudget(const RequestClock& clock, const char* phase, Status error) {
+  const bool timed_out = error.code() == ErrorCode::kLimitExceeded &&
+                         (error.field() == "flatten" || error.field() == "subdivision");
+  Status late = clock.Check(phase);
+  return timed_out && !late.ok() ? late : error;
+}
+
 std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
 
 }  // namespace
@@ -126,7 +161,7 @@ struct Service::Impl {
 
   // The flattened surface for `request`, from the cache or flattened now.
   Result<std::shared_ptr<const CachedSurface>> Flattened(const proto::SurfaceRequest& request,
-                                                         bool* hit) {
+                                                         const RequestClock& clock, bool* hit) {
     SURFDEFORM_RETURN_IF_ERROR(CheckGrid(request.sampling));
     const std::string id = proto::SurfaceId(request);
     return cache.GetOrCompute(
@@ -137,7 +172,7 @@ struct Service::Impl {
           if (!surface.ok()) return surface.status().WithFieldPrefix("surface");
           FlattenOptions flatten = request.flatten;
           flatten.threads = options.engine_threads;
-          flatten.time_budget_ms = options.limits.flatten_time_budget_ms;
+          flatten.time_budget_ms = clock.BudgetFor(options.limits.flatten_time_budget_ms);
           auto sheet = FlattenSurface(**surface, request.sampling, flatten);
           if (!sheet.ok()) {
             const Status& s = sheet.status();
@@ -185,16 +220,18 @@ CacheStats Service::cache_stats() const { return impl_->cache.stats(); }
 Result<Reply> Service::CreateSurface(std::string_view body) {
   auto ticket = impl_->admission.Enter();
   if (!ticket.ok()) return ticket.status();
+  const RequestClock clock(impl_->options.limits.request_time_budget_ms);
   const auto t0 = Clock::now();
   auto parsed = proto::ParseRequestJson(body, impl_->options.limits.max_json_depth, "body");
   if (!parsed.ok()) return parsed.status();
   auto request = proto::ParseSurfaceRequest(*parsed);
   if (!request.ok()) return request.status();
   const double parse_ms = MsSince(t0);
+  SURFDEFORM_RETURN_IF_ERROR(clock.Check("parsing"));
   const auto t1 = Clock::now();
   bool hit = false;
-  auto entry = impl_->Flattened(*request, &hit);
-  if (!entry.ok()) return entry.status();
+  auto entry = impl_->Flattened(*request, clock, &hit);
+  if (!entry.ok()) return WithinBudget(clock, "flattening", entry.status());
   Reply reply;
   reply.cache_hit = hit;
   json summary = SheetSummary(**entry, hit);
@@ -241,6 +278,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   auto ticket = impl_->admission.Enter();
   if (!ticket.ok()) return ticket.status();
   const ServiceLimits& limits = impl_->options.limits;
+  const RequestClock clock(limits.request_time_budget_ms);
   const auto t0 = Clock::now();
   auto parsed = proto::ParseRequestJson(request.params, limits.max_json_depth, "params");
   if (!parsed.ok()) return parsed.status();
@@ -259,13 +297,14 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   auto imported = ImportMesh(request.mesh, import_limits);
   if (!imported.ok()) return imported.status();
   const double parse_ms = MsSince(t0);
+  SURFDEFORM_RETURN_IF_ERROR(clock.Check("parsing"));
 
   const auto t1 = Clock::now();
   bool hit = false;
   std::shared_ptr<const CachedSurface> entry;
   if (params->surface) {
-    auto flattened = impl_->Flattened(*params->surface, &hit);
-    if (!flattened.ok()) return flattened.status();
+    auto flattened = impl_->Flattened(*params->surface, clock, &hit);
+    if (!flattened.ok()) return WithinBudget(clock, "flattening", flattened.status());
     entry = *flattened;
   } else {
     auto found = impl_->Lookup(params->surface_id);
@@ -277,6 +316,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
     hit = true;
   }
   const double flatten_ms = MsSince(t1);
+  SURFDEFORM_RETURN_IF_ERROR(clock.Check("flattening"));
 
   const auto t2 = Clock::now();
   PlacementOptions placement = params->placement;
@@ -285,11 +325,13 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   subdivision.threads = impl_->options.engine_threads;
   subdivision.max_vertices = limits.max_output_vertices;
   subdivision.max_triangles = limits.max_output_triangles;
+  subdivision.time_budget_ms = clock.BudgetFor(limits.request_time_budget_ms);
   auto deformed =
       DeformMesh(*entry->surface, entry->sheet, std::move(imported->mesh), placement, subdivision);
-  if (!deformed.ok()) return deformed.status();
+  if (!deformed.ok()) return WithinBudget(clock, "subdivision", deformed.status());
   const double subdivide_ms = deformed->stats.subdivide_ms;
   const double deform_ms = MsSince(t2) - subdivide_ms;
+  SURFDEFORM_RETURN_IF_ERROR(clock.Check("deformation"));
 
   const auto t3 = Clock::now();
   ExportOptions export_options;
@@ -339,6 +381,7 @@ std::string Service::InfoJson() const {
               {"max_json_depth", l.max_json_depth},
               {"max_in_flight", l.max_in_flight},
               {"flatten_time_budget_ms", l.flatten_time_budget_ms},
+              {"request_time_budget_ms", l.request_time_budget_ms},
               {"cache_bytes", l.cache_bytes}}},
             {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
             {"output_formats", {"drc", "glb", "glb_plain", "obj", "ply"}},

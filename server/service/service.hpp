@@ -28,6 +28,10 @@ struct ServiceLimits {
   int max_json_depth = 32;                // request JSON nesting (glTF JSON: twice this)
   int max_in_flight = 0;                  // flatten/deform requests at once; 0 = 2 per core
   double flatten_time_budget_ms = 20000;  // a flattening that takes longer fails (413)
+  // A request's parsing, flattening, deformation and subdivision together;
+  // past it the request fails (413). The encoding that follows is bounded by
+  // the output size limits instead.
+  double request_time_budget_ms = 60000;
   size_t cache_bytes = 256u << 20;
 };
 

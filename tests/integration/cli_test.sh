@@ -105,7 +105,7 @@ grep -q "retry 1" "$out/e" || fail "no retry report for a connection error"
 
 # 503: a server with one slot, held by a slow flattening; the client retries
 # until the slot frees, then succeeds.
-start_server busy --max-in-flight 1 --flatten-budget-ms 600000
+start_server busy --max-in-flight 1 --flatten-budget-ms 600000 --request-budget-ms 600000
 curl -sS -o /dev/null -H 'Content-Type: application/json' \
   -d '{"surface":{"kind":"wave"},"sampling":{"nu":40,"nv":40},"flatten":{"method":"paper"}}' \
   "$busy/v1/surfaces" &

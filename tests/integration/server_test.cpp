@@ -638,8 +638,8 @@ std::string SlowSide(int release_side) {
 // Checklist 9: past the work-in-flight limit, 503 with Retry-After at once
 // (no queue), and the server stays healthy.
 TEST(ServerConcurrency, OverloadIsShedWith503) {
-  ServerProcess server(
-      {"--log-level", "warn", "--max-in-flight", "1", "--flatten-budget-ms", "600000"});
+  ServerProcess server({"--log-level", "warn", "--max-in-flight", "1", "--flatten-budget-ms",
+                        "600000", "--request-budget-ms", "600000"});
   ASSERT_GT(server.port(), 0);
   // A slow request holds the only slot: the paper's gradient descent on a
   // 48 x 48 grid (about 2 s here in a release build).
@@ -671,11 +671,54 @@ TEST(ServerConcurrency, OverloadIsShedWith503) {
   EXPECT_EQ(slow_status.load(), 201);
 }
 
+// The per-request time budget: a flattening or a subdivision that would run
+// far past it stops there, and the request fails with 413 naming the budget
+// and the time spent.
+TEST(ServerLimits, ARequestPastItsTimeBudgetStopsWith413) {
+  ServerProcess server({"--log-level", "warn", "--request-budget-ms", "50"});
+  ASSERT_GT(server.port(), 0);
+  httplib::Client c("127.0.0.1", server.port());
+  c.set_read_timeout(60, 0);
+  auto info = c.Get("/v1/info");
+  ASSERT_TRUE(info);
+  EXPECT_EQ(json::parse(info->body).at("limits").at("request_time_budget_ms"), 50);
+  auto expect_stopped = [](const httplib::Result& r, double seconds) {
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 413) << r->body;
+    EXPECT_EQ(r->get_header_value("Content-Type"), "application/problem+json");
+    const json problem = json::parse(r->body);
+    EXPECT_EQ(problem.at("field"), "request");
+    EXPECT_EQ(problem.at("limit"), 50);
+    EXPECT_GE(problem.at("actual").get<double>(), 50);
+    EXPECT_NE(problem.at("detail").get<std::string>().find("time budget of 50 ms"),
+              std::string::npos);
+    EXPECT_LT(seconds, 2.0) << "the work was not stopped at the budget";
+  };
+  // The paper's gradient descent on a 48 x 48 grid takes about 2 s.
+  auto t0 = std::chrono::steady_clock::now();
+  auto r = c.Post("/v1/surfaces",
+                  R"({"surface":{"kind":"wave"},"sampling":{"nu":48,"nv":48},)"
+                  R"("flatten":{"method":"paper"}})",
+                  "application/json");
+  expect_stopped(r, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  // A 1e-7 tolerance on the wave: seconds of refinement (or millions of vertices).
+  t0 = std::chrono::steady_clock::now();
+  r = c.Post(
+      "/v1/deform",
+      {{"X-Surfdeform-Params", R"({"surface":{"kind":"wave"},"sampling":{"nu":16,"nv":16},)"
+                               R"("placement":{"scale":"fit"},"subdivision":{"tolerance":1e-7}})"}},
+      PlateObj(), "model/obj");
+  expect_stopped(r, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  auto h = c.Get("/healthz");
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->status, 200);
+}
+
 // Checklist 24: SIGTERM under load: readiness goes false, requests in flight
 // finish, the process exits 0.
 TEST(ServerShutdown, SigtermFinishesInFlightRequestsAndExitsZero) {
   ServerProcess server({"--log-level", "warn", "--drain-seconds", "0.5", "--max-in-flight", "32",
-                        "--flatten-budget-ms", "600000"});
+                        "--flatten-budget-ms", "600000", "--request-budget-ms", "600000"});
   ASSERT_GT(server.port(), 0);
   const int port = server.port();
   constexpr int kClients = 6;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <numbers>
 #include <random>
 
@@ -253,6 +254,39 @@ TEST(Subdivide, TheOutputSizeLimitIsAClearError) {
   s.tolerance = -1.0;
   EXPECT_EQ(Subdivide(plate, placed, map, OutsideMode::kError, s).status().field(),
             "subdivision.tolerance");
+}
+
+TEST(Subdivide, TheTimeBudgetStopsALongRefinement) {
+  const Target t = Figure(10, 16);
+  const Mesh plate = testing::ThinPlate(1.0, 1.0, 0.02);
+  const SheetMap map(*t.surface, t.sheet);
+  auto pl = ComputePlacement(map.locator(), t.sheet, plate.positions, Fit());
+  ASSERT_TRUE(pl.ok());
+  std::vector<Vec3> placed;
+  for (const Vec3& p : plate.positions) placed.push_back(pl->Apply(p));
+  SubdivisionOptions s = Adaptive(1e-4);
+  s.threads = 1;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto full = Subdivide(plate, placed, map, OutsideMode::kError, s);
+  const double full_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(full.ok()) << full.status().ToString();
+  ASSERT_GT(full_ms, 40.0) << "the refinement is too quick to test a budget: lower the tolerance";
+
+  s.time_budget_ms = full_ms / 8;
+  const auto t1 = std::chrono::steady_clock::now();
+  auto stopped = Subdivide(plate, placed, map, OutsideMode::kError, s);
+  const double stopped_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+  ASSERT_FALSE(stopped.ok());
+  EXPECT_EQ(stopped.status().code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(stopped.status().field(), "subdivision");
+  EXPECT_EQ(stopped.status().limit(), s.time_budget_ms);
+  EXPECT_GT(stopped.status().actual(), s.time_budget_ms);
+  EXPECT_LT(stopped_ms, full_ms / 2);  // it stopped, rather than finishing and then failing
+  s.time_budget_ms = -1;
+  EXPECT_EQ(Subdivide(plate, placed, map, OutsideMode::kError, s).status().field(),
+            "subdivision.time_budget_ms");
 }
 
 TEST(Subdivide, DeformMeshWithSubdivisionPlacesEveryVertexExactly) {
