@@ -633,10 +633,18 @@ void Subdivider::ComputeCellEstimates() {
         const Vec2 a = corners[k], b = corners[(k + 1) % 4];
         const Vec2 mid = 0.5 * (a + b);
         const Vec2 across = Vec2(-(b - a).y(), (b - a).x()).normalized() * step;
+        // The surface and its normal at the three points, once for both
+        // heights (the deformation is S + h N; as Deformed computes it).
+        Vec3 sp[3], nn[3];
+        const Vec2 at[3] = {mid, mid + across, mid - across};
+        for (int w = 0; w < 3; ++w) {
+          const SheetParameters pw = map_.Parameters(at[w], outside_, false, &hint);
+          const SurfacePoint sw = map_.surface().Evaluate(pw.uv.x(), pw.uv.y(), 1);
+          sp[w] = sw.p;
+          nn[w] = UnitNormal(sw);
+        }
         for (double h : {0.0, h_max}) {
-          const Vec3 f0 = Deformed(Vec3(mid.x(), mid.y(), h), &hint);
-          const Vec3 fp = Deformed(Vec3(mid.x() + across.x(), mid.y() + across.y(), h), &hint);
-          const Vec3 fm = Deformed(Vec3(mid.x() - across.x(), mid.y() - across.y(), h), &hint);
+          const Vec3 f0 = sp[0] + h * nn[0], fp = sp[1] + h * nn[1], fm = sp[2] + h * nn[2];
           e.kink = std::max(e.kink, ((fp - f0) - (f0 - fm)).norm() / step);
         }
       }
@@ -646,6 +654,10 @@ void Subdivider::ComputeCellEstimates() {
 
 bool Subdivider::Block(int a, int b, int c, std::array<int, 4>* cells) const {
   if (a < 0 || b < 0 || c < 0) return false;
+  if (a == b && b == c) {  // a face inside one cell: most faces of a fine model
+    *cells = {a, a, a, a};
+    return true;
+  }
   const int cu = locator_.nu() - 1;
   const int i0 = std::min({a % cu, b % cu, c % cu}), i1 = std::max({a % cu, b % cu, c % cu});
   const int j0 = std::min({a / cu, b / cu, c / cu}), j1 = std::max({a / cu, b / cu, c / cu});
