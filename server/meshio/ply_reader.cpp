@@ -264,6 +264,20 @@ size_t ReadFixedRecords(const std::vector<Property>& props, size_t count, BodyRe
   const std::string_view bytes = body->bytes();
   const size_t n = stride == 0 ? 0 : std::min(count, bytes.size() / stride);
   const bool swap = body->swapped();
+  // The common case, positions only as host-order floats: a tight loop.
+  if (fields.size() == 3 && !swap && fields[0].property->role == Role::kX &&
+      fields[1].property->role == Role::kY && fields[2].property->role == Role::kZ &&
+      fields[0].property->type == Type::kFloat32 && fields[1].property->type == Type::kFloat32 &&
+      fields[2].property->type == Type::kFloat32) {
+    for (size_t r = 0; r < n; ++r) {
+      const char* record = bytes.data() + r * stride;
+      float xyz[3];
+      for (int c = 0; c < 3; ++c) std::memcpy(&xyz[c], record + fields[c].offset, 4);
+      mesh->positions[r] = Vec3(xyz[0], xyz[1], xyz[2]);
+    }
+    body->Skip(n * stride);
+    return n;
+  }
   for (size_t r = 0; r < n; ++r) {
     const char* record = bytes.data() + r * stride;
     for (const Field& f : fields) {
