@@ -63,6 +63,20 @@ int main(int argc, char** argv) {
   surfdeform::http::HttpServer server(service, http_options);
   if (!server.Bind()) return 1;
   std::thread runner([&] { server.Run(); });
+  // The transport floor: a bare cpp-httplib server on loopback that answers a
+  // POST of the same body with as many bytes as the service's reply.
+  httplib::Server bare;
+  bare.set_tcp_nodelay(true);  // as surfdeform-server does
+  bare.Post("/echo", [](const httplib::Request& req, httplib::Response& res) {
+    res.set_content(std::string(std::stoul(req.get_header_value("X-Reply-Bytes")), 'x'),
+                    "application/octet-stream");
+  });
+  const int bare_port = bare.bind_to_any_port("127.0.0.1");
+  std::thread bare_runner([&] { bare.listen_after_bind(); });
+  httplib::Client bare_client("127.0.0.1", bare_port);
+  bare_client.set_keep_alive(true);
+  bare_client.set_tcp_nodelay(true);
+
   httplib::Client client("127.0.0.1", server.port());
   client.set_read_timeout(60, 0);
   client.set_keep_alive(true);
@@ -76,9 +90,9 @@ int main(int argc, char** argv) {
   const std::string id = json::parse(created->body).at("id");
   std::printf("surface: Figure 10 Bezier, 16x16, flattened once (%s)\n\n",
               created->get_header_value("Server-Timing").c_str());
-  std::printf("%-11s %-8s %8s %9s | %8s %8s %8s %8s %8s | %9s %10s\n", "model", "subdiv",
-              "vertices", "e2e ms", "parse", "deform", "subdiv", "encode", "other", "draco ms",
-              "e2e/draco");
+  std::printf("%-11s %-8s %8s %9s | %8s %8s %8s %8s %8s | %8s | %9s %10s\n", "model", "subdiv",
+              "vertices", "e2e ms", "parse", "deform", "subdiv", "encode", "other", "floor",
+              "draco ms", "e2e/draco");
 
   struct Model {
     const char* name;
@@ -101,7 +115,7 @@ int main(int argc, char** argv) {
       surfdeform::bench::DracoPeer peer(ply->body);
       if (!peer.ok()) return 1;
       // Request and peer alternate, so that the machine's drift hits both.
-      std::vector<double> e2e, draco, parse, deform, subdivide, encode;
+      std::vector<double> e2e, draco, parse, deform, subdivide, encode, floor;
       int vertices = 0;
       for (int k = 0; k < repeat + 2; ++k) {
         const auto t0 = Clock::now();
@@ -113,8 +127,15 @@ int main(int argc, char** argv) {
           return 1;
         }
         const double peer_ms = peer.EncodeMs();
+        const auto tf = Clock::now();
+        auto echo = bare_client.Post("/echo", {{"X-Reply-Bytes", std::to_string(r->body.size())}},
+                                     m.bytes, "application/octet-stream");
+        const double floor_ms =
+            std::chrono::duration<double, std::milli>(Clock::now() - tf).count();
+        if (!echo || echo->body.size() != r->body.size()) return 1;
         if (k < 2) continue;  // warm-up
         e2e.push_back(ms);
+        floor.push_back(floor_ms);
         draco.push_back(peer_ms);
         const std::string timing = r->get_header_value("Server-Timing");
         parse.push_back(Phase(timing, "parse"));
@@ -130,15 +151,19 @@ int main(int argc, char** argv) {
       const double total = median(e2e);
       const double other =
           total - median(parse) - median(deform) - median(subdivide) - median(encode);
-      std::printf("%-11s %-8s %8d %9.3f | %8.3f %8.3f %8.3f %8.3f %8.3f | %9.3f %9.2fx\n", m.name,
-                  mode, vertices, total, median(parse), median(deform), median(subdivide),
-                  median(encode), other, median(draco), total / median(draco));
+      std::printf("%-11s %-8s %8d %9.3f | %8.3f %8.3f %8.3f %8.3f %8.3f | %8.3f | %9.3f %9.2fx\n",
+                  m.name, mode, vertices, total, median(parse), median(deform), median(subdivide),
+                  median(encode), other, median(floor), median(draco), total / median(draco));
     }
   std::printf(
       "\ne2e: client-measured request time (loopback, keep-alive); parse/deform/encode: "
       "the server's Server-Timing; other: HTTP, multipart-free raw body, copies.\n"
+      "floor: a bare cpp-httplib server on loopback answering the same body with as many "
+      "bytes (the transport alone).\n"
       "draco ms: draco::Encoder on the decoded output, same settings (14 bits, speed 5).\n");
   server.Stop();
   runner.join();
+  bare.stop();
+  bare_runner.join();
   return 0;
 }
