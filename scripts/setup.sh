@@ -28,6 +28,7 @@ build_only=${SURFDEFORM_SETUP_BUILD_ONLY:-0}
 command -v node > /dev/null && command -v npm > /dev/null || packages+=(nodejs npm)
 if [[ $build_only != 1 ]]; then
   packages+=(chromium)  # the viewer's browser test
+  packages+=(nginx)     # the replica failover test runs docker/nginx.conf (no Docker needed)
 fi
 
 missing=()
@@ -45,6 +46,15 @@ else
   if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
   export DEBIAN_FRONTEND=noninteractive
   "${sudo_cmd[@]}" apt-get update -qq
+  # Debian's nginx package starts a system nginx on port 80 when installed;
+  # the tests run their own. Without a policy-rc.d (Docker images have one),
+  # deny service starts for the duration of the install.
+  policy=/usr/sbin/policy-rc.d
+  if [[ ! -e $policy ]]; then
+    printf '#!/bin/sh\nexit 101\n' | "${sudo_cmd[@]}" tee "$policy" > /dev/null
+    "${sudo_cmd[@]}" chmod 755 "$policy"
+    trap '"${sudo_cmd[@]}" rm -f "$policy"' EXIT  # removed however the install ends
+  fi
   "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 

@@ -1,0 +1,128 @@
+#!/usr/bin/env bash
+# Checklist 25: one replica killed behind nginx under load, and no client
+# request fails. Three surfdeform-server replicas on loopback behind Debian's
+# nginx running docker/nginx.conf, the shipped configuration, with only its
+# addresses changed (Docker's DNS name becomes the three loopback ports).
+# First, four clients send deformations for a bounded time and one replica is
+# killed with SIGKILL a second in; then four slower requests are sent at once
+# (two per surviving replica) and the replica serving two of them is killed
+# while they run. Every response must be 200 with the expected bytes.
+# Usage: replica_failover.sh SERVER_BINARY
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+server_bin=$1
+nginx_bin=$(command -v nginx || echo /usr/sbin/nginx)
+[[ -x $nginx_bin ]] || { echo "FAIL: nginx is not installed (scripts/setup.sh installs it)" >&2; exit 1; }
+out=$(mktemp -d)
+chmod 755 "$out"  # nginx's workers (user nobody) write their temporary files here
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill -9 "$p" 2> /dev/null || true; done
+  [[ -f $out/nginx.pid ]] && kill -9 "$(cat "$out/nginx.pid")" 2> /dev/null || true
+  rm -rf "$out"
+}
+trap cleanup EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+
+# Three replicas; each prints its port once listening.
+ports=()
+for r in 1 2 3; do
+  log="$out/replica$r.log"
+  "$server_bin" --host 127.0.0.1 --port 0 --log-level warn > "$log" &
+  pids+=($!)
+  disown
+  for _ in $(seq 200); do
+    grep -q '"listening"' "$log" 2> /dev/null && break
+    sleep 0.05
+  done
+  ports+=("$(sed -n 's/.*"port":\([0-9]*\).*/\1/p' "$log" | head -1)")
+  [[ -n ${ports[-1]} ]] || fail "replica $r did not start: $(cat "$log")"
+done
+
+# docker/nginx.conf with loopback addresses and this run's temporary paths.
+nginx_port=$(free_port)
+servers=""
+for p in "${ports[@]}"; do servers+="server 127.0.0.1:$p max_fails=2 fail_timeout=5s; "; done
+mkdir -p "$out/tmp"
+chmod 777 "$out/tmp"
+sed -e '/resolver 127.0.0.11/d' \
+  -e "s|server surfdeform:8080 max_fails=2 fail_timeout=5s;|$servers|" \
+  -e "s|listen 8080;|listen 127.0.0.1:$nginx_port;|" \
+  -e "s|^http {|http {\n  access_log off;\n  client_body_temp_path $out/tmp/body;\n  proxy_temp_path $out/tmp/proxy;\n  fastcgi_temp_path $out/tmp/fastcgi;\n  uwsgi_temp_path $out/tmp/uwsgi;\n  scgi_temp_path $out/tmp/scgi;|" \
+  -e 's|^worker_processes auto;|worker_processes 1;|' \
+  "$here/../../docker/nginx.conf" > "$out/nginx.conf"
+grep -q "127.0.0.1:${ports[2]}" "$out/nginx.conf" || fail "the upstream line of docker/nginx.conf changed: update this test"
+"$nginx_bin" -p "$out" -c "$out/nginx.conf" -g "pid $out/nginx.pid; error_log $out/nginx-error.log warn;" \
+  || fail "nginx did not start: $(cat "$out/nginx-error.log" 2> /dev/null)"
+base="http://127.0.0.1:$nginx_port"
+for _ in $(seq 100); do
+  curl -s -o /dev/null "$base/healthz" && break
+  sleep 0.05
+done
+
+# The paper's thin plate on an inline cylinder, subdivided to a fine
+# tolerance: ~40 ms of work each, so that every replica, the one killed too,
+# is in the middle of a request most of the time (a request nginx has already
+# sent is retried only because deformation is idempotent: non_idempotent in
+# proxy_next_upstream).
+plate="$out/plate.obj"
+python3 - "$plate" << 'EOF'
+import sys
+with open(sys.argv[1], "w") as f:
+    for k in range(8):
+        f.write("v %g %g %g\n" % (0.5 if k & 1 else -0.5, 0.25 if k & 2 else -0.25, 0.025 if k & 4 else -0.025))
+    f.write("f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n")
+EOF
+params='{"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180},"sampling":{"nu":16,"nv":16},"placement":{"scale":"fit"},"subdivision":{"tolerance":3e-4}}'
+slow_params=${params/3e-4/1e-4}  # ~4x the work
+post() {  # params, output file: prints the status code
+  curl -s -o "$2" -w '%{http_code}\n' -X POST -H "Content-Type: model/obj" -H "X-Surfdeform-Params: $1" \
+    --data-binary @"$plate" "$base/v1/deform"
+}
+[[ $(post "$params" "$out/reference.drc") == 200 ]] || fail "the first request through nginx failed"
+[[ $(post "$slow_params" "$out/slow-reference.drc") == 200 ]] || fail "the slow request failed"
+
+# Four clients, each for 3 s (at most 3000 requests); replica 2 dies at 1 s.
+client() {
+  local id=$1 end=$((SECONDS + 3)) n=0
+  while ((SECONDS < end && n < 3000)); do
+    post "$params" "$out/c$id.drc" >> "$out/codes$id"
+    cmp -s "$out/c$id.drc" "$out/reference.drc" || echo "different bytes" >> "$out/codes$id"
+    n=$((n + 1))
+  done
+}
+load=()
+for c in 1 2 3 4; do
+  client "$c" &
+  load+=($!)
+done
+sleep 1
+kill -9 "${pids[1]}"
+killed_at=$(date +%s.%N)
+for p in "${load[@]}"; do wait "$p"; done
+
+total=$(cat "$out"/codes* | wc -l)
+ok=$(cat "$out"/codes* | grep -c '^200$' || true)
+echo "under load: $total requests, $ok answered 200 (replica on port ${ports[1]} killed at 1 s)"
+((total >= 12)) || fail "only $total requests in 3 s: the load did not run"
+((ok == total)) || fail "$((total - ok)) of $total requests failed: $(cat "$out"/codes* | sort | uniq -c | tr '\n' ' ')"
+if curl -s -o /dev/null "http://127.0.0.1:${ports[1]}/healthz"; then fail "the killed replica still answers"; fi
+
+# In flight: nginx (one worker, round robin) gives two of four concurrent
+# slow requests to each surviving replica; the third replica dies while it
+# runs its two, which nginx must send again to the first.
+rm -f "$out"/codes*
+for c in 1 2 3 4; do
+  post "$slow_params" "$out/s$c.drc" > "$out/codes$c" &
+  load[c]=$!
+done
+sleep 0.05
+kill -9 "${pids[2]}"
+for c in 1 2 3 4; do wait "${load[c]}"; done
+for c in 1 2 3 4; do
+  [[ $(cat "$out/codes$c") == 200 ]] || fail "slow request $c: $(cat "$out/codes$c") after its replica died"
+  cmp -s "$out/s$c.drc" "$out/slow-reference.drc" || fail "slow request $c: different bytes"
+done
+curl -sf -o /dev/null "$base/healthz" || fail "nginx stopped answering"
+echo "replica failover: $total requests under load and 4 in flight on a dying replica, none failed"
