@@ -7,7 +7,6 @@
 #include <sstream>
 #include <string>
 
-size_t SURV;
 namespace surfdeform {
 namespace {
 
