@@ -408,24 +408,20 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
       SURFDEFORM_RETURN_IF_ERROR(CheckLimit("faces", e.count, limits.max_triangles));
       mesh.triangles.reserve(e.count);
     }
-    auto has = [&](const char* name) {
-      for (const Property& p : e.properties)
-        if (p.name == name) return true;
-      return false;
-    };
-    if (is_vertex) {
-      // Any component allocates its attribute (a file may name "ny" but no "nx").
-      if (has("nx") || has("ny") || has("nz")) mesh.normals.assign(e.count, Vec3::Zero());
-      if (has("s") || has("u") || has("texture_u") || has("texture_s") || has("t") || has("v") ||
-          has("texture_v") || has("texture_t")) {
-        mesh.uv0.assign(e.count, Vec2::Zero());
-      }
-      if (has("red") || has("green") || has("blue") || has("alpha")) {
-        mesh.colors.assign(e.count, Vec4(0, 0, 0, 1));
-      }
-    }
     std::vector<Property> props = e.properties;
     for (Property& p : props) p.role = RoleOf(p.name, is_vertex, is_face);
+    auto has = [&props](std::initializer_list<Role> roles) {
+      for (const Property& p : props)
+        if (std::find(roles.begin(), roles.end(), p.role) != roles.end()) return true;
+      return false;
+    };
+    // Any component allocates its attribute (a file may name "ny" but no "nx"),
+    // by the same roles that Assign writes.
+    if (has({Role::kNx, Role::kNy, Role::kNz})) mesh.normals.assign(e.count, Vec3::Zero());
+    if (has({Role::kU, Role::kV})) mesh.uv0.assign(e.count, Vec2::Zero());
+    if (has({Role::kRed, Role::kGreen, Role::kBlue, Role::kAlpha})) {
+      mesh.colors.assign(e.count, Vec4(0, 0, 0, 1));
+    }
     size_t r = 0;
     if (*encoding != Encoding::kAscii) {
       r = is_face ? ReadTriangleRecords(props, e.count, &body, &mesh)
