@@ -55,11 +55,19 @@ SheetParameters SheetMap::Parameters(const Vec2& ab, OutsideMode outside, bool w
   return r;
 }
 
-Vec3 SheetMap::Position(const Vec3& abh, OutsideMode outside, int* hint) const {
+void SheetMap::SurfaceAndNormal(const Vec2& ab, OutsideMode outside, int* hint, Vec3* point,
+                                Vec3* normal) const {
   if (outside == OutsideMode::kError) outside = OutsideMode::kExtrapolate;
-  const SheetParameters p = Parameters(abh.head<2>(), outside, false, hint);
+  const SheetParameters p = Parameters(ab, outside, false, hint);
   const SurfacePoint s = surface_.Evaluate(p.uv.x(), p.uv.y(), 1);
-  return s.p + abh.z() * UnitNormal(s);
+  *point = s.p;
+  *normal = UnitNormal(s);
+}
+
+Vec3 SheetMap::Position(const Vec3& abh, OutsideMode outside, int* hint) const {
+  Vec3 point, normal;
+  SurfaceAndNormal(abh.head<2>(), outside, hint, &point, &normal);
+  return point + abh.z() * normal;
 }
 
 Status OutsideSheetError(size_t count, size_t n, double worst) {

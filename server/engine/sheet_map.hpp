@@ -51,6 +51,11 @@ class SheetMap {
   // `outside` says otherwise (kError is taken as kExtrapolate here: callers
   // that must refuse outside points check Parameters first).
   Vec3 Position(const Vec3& abh, OutsideMode outside, int* hint) const;
+  // The surface point S and unit normal N under flat point `ab` (as Position
+  // takes `outside`): Position(a, b, h) = S + h N, for callers that need
+  // several heights at one point.
+  void SurfaceAndNormal(const Vec2& ab, OutsideMode outside, int* hint, Vec3* point,
+                        Vec3* normal) const;
 
   const FlatLocator& locator() const { return locator_; }
   const FlatSheet& sheet() const { return sheet_; }

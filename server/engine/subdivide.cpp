@@ -634,15 +634,10 @@ void Subdivider::ComputeCellEstimates() {
         const Vec2 mid = 0.5 * (a + b);
         const Vec2 across = Vec2(-(b - a).y(), (b - a).x()).normalized() * step;
         // The surface and its normal at the three points, once for both
-        // heights (the deformation is S + h N; as Deformed computes it).
+        // heights (the deformation is S + h N).
         Vec3 sp[3], nn[3];
         const Vec2 at[3] = {mid, mid + across, mid - across};
-        for (int w = 0; w < 3; ++w) {
-          const SheetParameters pw = map_.Parameters(at[w], outside_, false, &hint);
-          const SurfacePoint sw = map_.surface().Evaluate(pw.uv.x(), pw.uv.y(), 1);
-          sp[w] = sw.p;
-          nn[w] = UnitNormal(sw);
-        }
+        for (int w = 0; w < 3; ++w) map_.SurfaceAndNormal(at[w], outside_, &hint, &sp[w], &nn[w]);
         for (double h : {0.0, h_max}) {
           const Vec3 f0 = sp[0] + h * nn[0], fp = sp[1] + h * nn[1], fm = sp[2] + h * nn[2];
           e.kink = std::max(e.kink, ((fp - f0) - (f0 - fm)).norm() / step);
