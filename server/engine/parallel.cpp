@@ -1,8 +1,11 @@
 #include "engine/parallel.hpp"
 
+#include <algorithm>
+
 #if defined(__linux__)
 #include <pthread.h>
 #include <sched.h>
+#include <unistd.h>
 #endif
 
 namespace surfdeform::parallel_detail {
@@ -10,14 +13,15 @@ namespace surfdeform::parallel_detail {
 #if defined(__linux__)
 namespace {
 
-// The CPUs this process may run on, in order (read once: a container's cpuset
-// does not change under a running server).
+// The CPUs this process may run on, in order: the main thread's mask, not the
+// calling thread's (which would be a single CPU if it were a pinned helper);
+// read once (a container's cpuset does not change under a running server).
 const std::vector<int>& AllowedCpus() {
   static const std::vector<int> cpus = [] {
     std::vector<int> out;
     cpu_set_t set;
     CPU_ZERO(&set);
-    if (sched_getaffinity(0, sizeof set, &set) != 0) return out;
+    if (sched_getaffinity(getpid(), sizeof set, &set) != 0) return out;
     for (int c = 0; c < CPU_SETSIZE; ++c) {
       if (CPU_ISSET(c, &set)) out.push_back(c);
     }
