@@ -235,21 +235,22 @@ TEST(Subdivide, TheSameOutputWhateverTheThreadCount) {
   EXPECT_EQ(one.model.triangles, three.model.triangles);
 }
 
-// The placed coordinates of `m` fitted on the sheet (empty if it cannot be).
-std::vector<Vec3> PlacedWithFit(const SheetMap& map, const Target& t, const Mesh& m) {
-  auto pl = ComputePlacement(map.locator(), t.sheet, m.positions, Fit());
-  std::vector<Vec3> placed;
-  if (!pl.ok()) return placed;
-  for (const Vec3& p : m.positions) placed.push_back(pl->Apply(p));
-  return placed;
-}
-
-TEST(Subdivide, TheOutputSizeLimitIsAClearError) {
+// The thin plate fitted on Figure 10 (16 x 16), placed: the limit tests'
+// input.
+class SubdivideLimits : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    auto pl = ComputePlacement(map.locator(), t.sheet, plate.positions, Fit());
+    ASSERT_TRUE(pl.ok()) << pl.status().ToString();
+    for (const Vec3& p : plate.positions) placed.push_back(pl->Apply(p));
+  }
   const Target t = Figure(10, 16);
   const Mesh plate = testing::ThinPlate(1.0, 1.0, 0.02);
-  const SheetMap map(*t.surface, t.sheet);
-  const std::vector<Vec3> placed = PlacedWithFit(map, t, plate);
-  ASSERT_EQ(placed.size(), plate.positions.size());
+  const SheetMap map{*t.surface, t.sheet};
+  std::vector<Vec3> placed;
+};
+
+TEST_F(SubdivideLimits, TheOutputSizeLimitIsAClearError) {
   SubdivisionOptions s = Adaptive(1e-7);
   s.max_vertices = 500;
   auto r = Subdivide(plate, placed, map, OutsideMode::kError, s);
@@ -263,12 +264,7 @@ TEST(Subdivide, TheOutputSizeLimitIsAClearError) {
             "subdivision.tolerance");
 }
 
-TEST(Subdivide, TheTimeBudgetStopsALongRefinement) {
-  const Target t = Figure(10, 16);
-  const Mesh plate = testing::ThinPlate(1.0, 1.0, 0.02);
-  const SheetMap map(*t.surface, t.sheet);
-  const std::vector<Vec3> placed = PlacedWithFit(map, t, plate);
-  ASSERT_EQ(placed.size(), plate.positions.size());
+TEST_F(SubdivideLimits, TheTimeBudgetStopsALongRefinement) {
   SubdivisionOptions s = Adaptive(1e-4);
   s.threads = 1;
   const auto t0 = std::chrono::steady_clock::now();
