@@ -20,18 +20,14 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 
 # Starts a server with the given flags and sets the variable named $1 to its
 # base URL (not in a subshell: the cleanup must know the pid).
+source "$here/launch_server.sh"
 start_server() {
   local var=$1
   shift
-  local log="$out/server-$RANDOM.log"
-  "$server_bin" --host 127.0.0.1 --port 0 --log-level warn "$@" > "$log" &
-  pids+=($!)
+  launch_server "$server_bin" "$out/server-$RANDOM.log" "$@"
+  pids+=("$SERVER_PID")
   disown  # killed by the cleanup, quietly
-  for _ in $(seq 200); do
-    grep -q '"listening"' "$log" 2> /dev/null && break
-    sleep 0.05
-  done
-  printf -v "$var" 'http://127.0.0.1:%s' "$(sed -n 's/.*"port":\([0-9]*\).*/\1/p' "$log" | head -1)"
+  printf -v "$var" 'http://127.0.0.1:%s' "$SERVER_PORT"
 }
 
 # Runs the client, expecting exit code $1; stdout and stderr go to $out/o, $out/e.

@@ -14,14 +14,10 @@ cleanup() {
 }
 trap cleanup EXIT
 
-"$1" --host 127.0.0.1 --port 0 --log-level warn > "$out/server.log" &
-server_pid=$!
-for _ in $(seq 100); do
-  grep -q '"listening"' "$out/server.log" 2> /dev/null && break
-  sleep 0.05
-done
-port=$(sed -n 's/.*"port":\([0-9]*\).*/\1/p' "$out/server.log" | head -1)
-base="http://127.0.0.1:$port"
+source "$here/launch_server.sh"
+launch_server "$1" "$out/server.log"
+server_pid=$SERVER_PID
+base="http://127.0.0.1:$SERVER_PORT"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
 # Flatten the paper's Figure 10 surface once; deform by its id.

@@ -36,18 +36,14 @@ fail() {
 free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 
 # Three replicas; each prints its port once listening.
+source "$here/launch_server.sh"
 ports=()
 for r in 1 2 3; do
-  log="$out/replica$r.log"
-  "$server_bin" --host 127.0.0.1 --port 0 --log-level warn > "$log" &
-  pids+=($!)
+  launch_server "$server_bin" "$out/replica$r.log"
+  pids+=("$SERVER_PID")
   disown
-  for _ in $(seq 200); do
-    grep -q '"listening"' "$log" 2> /dev/null && break
-    sleep 0.05
-  done
-  ports+=("$(sed -n 's/.*"port":\([0-9]*\).*/\1/p' "$log" | head -1)")
-  [[ -n ${ports[-1]} ]] || fail "replica $r did not start: $(cat "$log")"
+  ports+=("$SERVER_PORT")
+  [[ -n $SERVER_PORT ]] || fail "replica $r did not start: $(cat "$out/replica$r.log")"
 done
 
 # docker/nginx.conf with loopback addresses and this run's temporary paths.

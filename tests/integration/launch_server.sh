@@ -1,0 +1,15 @@
+# Sourced by the integration scripts. launch_server BINARY LOG [FLAGS...]
+# starts surfdeform-server on a free loopback port in the background (log
+# level warn, output to LOG), waits until it says it is listening, and sets
+# SERVER_PID and SERVER_PORT (empty if it did not start within 10 s).
+launch_server() {
+  local bin=$1 log=$2
+  shift 2
+  "$bin" --host 127.0.0.1 --port 0 --log-level warn "$@" > "$log" &
+  SERVER_PID=$!
+  for _ in $(seq 200); do
+    grep -q '"listening"' "$log" 2> /dev/null && break
+    sleep 0.05
+  done
+  SERVER_PORT=$(sed -n 's/.*"port":\([0-9]*\).*/\1/p' "$log" | head -1)
+}
