@@ -45,8 +45,9 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
   DeformResult& result = *result_out;
   DeformStats& st = result.stats;
   const Mesh* source = &mesh;
-  std::vector<Vec3> placed;    // empty: placed on the fly
-  std::vector<Vec2> known_uv;  // the input vertices' parameters, if the subdivision found them
+  std::vector<Vec3> placed;  // empty: placed on the fly
+  // The deformed input vertices on the sheet, if the subdivision computed them.
+  std::vector<Vec3> known;
   if (subdivision != nullptr && subdivision->mode != SubdivisionMode::kOff &&
       !mesh.triangles.empty()) {
     const auto ts = std::chrono::steady_clock::now();
@@ -62,7 +63,7 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
     auto refined = Subdivide(mesh, placed, map, o.outside, so);
     if (!refined.ok()) return refined.status();
     st.subdivision = refined->stats;
-    known_uv = std::move(refined->input_uv);
+    known = std::move(refined->input_positions);
     if (refined->unchanged) {
       if (&result.mesh != &mesh) result.mesh = Mesh{};  // as without subdivision
     } else {
@@ -98,6 +99,11 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
   ParallelChunks(static_cast<int>(n), threads, [&](int chunk, int begin, int end) {
     int hint = -1;  // the previous vertex's cell
     for (int k = begin; k < end; ++k) {
+      if (!need_frame && static_cast<size_t>(k) < known.size() && !std::isnan(known[k].x())) {
+        out.positions[k] = known[k];  // on the sheet, deformed by the subdivision already
+        if (!known[k].allFinite() && bad[chunk] < 0) bad[chunk] = k;
+        continue;
+      }
       const Vec3 abh = placed.empty() ? pl.Apply(in.positions[k]) : placed[k];
       const double h = abh.z();
       // Vertices added by the subdivision inside faces whose corners are on
@@ -105,12 +111,7 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
       const bool added = static_cast<size_t>(k) >= n_input;
       const OutsideMode mode =
           added && o.outside == OutsideMode::kError ? OutsideMode::kExtrapolate : o.outside;
-      SheetParameters p;
-      if (!need_frame && static_cast<size_t>(k) < known_uv.size() && !std::isnan(known_uv[k].x())) {
-        p.uv = known_uv[k];  // located on the sheet by the subdivision already
-      } else {
-        p = map.Parameters(abh.head<2>(), mode, need_frame, &hint);
-      }
+      const SheetParameters p = map.Parameters(abh.head<2>(), mode, need_frame, &hint);
       if (p.outside && !added) {
         ++outside[chunk];
         worst[chunk] = std::max(worst[chunk], p.outside_distance);
@@ -118,8 +119,7 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
       if (p.outside && mode == OutsideMode::kError) continue;
       const SurfacePoint s = map.surface().Evaluate(p.uv.x(), p.uv.y(), need_frame ? 2 : 1);
       if (!need_frame) {
-        const Vec3 cross = s.su.cross(s.sv);
-        out.positions[k] = s.p + h * (cross / cross.norm());
+        out.positions[k] = OffsetAlongNormal(s, h);
       } else {
         Vec3 nrm;
         const Mat3 jac = DeformJacobian(s, p, h, &nrm);  // d(position)/d(a, b, h)

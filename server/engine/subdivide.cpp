@@ -176,7 +176,7 @@ class Subdivider {
   void Mark();
   std::vector<Chord> Chords(const Face& f) const;
   Status LocateVertices();
-  void DeformVertices();
+  std::vector<Vec3> InputPositions();
   bool ChordKept(const Face& f, const Chord& chord) const;
   bool ChordTurns(const Chord& chord, const GridNodeInside& node) const;
   void ComputeCellEstimates();
@@ -213,7 +213,7 @@ class Subdivider {
   std::vector<uint32_t> weld_;    // input vertex -> welded id (smallest index at its position)
   std::vector<Vec3> deformed_;    // input vertex -> deformed position
   std::vector<int> vertex_cell_;  // input vertex -> its sheet cell, -1 outside
-  std::vector<Vec2> vertex_uv_;   // input vertex -> its surface parameters, NaN outside
+  std::vector<char> on_sheet_;    // input vertex -> on the sheet
   std::vector<Edge> edges_;
   std::vector<uint32_t> edge_faces_;
   std::vector<Face> faces_;
@@ -709,8 +709,7 @@ bool Subdivider::Screen() {
       }
       // Measure: each edge at its quarter points and grid crossings, the
       // face at its centroid, against the straight pieces.
-      Vec3 f[3];
-      for (int k = 0; k < 3; ++k) f[k] = Deformed(placed_[tri[k]], &hint);
+      const Vec3 f[3] = {deformed_[tri[0]], deformed_[tri[1]], deformed_[tri[2]]};
       double dev = 0.0;
       for (int k = 0; k < 3 && dev <= kEdgeShare * tolerance_; ++k) {
         const Vec3 &a = placed_[tri[k]], &b = placed_[tri[(k + 1) % 3]];
@@ -1236,30 +1235,36 @@ Result<SubdivisionResult> Subdivider::Assemble() {
   return r;
 }
 
-// Each input vertex's cell (-1 off the sheet); with outside = error, the
-// count of those off the sheet and the worst distance, as the deformation
-// would report them (before any work is spent refining a model that fails).
+// Each input vertex's cell (-1 off the sheet) and deformed position (those
+// on the sheet as the deformation computes them, so that it can reuse them);
+// with outside = error, the count of those off the sheet and the worst
+// distance, as the deformation would report them (before any work is spent
+// refining a model that fails).
 Status Subdivider::LocateVertices() {
   const size_t n = mesh_.positions.size();
   vertex_cell_.resize(n);
-  vertex_uv_.resize(n);
+  deformed_.resize(n);
+  on_sheet_.resize(n);
   std::vector<size_t> outside(threads_, 0);
   std::vector<double> worst(threads_, 0.0);
   const bool exact = map_.sheet().method == "exact";
   ParallelChunks(static_cast<int>(n), threads_, [&](int chunk, int begin, int end) {
     int hint = -1;
     for (int k = begin; k < end; ++k) {
-      const Vec2 ab = placed_[k].head<2>();
-      const SheetParameters p = map_.Parameters(ab, OutsideMode::kError, false, &hint);
+      const Vec3& abh = placed_[k];
+      const SheetParameters p = map_.Parameters(abh.head<2>(), OutsideMode::kError, false, &hint);
+      on_sheet_[k] = !p.outside;
       if (p.outside) {
         ++outside[chunk];
         worst[chunk] = std::max(worst[chunk], p.outside_distance);
+        deformed_[k] = Deformed(abh, &hint);
+      } else {
+        deformed_[k] = OffsetAlongNormal(map_.surface().Evaluate(p.uv.x(), p.uv.y(), 1), abh.z());
       }
-      vertex_uv_[k] = p.outside ? Vec2::Constant(std::numeric_limits<double>::quiet_NaN()) : p.uv;
       int cell = p.cell;
       if (exact) {  // the closed-form inverse located nothing: find the cell
         SheetLocation l;
-        cell = locator_.Locate(ab, &l, &hint) ? locator_.CellIndex(l) : -1;
+        cell = locator_.Locate(abh.head<2>(), &l, &hint) ? locator_.CellIndex(l) : -1;
       }
       vertex_cell_[k] = cell;
     }
@@ -1274,13 +1279,14 @@ Status Subdivider::LocateVertices() {
   return Status::Ok();
 }
 
-void Subdivider::DeformVertices() {
-  const size_t n = mesh_.positions.size();
-  deformed_.resize(n);
-  ParallelChunks(static_cast<int>(n), threads_, [&](int, int begin, int end) {
-    int hint = -1;
-    for (int k = begin; k < end; ++k) deformed_[k] = Deformed(placed_[k], &hint);
-  });
+// What the deformation reuses: the positions of the input vertices on the
+// sheet, NaN for the others.
+std::vector<Vec3> Subdivider::InputPositions() {
+  std::vector<Vec3> out = std::move(deformed_);
+  for (size_t k = 0; k < out.size(); ++k) {
+    if (!on_sheet_[k]) out[k] = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  }
+  return out;
 }
 
 Result<SubdivisionResult> Subdivider::Run() {
@@ -1300,7 +1306,7 @@ Result<SubdivisionResult> Subdivider::Run() {
     r.stats = stats_;
     r.stats.vertices_after = r.stats.vertices_before;
     r.stats.triangles_after = r.stats.triangles_before;
-    r.input_uv = std::move(vertex_uv_);
+    r.input_positions = InputPositions();
     r.stats.time_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return r;
@@ -1308,9 +1314,9 @@ Result<SubdivisionResult> Subdivider::Run() {
   // Each phase is bounded by the input's size; the refinement, by the output
   // limits and the time budget.
   for (void (Subdivider::*phase)() :
-       {&Subdivider::Weld, &Subdivider::DeformVertices, &Subdivider::BuildEdges,
-        &Subdivider::FindEdgePoints, &Subdivider::ClassifyFaces, &Subdivider::FindFacePoints,
-        &Subdivider::Mark, &Subdivider::RefineEdges}) {
+       {&Subdivider::Weld, &Subdivider::BuildEdges, &Subdivider::FindEdgePoints,
+        &Subdivider::ClassifyFaces, &Subdivider::FindFacePoints, &Subdivider::Mark,
+        &Subdivider::RefineEdges}) {
     if (OutOfTime()) return TimeUp();
     (this->*phase)();
   }
@@ -1332,7 +1338,7 @@ Result<SubdivisionResult> Subdivider::Run() {
   }
   auto result = Assemble();
   if (!result.ok()) return result;
-  result->input_uv = std::move(vertex_uv_);
+  result->input_positions = InputPositions();
   result->stats.time_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return result;

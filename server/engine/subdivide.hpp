@@ -106,10 +106,10 @@ struct SubdivisionResult {
   bool unchanged = false;
   Mesh mesh;                 // model coordinates; the input's vertices first, in order
   std::vector<Vec3> placed;  // placed coordinates (a, b, h) of every vertex of `mesh`
-  // The surface parameters (u, v) of each input vertex, as the sheet map gives
-  // them (SheetMap::Parameters), found while screening; NaN for a vertex off
-  // the sheet. Empty when they were not computed (uniform mode, no faces).
-  std::vector<Vec2> input_uv;
+  // The deformed position of each input vertex on the sheet, computed as the
+  // deformation computes it (OffsetAlongNormal, from its exact parameters),
+  // for it to reuse; NaN for a vertex off the sheet. Empty when not computed.
+  std::vector<Vec3> input_positions;
   SubdivisionStats stats;
 };
 

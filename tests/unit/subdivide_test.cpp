@@ -308,7 +308,7 @@ TEST(Subdivide, DeformMeshWithSubdivisionPlacesEveryVertexExactly) {
 
 // A model finer than the grid that needs nothing (the screen passes) deforms
 // exactly as without subdivision, with and without normals to carry (the
-// deformation reuses the surface parameters the screen found).
+// deformation reuses the positions the subdivision computed).
 TEST(Subdivide, AModelThatNeedsNothingDeformsAsWithoutSubdivision) {
   const Target t = Figure(10, 16);
   const Mesh positions_only = testing::UvSphere(1.0, 96, 48);
