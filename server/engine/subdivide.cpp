@@ -120,7 +120,8 @@ struct Chord {
 // largest curvature at the cell's corners, the cell's twist (how far from a
 // parallelogram its flat quad is, which bends the inverse map), and the
 // largest kink across its sides (the jump of the deformation's derivative
-// there: the cell-wise map is only continuous across grid lines).
+// there: the cell-wise map is only continuous across grid lines; the
+// sheet's border is not crossed).
 struct CellEstimate {
   double curvature = -1.0;  // < 0: not computed
   double twist = 0.0;
@@ -571,8 +572,11 @@ void Subdivider::ComputeCellEstimates() {
   const int cu = nu - 1, cv = nv - 1;
   cells_.assign(static_cast<size_t>(cu) * cv, {});
   std::vector<char> seen(cells_.size(), 0);
-  double h_max = 0.0;
-  for (const Vec3& p : placed_) h_max = std::max(h_max, std::abs(p.z()));
+  double h_lo = kInf, h_hi = -kInf;  // the model's range of heights
+  for (const Vec3& p : placed_) {
+    h_lo = std::min(h_lo, p.z());
+    h_hi = std::max(h_hi, p.z());
+  }
   for (int c : vertex_cell_) {
     if (c < 0) continue;
     const int i = c % cu, j = c / cu;
@@ -586,65 +590,84 @@ void Subdivider::ComputeCellEstimates() {
   for (size_t c = 0; c < seen.size(); ++c) {
     if (seen[c]) needed.push_back(static_cast<int>(c));
   }
-  // The largest principal curvature at every node of those cells, once.
-  std::vector<int> nodes;
+  // The nodes and the interior sides of those cells, each once. Sides: the
+  // ones along u (node (i, j) to (i + 1, j)) are numbered i + cu j, the ones
+  // along v (node (i, j) to (i, j + 1)) cu nv + i + nu j. A side on the
+  // sheet's border has no kink: nothing inside a 2 x 2 block crosses it.
+  const int u_sides = cu * nv;
+  std::vector<int> nodes, sides;
   std::vector<char> node_seen(static_cast<size_t>(nu) * nv, 0);
+  std::vector<char> side_seen(static_cast<size_t>(u_sides) + nu * cv, 0);
+  auto add = [](std::vector<char>& flags, std::vector<int>& list, int index) {
+    if (!flags[index]) {
+      flags[index] = 1;
+      list.push_back(index);
+    }
+  };
   for (int c : needed) {
     const int i = c % cu, j = c / cu;
     for (int dj = 0; dj < 2; ++dj)
-      for (int di = 0; di < 2; ++di) {
-        const int node = i + di + nu * (j + dj);
-        if (!node_seen[node]) {
-          node_seen[node] = 1;
-          nodes.push_back(node);
-        }
-      }
+      for (int di = 0; di < 2; ++di) add(node_seen, nodes, i + di + nu * (j + dj));
+    if (j > 0) add(side_seen, sides, i + cu * j);
+    if (j + 1 < cv) add(side_seen, sides, i + cu * (j + 1));
+    if (i > 0) add(side_seen, sides, u_sides + i + nu * j);
+    if (i + 1 < cu) add(side_seen, sides, u_sides + i + 1 + nu * j);
   }
+  // The largest principal curvature at each node; the kink across each side:
+  // the second difference of F = S + h N across the side's middle, divided by
+  // the step, at the model's lowest and highest heights (|A + h B| is convex
+  // in h, so its largest value over the model's range is at one of them).
   std::vector<double> node_curvature(node_seen.size(), 0.0);
-  ParallelChunks(static_cast<int>(nodes.size()), threads_, [&](int, int begin, int end) {
-    for (int q = begin; q < end; ++q) {
-      const int node = nodes[q];
-      const SurfacePoint s = map_.surface().Evaluate(static_cast<double>(node % nu) / cu,
-                                                     static_cast<double>(node / nu) / cv, 2);
-      node_curvature[node] = MaxAbsCurvature(s);
-    }
-  });
-  ParallelChunks(static_cast<int>(needed.size()), threads_, [&](int, int begin, int end) {
+  std::vector<double> side_kink(side_seen.size(), 0.0);
+  auto kink = [&](int side, int* hint) {
+    const bool along_u = side < u_sides;
+    const int i = along_u ? side % cu : (side - u_sides) % nu;
+    const int j = along_u ? side / cu : (side - u_sides) / nu;
+    const Vec2& a = locator_.Node(i, j);
+    const Vec2& b = along_u ? locator_.Node(i + 1, j) : locator_.Node(i, j + 1);
+    const double step = 1e-4 * (b - a).norm();
+    const Vec2 across = Vec2(-(b - a).y(), (b - a).x()).normalized() * step;
+    const Vec2 mid = 0.5 * (a + b);
+    Vec3 sp[3], nn[3];
+    const Vec2 at[3] = {mid, mid + across, mid - across};
+    for (int w = 0; w < 3; ++w) map_.SurfaceAndNormal(at[w], outside_, hint, &sp[w], &nn[w]);
+    const Vec3 d_surface = (sp[1] - sp[0]) - (sp[0] - sp[2]);
+    const Vec3 d_normal = (nn[1] - nn[0]) - (nn[0] - nn[2]);
+    return std::max((d_surface + h_lo * d_normal).norm(), (d_surface + h_hi * d_normal).norm()) /
+           step;
+  };
+  const int node_count = static_cast<int>(nodes.size());
+  const int count = node_count + static_cast<int>(sides.size());
+  ParallelChunks(count, threads_, [&](int, int begin, int end) {
     int hint = -1;
     for (int q = begin; q < end; ++q) {
-      const int c = needed[q];
-      const int i = c % cu, j = c / cu;
-      double kappa = 0.0;
-      for (int dj = 0; dj < 2; ++dj)
-        for (int di = 0; di < 2; ++di)
-          kappa = std::max(kappa, node_curvature[i + di + nu * (j + dj)]);
-      const Vec2 &p00 = locator_.Node(i, j), &p10 = locator_.Node(i + 1, j);
-      const Vec2 &p01 = locator_.Node(i, j + 1), &p11 = locator_.Node(i + 1, j + 1);
-      const double side = locator_.CellMinSide(c);
-      CellEstimate& e = cells_[c];
-      e.curvature = kappa;
-      e.min_side = side;
-      e.twist = side > 0.0 ? (p00 - p10 + p11 - p01).norm() / (side * side) : kInf;
-      // Kinks: the second difference across each side's middle, at the
-      // surface and at the model's largest height.
-      const Vec2 corners[4] = {p00, p10, p11, p01};
-      const double step = 1e-4 * side;
-      for (int k = 0; k < 4; ++k) {
-        const Vec2 a = corners[k], b = corners[(k + 1) % 4];
-        const Vec2 mid = 0.5 * (a + b);
-        const Vec2 across = Vec2(-(b - a).y(), (b - a).x()).normalized() * step;
-        // The surface and its normal at the three points, once for both
-        // heights (the deformation is S + h N).
-        Vec3 sp[3], nn[3];
-        const Vec2 at[3] = {mid, mid + across, mid - across};
-        for (int w = 0; w < 3; ++w) map_.SurfaceAndNormal(at[w], outside_, &hint, &sp[w], &nn[w]);
-        for (double h : {0.0, h_max}) {
-          const Vec3 f0 = sp[0] + h * nn[0], fp = sp[1] + h * nn[1], fm = sp[2] + h * nn[2];
-          e.kink = std::max(e.kink, ((fp - f0) - (f0 - fm)).norm() / step);
-        }
+      if (q < node_count) {
+        const int node = nodes[q];
+        const SurfacePoint s = map_.surface().Evaluate(static_cast<double>(node % nu) / cu,
+                                                       static_cast<double>(node / nu) / cv, 2);
+        node_curvature[node] = MaxAbsCurvature(s);
+      } else {
+        const int side = sides[q - node_count];
+        side_kink[side] = kink(side, &hint);
       }
     }
   });
+  for (int c : needed) {
+    const int i = c % cu, j = c / cu;
+    double kappa = 0.0;
+    for (int dj = 0; dj < 2; ++dj)
+      for (int di = 0; di < 2; ++di)
+        kappa = std::max(kappa, node_curvature[i + di + nu * (j + dj)]);
+    const Vec2 &p00 = locator_.Node(i, j), &p10 = locator_.Node(i + 1, j);
+    const Vec2 &p01 = locator_.Node(i, j + 1), &p11 = locator_.Node(i + 1, j + 1);
+    const double side = locator_.CellMinSide(c);
+    CellEstimate& e = cells_[c];
+    e.curvature = kappa;
+    e.min_side = side;
+    e.twist = side > 0.0 ? (p00 - p10 + p11 - p01).norm() / (side * side) : kInf;
+    e.kink = std::max({side_kink[i + cu * j], side_kink[i + cu * (j + 1)],
+                       side_kink[u_sides + i + nu * j], side_kink[u_sides + i + 1 + nu * j]});
+  }
 }
 
 bool Subdivider::Block(int a, int b, int c, std::array<int, 4>* cells) const {
