@@ -116,18 +116,34 @@ struct Chord {
   std::vector<ChordEntry> entries;
 };
 
-// Per-cell data for the deviation estimate of small edges and faces: the
-// largest curvature at the cell's corners, the cell's twist (how far from a
-// parallelogram its flat quad is, which bends the inverse map), and the
-// largest kink across its sides (the jump of the deformation's derivative
-// there: the cell-wise map is only continuous across grid lines; the
-// sheet's border is not crossed).
+// The terms of the deviation estimate of small edges and faces, for a cell
+// or a 2 x 2 block of cells: the largest curvature at their corners, their
+// twist (how far from a parallelogram a flat quad is, which bends the inverse
+// map), and the largest kink across the sides inside the block (the jump of
+// the deformation's derivative there: the cell-wise map is only continuous
+// across grid lines).
 struct CellEstimate {
   double curvature = -1.0;  // < 0: not computed
   double twist = 0.0;
-  double kink = 0.0;
-  double min_side = 0.0;  // the cell's shortest side on the sheet
+  double kink = 0.0;      // 0 for a single cell
+  double min_side = 0.0;  // the shortest cell side on the sheet
 };
+
+// An estimate, with a safety factor of two, of how far a straight segment or
+// a triangle in these cells strays from the exact deformation: the second
+// derivatives of F(a, b, h) = S + h N there are about the surface's
+// curvature (of the offset surface at height h) plus the bending of the
+// cells' inverse bilinear maps, and d2F/(da dh) = dN/da about the curvature;
+// a straight piece of size l then strays (F'' l^2) / 8, plus j l / 4 for a
+// kink j of the map where it crosses from one cell to the next. `t`: the
+// terms of the cell or block the piece lies in.
+double EstimateOf(const CellEstimate& t, double length, double dh, double h) {
+  const double k = t.curvature;
+  const double second = k * (1.0 + std::abs(h) * k) + 2.0 * t.twist;
+  return 2.0 * ((second * length * length + 2.0 * k * length * std::abs(dh)) / 8.0 +
+                t.kink * length / 4.0);
+}
+
 // kLimitExceeded: the refinement would pass an output-size limit.
 Status OverLimit(const char* what, size_t limit, size_t actual) {
   return Status::LimitExceeded(
@@ -184,7 +200,9 @@ class Subdivider {
   // Cells a piece with corners in cells a, b, c lies in, when they are
   // within one 2 x 2 block (then the block), else an empty list.
   bool Block(int a, int b, int c, std::array<int, 4>* cells) const;
-  double BlockSide(const std::array<int, 4>& cells) const;  // shortest cell side
+  // The terms of a block: the largest curvature and twist of its cells, the
+  // largest kink across the sides inside it, the shortest side.
+  CellEstimate BlockTerms(const std::array<int, 4>& cells) const;
   bool Screen();  // true when no face needs anything: the mesh stays as it is
   // True once the time budget is spent (then every loop that checks stops).
   bool OutOfTime() {
@@ -219,6 +237,9 @@ class Subdivider {
   std::vector<uint32_t> edge_faces_;
   std::vector<Face> faces_;
   std::vector<CellEstimate> cells_;
+  // The kink across each interior side of the grid, sides numbered as in
+  // ComputeCellEstimates; 0 where not computed.
+  std::vector<double> side_kink_;
   std::vector<FaceOutput> outputs_;
   std::atomic<size_t> added_{0};  // points added so far, for the size limit
   std::atomic<bool> over_limit_{false};
@@ -324,7 +345,7 @@ void Subdivider::FindEdgePoints() {
       if (Block(c0, c1, c1, &block)) {
         // Within a 2 x 2 block of cells: as large as a cell, or not (the
         // same test as the screen's).
-        edge.cell_side = BlockSide(block);
+        edge.cell_side = BlockTerms(block).min_side;
         edge.long_edge = (b - a).norm() > edge.cell_side;
         if (c0 == c1) continue;  // inside one (convex) cell: no crossing
       }
@@ -618,7 +639,7 @@ void Subdivider::ComputeCellEstimates() {
   // the step, at the model's lowest and highest heights (|A + h B| is convex
   // in h, so its largest value over the model's range is at one of them).
   std::vector<double> node_curvature(node_seen.size(), 0.0);
-  std::vector<double> side_kink(side_seen.size(), 0.0);
+  side_kink_.assign(side_seen.size(), 0.0);
   auto kink = [&](int side, int* hint) {
     const bool along_u = side < u_sides;
     const int i = along_u ? side % cu : (side - u_sides) % nu;
@@ -648,7 +669,7 @@ void Subdivider::ComputeCellEstimates() {
         node_curvature[node] = MaxAbsCurvature(s);
       } else {
         const int side = sides[q - node_count];
-        side_kink[side] = kink(side, &hint);
+        side_kink_[side] = kink(side, &hint);
       }
     }
   });
@@ -665,8 +686,6 @@ void Subdivider::ComputeCellEstimates() {
     e.curvature = kappa;
     e.min_side = side;
     e.twist = side > 0.0 ? (p00 - p10 + p11 - p01).norm() / (side * side) : kInf;
-    e.kink = std::max({side_kink[i + cu * j], side_kink[i + cu * (j + 1)],
-                       side_kink[u_sides + i + nu * j], side_kink[u_sides + i + 1 + nu * j]});
   }
 }
 
@@ -682,12 +701,6 @@ bool Subdivider::Block(int a, int b, int c, std::array<int, 4>* cells) const {
   if (i1 - i0 > 1 || j1 - j0 > 1) return false;
   *cells = {i0 + cu * j0, i1 + cu * j0, i0 + cu * j1, i1 + cu * j1};
   return true;
-}
-
-double Subdivider::BlockSide(const std::array<int, 4>& cells) const {
-  double side = kInf;
-  for (int c : cells) side = std::min(side, cells_[c].min_side);
-  return side;
 }
 
 // A model finer than the grid, on a surface that bends gently at its scale
@@ -707,25 +720,30 @@ bool Subdivider::Screen() {
     std::vector<int> scratch;
     for (int fi = begin; fi < end && pass.load(std::memory_order_relaxed); ++fi) {
       const auto& tri = mesh_.triangles[fi];
-      std::array<int, 4> block;
-      if (!Block(vertex_cell_[tri[0]], vertex_cell_[tri[1]], vertex_cell_[tri[2]], &block)) {
+      const int c0 = vertex_cell_[tri[0]], c1 = vertex_cell_[tri[1]], c2 = vertex_cell_[tri[2]];
+      const Vec3 &p0 = placed_[tri[0]], &p1 = placed_[tri[1]], &p2 = placed_[tri[2]];
+      CellEstimate terms;
+      if (c0 == c1 && c1 == c2 && c0 >= 0) {  // most faces of a fine model
+        terms = cells_[c0];
+      } else {
+        std::array<int, 4> block;
+        if (!Block(c0, c1, c2, &block)) {
+          pass = false;
+          break;
+        }
+        terms = BlockTerms(block);
+      }
+      const double longest2 =
+          std::max({(p1 - p0).head<2>().squaredNorm(), (p2 - p1).head<2>().squaredNorm(),
+                    (p0 - p2).head<2>().squaredNorm()});
+      if (longest2 > terms.min_side * terms.min_side) {
         pass = false;
         break;
       }
-      const double side = BlockSide(block);
-      double longest = 0.0, h_lo = kInf, h_hi = -kInf, h_abs = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        const Vec3& p = placed_[tri[k]];
-        longest = std::max(longest, (placed_[tri[(k + 1) % 3]] - p).head<2>().norm());
-        h_lo = std::min(h_lo, p.z());
-        h_hi = std::max(h_hi, p.z());
-        h_abs = std::max(h_abs, std::abs(p.z()));
-      }
-      if (longest > side) {
-        pass = false;
-        break;
-      }
-      const double estimate = Estimate(block, longest, h_hi - h_lo, h_abs);
+      const double h_lo = std::min({p0.z(), p1.z(), p2.z()});
+      const double h_hi = std::max({p0.z(), p1.z(), p2.z()});
+      const double estimate = EstimateOf(terms, std::sqrt(longest2), h_hi - h_lo,
+                                         std::max(std::abs(h_lo), std::abs(h_hi)));
       if (estimate <= kSkipShare * tolerance_) {
         worst[chunk] = std::max(worst[chunk], estimate);
         continue;
@@ -766,25 +784,32 @@ bool Subdivider::Screen() {
   return true;
 }
 
-// An estimate, with a safety factor of two, of how far a straight segment or
-// a triangle in these cells strays from the exact deformation: the second
-// derivatives of F(a, b, h) = S + h N there are about the surface's
-// curvature (of the offset surface at height h) plus the bending of the
-// cells' inverse bilinear maps, and d2F/(da dh) = dN/da about the curvature;
-// a straight piece of size l then strays (F'' l^2) / 8, plus j l / 4 for a
-// kink j of the map where it crosses from one cell to the next.
+CellEstimate Subdivider::BlockTerms(const std::array<int, 4>& cells) const {
+  CellEstimate t = cells_[cells[0]];
+  for (int q = 1; q < 4; ++q) {
+    const CellEstimate& e = cells_[cells[q]];
+    t.curvature = std::max(t.curvature, e.curvature);
+    t.twist = std::max(t.twist, e.twist);
+    t.min_side = std::min(t.min_side, e.min_side);
+  }
+  // cells: (i0, j0), (i1, j0), (i0, j1), (i1, j1), with i1 - i0 and j1 - j0
+  // at most 1. Inside the block: the v-sides at i1 (when i1 > i0) and the
+  // u-sides at j1 (when j1 > j0).
+  const int nu = locator_.nu(), cu = nu - 1, u_sides = cu * locator_.nv();
+  const int i0 = cells[0] % cu, j0 = cells[0] / cu, i1 = cells[3] % cu, j1 = cells[3] / cu;
+  if (i1 > i0) {
+    t.kink =
+        std::max({t.kink, side_kink_[u_sides + i1 + nu * j0], side_kink_[u_sides + i1 + nu * j1]});
+  }
+  if (j1 > j0) {
+    t.kink = std::max({t.kink, side_kink_[i0 + cu * j1], side_kink_[i1 + cu * j1]});
+  }
+  return t;
+}
+
 double Subdivider::Estimate(const std::array<int, 4>& cells, double length, double dh,
                             double h) const {
-  double k = 0.0, twist = 0.0, kink = 0.0;
-  for (int c : cells) {
-    k = std::max(k, cells_[c].curvature);
-    twist = std::max(twist, cells_[c].twist);
-    kink = std::max(kink, cells_[c].kink);
-  }
-  const bool one_cell = cells[0] == cells[3];
-  const double second = k * (1.0 + std::abs(h) * k) + 2.0 * twist;
-  return 2.0 * ((second * length * length + 2.0 * k * length * std::abs(dh)) / 8.0 +
-                (one_cell ? 0.0 : kink * length / 4.0));
+  return EstimateOf(BlockTerms(cells), length, dh, h);
 }
 
 void Subdivider::RefineEdges() {
