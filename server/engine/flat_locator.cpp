@@ -111,6 +111,32 @@ FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv),
         for (int x = x0; x <= x1; ++x) bucket_cells_[count[x + bx_ * y]++] = i + (nu_ - 1) * j;
     }
   }
+  // The boundary's segments by bucket (each in the buckets its box meets).
+  std::vector<int> seg_count(static_cast<size_t>(bx_) * by_ + 1, 0);
+  auto segment_range = [&](const Segment& sg, int* x0, int* x1, int* y0, int* y1) {
+    const Vec2 a = (sg.a - bounds_.min()).cwiseQuotient(bucket_size_);
+    const Vec2 b = (sg.a + sg.ab - bounds_.min()).cwiseQuotient(bucket_size_);
+    *x0 = std::clamp(static_cast<int>(std::floor(std::min(a.x(), b.x()))), 0, bx_ - 1);
+    *x1 = std::clamp(static_cast<int>(std::floor(std::max(a.x(), b.x()))), 0, bx_ - 1);
+    *y0 = std::clamp(static_cast<int>(std::floor(std::min(a.y(), b.y()))), 0, by_ - 1);
+    *y1 = std::clamp(static_cast<int>(std::floor(std::max(a.y(), b.y()))), 0, by_ - 1);
+  };
+  for (const Segment& sg : boundary_) {
+    int x0, x1, y0, y1;
+    segment_range(sg, &x0, &x1, &y0, &y1);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) ++seg_count[x + bx_ * y + 1];
+  }
+  for (size_t b = 1; b < seg_count.size(); ++b) seg_count[b] += seg_count[b - 1];
+  boundary_start_ = seg_count;
+  boundary_segments_.resize(seg_count.back());
+  for (size_t k = 0; k < boundary_.size(); ++k) {
+    int x0, x1, y0, y1;
+    segment_range(boundary_[k], &x0, &x1, &y0, &y1);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x)
+        boundary_segments_[seg_count[x + bx_ * y]++] = static_cast<int>(k);
+  }
 }
 
 bool FlatLocator::TryCell(int cell, const Vec2& p, SheetLocation* out) const {
@@ -174,10 +200,38 @@ SheetLocation FlatLocator::NearestOnBoundary(const Vec2& p, double* distance) co
 
 bool FlatLocator::BoundaryWithin(const Vec2& p, double distance) const {
   const double limit = distance * distance;
-  for (const Segment& s : boundary_) {
+  auto near = [&](const Segment& s) {
     const Vec2 ap = p - s.a;
     const double w = std::clamp(ap.dot(s.ab) * s.inv_len2, 0.0, 1.0);
-    if ((ap - w * s.ab).squaredNorm() < limit) return true;
+    return (ap - w * s.ab).squaredNorm() < limit;
+  };
+  // Only the segments listed in the buckets that meet the square around p
+  // (every segment lies inside the bounds, so the range is clamped to them);
+  // all of them when that square covers more buckets than there are segments.
+  const Vec2 lo = (p - bounds_.min()).array() - distance;
+  const Vec2 hi = (p - bounds_.min()).array() + distance;
+  const double x0 = std::floor(lo.x() / bucket_size_.x()),
+               x1 = std::floor(hi.x() / bucket_size_.x());
+  const double y0 = std::floor(lo.y() / bucket_size_.y()),
+               y1 = std::floor(hi.y() / bucket_size_.y());
+  if (!(x1 >= 0.0 && y1 >= 0.0 && x0 < bx_ && y0 < by_)) return false;  // no segment that near
+  const double span = (std::min(x1, bx_ - 1.0) - std::max(x0, 0.0) + 1.0) *
+                      (std::min(y1, by_ - 1.0) - std::max(y0, 0.0) + 1.0);
+  if (!(span <= static_cast<double>(boundary_.size()))) {
+    for (const Segment& s : boundary_) {
+      if (near(s)) return true;
+    }
+    return false;
+  }
+  const int bx0 = std::max(static_cast<int>(x0), 0), bx1 = std::min(static_cast<int>(x1), bx_ - 1);
+  const int by0 = std::max(static_cast<int>(y0), 0), by1 = std::min(static_cast<int>(y1), by_ - 1);
+  for (int y = by0; y <= by1; ++y) {
+    for (int x = bx0; x <= bx1; ++x) {
+      const int b = x + bx_ * y;
+      for (int k = boundary_start_[b]; k < boundary_start_[b + 1]; ++k) {
+        if (near(boundary_[boundary_segments_[k]])) return true;
+      }
+    }
   }
   return false;
 }

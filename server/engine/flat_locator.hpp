@@ -94,6 +94,9 @@ class FlatLocator {
   Vec2 bucket_size_ = Vec2::Ones();
   std::vector<int> bucket_start_;  // CSR: cells of bucket b are
   std::vector<int> bucket_cells_;  // bucket_cells_[bucket_start_[b] .. bucket_start_[b+1])
+  // CSR: the boundary segments (indices into boundary_) in each bucket.
+  std::vector<int> boundary_start_;
+  std::vector<int> boundary_segments_;
 };
 
 }  // namespace surfdeform

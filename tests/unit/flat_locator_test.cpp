@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numbers>
+#include <random>
 
 #include "engine/surface_spec.hpp"
 #include "support/surface_file.hpp"
@@ -50,6 +52,41 @@ TEST(FlatLocator, PointsOutsideAreNotLocatedAndMeasured) {
   EXPECT_NEAR(d, 0.2, 1e-12);
   EXPECT_NEAR(locator.Parameters(q).x(), 1.0, 1e-12);
   EXPECT_NEAR(locator.Parameters(q).y(), 0.5, 1e-12);
+}
+
+// The fit's margin test looks only at the boundary segments bucketed near
+// the point: it must agree with the distance to the whole boundary, for
+// points inside, outside and far off the sheet, and distances from tiny to
+// larger than the sheet (where it falls back to every segment).
+TEST(FlatLocator, BoundaryWithinAgreesWithTheNearestBoundaryPoint) {
+  const FlatSheet sheets[] = {
+      Sheet(testing::LoadBezierFile(testing::DataPath("figure10.json")), 16),
+      Sheet(ConeSpec{1.0, 0.3, 1.0, 240.0, {}}, 24)};  // an annulus sector: a curved outline
+  std::mt19937 rng(7);
+  int near = 0, far = 0;
+  for (const FlatSheet& sheet : sheets) {
+    FlatLocator locator(sheet);
+    const Eigen::AlignedBox2d& box = locator.bounds();
+    const double size = box.diagonal().norm();
+    std::uniform_real_distribution<double> x(box.min().x() - 0.3 * size,
+                                             box.max().x() + 0.3 * size);
+    std::uniform_real_distribution<double> y(box.min().y() - 0.3 * size,
+                                             box.max().y() + 0.3 * size);
+    std::uniform_real_distribution<double> scale(-4.0, 0.5);  // distance: 1e-4 to 3 sheet sizes
+    for (int k = 0; k < 20000; ++k) {
+      const Vec2 p(x(rng), y(rng));
+      double exact;
+      locator.NearestOnBoundary(p, &exact);
+      const double d = size * std::pow(10.0, scale(rng));
+      if (std::abs(exact - d) <= 1e-9 * size) continue;  // a tie: either answer is right
+      const bool want = exact < d;
+      ASSERT_EQ(locator.BoundaryWithin(p, d), want)
+          << "p = (" << p.x() << ", " << p.y() << "), distance " << d << ", exact " << exact;
+      (want ? near : far) += 1;
+    }
+  }
+  EXPECT_GT(near, 1000);  // both answers were exercised
+  EXPECT_GT(far, 1000);
 }
 
 }  // namespace
