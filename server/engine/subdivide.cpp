@@ -171,6 +171,7 @@ class Subdivider {
       tolerance_ = 1e-3 * locator_.bounds().diagonal().norm();
     }
     refine_ = !uniform_ && tolerance_ > 0.0;
+    positions_reused_ = mesh.normals.empty() && mesh.tangents.empty();
   }
 
   Result<SubdivisionResult> Run();
@@ -193,6 +194,7 @@ class Subdivider {
   void Mark();
   std::vector<Chord> Chords(const Face& f) const;
   Status LocateVertices();
+  void DeformVertices();
   std::vector<Vec3> InputPositions();
   bool ChordKept(const Face& f, const Chord& chord) const;
   bool ChordTurns(const Chord& chord, const GridNodeInside& node) const;
@@ -229,8 +231,12 @@ class Subdivider {
   bool refine_ = false;
   double tolerance_ = 0.0;
 
-  std::vector<uint32_t> weld_;    // input vertex -> welded id (smallest index at its position)
+  std::vector<uint32_t> weld_;  // input vertex -> welded id (smallest index at its position)
+  // The deformation reuses the input vertices' positions (it has no normals
+  // or tangents to carry, which need the map's Jacobian too).
+  bool positions_reused_ = false;
   std::vector<Vec3> deformed_;    // input vertex -> deformed position
+  std::vector<Vec2> vertex_uv_;   // input vertex -> its parameters, when not reused
   std::vector<int> vertex_cell_;  // input vertex -> its sheet cell, -1 outside
   std::vector<char> on_sheet_;    // input vertex -> on the sheet
   std::vector<Edge> edges_;
@@ -750,7 +756,10 @@ bool Subdivider::Screen() {
       }
       // Measure: each edge at its quarter points and grid crossings, the
       // face at its centroid, against the straight pieces.
-      const Vec3 f[3] = {deformed_[tri[0]], deformed_[tri[1]], deformed_[tri[2]]};
+      Vec3 f[3];
+      for (int k = 0; k < 3; ++k) {
+        f[k] = positions_reused_ ? deformed_[tri[k]] : Deformed(placed_[tri[k]], &hint);
+      }
       double dev = 0.0;
       for (int k = 0; k < 3 && dev <= kEdgeShare * tolerance_; ++k) {
         const Vec3 &a = placed_[tri[k]], &b = placed_[tri[(k + 1) % 3]];
@@ -1283,16 +1292,23 @@ Result<SubdivisionResult> Subdivider::Assemble() {
   return r;
 }
 
-// Each input vertex's cell (-1 off the sheet) and deformed position (those
-// on the sheet as the deformation computes them, so that it can reuse them);
-// with outside = error, the count of those off the sheet and the worst
+// Each input vertex's cell (-1 off the sheet) and either its deformed
+// position (those on the sheet as the deformation computes them, so that it
+// can reuse them: when the mesh has no normals or tangents to carry) or its
+// surface parameters (for DeformVertices, when the refinement needs the
+// positions: the deformation, which needs the map's Jacobian as well, starts
+// over); with outside = error, the count of those off the sheet and the worst
 // distance, as the deformation would report them (before any work is spent
 // refining a model that fails).
 Status Subdivider::LocateVertices() {
   const size_t n = mesh_.positions.size();
   vertex_cell_.resize(n);
-  deformed_.resize(n);
   on_sheet_.resize(n);
+  if (positions_reused_) {
+    deformed_.resize(n);
+  } else {
+    vertex_uv_.resize(n);
+  }
   std::vector<size_t> outside(threads_, 0);
   std::vector<double> worst(threads_, 0.0);
   const bool exact = map_.sheet().method == "exact";
@@ -1305,6 +1321,10 @@ Status Subdivider::LocateVertices() {
       if (p.outside) {
         ++outside[chunk];
         worst[chunk] = std::max(worst[chunk], p.outside_distance);
+      }
+      if (!positions_reused_) {
+        vertex_uv_[k] = p.uv;
+      } else if (p.outside) {
         deformed_[k] = Deformed(abh, &hint);
       } else {
         deformed_[k] = OffsetAlongNormal(map_.surface().Evaluate(p.uv.x(), p.uv.y(), 1), abh.z());
@@ -1327,9 +1347,29 @@ Status Subdivider::LocateVertices() {
   return Status::Ok();
 }
 
+// The deformed input vertices, for the refinement, unless LocateVertices
+// computed them.
+void Subdivider::DeformVertices() {
+  if (positions_reused_) return;
+  const size_t n = mesh_.positions.size();
+  deformed_.resize(n);
+  ParallelChunks(static_cast<int>(n), threads_, [&](int, int begin, int end) {
+    int hint = -1;
+    for (int k = begin; k < end; ++k) {
+      const Vec3& abh = placed_[k];
+      deformed_[k] =
+          on_sheet_[k]
+              ? OffsetAlongNormal(map_.surface().Evaluate(vertex_uv_[k].x(), vertex_uv_[k].y(), 1),
+                                  abh.z())
+              : Deformed(abh, &hint);
+    }
+  });
+}
+
 // What the deformation reuses: the positions of the input vertices on the
-// sheet, NaN for the others.
+// sheet, NaN for the others; none when it will not reuse them.
 std::vector<Vec3> Subdivider::InputPositions() {
+  if (!positions_reused_) return {};
   std::vector<Vec3> out = std::move(deformed_);
   for (size_t k = 0; k < out.size(); ++k) {
     if (!on_sheet_[k]) out[k] = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
@@ -1362,9 +1402,9 @@ Result<SubdivisionResult> Subdivider::Run() {
   // Each phase is bounded by the input's size; the refinement, by the output
   // limits and the time budget.
   for (void (Subdivider::*phase)() :
-       {&Subdivider::Weld, &Subdivider::BuildEdges, &Subdivider::FindEdgePoints,
-        &Subdivider::ClassifyFaces, &Subdivider::FindFacePoints, &Subdivider::Mark,
-        &Subdivider::RefineEdges}) {
+       {&Subdivider::Weld, &Subdivider::DeformVertices, &Subdivider::BuildEdges,
+        &Subdivider::FindEdgePoints, &Subdivider::ClassifyFaces, &Subdivider::FindFacePoints,
+        &Subdivider::Mark, &Subdivider::RefineEdges}) {
     if (OutOfTime()) return TimeUp();
     (this->*phase)();
   }
