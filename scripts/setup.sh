@@ -20,14 +20,16 @@ packages=(
   clang-14 libclang-rt-14-dev  # libFuzzer for the mesh import fuzzer (tests/fuzz)
 )
 # npm installs the web viewer's three.js (client/web) and, for the tests, the
-# Khronos glTF validator and playwright-core (which drives Debian's Chromium:
-# no browser download). A machine that already has node and npm (e.g. Node 20)
+# Khronos glTF validator and puppeteer-core (which drives Debian's Chromium and
+# Firefox ESR: no browser download). A machine that already has node and npm (e.g. Node 20)
 # keeps them. SURFDEFORM_SETUP_BUILD_ONLY=1 (the Docker image's build stage)
 # skips what only the tests need.
 build_only=${SURFDEFORM_SETUP_BUILD_ONLY:-0}
 command -v node > /dev/null && command -v npm > /dev/null || packages+=(nodejs npm)
 if [[ $build_only != 1 ]]; then
-  packages+=(chromium)  # the viewer's browser test
+  # The viewer's browser tests: Firefox runs on an xvfb display (xvfb-run needs
+  # xauth, only recommended), its WebGL on Mesa's software renderer.
+  packages+=(chromium firefox-esr xvfb xauth libgl1-mesa-dri)
   packages+=(nginx)     # the replica failover test runs docker/nginx.conf (no Docker needed)
 fi
 
@@ -69,5 +71,5 @@ npm_ci() {  # folder, a package that shows it is installed
 npm_ci client/web three
 if [[ $build_only != 1 ]]; then
   npm_ci tests/gltf gltf-validator
-  npm_ci tests/browser playwright-core
+  npm_ci tests/browser puppeteer-core
 fi

@@ -1,22 +1,50 @@
-// The web viewer in a real browser: Debian's Chromium driven by playwright-core
-// loads the page from the real server, deforms the bundled bunny, checks that
-// the 3D canvas shows the model (its pixels, not the DOM), switches surface
-// and model, drags the footprint, uploads a broken mesh and expects the
-// server's error on the page, and saves screenshots as test artifacts.
-// Nothing may be fetched from anywhere but the server (no CDN).
-// Usage: node viewer_test.mjs SERVER_BINARY ARTIFACT_DIR
+// The web viewer in a real browser: Debian's Chromium (DevTools protocol) or
+// Firefox ESR (WebDriver BiDi), driven by puppeteer-core, loads the page from
+// the real server, deforms the bundled bunny, checks that the 3D canvas shows
+// the model (its pixels, not the DOM), switches surface and model, drags the
+// footprint, uploads a broken mesh and expects the server's error on the
+// page, and saves screenshots as test artifacts. Nothing may be fetched from
+// anywhere but the server (no CDN).
+// Usage: node viewer_test.mjs SERVER_BINARY ARTIFACT_DIR [chromium|firefox]
+// Firefox needs a display for WebGL (headless Firefox has no GL driver here):
+// ctest runs it under xvfb-run.
 import { spawn } from 'node:child_process';
-import { mkdirSync } from 'node:fs';
+import { mkdirSync, writeFileSync } from 'node:fs';
 import path from 'node:path';
-import { chromium } from 'playwright-core';
+import puppeteer from 'puppeteer-core';
 
-const [serverBin, artifacts] = process.argv.slice(2);
+const [serverBin, artifacts, browserName = 'chromium'] = process.argv.slice(2);
 mkdirSync(artifacts, { recursive: true });
 const failures = [];
 const check = (ok, what) => {
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+  console.log(`${ok ? 'ok  ' : 'FAIL'} [${browserName}] ${what}`);
   if (!ok) failures.push(what);
 };
+const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+
+const launchOptions = {
+  chromium: {
+    browser: 'chrome',
+    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+    headless: true,
+    args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+           '--disable-background-networking', '--disable-component-update', '--disable-sync',
+           '--no-first-run', '--disable-quic'],
+  },
+  firefox: {
+    browser: 'firefox',
+    executablePath: process.env.FIREFOX || '/usr/bin/firefox-esr',
+    headless: false,  // on xvfb's display: WebGL through Mesa's software renderer
+    // WebGL on a software renderer is on Firefox's blocklist; no update or
+    // telemetry traffic (the page must fetch from the server only).
+    extraPrefsFirefox: { 'webgl.force-enabled': true, 'app.update.enabled': false,
+                         'datareporting.policy.dataSubmissionEnabled': false },
+  },
+}[browserName];
+if (!launchOptions) {
+  console.error(`unknown browser ${browserName}: chromium or firefox`);
+  process.exit(2);
+}
 
 const server = spawn(serverBin, ['--host', '127.0.0.1', '--port', '0', '--log-level', 'warn'],
                      { stdio: ['ignore', 'pipe', 'inherit'] });
@@ -32,14 +60,11 @@ const port = await new Promise((resolve, reject) => {
 });
 const base = `http://127.0.0.1:${port}`;
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-         '--disable-background-networking', '--disable-component-update', '--disable-sync',
-         '--no-first-run', '--disable-quic'],
-});
+const browser = await puppeteer.launch(launchOptions);
 try {
-  const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
+  console.log(`browser: ${await browser.version()}`);
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1400, height: 900 });
   const foreign = [];
   const pageErrors = [];
   page.on('request', (r) => {
@@ -48,10 +73,10 @@ try {
   });
   page.on('pageerror', (e) => pageErrors.push(String(e)));
   const shot = (name) => page.screenshot({ path: path.join(artifacts, `${name}.png`) });
+  const text = (selector) => page.$eval(selector, (e) => e.textContent);
   const settled = async (state, what) => {
     try {
-      await page.waitForFunction(
-        (s) => document.body.dataset.state === s, state, { timeout: 90000 });
+      await page.waitForFunction((s) => document.body.dataset.state === s, { timeout: 90000 }, state);
       return true;
     } catch {
       check(false, `${what}: state ${await page.evaluate(() => document.body.dataset.state)}, ` +
@@ -65,21 +90,20 @@ try {
 
   await page.goto(base + '/');
   if (await settled('ready', 'the bunny on Figure 10')) {
-    await page.waitForTimeout(300);  // a frame or two after the model arrived
+    await sleep(300);  // a frame or two after the model arrived
     const s = await stats();
     check(s && s.input_format === 'ply' && s.triangles >= 75408, `bunny deformed (${s && s.triangles} triangles)`);
     const c = await coverage();
     check(c > 0.01, `the 3D canvas shows the model (${(100 * c).toFixed(1)}% of its pixels)`);
-    const quality = await page.textContent('#quality');
-    check(/stress/.test(quality), 'flatten quality shown');
+    check(/stress/.test(await text('#quality')), 'flatten quality shown');
     await shot('bunny-figure10');
   }
 
-  await page.selectOption('#preset', 'cylinder');
-  await page.selectOption('#sample', 'plate');
-  await page.waitForTimeout(500);
+  await page.select('#preset', 'cylinder');
+  await page.select('#sample', 'plate');
+  await sleep(500);
   if (await settled('ready', 'the plate on a cylinder')) {
-    await page.waitForTimeout(300);
+    await sleep(300);
     const s = await stats();
     check(s && s.subdivision.vertices_added > 0,
           `the plate follows the cylinder (${s && s.subdivision.vertices_added} vertices added)`);
@@ -87,37 +111,48 @@ try {
     await shot('plate-cylinder');
   }
 
-  // Halve the scale (the fit fills the sheet), then drag the footprint on the
-  // sheet: the model is deformed again where it lands.
+  // Halve the scale (the fit fills the sheet), typed into the field as a
+  // person would, then drag the footprint on the sheet: the model is deformed
+  // again where it lands.
   const fitted = await page.evaluate(() => window.surfdeformViewer.state.placement.scale);
-  await page.fill('#scale', String(fitted / 2));
-  await page.press('#scale', 'Enter');
-  await page.waitForTimeout(300);
+  await page.focus('#scale');
+  await page.keyboard.down('Control');
+  await page.keyboard.press('KeyA');
+  await page.keyboard.up('Control');
+  await page.keyboard.type(String(fitted / 2));
+  await page.keyboard.press('Enter');
+  await sleep(300);
   await settled('ready', 'at half the scale');
   const before = await page.evaluate(() => [...window.surfdeformViewer.state.placement.center]);
-  const box = await page.locator('#sheet').boundingBox();
+  const box = await (await page.$('#sheet')).boundingBox();
   await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
   await page.mouse.down();
   await page.mouse.move(box.x + box.width / 2 + 40, box.y + box.height / 2, { steps: 5 });
   await page.mouse.up();
-  await page.waitForTimeout(400);
+  await sleep(400);
   if (await settled('ready', 'after dragging the footprint')) {
     const center = await page.evaluate(() => window.surfdeformViewer.state.placement.center);
     const s = await stats();
     check(center[0] > before[0] + 0.05 && Math.abs(center[1] - before[1]) < 0.05,
           `the footprint moved right (centre ${before.map((x) => x.toFixed(2))} -> ${center.map((x) => x.toFixed(2))})`);
-    check(s.placement.scale === fitted / 2, 'deformed at the scale the person chose');
+    check(s.placement.scale === fitted / 2, `deformed at the scale the person chose (${s.placement.scale})`);
     await shot('plate-moved');
   }
 
-  // A broken upload: the server's problem detail appears on the page.
-  await page.setInputFiles('#upload', {
-    name: 'broken.obj', mimeType: 'text/plain', buffer: Buffer.from('v 0 0 0\nf 1 2 99999\n'),
-  });
+  // A broken upload through the file input: the server's problem detail
+  // appears on the page.
+  const broken = path.join(artifacts, 'broken.obj');
+  writeFileSync(broken, 'v 0 0 0\nf 1 2 99999\n');
+  await (await page.$('#upload')).uploadFile(broken);
   if (await settled('error', 'a broken upload')) {
-    const text = await page.textContent('#error');
-    check(/422/.test(text) && /mesh/i.test(text), `the server's error is shown: ${text.trim().slice(0, 120)}`);
-    check(await page.isVisible('#error'), 'the error box is visible');
+    const message = await text('#error');
+    check(/422/.test(message) && /mesh/i.test(message),
+          `the server's error is shown: ${message.trim().slice(0, 120)}`);
+    const visible = await page.$eval('#error', (e) => {
+      const r = e.getBoundingClientRect();
+      return getComputedStyle(e).visibility !== 'hidden' && r.width > 0 && r.height > 0;
+    });
+    check(visible, 'the error box is visible');
     await shot('broken-upload');
   }
 
@@ -131,4 +166,4 @@ if (failures.length) {
   console.error(`${failures.length} check(s) failed; screenshots in ${artifacts}`);
   process.exit(1);
 }
-console.log(`viewer: all checks passed; screenshots in ${artifacts}`);
+console.log(`viewer in ${browserName}: all checks passed; screenshots in ${artifacts}`);
