@@ -5,7 +5,9 @@
 // server) -> GET /v1/surfaces/{id} (sheet and samples) -> POST /v1/deform by
 // id with the placement -> GLB with Draco -> three.js. Edits coalesce: while
 // a request runs, later edits wait and only the newest is sent.
-// document.body.dataset.state is "loading", "ready" or "error" (tests wait on it).
+// document.body.dataset.state is "loading", "ready" or "error" (tests wait on
+// it): "loading" from the moment an edit schedules work until the newest
+// deformation is on screen, so "ready" always shows the current inputs.
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 
 import { createSurface, deform, getSurface } from './api.js';
@@ -117,6 +119,7 @@ async function refreshSurface() {
 
 let surfaceTimer = 0;
 function scheduleSurface() {
+  setState('loading');
   state.surfacePending = true;
   clearTimeout(surfaceTimer);
   surfaceTimer = setTimeout(refreshSurface, 150);
@@ -142,6 +145,7 @@ function deformParams(format) {
 
 let deforming = false, pending = false, deformTimer = 0;
 function scheduleDeform(delay) {
+  setState('loading');
   clearTimeout(deformTimer);
   deformTimer = setTimeout(runDeform, delay);
 }
@@ -149,7 +153,10 @@ function scheduleDeform(delay) {
 async function runDeform() {
   // Without a model or a surface, or while a new surface is on its way (which
   // deforms when it arrives), there is nothing to send.
-  if (!state.surfaceId || !state.model || state.surfacePending) return;
+  if (!state.surfaceId || !state.model || state.surfacePending) {
+    if (!state.surfacePending) setState(state.lastError ? 'error' : 'ready');
+    return;
+  }
   if (deforming) {
     pending = true;
     return;
@@ -218,12 +225,19 @@ async function useModel(name, bytes) {
 }
 
 async function useFile(file) {
-  if (file) await useModel(file.name, await file.arrayBuffer());
+  if (!file) return;
+  setState('loading');
+  try {
+    await useModel(file.name, await file.arrayBuffer());
+  } catch (e) {
+    showError(e);
+  }
 }
 
 // --- wiring --------------------------------------------------------------
 
 $('preset').addEventListener('change', async () => {
+  setState('loading');
   try {
     state.spec = await surfacePreset($('preset').value);
     state.recentre = true;
@@ -239,8 +253,13 @@ $('grid').addEventListener('change', () => {
   scheduleSurface();
 });
 $('sample').addEventListener('change', async () => {
-  const m = await sampleModel($('sample').value);
-  await useModel(m.name, m.bytes);
+  setState('loading');
+  try {
+    const m = await sampleModel($('sample').value);
+    await useModel(m.name, m.bytes);
+  } catch (e) {
+    showError(e);
+  }
 });
 $('upload').addEventListener('change', (e) => useFile(e.target.files[0]));
 document.addEventListener('dragover', (e) => {
