@@ -205,6 +205,15 @@ class Subdivider {
   // The terms of a block: the largest curvature and twist of its cells, the
   // largest kink across the sides inside it, the shortest side.
   CellEstimate BlockTerms(const std::array<int, 4>& cells) const;
+  // The terms of the cell or block a piece with corners in cells a, b, c lies
+  // in; false when they are not within one 2 x 2 block (or off the sheet).
+  bool Terms(int a, int b, int c, CellEstimate* terms) const;
+  // A face's extent for its estimate: its longest side on the sheet, squared,
+  // and the spread and the largest magnitude of its corners' heights.
+  struct Extent {
+    double longest2, dh, h;
+  };
+  Extent FaceExtent(const std::array<uint32_t, 3>& corners) const;
   bool Screen();  // true when no face needs anything: the mesh stays as it is
   // True once the time budget is spent (then every loop that checks stops).
   bool OutOfTime() {
@@ -214,7 +223,6 @@ class Subdivider {
     return true;
   }
   Status TimeUp() const;
-  double Estimate(const std::array<int, 4>& cells, double length, double dh, double h) const;
   void RefineEdges();
   void RefineFace(size_t fi, FaceOutput* out, int* hint);
   Result<SubdivisionResult> Assemble();
@@ -347,17 +355,18 @@ void Subdivider::FindEdgePoints() {
       Edge& edge = edges_[e];
       const int c0 = vertex_cell_[edge.v0], c1 = vertex_cell_[edge.v1];
       const Vec2 a = placed_[edge.v0].head<2>(), b = placed_[edge.v1].head<2>();
-      std::array<int, 4> block;
-      if (Block(c0, c1, c1, &block)) {
+      CellEstimate terms;
+      const bool in_block = Terms(c0, c1, c1, &terms);
+      if (in_block) {
         // Within a 2 x 2 block of cells: as large as a cell, or not (the
         // same test as the screen's).
-        edge.cell_side = BlockTerms(block).min_side;
+        edge.cell_side = terms.min_side;
         edge.long_edge = (b - a).norm() > edge.cell_side;
         if (c0 == c1) continue;  // inside one (convex) cell: no crossing
       }
       double min_side;
       GridCrossings(locator_, a, b, &crossings, &scratch, &min_side);
-      if (!Block(c0, c1, c1, &block)) {
+      if (!in_block) {
         edge.long_edge = (b - a).norm() > min_side;
         edge.cell_side = min_side;
       }
@@ -697,10 +706,6 @@ void Subdivider::ComputeCellEstimates() {
 
 bool Subdivider::Block(int a, int b, int c, std::array<int, 4>* cells) const {
   if (a < 0 || b < 0 || c < 0) return false;
-  if (a == b && b == c) {  // a face inside one cell: most faces of a fine model
-    *cells = {a, a, a, a};
-    return true;
-  }
   const int cu = locator_.nu() - 1;
   const int i0 = std::min({a % cu, b % cu, c % cu}), i1 = std::max({a % cu, b % cu, c % cu});
   const int j0 = std::min({a / cu, b / cu, c / cu}), j1 = std::max({a / cu, b / cu, c / cu});
@@ -726,30 +731,17 @@ bool Subdivider::Screen() {
     std::vector<int> scratch;
     for (int fi = begin; fi < end && pass.load(std::memory_order_relaxed); ++fi) {
       const auto& tri = mesh_.triangles[fi];
-      const int c0 = vertex_cell_[tri[0]], c1 = vertex_cell_[tri[1]], c2 = vertex_cell_[tri[2]];
-      const Vec3 &p0 = placed_[tri[0]], &p1 = placed_[tri[1]], &p2 = placed_[tri[2]];
       CellEstimate terms;
-      if (c0 == c1 && c1 == c2 && c0 >= 0) {  // most faces of a fine model
-        terms = cells_[c0];
-      } else {
-        std::array<int, 4> block;
-        if (!Block(c0, c1, c2, &block)) {
-          pass = false;
-          break;
-        }
-        terms = BlockTerms(block);
-      }
-      const double longest2 =
-          std::max({(p1 - p0).head<2>().squaredNorm(), (p2 - p1).head<2>().squaredNorm(),
-                    (p0 - p2).head<2>().squaredNorm()});
-      if (longest2 > terms.min_side * terms.min_side) {
+      if (!Terms(vertex_cell_[tri[0]], vertex_cell_[tri[1]], vertex_cell_[tri[2]], &terms)) {
         pass = false;
         break;
       }
-      const double h_lo = std::min({p0.z(), p1.z(), p2.z()});
-      const double h_hi = std::max({p0.z(), p1.z(), p2.z()});
-      const double estimate = EstimateOf(terms, std::sqrt(longest2), h_hi - h_lo,
-                                         std::max(std::abs(h_lo), std::abs(h_hi)));
+      const Extent x = FaceExtent(tri);
+      if (x.longest2 > terms.min_side * terms.min_side) {
+        pass = false;
+        break;
+      }
+      const double estimate = EstimateOf(terms, std::sqrt(x.longest2), x.dh, x.h);
       if (estimate <= kSkipShare * tolerance_) {
         worst[chunk] = std::max(worst[chunk], estimate);
         continue;
@@ -816,9 +808,24 @@ CellEstimate Subdivider::BlockTerms(const std::array<int, 4>& cells) const {
   return t;
 }
 
-double Subdivider::Estimate(const std::array<int, 4>& cells, double length, double dh,
-                            double h) const {
-  return EstimateOf(BlockTerms(cells), length, dh, h);
+bool Subdivider::Terms(int a, int b, int c, CellEstimate* terms) const {
+  if (a == b && b == c && a >= 0) {  // inside one cell: most faces of a fine model
+    *terms = cells_[a];
+    return true;
+  }
+  std::array<int, 4> block;
+  if (!Block(a, b, c, &block)) return false;
+  *terms = BlockTerms(block);
+  return true;
+}
+
+Subdivider::Extent Subdivider::FaceExtent(const std::array<uint32_t, 3>& corners) const {
+  const Vec3 &p0 = placed_[corners[0]], &p1 = placed_[corners[1]], &p2 = placed_[corners[2]];
+  const double h_lo = std::min({p0.z(), p1.z(), p2.z()});
+  const double h_hi = std::max({p0.z(), p1.z(), p2.z()});
+  return {std::max({(p1 - p0).head<2>().squaredNorm(), (p2 - p1).head<2>().squaredNorm(),
+                    (p0 - p2).head<2>().squaredNorm()}),
+          h_hi - h_lo, std::max(std::abs(h_lo), std::abs(h_hi))};
 }
 
 void Subdivider::RefineEdges() {
@@ -838,12 +845,12 @@ void Subdivider::RefineEdges() {
       }
       std::vector<Vec3> fs(ts.size());
       for (size_t q = 0; q < ts.size(); ++q) fs[q] = Deformed(EdgePlaced(edge, ts[q]), &hint);
-      std::array<int, 4> block;
+      CellEstimate terms;
       if (ts.empty() &&
-          Block(vertex_cell_[edge.v0], vertex_cell_[edge.v1], vertex_cell_[edge.v1], &block)) {
+          Terms(vertex_cell_[edge.v0], vertex_cell_[edge.v1], vertex_cell_[edge.v1], &terms)) {
         const Vec3 d = placed_[edge.v1] - placed_[edge.v0];
         const double h = std::max(std::abs(placed_[edge.v0].z()), std::abs(placed_[edge.v1].z()));
-        const double estimate = Estimate(block, d.head<2>().norm(), d.z(), h);
+        const double estimate = EstimateOf(terms, d.head<2>().norm(), d.z(), h);
         if (!refine_ || estimate <= kSkipShare * tolerance_) {
           edge.tally.max_estimate = estimate;
           edge.kept_t = std::move(ts);
@@ -935,18 +942,11 @@ void Subdivider::RefineFace(size_t fi, FaceOutput* out, int* hint) {
   const Vec3 f0 = deformed_[f.corner[0]], f1 = deformed_[f.corner[1]], f2 = deformed_[f.corner[2]];
   if (!on_sides && out->face_points_kept == 0) {
     // The face as it is, when it is close enough to the exact deformation.
-    std::array<int, 4> block;
-    if (Block(vertex_cell_[f.corner[0]], vertex_cell_[f.corner[1]], vertex_cell_[f.corner[2]],
-              &block)) {
-      double longest = 0.0, h_lo = kInf, h_hi = -kInf, h_abs = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        const Vec3& p = placed_[f.corner[k]];
-        longest = std::max(longest, (placed_[f.corner[(k + 1) % 3]] - p).head<2>().norm());
-        h_lo = std::min(h_lo, p.z());
-        h_hi = std::max(h_hi, p.z());
-        h_abs = std::max(h_abs, std::abs(p.z()));
-      }
-      const double estimate = Estimate(block, longest, h_hi - h_lo, h_abs);
+    CellEstimate terms;
+    if (Terms(vertex_cell_[f.corner[0]], vertex_cell_[f.corner[1]], vertex_cell_[f.corner[2]],
+              &terms)) {
+      const Extent x = FaceExtent(f.corner);
+      const double estimate = EstimateOf(terms, std::sqrt(x.longest2), x.dh, x.h);
       if (!refine_ || estimate <= kSkipShare * tolerance_) {
         out->tally.max_estimate = std::max(estimate, edge_estimate);
         out->tally.max_dev = edge_dev;
