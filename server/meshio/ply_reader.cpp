@@ -99,43 +99,33 @@ struct Element {
   std::vector<Property> properties;
 };
 
+// A binary value of type T in host byte order as a double.
+template <typename T>
+double As(const unsigned char* raw) {
+  T x;
+  std::memcpy(&x, raw, sizeof x);
+  return static_cast<double>(x);
+}
+
 // A binary value in host byte order as a double.
 double Decode(Type type, const unsigned char* raw) {
   switch (type) {
     case Type::kInt8:
-      return static_cast<int8_t>(raw[0]);
+      return As<int8_t>(raw);
     case Type::kUInt8:
-      return raw[0];
-    case Type::kInt16: {
-      int16_t x;
-      std::memcpy(&x, raw, 2);
-      return x;
-    }
-    case Type::kUInt16: {
-      uint16_t x;
-      std::memcpy(&x, raw, 2);
-      return x;
-    }
-    case Type::kInt32: {
-      int32_t x;
-      std::memcpy(&x, raw, 4);
-      return x;
-    }
-    case Type::kUInt32: {
-      uint32_t x;
-      std::memcpy(&x, raw, 4);
-      return x;
-    }
-    case Type::kFloat32: {
-      float x;
-      std::memcpy(&x, raw, 4);
-      return x;
-    }
-    case Type::kFloat64: {
-      double x;
-      std::memcpy(&x, raw, 8);
-      return x;
-    }
+      return As<uint8_t>(raw);
+    case Type::kInt16:
+      return As<int16_t>(raw);
+    case Type::kUInt16:
+      return As<uint16_t>(raw);
+    case Type::kInt32:
+      return As<int32_t>(raw);
+    case Type::kUInt32:
+      return As<uint32_t>(raw);
+    case Type::kFloat32:
+      return As<float>(raw);
+    case Type::kFloat64:
+      return As<double>(raw);
   }
   return 0.0;
 }
