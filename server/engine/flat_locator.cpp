@@ -65,10 +65,11 @@ FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv),
   }
   const int cells = (nu_ - 1) * (nv_ - 1);
   const Vec2 size = bounds_.sizes().cwiseMax(1e-300);
+  std::vector<Eigen::AlignedBox2d> cell_boxes(cells);
   cell_bounds_.resize(cells);
   for (int j = 0; j + 1 < nv_; ++j) {
     for (int i = 0; i + 1 < nu_; ++i) {
-      Eigen::AlignedBox2d box;
+      Eigen::AlignedBox2d& box = cell_boxes[i + (nu_ - 1) * j];
       box.extend(Corner(i, j)).extend(Corner(i + 1, j));
       box.extend(Corner(i + 1, j + 1)).extend(Corner(i, j + 1));
       const Vec2 pad = Vec2::Constant(1e-9 * box.diagonal().norm());
@@ -80,10 +81,18 @@ FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv),
   bx_ = std::clamp(static_cast<int>(std::ceil(per_side)), 1, 4096);
   by_ = std::clamp(static_cast<int>(std::ceil(4.0 * cells / static_cast<double>(bx_))), 1, 4096);
   bucket_size_ = Vec2(size.x() / bx_, size.y() / by_);
-  auto bucket_range = [&](int i, int j, int* x0, int* x1, int* y0, int* y1) {
-    Eigen::AlignedBox2d box;
-    box.extend(Corner(i, j)).extend(Corner(i + 1, j));
-    box.extend(Corner(i + 1, j + 1)).extend(Corner(i, j + 1));
+  Bucket(cell_boxes, &bucket_start_, &bucket_cells_);
+  // The boundary's segments by bucket (each in the buckets its box meets).
+  std::vector<Eigen::AlignedBox2d> segment_boxes(boundary_.size());
+  for (size_t k = 0; k < boundary_.size(); ++k) {
+    segment_boxes[k].extend(boundary_[k].a).extend(boundary_[k].a + boundary_[k].ab);
+  }
+  Bucket(segment_boxes, &boundary_start_, &boundary_segments_);
+}
+
+void FlatLocator::Bucket(const std::vector<Eigen::AlignedBox2d>& boxes, std::vector<int>* start,
+                         std::vector<int>* items) const {
+  auto range = [&](const Eigen::AlignedBox2d& box, int* x0, int* x1, int* y0, int* y1) {
     const Vec2 lo = (box.min() - bounds_.min()).cwiseQuotient(bucket_size_);
     const Vec2 hi = (box.max() - bounds_.min()).cwiseQuotient(bucket_size_);
     *x0 = std::clamp(static_cast<int>(std::floor(lo.x())), 0, bx_ - 1);
@@ -92,50 +101,20 @@ FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv),
     *y1 = std::clamp(static_cast<int>(std::floor(hi.y())), 0, by_ - 1);
   };
   std::vector<int> count(static_cast<size_t>(bx_) * by_ + 1, 0);
-  for (int j = 0; j + 1 < nv_; ++j) {
-    for (int i = 0; i + 1 < nu_; ++i) {
-      int x0, x1, y0, y1;
-      bucket_range(i, j, &x0, &x1, &y0, &y1);
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) ++count[x + bx_ * y + 1];
-    }
+  for (const Eigen::AlignedBox2d& box : boxes) {
+    int x0, x1, y0, y1;
+    range(box, &x0, &x1, &y0, &y1);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) ++count[x + bx_ * y + 1];
   }
   for (size_t b = 1; b < count.size(); ++b) count[b] += count[b - 1];
-  bucket_start_ = count;
-  bucket_cells_.resize(count.back());
-  for (int j = 0; j + 1 < nv_; ++j) {
-    for (int i = 0; i + 1 < nu_; ++i) {
-      int x0, x1, y0, y1;
-      bucket_range(i, j, &x0, &x1, &y0, &y1);
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) bucket_cells_[count[x + bx_ * y]++] = i + (nu_ - 1) * j;
-    }
-  }
-  // The boundary's segments by bucket (each in the buckets its box meets).
-  std::vector<int> seg_count(static_cast<size_t>(bx_) * by_ + 1, 0);
-  auto segment_range = [&](const Segment& sg, int* x0, int* x1, int* y0, int* y1) {
-    const Vec2 a = (sg.a - bounds_.min()).cwiseQuotient(bucket_size_);
-    const Vec2 b = (sg.a + sg.ab - bounds_.min()).cwiseQuotient(bucket_size_);
-    *x0 = std::clamp(static_cast<int>(std::floor(std::min(a.x(), b.x()))), 0, bx_ - 1);
-    *x1 = std::clamp(static_cast<int>(std::floor(std::max(a.x(), b.x()))), 0, bx_ - 1);
-    *y0 = std::clamp(static_cast<int>(std::floor(std::min(a.y(), b.y()))), 0, by_ - 1);
-    *y1 = std::clamp(static_cast<int>(std::floor(std::max(a.y(), b.y()))), 0, by_ - 1);
-  };
-  for (const Segment& sg : boundary_) {
+  *start = count;
+  items->resize(count.back());
+  for (size_t k = 0; k < boxes.size(); ++k) {
     int x0, x1, y0, y1;
-    segment_range(sg, &x0, &x1, &y0, &y1);
+    range(boxes[k], &x0, &x1, &y0, &y1);
     for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) ++seg_count[x + bx_ * y + 1];
-  }
-  for (size_t b = 1; b < seg_count.size(); ++b) seg_count[b] += seg_count[b - 1];
-  boundary_start_ = seg_count;
-  boundary_segments_.resize(seg_count.back());
-  for (size_t k = 0; k < boundary_.size(); ++k) {
-    int x0, x1, y0, y1;
-    segment_range(boundary_[k], &x0, &x1, &y0, &y1);
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x)
-        boundary_segments_[seg_count[x + bx_ * y]++] = static_cast<int>(k);
+      for (int x = x0; x <= x1; ++x) (*items)[count[x + bx_ * y]++] = static_cast<int>(k);
   }
 }
 

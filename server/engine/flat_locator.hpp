@@ -88,6 +88,10 @@ class FlatLocator {
   // removes repeats.
   void AppendBucketRow(int y, int x0, int x1, std::vector<int>* cells) const;
   static void SortUnique(std::vector<int>* cells);
+  // CSR lists of the items (indices into `boxes`) in each bucket: each item in
+  // every bucket its box meets (clamped to the grid of buckets).
+  void Bucket(const std::vector<Eigen::AlignedBox2d>& boxes, std::vector<int>* start,
+              std::vector<int>* items) const;
 
   std::vector<Eigen::AlignedBox2d> cell_bounds_;  // per cell, slightly enlarged
   int bx_ = 1, by_ = 1;                           // buckets along x and y
