@@ -21,9 +21,9 @@ packages=(
 )
 # npm installs the web viewer's three.js (client/web) and, for the tests, the
 # Khronos glTF validator and puppeteer-core (which drives Debian's Chromium and
-# Firefox ESR: no browser download). A machine that already has node and npm (e.g. Node 20)
-# keeps them. SURFDEFORM_SETUP_BUILD_ONLY=1 (the Docker image's build stage)
-# skips what only the tests need.
+# Firefox ESR: no browser download). A machine that already has node and npm
+# (e.g. Node 20) keeps them. SURFDEFORM_SETUP_BUILD_ONLY=1 (the Docker image's
+# build stage) skips what only the tests need.
 build_only=${SURFDEFORM_SETUP_BUILD_ONLY:-0}
 command -v node > /dev/null && command -v npm > /dev/null || packages+=(nodejs npm)
 if [[ $build_only != 1 ]]; then
