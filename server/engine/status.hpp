@@ -110,6 +110,17 @@ class Result {
 
 }  // namespace surfdeform
 
+// `lhs = value of expr` (a Result<T>), or return its status from the
+// enclosing function: SURFDEFORM_ASSIGN_OR_RETURN(auto mesh, ImportMesh(...));
+#define SURFDEFORM_ASSIGN_OR_RETURN(lhs, expr) \
+  SURFDEFORM_ASSIGN_OR_RETURN_IMPL_(SURFDEFORM_CONCAT_(result_, __LINE__), lhs, expr)
+#define SURFDEFORM_CONCAT_INNER_(a, b) a##b
+#define SURFDEFORM_CONCAT_(a, b) SURFDEFORM_CONCAT_INNER_(a, b)
+#define SURFDEFORM_ASSIGN_OR_RETURN_IMPL_(tmp, lhs, expr) \
+  auto tmp = (expr);                                      \
+  if (!tmp.ok()) return tmp.status();                     \
+  lhs = std::move(tmp).value()
+
 #define SURFDEFORM_RETURN_IF_ERROR(expr)   \
   do {                                     \
     ::surfdeform::Status status_ = (expr); \

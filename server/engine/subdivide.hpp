@@ -48,9 +48,22 @@
 // Modes: kOff, kAdaptive (the rules above), kUniform (every edge and face
 // point of every face kept, no extra refinement: the reference that adaptive
 // is compared with). Deterministic: the same output whatever the thread count.
+//
+// The pipeline (server/engine/subdivision/, one file per stage, each taking
+// and returning explicit structs):
+//   vertex_location   each input vertex's cell, on-sheet flag, position
+//   cell_estimates    curvature, twist and kinks per cell: the estimate
+//   screen            a fine model that needs nothing stops here
+//   edge_graph        vertices welded by position, edges, faces
+//   grid_marking      edge and face points, the marking rules
+//   edge_refinement   each edge's final points (bisection to the tolerance)
+//   face_refinement   each face re-triangulated (face_retriangulation) and
+//                     refined (triangle_deviation) to the tolerance
+//   assembly          the refined mesh and the statistics
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "engine/mesh.hpp"
@@ -101,15 +114,23 @@ struct SubdivisionStats {
   double time_ms = 0.0;
 };
 
+// Whether the caller wants the deformed positions of the input vertices (a
+// deformation that carries no normals or tangents reuses them; one that does
+// needs the map's Jacobian at every vertex anyway).
+enum class InputPositions { kNotWanted, kWanted };
+
 struct SubdivisionResult {
   // Nothing to add: the input stands as it is (then mesh and placed are empty).
   bool unchanged = false;
   Mesh mesh;                 // model coordinates; the input's vertices first, in order
   std::vector<Vec3> placed;  // placed coordinates (a, b, h) of every vertex of `mesh`
-  // The deformed position of each input vertex on the sheet, computed as the
-  // deformation computes it (OffsetAlongNormal, from its exact parameters),
-  // for it to reuse; NaN for a vertex off the sheet. Empty when not computed.
-  std::vector<Vec3> input_positions;
+  // Per input vertex: its footprint is on the sheet (empty in mode kOff).
+  std::vector<char> on_sheet;
+  // With InputPositions::kWanted (and a mode other than kOff): the deformed
+  // position of each input vertex, computed as the deformation computes it
+  // (OffsetAlongNormal at its exact parameters: NaN where the normal
+  // vanishes); meaningful only where on_sheet.
+  std::optional<std::vector<Vec3>> input_positions;
   SubdivisionStats stats;
 };
 
@@ -123,6 +144,7 @@ Status ValidateSubdivision(const SubdivisionOptions& options);
 // when the output would exceed max_vertices or max_triangles.
 Result<SubdivisionResult> Subdivide(const Mesh& mesh, const std::vector<Vec3>& placed,
                                     const SheetMap& map, OutsideMode outside,
-                                    const SubdivisionOptions& options);
+                                    const SubdivisionOptions& options,
+                                    InputPositions want = InputPositions::kNotWanted);
 
 }  // namespace surfdeform

@@ -15,7 +15,10 @@ Refined Refine(const Target& t, const Mesh& m, const PlacementOptions& o,
   if (!pl.ok()) return r;
   std::vector<Vec3> placed;
   for (const Vec3& p : m.positions) placed.push_back(pl->Apply(p));
-  auto sub = Subdivide(m, placed, map, o.outside, s);
+  // As the deformation asks: the input's positions when it has no frame to carry.
+  const InputPositions want = m.normals.empty() && m.tangents.empty() ? InputPositions::kWanted
+                                                                      : InputPositions::kNotWanted;
+  auto sub = Subdivide(m, placed, map, o.outside, s, want);
   EXPECT_TRUE(sub.ok()) << sub.status().ToString();
   if (!sub.ok()) return r;
   r.model = sub->unchanged ? m : std::move(sub->mesh);

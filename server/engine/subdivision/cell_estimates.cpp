@@ -1,0 +1,174 @@
+#include "engine/subdivision/cell_estimates.hpp"
+
+#include <cmath>
+
+#include "engine/grid_points.hpp"
+#include "engine/parallel.hpp"
+
+namespace surfdeform::subdivision {
+namespace {
+
+// Adds `index` to `list` once.
+void AddOnce(std::vector<char>& flags, std::vector<int>& list, int index) {
+  if (!flags[index]) {
+    flags[index] = 1;
+    list.push_back(index);
+  }
+}
+
+// The cells within one cell of a vertex's, each once, by index.
+std::vector<int> NeededCells(const CellGrid& grid, const IdVector<VertexId, int>& vertex_cell) {
+  std::vector<char> seen(grid.cell_count(), 0);
+  for (int c : vertex_cell) {
+    if (c < 0) continue;
+    const GridIndex at = grid.CellAt(c);
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        if (grid.HasCell(at.i + di, at.j + dj)) seen[grid.Cell(at.i + di, at.j + dj)] = 1;
+      }
+  }
+  std::vector<int> needed;
+  for (size_t c = 0; c < seen.size(); ++c) {
+    if (seen[c]) needed.push_back(static_cast<int>(c));
+  }
+  return needed;
+}
+
+// The kink across `side`: the second difference of F = S + h N across the
+// side's middle, divided by the step, at the model's lowest and highest
+// heights (|A + h B| is convex in h, so its largest value over the model's
+// range is at one of them).
+double SideKink(const Context& ctx, const CellGrid::Side& side, double h_lo, double h_hi,
+                int* hint) {
+  const GridIndex n = side.from;
+  const Vec2& a = ctx.locator.Node(n.i, n.j);
+  const Vec2& b = side.along_u ? ctx.locator.Node(n.i + 1, n.j) : ctx.locator.Node(n.i, n.j + 1);
+  const double step = 1e-4 * (b - a).norm();
+  const Vec2 across = Vec2(-(b - a).y(), (b - a).x()).normalized() * step;
+  const Vec2 mid = 0.5 * (a + b);
+  Vec3 sp[3], nn[3];
+  const Vec2 at[3] = {mid, mid + across, mid - across};
+  for (int w = 0; w < 3; ++w) ctx.map.SurfaceAndNormal(at[w], ctx.outside, hint, &sp[w], &nn[w]);
+  const Vec3 d_surface = (sp[1] - sp[0]) - (sp[0] - sp[2]);
+  const Vec3 d_normal = (nn[1] - nn[0]) - (nn[0] - nn[2]);
+  return std::max((d_surface + h_lo * d_normal).norm(), (d_surface + h_hi * d_normal).norm()) /
+         step;
+}
+
+}  // namespace
+
+double EstimateOf(const CellTerms& t, double length, double dh, double h) {
+  const double k = t.curvature;
+  const double second = k * (1.0 + std::abs(h) * k) + 2.0 * t.twist;
+  return 2.0 * ((second * length * length + 2.0 * k * length * std::abs(dh)) / 8.0 +
+                t.kink * length / 4.0);
+}
+
+FaceExtent ExtentOf(const Context& ctx, const std::array<VertexId, 3>& corners) {
+  const Vec3 &p0 = ctx.Placed(corners[0]), &p1 = ctx.Placed(corners[1]),
+             &p2 = ctx.Placed(corners[2]);
+  const double h_lo = std::min({p0.z(), p1.z(), p2.z()});
+  const double h_hi = std::max({p0.z(), p1.z(), p2.z()});
+  return {std::max({(p1 - p0).head<2>().squaredNorm(), (p2 - p1).head<2>().squaredNorm(),
+                    (p0 - p2).head<2>().squaredNorm()}),
+          h_hi - h_lo, std::max(std::abs(h_lo), std::abs(h_hi))};
+}
+
+CellEstimates::CellEstimates(const Context& ctx, const IdVector<VertexId, int>& vertex_cell)
+    : grid_(ctx.grid) {
+  cells_.assign(grid_.cell_count(), {});
+  double h_lo = kInf, h_hi = -kInf;  // the model's range of heights
+  for (const Vec3& p : ctx.placed) {
+    h_lo = std::min(h_lo, p.z());
+    h_hi = std::max(h_hi, p.z());
+  }
+  const std::vector<int> needed = NeededCells(grid_, vertex_cell);
+  // The nodes and the interior sides of those cells, each once.
+  std::vector<int> nodes, sides;
+  std::vector<char> node_seen(grid_.node_count(), 0);
+  std::vector<char> side_seen(grid_.side_count(), 0);
+  const int cu = grid_.cells_u(), cv = grid_.cells_v();
+  for (int c : needed) {
+    const GridIndex at = grid_.CellAt(c);
+    const int i = at.i, j = at.j;
+    for (int dj = 0; dj < 2; ++dj)
+      for (int di = 0; di < 2; ++di) AddOnce(node_seen, nodes, grid_.Node(i + di, j + dj));
+    if (j > 0) AddOnce(side_seen, sides, grid_.SideAlongU(i, j));
+    if (j + 1 < cv) AddOnce(side_seen, sides, grid_.SideAlongU(i, j + 1));
+    if (i > 0) AddOnce(side_seen, sides, grid_.SideAlongV(i, j));
+    if (i + 1 < cu) AddOnce(side_seen, sides, grid_.SideAlongV(i + 1, j));
+  }
+  // The largest principal curvature at each node; the kink across each side.
+  std::vector<double> node_curvature(node_seen.size(), 0.0);
+  side_kink_.assign(side_seen.size(), 0.0);
+  const int node_count = static_cast<int>(nodes.size());
+  const int count = node_count + static_cast<int>(sides.size());
+  ParallelChunks(count, ctx.threads, [&](int, int begin, int end) {
+    int hint = -1;
+    for (int q = begin; q < end; ++q) {
+      if (q < node_count) {
+        const GridIndex n = grid_.NodeAt(nodes[q]);
+        const SurfacePoint s = ctx.map.surface().Evaluate(static_cast<double>(n.i) / cu,
+                                                          static_cast<double>(n.j) / cv, 2);
+        node_curvature[nodes[q]] = MaxAbsCurvature(s);
+      } else {
+        const int side = sides[q - node_count];
+        side_kink_[side] = SideKink(ctx, grid_.SideAt(side), h_lo, h_hi, &hint);
+      }
+    }
+  });
+  for (int c : needed) {
+    const GridIndex at = grid_.CellAt(c);
+    const int i = at.i, j = at.j;
+    double kappa = 0.0;
+    for (int dj = 0; dj < 2; ++dj)
+      for (int di = 0; di < 2; ++di)
+        kappa = std::max(kappa, node_curvature[grid_.Node(i + di, j + dj)]);
+    const Vec2 &p00 = ctx.locator.Node(i, j), &p10 = ctx.locator.Node(i + 1, j);
+    const Vec2 &p01 = ctx.locator.Node(i, j + 1), &p11 = ctx.locator.Node(i + 1, j + 1);
+    const double side = ctx.locator.CellMinSide(c);
+    CellTerms& e = cells_[c];
+    e.curvature = kappa;
+    e.min_side = side;
+    e.twist = side > 0.0 ? (p00 - p10 + p11 - p01).norm() / (side * side) : kInf;
+  }
+}
+
+CellTerms CellEstimates::BlockTerms(int i0, int j0, int i1, int j1) const {
+  const int cells[4] = {grid_.Cell(i0, j0), grid_.Cell(i1, j0), grid_.Cell(i0, j1),
+                        grid_.Cell(i1, j1)};
+  CellTerms t = cells_[cells[0]];
+  for (int q = 1; q < 4; ++q) {
+    const CellTerms& e = cells_[cells[q]];
+    t.curvature = std::max(t.curvature, e.curvature);
+    t.twist = std::max(t.twist, e.twist);
+    t.min_side = std::min(t.min_side, e.min_side);
+  }
+  // Inside the block: the v-sides at i1 (when i1 > i0) and the u-sides at j1
+  // (when j1 > j0).
+  if (i1 > i0) {
+    t.kink = std::max(
+        {t.kink, side_kink_[grid_.SideAlongV(i1, j0)], side_kink_[grid_.SideAlongV(i1, j1)]});
+  }
+  if (j1 > j0) {
+    t.kink = std::max(
+        {t.kink, side_kink_[grid_.SideAlongU(i0, j1)], side_kink_[grid_.SideAlongU(i1, j1)]});
+  }
+  return t;
+}
+
+bool CellEstimates::Terms(int a, int b, int c, CellTerms* terms) const {
+  if (a == b && b == c && a >= 0) {  // inside one cell: most faces of a fine model
+    *terms = cells_[a];
+    return true;
+  }
+  if (a < 0 || b < 0 || c < 0) return false;
+  const GridIndex pa = grid_.CellAt(a), pb = grid_.CellAt(b), pc = grid_.CellAt(c);
+  const int i0 = std::min({pa.i, pb.i, pc.i}), i1 = std::max({pa.i, pb.i, pc.i});
+  const int j0 = std::min({pa.j, pb.j, pc.j}), j1 = std::max({pa.j, pb.j, pc.j});
+  if (i1 - i0 > 1 || j1 - j0 > 1) return false;
+  *terms = BlockTerms(i0, j0, i1, j1);
+  return true;
+}
+
+}  // namespace surfdeform::subdivision

@@ -1,0 +1,66 @@
+// Stage 2 of the subdivision: the terms of the deviation estimate, per cell.
+//
+// How far a straight edge or a flat triangle strays from the exact
+// deformation depends, inside one cell or a 2 x 2 block of cells, on: the
+// largest curvature at the cells' nodes, their twist (how far from a
+// parallelogram a flat quad is, which bends the inverse bilinear map), and
+// the largest kink across the sides inside the block (the jump of the
+// deformation's derivative there: the cell-wise map is only continuous
+// across grid lines). Computed only for the cells near the model's vertices.
+#pragma once
+
+#include <array>
+
+#include "engine/subdivision/context.hpp"
+
+namespace surfdeform::subdivision {
+
+struct CellTerms {
+  double curvature = -1.0;  // < 0: not computed
+  double twist = 0.0;
+  double kink = 0.0;      // 0 for a single cell
+  double min_side = 0.0;  // the shortest cell side on the sheet
+};
+
+// An estimate, with a safety factor of two, of how far a straight segment or
+// a triangle in these cells strays from the exact deformation: the second
+// derivatives of F(a, b, h) = S + h N there are about the surface's
+// curvature (of the offset surface at height h) plus the bending of the
+// cells' inverse bilinear maps, and d2F/(da dh) = dN/da about the curvature;
+// a straight piece of size l then strays (F'' l^2) / 8, plus j l / 4 for a
+// kink j of the map where it crosses from one cell to the next. `length` is
+// the piece's size on the sheet, `dh` the spread of its heights, `h` their
+// largest magnitude.
+double EstimateOf(const CellTerms& terms, double length, double dh, double h);
+
+// A face's extent for its estimate: its longest side on the sheet, squared,
+// and the spread and the largest magnitude of its corners' heights.
+struct FaceExtent {
+  double longest2, dh, h;
+};
+FaceExtent ExtentOf(const Context& ctx, const std::array<VertexId, 3>& corners);
+
+class CellEstimates {
+ public:
+  // The terms of every cell within one cell of a vertex's (vertex_cell: per
+  // input vertex, -1 off the sheet), at the model's range of heights.
+  CellEstimates(const Context& ctx, const IdVector<VertexId, int>& vertex_cell);
+
+  // The terms of the cell or 2 x 2 block a piece with corners in cells a, b,
+  // c lies in; false when they are not within one block (or off the sheet).
+  bool Terms(int a, int b, int c, CellTerms* terms) const;
+
+  const CellTerms& cell(int c) const { return cells_[c]; }
+  // The kink across side `side` (CellGrid's numbering); 0 where not computed
+  // and on the sheet's border (nothing inside a block crosses it).
+  double side_kink(int side) const { return side_kink_[side]; }
+
+ private:
+  CellTerms BlockTerms(int i0, int j0, int i1, int j1) const;
+
+  CellGrid grid_;
+  std::vector<CellTerms> cells_;
+  std::vector<double> side_kink_;
+};
+
+}  // namespace surfdeform::subdivision

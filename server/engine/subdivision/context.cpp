@@ -1,0 +1,54 @@
+#include "engine/subdivision/context.hpp"
+
+#include <string>
+
+#include "engine/parallel.hpp"
+
+namespace surfdeform::subdivision {
+
+Context::Context(const Mesh& mesh_in, const std::vector<Vec3>& placed_in, const SheetMap& map_in,
+                 OutsideMode outside_in, const SubdivisionOptions& o)
+    : mesh(mesh_in),
+      placed(placed_in),
+      map(map_in),
+      locator(map_in.locator()),
+      options(o),
+      grid(locator.nu(), locator.nv()),
+      outside(outside_in == OutsideMode::kError ? OutsideMode::kExtrapolate : outside_in),
+      refuse_outside(outside_in == OutsideMode::kError),
+      threads(mesh_in.triangles.size() >= 2048 ? ResolveThreads(o.threads) : 1),
+      uniform(o.mode == SubdivisionMode::kUniform),
+      tolerance(o.tolerance),
+      refine(false),
+      sheet_diagonal(locator.bounds().diagonal().norm()) {
+  if (!uniform && tolerance == 0.0 && o.epsilon == 0.0) tolerance = 1e-3 * sheet_diagonal;
+  refine = !uniform && tolerance > 0.0;
+}
+
+Budget::Budget(const SubdivisionOptions& o)
+    : budget_ms_(o.time_budget_ms), max_vertices_(o.max_vertices) {
+  if (o.time_budget_ms > 0.0) {
+    deadline_ = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                             std::chrono::duration<double, std::milli>(o.time_budget_ms));
+  }
+}
+
+Status Budget::TimeUp() const {
+  const double spent =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  return Status::LimitExceeded(
+      "the subdivision did not finish within its time budget of " +
+          std::to_string(static_cast<long long>(budget_ms_)) +
+          " ms; raise subdivision.tolerance or epsilon, use mode \"off\", or a coarser grid",
+      "subdivision", budget_ms_, spent);
+}
+
+Status Budget::OverLimitError(const char* what, size_t limit, size_t actual) {
+  return Status::LimitExceeded(
+      "the subdivision would produce more than " + std::to_string(limit) + " " + what +
+          " (the server's limit) at this tolerance; raise "
+          "subdivision.tolerance or epsilon, or use a coarser grid",
+      "subdivision.tolerance", static_cast<double>(limit), static_cast<double>(actual));
+}
+
+}  // namespace surfdeform::subdivision
