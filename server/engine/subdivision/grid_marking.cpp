@@ -223,14 +223,17 @@ GridMarking FindGridPoints(const Context& ctx, const EdgeGraph& graph,
   return m;
 }
 
-void MarkGridPoints(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
-  // Seeds: edge points above their edge's thresholds.
-  for (EdgeMarks& e : *&m->edges) {
+void SeedEdgePoints(const Context& ctx, GridMarking* m) {
+  for (EdgeMarks& e : m->edges) {
     if (!e.candidate) continue;
     for (EdgePoint& p : e.points) {
       p.marked = ctx.uniform || p.curvature > e.threshold || p.kink > e.kink_threshold;
     }
   }
+}
+
+void MarkGridPoints(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
+  SeedEdgePoints(ctx, m);
   PropagateChords(ctx, graph, m);
   KeepFacePoints(ctx, graph, m);
 }

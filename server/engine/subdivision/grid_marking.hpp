@@ -89,6 +89,11 @@ GridMarking FindGridPoints(const Context& ctx, const EdgeGraph& graph,
                            const IdVector<VertexId, int>& vertex_cell,
                            const CellEstimates& estimates);
 
+// The first rule alone: marks the edge points of candidate edges whose
+// curvature or kink exceeds their edge's thresholds (every one, in uniform
+// mode), and unmarks the others.
+void SeedEdgePoints(const Context& ctx, GridMarking* marking);
+
 // Applies the marking rules above, to their fixed point.
 void MarkGridPoints(const Context& ctx, const EdgeGraph& graph, GridMarking* marking);
 

@@ -1,0 +1,143 @@
+// Subdivision stage: faces re-triangulated and refined to the tolerance.
+#include "engine/subdivision/face_refinement.hpp"
+
+#include <gtest/gtest.h>
+
+#include "engine/subdivision/triangle_deviation.hpp"
+#include "stage_test_util.hpp"
+
+namespace surfdeform::subdivision {
+namespace {
+
+struct Faces {
+  std::unique_ptr<testing::StageInputs> in;
+  std::unique_ptr<testing::StagesThroughFaces> s;
+  FaceStageInputs Inputs() const {
+    return {*in->ctx, s->graph, s->marking, s->edges, s->located, *s->estimates};
+  }
+};
+
+Faces RunFaces(testing::Target target, Mesh mesh, const SubdivisionOptions& options) {
+  Faces f;
+  f.in = testing::MakeStageInputs(std::move(target), std::move(mesh), options);
+  f.s = testing::RunThroughFaces(*f.in);
+  return f;
+}
+
+TEST(FaceRetriangulation, TheTrianglesTileTheFaceAndKeepItsOrientation) {
+  const Faces f = RunFaces(testing::Figure(10, 16), testing::ThinPlate(1.0, 1.0, 0.02),
+                           testing::Tolerance(3e-3));
+  int retriangulated = 0;
+  for (size_t fi = 0; fi < f.s->graph.faces.size(); ++fi) {
+    const FaceId id(fi);
+    int hint = -1;
+    const std::optional<FaceWork> w = TriangulateFace(f.Inputs(), id, &hint);
+    ASSERT_TRUE(w.has_value());
+    const auto& pts = w->tri.points();
+    const double face_area = 0.5 * Cross2(pts[1] - pts[0], pts[2] - pts[0]);
+    ASSERT_GT(face_area, 0.0);
+    double sum = 0.0;
+    for (const auto& t : w->tri.triangles()) {
+      const double a = 0.5 * Cross2(pts[t.v[1]] - pts[t.v[0]], pts[t.v[2]] - pts[t.v[0]]);
+      EXPECT_GT(a, 0.0);  // counter-clockwise, as the face
+      sum += a;
+    }
+    EXPECT_NEAR(sum, face_area, 1e-9 * face_area);
+    // Exactly the edges' final points lie on the sides, as their edges give them.
+    size_t on_sides = 0, expected = 0;
+    for (const LocalPoint& p : w->local) on_sides += p.kind == LocalPoint::Kind::kOnSide;
+    for (int k = 0; k < 3; ++k) expected += f.s->edges[f.s->graph.faces[id].edge[k]].kept_t.size();
+    EXPECT_EQ(on_sides, expected);
+    EXPECT_EQ(w->fval.size(), 3 + w->local.size());
+    retriangulated += w->tri.triangles().size() > 1;
+  }
+  EXPECT_GT(retriangulated, 6);
+}
+
+TEST(TriangleDeviation, IsTheLargestOfItsSevenSamplesAgainstTheFlatTriangle) {
+  const Faces f =
+      RunFaces(testing::Cylinder(1.0), testing::ThinPlate(2.4, 1.6, 0.1), testing::Tolerance(1e-3));
+  const Context& ctx = *f.in->ctx;
+  const FaceId id(2u);  // a side of the plate across the cylinder's bend
+  int hint = -1;
+  std::optional<FaceWork> w = TriangulateFace(f.Inputs(), id, &hint);
+  ASSERT_TRUE(w.has_value());
+  Tally tally;
+  const auto& corners = f.s->graph.faces[id].corner;
+  TriangleDeviation deviation(ctx, corners, *w, &tally);
+  const auto& pts = w->tri.points();
+  for (size_t t = 0; t < w->tri.triangles().size(); ++t) {
+    const auto& v = w->tri.triangles()[t].v;
+    double expected = 0.0;
+    // Midpoints not on the face's outline, the centroid, halfway to the corners.
+    std::vector<Vec3> weights = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
+                                 {2.0 / 3, 1.0 / 6, 1.0 / 6},
+                                 {1.0 / 6, 2.0 / 3, 1.0 / 6},
+                                 {1.0 / 6, 1.0 / 6, 2.0 / 3}};
+    for (int k = 0; k < 3; ++k) {
+      if (w->tri.OnOutline(static_cast<int>(t), k)) continue;
+      Vec3 m = Vec3::Constant(0.5);
+      m[k] = 0.0;
+      weights.push_back(m);
+    }
+    for (const Vec3& b : weights) {
+      const Vec2 p = b[0] * pts[v[0]] + b[1] * pts[v[1]] + b[2] * pts[v[2]];
+      const Vec2 l = w->Bary(p);
+      const Vec3 exact = ctx.Deformed(ctx.InTriangle(corners, l.x(), l.y()), &hint);
+      const Vec3 flat = b[0] * w->fval[v[0]] + b[1] * w->fval[v[1]] + b[2] * w->fval[v[2]];
+      expected = std::max(expected, (exact - flat).norm());
+    }
+    EXPECT_NEAR(deviation(static_cast<int>(t), &hint), expected, 1e-12) << t;
+  }
+  EXPECT_EQ(tally.measured, 7 * w->tri.triangles().size());
+}
+
+// A lone triangle across the cylinder's bend bulges most at its centroid (a
+// quadratic that vanishes at the corners): its deviation is the centroid's.
+TEST(TriangleDeviation, OfALoneTriangleIsItsCentroids) {
+  Mesh tri;
+  tri.positions = {{-1.2, -0.5, 0}, {1.2, -0.5, 0}, {0.0, 0.7, 0}};
+  tri.triangles = {{0, 1, 2}};
+  auto in = testing::MakeStageInputs(testing::Cylinder(1.0), tri, testing::Tolerance(1e-3));
+  const LocatedVertices l = in->Located();
+  const std::array<VertexId, 3> c = {VertexId(0u), VertexId(1u), VertexId(2u)};
+  const FaceWork w(FaceFrame(*in->ctx, c), l.deformed[c[0]], l.deformed[c[1]], l.deformed[c[2]]);
+  Tally tally;
+  TriangleDeviation deviation(*in->ctx, c, w, &tally);
+  int hint = -1;
+  const Vec3 centroid = in->ctx->Deformed(in->ctx->InTriangle(c, 1.0 / 3, 1.0 / 3), &hint);
+  const double expected =
+      (centroid - (l.deformed[c[0]] + l.deformed[c[1]] + l.deformed[c[2]]) / 3.0).norm();
+  EXPECT_GT(expected, 0.05);
+  EXPECT_NEAR(deviation(0, &hint), expected, 1e-12);
+}
+
+TEST(FaceRefinement, EveryFaceMeetsTheTolerance) {
+  for (double tolerance : {1e-2, 1e-3}) {
+    const Faces f = RunFaces(testing::Figure(10, 16), testing::ThinPlate(1.0, 1.0, 0.02),
+                             testing::Tolerance(tolerance));
+    size_t refinement = 0;
+    for (const FaceOutput& o : f.s->faces) {
+      EXPECT_FALSE(o.failed);
+      EXPECT_LE(o.tally.max_dev, kFaceShare * tolerance);
+      refinement += o.tally.refinement;
+      for (const auto& t : o.triangles) {
+        for (int id : t) EXPECT_LT(static_cast<size_t>(id), 3 + o.points.size());
+      }
+    }
+    EXPECT_GT(refinement, 0u) << tolerance;
+  }
+}
+
+TEST(FaceRefinement, AFlatFaceStaysAsItIs) {
+  const Faces f = RunFaces(testing::Flattened(testing::PlaneSpec(), 8),
+                           testing::ThinPlate(1.5, 1.2, 0.1), testing::Tolerance(1e-6));
+  for (const FaceOutput& o : f.s->faces) {
+    EXPECT_TRUE(o.triangles.empty());
+    EXPECT_TRUE(o.points.empty());
+    EXPECT_LT(o.tally.max_dev, 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace surfdeform::subdivision
