@@ -147,8 +147,8 @@ int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std:
   DeformOptions by_id = o;
   if (!o.surface_file.empty() && !work.empty()) {
     DeformRequest probe;
-    if (!BuildDeformRequest(o, *kind, &probe, &error)) {
-      std::fprintf(stderr, "surfdeform: %s\n", error.c_str());
+    if (CliError e; !BuildDeformRequest(o, *kind, &probe, &e)) {
+      std::fprintf(stderr, "surfdeform: %s\n", e.message.c_str());
       return kExitUsage;
     }
     const auto params = nlohmann::json::parse(probe.params);
@@ -167,8 +167,8 @@ int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std:
     by_id.surface_id = nlohmann::json::parse(r.body).value("id", "");
   }
   DeformRequest request;
-  if (!BuildDeformRequest(by_id, *kind, &request, &error)) {
-    std::fprintf(stderr, "surfdeform: %s\n", error.c_str());
+  if (CliError e; !BuildDeformRequest(by_id, *kind, &request, &e)) {
+    std::fprintf(stderr, "surfdeform: %s\n", e.message.c_str());
     return kExitUsage;
   }
 

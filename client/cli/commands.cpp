@@ -21,15 +21,19 @@ void ConfigureRetries(const Connection& c, ApiClient* client) {
 }
 
 // JSON text, or the name of a file holding it.
-bool ReadJsonArgument(const std::string& text_or_file, json* out, std::string* error) {
+bool ReadJsonArgument(const std::string& text_or_file, json* out, CliError* error) {
   std::string text = text_or_file;
   const size_t first = text.find_first_not_of(" \t\r\n");
   if (first == std::string::npos || (text[first] != '{' && text[first] != '[')) {
-    if (!ReadFileBytes(text_or_file, &text, error)) return false;
+    if (!ReadFileBytes(text_or_file, &text, &error->message)) {
+      error->kind = CliError::Kind::kLocalFile;
+      return false;
+    }
   }
   *out = json::parse(text, nullptr, false);
   if (out->is_discarded()) {
-    *error = text_or_file.size() < 80 ? "not valid JSON: " + text_or_file : "not valid JSON";
+    *error = {CliError::Kind::kUsage,
+              text_or_file.size() < 80 ? "not valid JSON: " + text_or_file : "not valid JSON"};
     return false;
   }
   return true;
@@ -37,11 +41,11 @@ bool ReadJsonArgument(const std::string& text_or_file, json* out, std::string* e
 
 // {"surface": ..., "sampling": ..., "flatten": ...} from a surface file: a
 // whole surface request, or a bare surface ({"kind": ...}).
-bool ReadSurfaceRequest(const std::string& file, json* out, std::string* error) {
+bool ReadSurfaceRequest(const std::string& file, json* out, CliError* error) {
   json j;
   if (!ReadJsonArgument(file, &j, error)) return false;
   if (!j.is_object()) {
-    *error = file + ": a surface file holds a JSON object";
+    *error = {CliError::Kind::kUsage, file + ": a surface file holds a JSON object"};
     return false;
   }
   *out = j.contains("surface") ? j : json{{"surface", j}};
@@ -83,10 +87,10 @@ int RunHealth(const Connection& c) {
 int RunFlatten(const Connection& c, const std::string& surface_file, const std::string& svg_path,
                bool json_output) {
   json request;
-  std::string error;
+  CliError error;
   if (!ReadSurfaceRequest(surface_file, &request, &error)) {
-    std::fprintf(stderr, "surfdeform: %s\n", error.c_str());
-    return kExitLocalFile;
+    std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
+    return kExitLocalFile;  // the surface file is the one input: unreadable or unusable
   }
   ApiClient client(c.server, c.retry, c.timeout_s);
   ConfigureRetries(c, &client);
@@ -121,8 +125,8 @@ int RunFlatten(const Connection& c, const std::string& surface_file, const std::
       std::fprintf(stderr, "surfdeform: %s\n", f.message.c_str());
       return ExitFor(f);
     }
-    if (!WriteFileAtomically(svg_path, svg.body, &error)) {
-      std::fprintf(stderr, "surfdeform: %s\n", error.c_str());
+    if (!WriteFileAtomically(svg_path, svg.body, &error.message)) {
+      std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
       return kExitLocalFile;
     }
   }
@@ -130,12 +134,12 @@ int RunFlatten(const Connection& c, const std::string& surface_file, const std::
 }
 
 bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* out,
-                        std::string* error) {
+                        CliError* error) {
   json params = json::object();
   if (!o.params.empty()) {
     if (!ReadJsonArgument(o.params, &params, error)) return false;
     if (!params.is_object()) {
-      *error = "--params: a JSON object is needed";
+      *error = {CliError::Kind::kUsage, "--params: a JSON object is needed"};
       return false;
     }
   }
@@ -152,7 +156,8 @@ bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* 
     params["surface_id"] = o.surface_id;
   }
   if (!params.contains("surface") && !params.contains("surface_id")) {
-    *error = "no surface: give --surface FILE, --surface-id ID, or a surface in --params";
+    *error = {CliError::Kind::kUsage,
+              "no surface: give --surface FILE, --surface-id ID, or a surface in --params"};
     return false;
   }
   if (!o.subdivision.empty()) params["subdivision"]["mode"] = o.subdivision;
@@ -164,7 +169,7 @@ bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* 
       char* end = nullptr;
       const double s = std::strtod(o.scale.c_str(), &end);
       if (end == o.scale.c_str() || *end != '\0') {
-        *error = "--scale: \"fit\" or a number, got " + o.scale;
+        *error = {CliError::Kind::kUsage, "--scale: \"fit\" or a number, got " + o.scale};
         return false;
       }
       params["placement"]["scale"] = s;
@@ -243,10 +248,10 @@ int RunDeform(const Connection& c, const DeformOptions& o, const std::string& me
     return kExitUsage;
   }
   DeformRequest request;
-  std::string error;
+  CliError error;
   if (!BuildDeformRequest(o, *kind, &request, &error)) {
-    std::fprintf(stderr, "surfdeform: %s\n", error.c_str());
-    return error.rfind("cannot read", 0) == 0 ? kExitLocalFile : kExitUsage;
+    std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
+    return error.exit_code();
   }
   ApiClient client(c.server, c.retry, c.timeout_s);
   ConfigureRetries(c, &client);

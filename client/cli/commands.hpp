@@ -21,6 +21,15 @@ enum ExitCode {
   kExitPartial = 5,      // batch: some files failed, the others are done
 };
 
+// A failure before any request is sent: which kind it is (and so the exit
+// code), and the message for the person.
+struct CliError {
+  enum class Kind { kUsage, kLocalFile };
+  Kind kind = Kind::kUsage;
+  std::string message;
+  int exit_code() const { return kind == Kind::kLocalFile ? kExitLocalFile : kExitUsage; }
+};
+
 struct Connection {
   std::string server = "http://127.0.0.1:8080";
   RetryPolicy retry;
@@ -58,10 +67,10 @@ struct DeformRequest {
   bool decode = false;  // the reply is Draco to turn into OBJ/PLY here
 };
 
-// The request for an output of `kind`, from the options; false with a message
-// (a usage error) when they do not make a request.
+// The request for an output of `kind`, from the options; false with the
+// error (a file that cannot be read, or options that make no request).
 bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* out,
-                        std::string* error);
+                        CliError* error);
 
 // One mesh through the server into `out_path`. Returns an exit code; on
 // failure *message says why, on success it summarises the result.

@@ -160,7 +160,7 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
                                           deadline);
     }
     if (stats.out_of_time) {
-      return Status::LimitExceeded(
+      return Status::DeadlineExceeded(
           "the flattening did not converge within the time budget of " +
               std::to_string(static_cast<long long>(options_.time_budget_ms)) + " ms (" +
               std::to_string(stats.iterations) +

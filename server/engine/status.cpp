@@ -12,6 +12,8 @@ const char* ErrorCodeName(ErrorCode code) {
       return "degenerate";
     case ErrorCode::kLimitExceeded:
       return "limit_exceeded";
+    case ErrorCode::kDeadlineExceeded:
+      return "deadline_exceeded";
     case ErrorCode::kNotConverged:
       return "not_converged";
     case ErrorCode::kOutsideSheet:

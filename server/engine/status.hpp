@@ -19,6 +19,7 @@ enum class ErrorCode {
   kInvalidArgument,    // malformed or out-of-range input (a NaN, a count that does not match)
   kDegenerate,         // well-formed but geometrically unusable (zero radius, vanishing normal)
   kLimitExceeded,      // input larger than a published limit
+  kDeadlineExceeded,   // a time budget ran out (the limit and the time spent, ms, attached)
   kNotConverged,       // a solver did not reach a usable result (e.g. folded cells remain)
   kOutsideSheet,       // a model's footprint leaves the flat sheet
   kUnsupportedFormat,  // bytes in no format the reader knows (or one it refuses)
@@ -44,6 +45,12 @@ class Status {
   static Status LimitExceeded(std::string message, std::string field, double limit, double actual) {
     return Status(ErrorCode::kLimitExceeded, std::move(message), std::move(field))
         .WithLimit(limit, actual);
+  }
+  // kDeadlineExceeded with the time budget and the time spent, both in ms.
+  static Status DeadlineExceeded(std::string message, std::string field, double budget_ms,
+                                 double spent_ms) {
+    return Status(ErrorCode::kDeadlineExceeded, std::move(message), std::move(field))
+        .WithLimit(budget_ms, spent_ms);
   }
   // A copy that also carries the limit that was hit and the actual value.
   Status WithLimit(double limit, double actual) const {

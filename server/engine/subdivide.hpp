@@ -87,7 +87,7 @@ struct SubdivisionOptions {
   size_t max_vertices = 4'000'000;   // output size limit (vertices)
   size_t max_triangles = 8'000'000;  // and triangles
   // Wall-clock budget of the call, ms; 0 = none. Past it the subdivision
-  // stops with kLimitExceeded (checked between its phases and per edge and
+  // stops with kDeadlineExceeded (checked between its phases and per edge and
   // face while refining, so it stops within one face's work of the budget).
   double time_budget_ms = 0.0;
   int threads = 0;  // 0 = one per core; results do not depend on it

@@ -16,6 +16,7 @@ int HttpStatusOf(ErrorCode code) {
     case ErrorCode::kNotAcceptable:
       return 406;
     case ErrorCode::kLimitExceeded:
+    case ErrorCode::kDeadlineExceeded:  // the request asks for more work than the server allows
       return 413;
     case ErrorCode::kUnsupportedFormat:
       return 415;

@@ -100,11 +100,11 @@ class RequestClock {
  public:
   explicit RequestClock(double budget_ms) : start_(Clock::now()), budget_ms_(budget_ms) {}
   double remaining_ms() const { return budget_ms_ - MsSince(start_); }
-  // kLimitExceeded when the budget is spent, naming the phase it ran out in.
+  // kDeadlineExceeded when the budget is spent, naming the phase it ran out in.
   Status Check(const char* phase) const {
     const double spent = MsSince(start_);
     if (spent <= budget_ms_) return Status::Ok();
-    return Status::LimitExceeded(
+    return Status::DeadlineExceeded(
         "this server's time budget of " + std::to_string(static_cast<long long>(budget_ms_)) +
             " ms per request ran out in the request's " + phase + " (" +
             std::to_string(static_cast<long long>(spent)) +
@@ -119,12 +119,10 @@ class RequestClock {
   double budget_ms_;
 };
 
-// A phase's error; but a phase stopped by its time budget (kLimitExceeded on
-// the field "flatten" or "subdivision", not an output limit) once the
-// request's own budget is spent reports the request's budget.
+// A phase's error; but a phase stopped by its own time budget once the
+// request's budget is spent too reports the request's budget.
 Status WithinBudget(const RequestClock& clock, const char* phase, Status error) {
-  const bool timed_out = error.code() == ErrorCode::kLimitExceeded &&
-                         (error.field() == "flatten" || error.field() == "subdivision");
+  const bool timed_out = error.code() == ErrorCode::kDeadlineExceeded;
   Status late = clock.Check(phase);
   return timed_out && !late.ok() ? late : error;
 }

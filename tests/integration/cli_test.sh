@@ -96,6 +96,8 @@ grep -q "retry" "$out/e" && fail "a 4xx was retried"
 echo 'not json' > "$out/bad.json"
 expect 4 flatten "$out/missing.json"
 expect 4 flatten "$out/bad.json"
+expect 4 deform "$samples/bunny.ply" --surface "$out/missing.json" -o "$out/x.drc"
+expect 1 deform "$samples/bunny.ply" --surface-id "$id" --params "{not json" -o "$out/x.drc"
 expect 3 --server http://127.0.0.1:1 --retries 2 -v health
 grep -q "retry 1" "$out/e" || fail "no retry report for a connection error"
 

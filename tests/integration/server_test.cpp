@@ -688,6 +688,7 @@ TEST(ServerLimits, ARequestPastItsTimeBudgetStopsWith413) {
     EXPECT_EQ(r->get_header_value("Content-Type"), "application/problem+json");
     const json problem = json::parse(r->body);
     EXPECT_EQ(problem.at("field"), "request");
+    EXPECT_EQ(problem.at("code"), "deadline_exceeded");
     EXPECT_EQ(problem.at("limit"), 50);
     EXPECT_GE(problem.at("actual").get<double>(), 50);
     EXPECT_NE(problem.at("detail").get<std::string>().find("time budget of 50 ms"),

@@ -140,7 +140,7 @@ TEST(Service, ErrorsSayWhatAndWhere) {
   r = slow.CreateSurface(
       R"({"surface":{"kind":"wave"},"sampling":{"nu":64,"nv":64},"flatten":{"method":"paper"}})");
   ASSERT_FALSE(r.ok());
-  EXPECT_EQ(r.status().code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(r.status().code(), ErrorCode::kDeadlineExceeded);
   EXPECT_EQ(r.status().field(), "flatten");
   EXPECT_EQ(r.status().limit(), 30);
   EXPECT_GT(r.status().actual(), 30);

@@ -36,7 +36,7 @@ Budget::Budget(const SubdivisionOptions& o)
 Status Budget::TimeUp() const {
   const double spent =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
-  return Status::LimitExceeded(
+  return Status::DeadlineExceeded(
       "the subdivision did not finish within its time budget of " +
           std::to_string(static_cast<long long>(budget_ms_)) +
           " ms; raise subdivision.tolerance or epsilon, use mode \"off\", or a coarser grid",

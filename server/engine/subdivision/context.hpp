@@ -88,7 +88,7 @@ class Budget {
   }
   bool OverLimit() const { return over_limit_.load(); }
   size_t added() const { return added_.load(); }
-  // kLimitExceeded for the time budget, with the time spent.
+  // kDeadlineExceeded, with the budget and the time spent.
   Status TimeUp() const;
   // kLimitExceeded for the size limits: `what` ("vertices", ...).
   static Status OverLimitError(const char* what, size_t limit, size_t actual);
