@@ -12,15 +12,13 @@
 #include <thread>
 #include <vector>
 
+#include "engine/elapsed.hpp"
 #include "engine/parallel.hpp"
 
 using Clock = std::chrono::steady_clock;
+using surfdeform::MsSince;
 
 namespace {
-
-double MsSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // Busy work for `ms` milliseconds (a chunk of a data-parallel pass).
 void Spin(double ms) {

@@ -1,5 +1,5 @@
 // surfdeform-demo: flattens a built-in surface and prints the flat sheet's
-// quality. The main job of the project until the HTTP server exists.
+// quality: the engine alone, without the server (see README, "Flattening").
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <string>

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "engine/elapsed.hpp"
 #include "engine/parallel.hpp"
 #include "engine/sheet_map.hpp"
 
@@ -10,10 +11,6 @@ namespace surfdeform {
 namespace {
 
 using Mat3 = Eigen::Matrix3d;
-
-double MsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Options, mesh and sheet: kInvalidArgument for anything unusable.
 Status ValidateInput(const FlatSheet& sheet, const Mesh& mesh, const PlacementOptions& o,

@@ -8,8 +8,6 @@
 namespace surfdeform {
 namespace {
 
-double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 int Next(int k) { return k == 2 ? 0 : k + 1; }
 int Prev(int k) { return k == 0 ? 2 : k - 1; }
 
@@ -26,16 +24,16 @@ FaceTriangulation::FaceTriangulation(const Vec2& a, const Vec2& b, const Vec2& c
 double FaceTriangulation::Orient(int a, int b, const Vec2& p) const {
   const Vec2 ab = pts_[b] - pts_[a];
   const double len = ab.norm();
-  return len > 0.0 ? Cross(ab, p - pts_[a]) / len : 0.0;
+  return len > 0.0 ? Cross2(ab, p - pts_[a]) / len : 0.0;
 }
 
 bool FaceTriangulation::InCircle(int t, const Vec2& p) const {
   const Triangle& tr = tris_[t];
   const Vec2 a = pts_[tr.v[0]] - p, b = pts_[tr.v[1]] - p, c = pts_[tr.v[2]] - p;
   const double a2 = a.squaredNorm(), b2 = b.squaredNorm(), c2 = c.squaredNorm();
-  const double det = a2 * Cross(b, c) + b2 * Cross(c, a) + c2 * Cross(a, b);
+  const double det = a2 * Cross2(b, c) + b2 * Cross2(c, a) + c2 * Cross2(a, b);
   const double mag =
-      a2 * std::abs(Cross(b, c)) + b2 * std::abs(Cross(c, a)) + c2 * std::abs(Cross(a, b));
+      a2 * std::abs(Cross2(b, c)) + b2 * std::abs(Cross2(c, a)) + c2 * std::abs(Cross2(a, b));
   // Strictly inside, beyond rounding: cocircular points (a regular grid) never flip.
   return det > 1e-10 * mag;
 }

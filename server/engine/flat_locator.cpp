@@ -7,8 +7,6 @@
 namespace surfdeform {
 namespace {
 
-double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 // Solves p = a + s e + t f + s t g for (s, t), the inverse of the bilinear map
 // of the quad a (0,0), b (1,0), c (1,1), d (0,1): eliminating s leaves
 // k2 t^2 + k1 t + k0 = 0. Returns false when no root lies in the cell (with a
@@ -16,11 +14,11 @@ double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(
 bool InverseBilinear(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d,
                      double* s_out, double* t_out) {
   const Vec2 e = b - a, f = d - a, g = a - b + c - d, h = p - a;
-  const double k2 = Cross(g, f);
-  const double k1 = Cross(e, f) + Cross(h, g);
-  const double k0 = Cross(h, e);
+  const double k2 = Cross2(g, f);
+  const double k1 = Cross2(e, f) + Cross2(h, g);
+  const double k0 = Cross2(h, e);
   constexpr double kTol = 1e-9;
-  const double scale = std::abs(Cross(e, f)) + std::abs(Cross(c - b, c - d));
+  const double scale = std::abs(Cross2(e, f)) + std::abs(Cross2(c - b, c - d));
   auto s_of = [&](double t) {
     const Vec2 den = e + g * t;
     const Vec2 num = h - f * t;

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <string>
 
+#include "engine/elapsed.hpp"
 #include "engine/flatten_solvers.hpp"
 #include "engine/surface_distance.hpp"
 
@@ -10,10 +11,6 @@ namespace surfdeform {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double MsSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // Starting layout: the parameter grid scaled by the mean surface length of the
 // u and v grid lines, so that it has the sheet's size.

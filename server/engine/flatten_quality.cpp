@@ -8,11 +8,9 @@
 namespace surfdeform::internal {
 namespace {
 
-double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 // Signed area of the quad a, b, c, d (shoelace).
 double QuadArea(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  return 0.5 * Cross(c - a, d - b);
+  return 0.5 * Cross2(c - a, d - b);
 }
 
 }  // namespace
@@ -74,8 +72,8 @@ void MeasureQuality(const SurfaceDistances& dist, const std::vector<Vec2>& x, Fl
       const Vec2& cc = x[ia + 1 + nu];
       const Vec2& d = x[ia + nu];
       // Inverted or non-convex: some corner turns the wrong way.
-      const bool folded = Cross(a - d, b - a) <= 0.0 || Cross(b - a, cc - b) <= 0.0 ||
-                          Cross(cc - b, d - cc) <= 0.0 || Cross(d - cc, a - d) <= 0.0;
+      const bool folded = Cross2(a - d, b - a) <= 0.0 || Cross2(b - a, cc - b) <= 0.0 ||
+                          Cross2(cc - b, d - cc) <= 0.0 || Cross2(d - cc, a - d) <= 0.0;
       q->folded_cells += folded ? 1 : 0;
       const double ratio = QuadArea(a, b, cc, d) / dist.cell_areas[i + (nu - 1) * j];
       q->area_ratio_min = std::min(q->area_ratio_min, ratio);

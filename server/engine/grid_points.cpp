@@ -7,8 +7,6 @@
 namespace surfdeform {
 namespace {
 
-double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 // A side of a cell: a piece of one grid line between two adjacent nodes.
 struct Side {
   int line;  // u-lines 0 .. nu-1, v-lines nu .. nu+nv-1
@@ -49,11 +47,11 @@ void GridCrossings(const FlatLocator& locator, const Vec2& a, const Vec2& b,
     const Vec2& p = u_line ? locator.Node(index, side.seg) : locator.Node(side.seg, index);
     const Vec2& q = u_line ? locator.Node(index, side.seg + 1) : locator.Node(side.seg + 1, index);
     const Vec2 e = q - p;
-    const double den = Cross(d, e);
+    const double den = Cross2(d, e);
     if (std::abs(den) <= 1e-12 * len * e.norm()) continue;  // parallel
     const Vec2 w = p - a;
-    const double t = Cross(w, e) / den;
-    const double s = Cross(w, d) / den;
+    const double t = Cross2(w, e) / den;
+    const double s = Cross2(w, d) / den;
     if (!(t > kEnd && t < 1.0 - kEnd && s >= -kSlack && s <= 1.0 + kSlack)) continue;
     GridCrossing c;
     c.t = t;
@@ -96,7 +94,7 @@ void GridCrossings(const FlatLocator& locator, const Vec2& a, const Vec2& b,
 void GridNodesInside(const FlatLocator& locator, const Vec2& a, const Vec2& b, const Vec2& c,
                      std::vector<GridNodeInside>* out, std::vector<int>* scratch) {
   out->clear();
-  const double area2 = Cross(b - a, c - a);
+  const double area2 = Cross2(b - a, c - a);
   const double size = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
   if (!(std::abs(area2) > 1e-12 * size * size)) return;
   Eigen::AlignedBox2d box;
@@ -120,8 +118,8 @@ void GridNodesInside(const FlatLocator& locator, const Vec2& a, const Vec2& b, c
     const int i = static_cast<int>(id % nu), j = static_cast<int>(id / nu);
     const Vec2& x = locator.Node(i, j);
     if (!box.contains(x)) continue;
-    const double l1 = Cross(x - a, c - a) / area2;  // area(a, x, c) / area(a, b, c)
-    const double l2 = Cross(b - a, x - a) / area2;  // area(a, b, x) / area(a, b, c)
+    const double l1 = Cross2(x - a, c - a) / area2;  // area(a, x, c) / area(a, b, c)
+    const double l2 = Cross2(b - a, x - a) / area2;  // area(a, b, x) / area(a, b, c)
     const double l0 = 1.0 - l1 - l2;
     if (l0 > min_l0 && l1 > min_l1 && l2 > min_l2) out->push_back({i, j, l1, l2});
   }

@@ -18,8 +18,8 @@ namespace parallel_detail {
 // CPU other than the caller's for its (short) life. Linux starts a new thread
 // on its parent's CPU, and on the virtual machine this was measured on (KVM,
 // 2 vCPUs) it often stays queued there until the parent blocks in join(),
-// even with the other CPU idle: after a 20 ms idle gap the fork ran serially
-// almost every time (bench/fork_join_bench). No-op where affinity cannot be
+// even with the other CPU idle, so that after an idle gap the fork ran
+// serially almost every time (bench/fork_join_bench; BENCHMARKS.md). No-op where affinity cannot be
 // set, or when there are fewer CPUs than helpers plus the caller.
 void StartOffCallerCpu(std::thread& helper, int index);
 }  // namespace parallel_detail

@@ -96,9 +96,8 @@ std::vector<Vec2> DropInterior(const std::vector<Vec2>& points) {
 
 // Convex hull (Andrew's monotone chain), counter-clockwise. Points that cannot
 // be on the hull are dropped before sorting, with 8 directions and then, among
-// the survivors, 32: of the bunny's 37,706 footprint points 7,547 survive the
-// first and 1,175 the second (with the four axis directions alone the hull
-// took 1.7 ms, most of it sorting; see BENCHMARKS.md).
+// the survivors, 32: a fine model keeps a few percent of its points for the
+// sort (the measurements are in BENCHMARKS.md).
 std::vector<Vec2> ConvexHull(const std::vector<Vec2>& points) {
   std::vector<Vec2> p = points.size() > 64 ? DropInterior<32>(DropInterior<8>(points)) : points;
   std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {

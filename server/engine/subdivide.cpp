@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "engine/elapsed.hpp"
 #include "engine/subdivision/assembly.hpp"
 #include "engine/subdivision/screen.hpp"
 
@@ -11,10 +12,6 @@ namespace surfdeform {
 namespace {
 
 using namespace subdivision;
-
-double MsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // What the caller gets of the input vertices' positions.
 void HandOverPositions(InputPositions want, LocatedVertices* located, SubdivisionResult* r) {

@@ -3,9 +3,9 @@
 // By default glibc serves blocks over a dynamic threshold (128 KiB at first)
 // with fresh mmap()s and returns freed memory at the top of the heap to the
 // kernel, so every request pays page faults again for its large buffers
-// (mesh arrays, Draco's encoder state). Measured with bench/service_bench on
-// the bunny: Draco encoding inside the service 35-42 ms with the defaults,
-// 21 ms with these settings (as fast as Draco's encoder in a fresh process).
+// (mesh arrays, Draco's encoder state): with these settings Draco's encoding
+// inside the service is as fast as in a fresh process (bench/service_bench;
+// the figures are in BENCHMARKS.md).
 // The cost is resident memory: up to `trim` bytes of freed heap per arena
 // stay mapped between requests.
 #pragma once

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "engine/deform.hpp"
+#include "engine/elapsed.hpp"
 #include "engine/flatten.hpp"
 #include "engine/parallel.hpp"
 #include "engine/surface_spec.hpp"
@@ -22,10 +23,6 @@ namespace {
 
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
-
-double MsSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // A flattened surface as the cache holds it: immutable once built.
 struct CachedSurface {

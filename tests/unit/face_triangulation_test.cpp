@@ -9,8 +9,6 @@
 namespace surfdeform {
 namespace {
 
-double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 // Every triangle counter-clockwise, the areas summing to the face's, every
 // interior edge shared by exactly two triangles in opposite directions.
 void ExpectValid(const FaceTriangulation& tri, double face_area) {
@@ -18,7 +16,7 @@ void ExpectValid(const FaceTriangulation& tri, double face_area) {
   double area = 0.0;
   std::map<std::pair<int, int>, int> edges;
   for (const auto& t : tri.triangles()) {
-    const double a = 0.5 * Cross(pts[t.v[1]] - pts[t.v[0]], pts[t.v[2]] - pts[t.v[0]]);
+    const double a = 0.5 * Cross2(pts[t.v[1]] - pts[t.v[0]], pts[t.v[2]] - pts[t.v[0]]);
     EXPECT_GT(a, 0.0);
     area += a;
     for (int k = 0; k < 3; ++k) ++edges[{t.v[k], t.v[(k + 1) % 3]}];

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "engine/elapsed.hpp"
 #include "engine/parallel.hpp"
 
 namespace surfdeform::subdivision {
@@ -34,8 +35,7 @@ Budget::Budget(const SubdivisionOptions& o)
 }
 
 Status Budget::TimeUp() const {
-  const double spent =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  const double spent = MsSince(start_);
   return Status::DeadlineExceeded(
       "the subdivision did not finish within its time budget of " +
           std::to_string(static_cast<long long>(budget_ms_)) +
