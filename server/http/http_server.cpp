@@ -33,38 +33,46 @@ struct RequestContext {
 };
 thread_local RequestContext t_context;
 
-const std::regex kSurfaceRoute(R"(^/v1/surfaces/([^/]+)$)");
-const std::regex kSurfaceSvgRoute(R"(^/v1/surfaces/([^/]+)/flat\.svg$)");
+// One row per route: the method, httplib's pattern (a regex where the path
+// carries an id), and the path template that names it in metrics and logs.
+// Registration, the methods a path allows (405, OPTIONS) and the metrics
+// labels all come from this table; the handlers are HttpServer::Impl's, by
+// the same index (kRouteHandlers).
+struct Route {
+  const char* method;
+  const char* pattern;
+  const char* label;
+};
+constexpr Route kRoutes[] = {
+    {"GET", "/", "/"},
+    {"GET", "/healthz", "/healthz"},
+    {"GET", "/readyz", "/readyz"},
+    {"GET", "/metrics", "/metrics"},
+    {"GET", "/openapi.yaml", "/openapi.yaml"},
+    {"GET", "/v1/info", "/v1/info"},
+    {"POST", "/v1/surfaces", "/v1/surfaces"},
+    {"GET", R"(/v1/surfaces/([^/]+)/flat\.svg)", "/v1/surfaces/{id}/flat.svg"},
+    {"GET", R"(/v1/surfaces/([^/]+))", "/v1/surfaces/{id}"},
+    {"POST", "/v1/deform", "/v1/deform"},
+};
+constexpr size_t kRouteCount = sizeof(kRoutes) / sizeof(kRoutes[0]);
 
-// Route label for metrics and the methods each path allows (for 405).
+// The route label of a path ("other" for none) and, in *allow, the methods
+// its routes take, with OPTIONS (empty for none).
 std::string RouteOf(const std::string& path, std::string* allow = nullptr) {
-  struct Fixed {
-    const char* path;
-    const char* allow;
-  };
-  static const Fixed kFixed[] = {{"/", "GET, OPTIONS"},
-                                 {"/healthz", "GET, OPTIONS"},
-                                 {"/readyz", "GET, OPTIONS"},
-                                 {"/metrics", "GET, OPTIONS"},
-                                 {"/openapi.yaml", "GET, OPTIONS"},
-                                 {"/v1/info", "GET, OPTIONS"},
-                                 {"/v1/surfaces", "POST, OPTIONS"},
-                                 {"/v1/deform", "POST, OPTIONS"}};
-  for (const Fixed& f : kFixed) {
-    if (path == f.path) {
-      if (allow != nullptr) *allow = f.allow;
-      return f.path;
-    }
+  static const std::vector<std::regex> patterns = [] {
+    std::vector<std::regex> p;
+    for (const Route& r : kRoutes) p.emplace_back(r.pattern);
+    return p;
+  }();
+  std::string label = "other", methods;
+  for (size_t k = 0; k < kRouteCount; ++k) {
+    if (!std::regex_match(path, patterns[k])) continue;
+    if (label == "other") label = kRoutes[k].label;
+    methods += std::string(kRoutes[k].method) + ", ";
   }
-  if (std::regex_match(path, kSurfaceSvgRoute)) {
-    if (allow != nullptr) *allow = "GET, OPTIONS";
-    return "/v1/surfaces/{id}/flat.svg";
-  }
-  if (std::regex_match(path, kSurfaceRoute)) {
-    if (allow != nullptr) *allow = "GET, OPTIONS";
-    return "/v1/surfaces/{id}";
-  }
-  return "other";
+  if (allow != nullptr) *allow = methods.empty() ? "" : methods + "OPTIONS";
+  return label;
 }
 
 bool IsSafeRequestId(const std::string& id) {
@@ -396,60 +404,74 @@ struct HttpServer::Impl {
   }
 
   void Routes() {
-    if (!MountViewer()) {
-      server.Get("/", [](const httplib::Request&, httplib::Response& res) {
-        res.set_content(kIndexHtml, "text/html; charset=utf-8");
-      });
-    }
-    server.Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
-      res.set_content("{\"status\":\"ok\"}", "application/json");
-    });
-    server.Get("/readyz", [this](const httplib::Request& req, httplib::Response& res) {
-      if (ready.load()) {
-        res.set_content("{\"ready\":true}", "application/json");
+    // The handlers of kRoutes, in its order.
+    using Handler = void (Impl::*)(const httplib::Request&, httplib::Response&);
+    const Handler handlers[] = {
+        &Impl::Index, &Impl::Healthz,       &Impl::Readyz,     &Impl::MetricsText,  &Impl::OpenApi,
+        &Impl::Info,  &Impl::CreateSurface, &Impl::SurfaceSvg, &Impl::SurfaceSheet, &Impl::Deform};
+    static_assert(sizeof(handlers) / sizeof(handlers[0]) == kRouteCount);
+    // A mounted viewer serves GET / from its files first; the built-in page
+    // stands in where it has none.
+    MountViewer();
+    for (size_t k = 0; k < kRouteCount; ++k) {
+      const Handler h = handlers[k];
+      auto handler = [this, h](const httplib::Request& req, httplib::Response& res) {
+        (this->*h)(req, res);
+      };
+      if (std::string(kRoutes[k].method) == "GET") {
+        server.Get(kRoutes[k].pattern, handler);
       } else {
-        Problem(req, res, 503,
-                Status(ErrorCode::kUnavailable, "the server is shutting down (draining)"));
+        server.Post(kRoutes[k].pattern, handler);
       }
-    });
-    server.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
-      res.set_content(metrics.Render(service.cache_stats()), "text/plain; version=0.0.4");
-    });
-    server.Get("/openapi.yaml", [](const httplib::Request&, httplib::Response& res) {
-      res.set_content(kOpenApiYaml, "application/yaml");
-    });
-    server.Get("/v1/info", [this](const httplib::Request&, httplib::Response& res) {
-      res.set_content(service.InfoJson(), "application/json");
-    });
-    server.Post("/v1/surfaces", [this](const httplib::Request& req, httplib::Response& res) {
-      const std::string type = req.get_header_value("Content-Type");
-      if (type.rfind("application/json", 0) != 0) {
-        return Fail(
-            req, res,
-            Status(ErrorCode::kUnsupportedFormat,
-                   "POST /v1/surfaces takes application/json, got \"" + type.substr(0, 64) + "\"",
-                   "Content-Type"));
-      }
-      auto reply = service.CreateSurface(req.body);
-      if (!reply.ok()) return Fail(req, res, reply.status());
-      const json body = json::parse(reply->body);
-      res.set_header("Location", "/v1/surfaces/" + body.at("id").get<std::string>());
-      Send(req, res, *reply, reply->cache_hit ? 200 : 201);
-    });
-    server.Get(R"(/v1/surfaces/([^/]+)/flat\.svg)",
-               [this](const httplib::Request& req, httplib::Response& res) {
-                 auto reply = service.GetSurfaceSvg(req.matches[1].str());
-                 if (!reply.ok()) return Fail(req, res, reply.status());
-                 Send(req, res, *reply);
-               });
-    server.Get(R"(/v1/surfaces/([^/]+))",
-               [this](const httplib::Request& req, httplib::Response& res) {
-                 auto reply = service.GetSurface(req.matches[1].str());
-                 if (!reply.ok()) return Fail(req, res, reply.status());
-                 Send(req, res, *reply);
-               });
-    server.Post("/v1/deform",
-                [this](const httplib::Request& req, httplib::Response& res) { Deform(req, res); });
+    }
+  }
+
+  void Index(const httplib::Request&, httplib::Response& res) {
+    res.set_content(kIndexHtml, "text/html; charset=utf-8");
+  }
+  void Healthz(const httplib::Request&, httplib::Response& res) {
+    res.set_content("{\"status\":\"ok\"}", "application/json");
+  }
+  void Readyz(const httplib::Request& req, httplib::Response& res) {
+    if (ready.load()) {
+      res.set_content("{\"ready\":true}", "application/json");
+    } else {
+      Problem(req, res, 503,
+              Status(ErrorCode::kUnavailable, "the server is shutting down (draining)"));
+    }
+  }
+  void MetricsText(const httplib::Request&, httplib::Response& res) {
+    res.set_content(metrics.Render(service.cache_stats()), "text/plain; version=0.0.4");
+  }
+  void OpenApi(const httplib::Request&, httplib::Response& res) {
+    res.set_content(kOpenApiYaml, "application/yaml");
+  }
+  void Info(const httplib::Request&, httplib::Response& res) {
+    res.set_content(service.InfoJson(), "application/json");
+  }
+  void CreateSurface(const httplib::Request& req, httplib::Response& res) {
+    const std::string type = req.get_header_value("Content-Type");
+    if (type.rfind("application/json", 0) != 0) {
+      return Fail(
+          req, res,
+          Status(ErrorCode::kUnsupportedFormat,
+                 "POST /v1/surfaces takes application/json, got \"" + type.substr(0, 64) + "\"",
+                 "Content-Type"));
+    }
+    auto reply = service.CreateSurface(req.body);
+    if (!reply.ok()) return Fail(req, res, reply.status());
+    res.set_header("Location", "/v1/surfaces/" + reply->surface_id);
+    Send(req, res, *reply, reply->cache_hit ? 200 : 201);
+  }
+  void SurfaceSvg(const httplib::Request& req, httplib::Response& res) {
+    auto reply = service.GetSurfaceSvg(req.matches[1].str());
+    if (!reply.ok()) return Fail(req, res, reply.status());
+    Send(req, res, *reply);
+  }
+  void SurfaceSheet(const httplib::Request& req, httplib::Response& res) {
+    auto reply = service.GetSurface(req.matches[1].str());
+    if (!reply.ok()) return Fail(req, res, reply.status());
+    Send(req, res, *reply);
   }
 };
 

@@ -229,6 +229,7 @@ Result<Reply> Service::CreateSurface(std::string_view body) {
   if (!entry.ok()) return WithinBudget(clock, "flattening", entry.status());
   Reply reply;
   reply.cache_hit = hit;
+  reply.surface_id = (*entry)->id;
   json summary = SheetSummary(**entry, hit);
   reply.body = Dump(summary);
   reply.content_type = "application/json";

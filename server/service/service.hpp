@@ -52,6 +52,7 @@ struct Reply {
   std::string stats_json;  // for a response header: counts, quality
   std::string etag;        // over the body bytes (deterministic)
   bool cache_hit = false;
+  std::string surface_id;  // CreateSurface: the id of the flattened surface
 };
 
 struct DeformRequest {
