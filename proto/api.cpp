@@ -10,8 +10,9 @@ namespace {
 
 using nlohmann::json;
 
-constexpr const char* kKinds[] = {"bezier", "bspline", "nurbs", "cylinder", "cone",
-                                  "sphere", "torus",   "wave",  "grid"};
+std::string KindName(SurfaceKind kind) {
+  return std::string(NameOf<SurfaceKind>(kSurfaceKinds, kind));
+}
 
 Status ReadFrame(JsonObject& o, Frame* frame) {
   const json* v = o.Find("frame");
@@ -41,16 +42,15 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
   if (!opened.ok()) return opened.status();
   JsonObject& o = *opened;
   if (o.Find("kind") == nullptr) {
-    return Malformed(
-        "is required (one of bezier, bspline, nurbs, cylinder, cone, sphere, torus, "
-        "wave, grid)",
-        o.PathOf("kind"));
+    std::string names;
+    for (const auto& e : kSurfaceKinds) names += (names.empty() ? "" : ", ") + std::string(e.name);
+    return Malformed("is required (one of " + names + ")", o.PathOf("kind"));
   }
-  int kind = -1;
-  SURFDEFORM_RETURN_IF_ERROR(o.Choice("kind", {std::begin(kKinds), std::end(kKinds)}, &kind));
+  SurfaceKind kind = SurfaceKind::kBezier;
+  SURFDEFORM_RETURN_IF_ERROR(o.Choice<SurfaceKind>("kind", kSurfaceKinds, &kind));
   SurfaceSpec spec;
   switch (kind) {
-    case 0: {
+    case SurfaceKind::kBezier: {
       BezierSpec s;
       SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_u", &s.degree_u));
       SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_v", &s.degree_v));
@@ -58,10 +58,10 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       spec = std::move(s);
       break;
     }
-    case 1:
-    case 2: {
+    case SurfaceKind::kBSpline:
+    case SurfaceKind::kNurbs: {
       BSplineSpec s;
-      s.rational = kind == 2;
+      s.rational = kind == SurfaceKind::kNurbs;
       SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_u", &s.degree_u));
       SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_v", &s.degree_v));
       SURFDEFORM_RETURN_IF_ERROR(o.Integer("count_u", &s.count_u));
@@ -73,7 +73,7 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       spec = std::move(s);
       break;
     }
-    case 3: {
+    case SurfaceKind::kCylinder: {
       CylinderSpec s;
       SURFDEFORM_RETURN_IF_ERROR(o.Number("radius", &s.radius));
       SURFDEFORM_RETURN_IF_ERROR(o.Number("height", &s.height));
@@ -82,7 +82,7 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       spec = s;
       break;
     }
-    case 4: {
+    case SurfaceKind::kCone: {
       ConeSpec s;
       SURFDEFORM_RETURN_IF_ERROR(o.Number("radius_bottom", &s.radius_bottom));
       SURFDEFORM_RETURN_IF_ERROR(o.Number("radius_top", &s.radius_top));
@@ -92,7 +92,7 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       spec = s;
       break;
     }
-    case 5: {
+    case SurfaceKind::kSphere: {
       SphereSpec s;
       SURFDEFORM_RETURN_IF_ERROR(o.Number("radius", &s.radius));
       SURFDEFORM_RETURN_IF_ERROR(o.Number("lon_min_deg", &s.lon_min_deg));
@@ -103,7 +103,7 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       spec = s;
       break;
     }
-    case 6: {
+    case SurfaceKind::kTorus: {
       TorusSpec s;
       SURFDEFORM_RETURN_IF_ERROR(o.Number("major_radius", &s.major_radius));
       SURFDEFORM_RETURN_IF_ERROR(o.Number("minor_radius", &s.minor_radius));
@@ -115,7 +115,7 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       spec = s;
       break;
     }
-    case 7: {
+    case SurfaceKind::kWave: {
       WaveSpec s;
       SURFDEFORM_RETURN_IF_ERROR(o.Number("length", &s.length));
       SURFDEFORM_RETURN_IF_ERROR(o.Number("width", &s.width));
@@ -127,7 +127,7 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       spec = s;
       break;
     }
-    default: {
+    case SurfaceKind::kGrid: {
       GridSpec s;
       SURFDEFORM_RETURN_IF_ERROR(o.Integer("nu", &s.nu));
       SURFDEFORM_RETURN_IF_ERROR(o.Integer("nv", &s.nv));
@@ -145,12 +145,12 @@ json SurfaceJson(const SurfaceSpec& spec) {
       [](const auto& s) -> json {
         using T = std::decay_t<decltype(s)>;
         if constexpr (std::is_same_v<T, BezierSpec>) {
-          return {{"kind", "bezier"},
+          return {{"kind", KindName(SurfaceKind::kBezier)},
                   {"degree_u", s.degree_u},
                   {"degree_v", s.degree_v},
                   {"control_points", PointsJson(s.control_points)}};
         } else if constexpr (std::is_same_v<T, BSplineSpec>) {
-          json j = {{"kind", s.rational ? "nurbs" : "bspline"},
+          json j = {{"kind", KindName(s.rational ? SurfaceKind::kNurbs : SurfaceKind::kBSpline)},
                     {"degree_u", s.degree_u},
                     {"degree_v", s.degree_v},
                     {"count_u", s.count_u},
@@ -161,20 +161,20 @@ json SurfaceJson(const SurfaceSpec& spec) {
           if (s.rational) j["weights"] = s.weights;
           return j;
         } else if constexpr (std::is_same_v<T, CylinderSpec>) {
-          return {{"kind", "cylinder"},
+          return {{"kind", KindName(SurfaceKind::kCylinder)},
                   {"radius", s.radius},
                   {"height", s.height},
                   {"angle_deg", s.angle_deg},
                   {"frame", FrameJson(s.frame)}};
         } else if constexpr (std::is_same_v<T, ConeSpec>) {
-          return {{"kind", "cone"},
+          return {{"kind", KindName(SurfaceKind::kCone)},
                   {"radius_bottom", s.radius_bottom},
                   {"radius_top", s.radius_top},
                   {"height", s.height},
                   {"angle_deg", s.angle_deg},
                   {"frame", FrameJson(s.frame)}};
         } else if constexpr (std::is_same_v<T, SphereSpec>) {
-          return {{"kind", "sphere"},
+          return {{"kind", KindName(SurfaceKind::kSphere)},
                   {"radius", s.radius},
                   {"lon_min_deg", s.lon_min_deg},
                   {"lon_max_deg", s.lon_max_deg},
@@ -182,7 +182,7 @@ json SurfaceJson(const SurfaceSpec& spec) {
                   {"lat_max_deg", s.lat_max_deg},
                   {"frame", FrameJson(s.frame)}};
         } else if constexpr (std::is_same_v<T, TorusSpec>) {
-          return {{"kind", "torus"},
+          return {{"kind", KindName(SurfaceKind::kTorus)},
                   {"major_radius", s.major_radius},
                   {"minor_radius", s.minor_radius},
                   {"u_min_deg", s.u_min_deg},
@@ -191,11 +191,11 @@ json SurfaceJson(const SurfaceSpec& spec) {
                   {"v_max_deg", s.v_max_deg},
                   {"frame", FrameJson(s.frame)}};
         } else if constexpr (std::is_same_v<T, WaveSpec>) {
-          return {{"kind", "wave"},           {"length", s.length},         {"width", s.width},
+          return {{"kind", KindName(SurfaceKind::kWave)},           {"length", s.length},         {"width", s.width},
                   {"amplitude", s.amplitude}, {"wavelength", s.wavelength}, {"speed", s.speed},
                   {"time", s.time},           {"frame", FrameJson(s.frame)}};
         } else {
-          return {{"kind", "grid"}, {"nu", s.nu}, {"nv", s.nv}, {"points", PointsJson(s.points)}};
+          return {{"kind", KindName(SurfaceKind::kGrid)}, {"nu", s.nu}, {"nv", s.nv}, {"points", PointsJson(s.points)}};
         }
       },
       spec);
@@ -217,9 +217,7 @@ Status ReadFlatten(JsonObject& parent, FlattenOptions* out) {
   if (v == nullptr) return Status::Ok();
   auto o = JsonObject::Open(*v, parent.PathOf("flatten"));
   if (!o.ok()) return o.status();
-  int method = out->method == FlattenMethod::kPaper ? 1 : 0;
-  SURFDEFORM_RETURN_IF_ERROR(o->Choice("method", {"majorization", "paper"}, &method));
-  out->method = method == 1 ? FlattenMethod::kPaper : FlattenMethod::kMajorization;
+  SURFDEFORM_RETURN_IF_ERROR(o->Choice<FlattenMethod>("method", kFlattenMethods, &out->method));
   SURFDEFORM_RETURN_IF_ERROR(o->Integer("range", &out->range));
   SURFDEFORM_RETURN_IF_ERROR(o->Number("tolerance", &out->tolerance));
   SURFDEFORM_RETURN_IF_ERROR(o->Integer("max_iterations", &out->max_iterations));
@@ -249,17 +247,13 @@ Status ReadPlacement(JsonObject& parent, PlacementOptions* out) {
   auto opened = JsonObject::Open(*v, path);
   if (!opened.ok()) return opened.status();
   JsonObject& o = *opened;
-  int up = 4;
-  SURFDEFORM_RETURN_IF_ERROR(o.Choice("up", {"+x", "-x", "+y", "-y", "+z", "-z"}, &up));
-  out->up = static_cast<UpAxis>(up);
+  SURFDEFORM_RETURN_IF_ERROR(o.Choice<UpAxis>("up", kUpAxes, &out->up));
   if (const json* a = o.Find("anchor"); a != nullptr) {
     if (a->is_number()) {
       out->anchor = AnchorMode::kValue;
       out->anchor_value = a->get<double>();
     } else {
-      int anchor = 0;
-      SURFDEFORM_RETURN_IF_ERROR(o.Choice("anchor", {"bottom", "center", "top"}, &anchor));
-      out->anchor = static_cast<AnchorMode>(anchor);
+      SURFDEFORM_RETURN_IF_ERROR(o.Choice<AnchorMode>("anchor", kAnchorModes, &out->anchor));
     }
   }
   if (const json* c = o.Find("center"); c != nullptr) {
@@ -296,9 +290,7 @@ Status ReadPlacement(JsonObject& parent, PlacementOptions* out) {
     }
   }
   SURFDEFORM_RETURN_IF_ERROR(o.Number("fit_margin", &out->fit_margin));
-  int outside = 0;
-  SURFDEFORM_RETURN_IF_ERROR(o.Choice("outside", {"error", "clamp", "extrapolate"}, &outside));
-  out->outside = static_cast<OutsideMode>(outside);
+  SURFDEFORM_RETURN_IF_ERROR(o.Choice<OutsideMode>("outside", kOutsideModes, &out->outside));
   SURFDEFORM_RETURN_IF_ERROR(o.Finish());
   Status s = ValidatePlacement(*out);
   // ValidatePlacement already names "placement.*".
@@ -311,10 +303,9 @@ Status ReadOutput(JsonObject& parent, OutputOptions* out) {
   auto o = JsonObject::Open(*v, parent.PathOf("output"));
   if (!o.ok()) return o.status();
   if (o->Find("format") != nullptr) {
-    int format = 0;
-    SURFDEFORM_RETURN_IF_ERROR(
-        o->Choice("format", {"drc", "glb", "glb_plain", "obj", "ply"}, &format));
-    out->format = static_cast<OutputFormat>(format);
+    OutputFormat format = OutputFormat::kDrc;
+    SURFDEFORM_RETURN_IF_ERROR(o->Choice<OutputFormat>("format", kOutputFormats, &format));
+    out->format = format;
   }
   if (const json* d = o->Find("draco"); d != nullptr) {
     auto dj = JsonObject::Open(*d, o->PathOf("draco"));
@@ -334,19 +325,8 @@ Status ReadOutput(JsonObject& parent, OutputOptions* out) {
 }  // namespace
 
 const char* OutputFormatName(OutputFormat format) {
-  switch (format) {
-    case OutputFormat::kDrc:
-      return "drc";
-    case OutputFormat::kGlb:
-      return "glb";
-    case OutputFormat::kGlbPlain:
-      return "glb_plain";
-    case OutputFormat::kObj:
-      return "obj";
-    case OutputFormat::kPly:
-      return "ply";
-  }
-  return "drc";
+  const std::string_view name = NameOf<OutputFormat>(kOutputFormats, format);
+  return name.empty() ? "drc" : name.data();  // the table's literals end in NUL
 }
 
 const char* OutputMediaType(OutputFormat format) {
@@ -425,9 +405,8 @@ Result<DeformParams> ParseDeformParams(const json& body) {
   if (const json* v = o.Find("subdivision"); v != nullptr) {
     auto s = JsonObject::Open(*v, "subdivision");
     if (!s.ok()) return s.status();
-    int mode = static_cast<int>(params.subdivision.mode);
-    SURFDEFORM_RETURN_IF_ERROR(s->Choice("mode", {"off", "adaptive", "uniform"}, &mode));
-    params.subdivision.mode = static_cast<SubdivisionMode>(mode);
+    SURFDEFORM_RETURN_IF_ERROR(
+        s->Choice<SubdivisionMode>("mode", kSubdivisionModes, &params.subdivision.mode));
     SURFDEFORM_RETURN_IF_ERROR(s->Number("epsilon", &params.subdivision.epsilon));
     SURFDEFORM_RETURN_IF_ERROR(s->Number("tolerance", &params.subdivision.tolerance));
     SURFDEFORM_RETURN_IF_ERROR(s->Finish());

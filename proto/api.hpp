@@ -23,6 +23,20 @@
 
 namespace surfdeform::proto {
 
+// The surface kinds of the API (`surface.kind`).
+enum class SurfaceKind { kBezier, kBSpline, kNurbs, kCylinder, kCone, kSphere, kTorus, kWave, kGrid };
+inline constexpr EnumEntry<SurfaceKind> kSurfaceKinds[] = {
+    {SurfaceKind::kBezier, "bezier", "tensor-product Bezier patch of any degree"},
+    {SurfaceKind::kBSpline, "bspline", "clamped B-spline"},
+    {SurfaceKind::kNurbs, "nurbs", "clamped B-spline with weights"},
+    {SurfaceKind::kCylinder, "cylinder", "cylinder patch (u: angle, v: height)"},
+    {SurfaceKind::kCone, "cone", "truncated cone patch"},
+    {SurfaceKind::kSphere, "sphere", "sphere patch (u: longitude, v: latitude)"},
+    {SurfaceKind::kTorus, "torus", "torus patch (v around the tube)"},
+    {SurfaceKind::kWave, "wave", "travelling wave sheet, with a time"},
+    {SurfaceKind::kGrid, "grid", "a grid of points, interpolated smoothly"},
+};
+
 // POST /v1/surfaces, and the surface part of POST /v1/deform.
 struct SurfaceRequest {
   SurfaceSpec surface;
@@ -33,7 +47,14 @@ struct SurfaceRequest {
 // Output formats: Draco .drc, GLB with KHR_draco_mesh_compression, plain GLB,
 // OBJ, PLY.
 enum class OutputFormat { kDrc, kGlb, kGlbPlain, kObj, kPly };
-const char* OutputFormatName(OutputFormat format);  // "drc", "glb", "glb_plain", "obj", "ply"
+inline constexpr EnumEntry<OutputFormat> kOutputFormats[] = {
+    {OutputFormat::kDrc, "drc", "Draco bitstream (application/octet-stream)"},
+    {OutputFormat::kGlb, "glb", "GLB with KHR_draco_mesh_compression"},
+    {OutputFormat::kGlbPlain, "glb_plain", "GLB without compression"},
+    {OutputFormat::kObj, "obj", "Wavefront OBJ"},
+    {OutputFormat::kPly, "ply", "binary PLY"},
+};
+const char* OutputFormatName(OutputFormat format);  // from kOutputFormats
 const char* OutputMediaType(OutputFormat format);
 MeshFormat OutputMeshFormat(OutputFormat format);
 

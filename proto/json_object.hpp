@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/enum_table.hpp"
 #include "engine/geometry_types.hpp"
 #include "engine/status.hpp"
 
@@ -60,6 +61,17 @@ class JsonObject {
   Status Numbers(std::string_view key, std::vector<double>* out);
   // A string that must be one of `names`; *out becomes its index.
   Status Choice(std::string_view key, const std::vector<std::string_view>& names, int* out);
+  // The same over an enum's table: *out = the value named (left as it is
+  // when the key is absent).
+  template <typename E>
+  Status Choice(std::string_view key, std::span<const EnumEntry<E>> table, E* out) {
+    std::vector<std::string_view> names;
+    for (const EnumEntry<E>& e : table) names.push_back(e.name);
+    int index = -1;
+    SURFDEFORM_RETURN_IF_ERROR(Choice(key, names, &index));
+    if (index >= 0) *out = table[index].value;
+    return Status::Ok();
+  }
 
   // kMalformed naming the first field that no lookup asked for, with the
   // closest name that was asked for ("did you mean ...").

@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "engine/subdivide.hpp"
 
 namespace {
 
@@ -62,7 +63,8 @@ int main(int argc, char** argv) {
                     "or a file");
     sub->add_option("--scale", d.scale, "placement.scale: \"fit\" or a number");
     sub->add_option("--subdivision", d.subdivision, "subdivision.mode")
-        ->check(CLI::IsMember({"off", "adaptive", "uniform"}));
+        ->check(CLI::IsMember(
+            surfdeform::NamesOf<surfdeform::SubdivisionMode>(surfdeform::kSubdivisionModes)));
     sub->add_option("--tolerance", d.tolerance, "subdivision.tolerance, surface units")
         ->check(CLI::PositiveNumber);
     sub->add_flag("--lossless", d.lossless,

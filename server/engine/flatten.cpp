@@ -34,13 +34,8 @@ std::vector<Vec2> ScaledParameterLayout(const SurfaceDistances& dist) {
 }  // namespace
 
 const char* FlattenMethodName(FlattenMethod method) {
-  switch (method) {
-    case FlattenMethod::kMajorization:
-      return "majorization";
-    case FlattenMethod::kPaper:
-      return "paper";
-  }
-  return "unknown";
+  const std::string_view name = NameOf<FlattenMethod>(kFlattenMethods, method);
+  return name.empty() ? "unknown" : name.data();  // the table's literals end in NUL
 }
 
 Status ValidateFlattenOptions(const FlattenOptions& o) {

@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/enum_table.hpp"
 #include "engine/geometry_types.hpp"
 #include "engine/sample_grid.hpp"
 #include "engine/status.hpp"
@@ -42,6 +43,11 @@
 namespace surfdeform {
 
 enum class FlattenMethod { kMajorization, kPaper };
+inline constexpr EnumEntry<FlattenMethod> kFlattenMethods[] = {
+    {FlattenMethod::kMajorization, "majorization",
+     "stress majorization (Guttman transform), the default"},
+    {FlattenMethod::kPaper, "paper", "the paper's gradient descent (the baseline)"},
+};
 
 const char* FlattenMethodName(FlattenMethod method);
 

@@ -14,6 +14,7 @@
 
 #include <vector>
 
+#include "engine/enum_table.hpp"
 #include "engine/flat_locator.hpp"
 #include "engine/flatten.hpp"
 #include "engine/geometry_types.hpp"
@@ -23,7 +24,21 @@
 namespace surfdeform {
 
 enum class UpAxis { kPosX, kNegX, kPosY, kNegY, kPosZ, kNegZ };
+inline constexpr EnumEntry<UpAxis> kUpAxes[] = {
+    {UpAxis::kPosX, "+x", "the model's +X becomes the surface normal"},
+    {UpAxis::kNegX, "-x", "the model's -X becomes the surface normal"},
+    {UpAxis::kPosY, "+y", "the model's +Y becomes the surface normal"},
+    {UpAxis::kNegY, "-y", "the model's -Y becomes the surface normal"},
+    {UpAxis::kPosZ, "+z", "the model's +Z becomes the surface normal (the default)"},
+    {UpAxis::kNegZ, "-z", "the model's -Z becomes the surface normal"},
+};
 enum class AnchorMode { kBottom, kCenter, kTop, kValue };
+// kValue is given as a number, not a name.
+inline constexpr EnumEntry<AnchorMode> kAnchorModes[] = {
+    {AnchorMode::kBottom, "bottom", "the model's lowest point along up lands on the surface"},
+    {AnchorMode::kCenter, "center", "the middle of its height (the default)"},
+    {AnchorMode::kTop, "top", "its highest point"},
+};
 enum class CenterMode { kSheetCenter, kSheetUnits, kFraction };
 
 struct PlacementOptions {

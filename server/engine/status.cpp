@@ -3,35 +3,8 @@
 namespace surfdeform {
 
 const char* ErrorCodeName(ErrorCode code) {
-  switch (code) {
-    case ErrorCode::kOk:
-      return "ok";
-    case ErrorCode::kInvalidArgument:
-      return "invalid_argument";
-    case ErrorCode::kDegenerate:
-      return "degenerate";
-    case ErrorCode::kLimitExceeded:
-      return "limit_exceeded";
-    case ErrorCode::kDeadlineExceeded:
-      return "deadline_exceeded";
-    case ErrorCode::kNotConverged:
-      return "not_converged";
-    case ErrorCode::kOutsideSheet:
-      return "outside_sheet";
-    case ErrorCode::kUnsupportedFormat:
-      return "unsupported_format";
-    case ErrorCode::kMalformed:
-      return "malformed";
-    case ErrorCode::kNotFound:
-      return "not_found";
-    case ErrorCode::kNotAcceptable:
-      return "not_acceptable";
-    case ErrorCode::kUnavailable:
-      return "unavailable";
-    case ErrorCode::kInternal:
-      return "internal";
-  }
-  return "unknown";
+  const std::string_view name = NameOf<ErrorCode>(kErrorCodes, code);
+  return name.empty() ? "unknown" : name.data();  // the table's literals end in NUL
 }
 
 Status Status::WithFieldPrefix(const std::string& prefix) const {

@@ -9,8 +9,10 @@
 #pragma once
 
 #include <string>
+
 #include <utility>
 #include <variant>
+#include "engine/enum_table.hpp"
 
 namespace surfdeform {
 
@@ -30,7 +32,23 @@ enum class ErrorCode {
   kInternal,           // a bug: never caused by input
 };
 
-const char* ErrorCodeName(ErrorCode code);
+// The codes' names as problem+json's "code" spells them.
+inline constexpr EnumEntry<ErrorCode> kErrorCodes[] = {
+    {ErrorCode::kOk, "ok", "no error"},
+    {ErrorCode::kInvalidArgument, "invalid_argument", "malformed or out-of-range input"},
+    {ErrorCode::kDegenerate, "degenerate", "well-formed but geometrically unusable"},
+    {ErrorCode::kLimitExceeded, "limit_exceeded", "input larger than a published limit"},
+    {ErrorCode::kDeadlineExceeded, "deadline_exceeded", "a time budget ran out"},
+    {ErrorCode::kNotConverged, "not_converged", "a solver did not reach a usable result"},
+    {ErrorCode::kOutsideSheet, "outside_sheet", "the model's footprint leaves the flat sheet"},
+    {ErrorCode::kUnsupportedFormat, "unsupported_format", "bytes in no format the reader knows"},
+    {ErrorCode::kMalformed, "malformed", "a request that cannot be parsed"},
+    {ErrorCode::kNotFound, "not_found", "an id that names nothing"},
+    {ErrorCode::kNotAcceptable, "not_acceptable", "no output format the caller accepts"},
+    {ErrorCode::kUnavailable, "unavailable", "overloaded or shutting down: retry later"},
+    {ErrorCode::kInternal, "internal", "a bug: never caused by input"},
+};
+const char* ErrorCodeName(ErrorCode code);  // from kErrorCodes
 
 class Status {
  public:

@@ -83,15 +83,8 @@ Result<SubdivisionResult> Run(const Context& ctx, InputPositions want) {
 }  // namespace
 
 const char* SubdivisionModeName(SubdivisionMode mode) {
-  switch (mode) {
-    case SubdivisionMode::kOff:
-      return "off";
-    case SubdivisionMode::kAdaptive:
-      return "adaptive";
-    case SubdivisionMode::kUniform:
-      return "uniform";
-  }
-  return "off";
+  const std::string_view name = NameOf<SubdivisionMode>(kSubdivisionModes, mode);
+  return name.empty() ? "off" : name.data();  // the table's literals end in NUL
 }
 
 Status ValidateSubdivision(const SubdivisionOptions& o) {

@@ -380,11 +380,28 @@ std::string Service::InfoJson() const {
               {"request_time_budget_ms", l.request_time_budget_ms},
               {"cache_bytes", l.cache_bytes}}},
             {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
-            {"output_formats", {"drc", "glb", "glb_plain", "obj", "ply"}},
-            {"surface_kinds",
-             {"bezier", "bspline", "nurbs", "cylinder", "cone", "sphere", "torus", "wave", "grid"}},
-            {"flatten_methods", {"majorization", "paper"}},
-            {"subdivision_modes", {"off", "adaptive", "uniform"}}};
+            {"output_formats", NamesOf<proto::OutputFormat>(proto::kOutputFormats)},
+            {"surface_kinds", NamesOf<proto::SurfaceKind>(proto::kSurfaceKinds)},
+            {"flatten_methods", NamesOf<FlattenMethod>(kFlattenMethods)},
+            {"subdivision_modes", NamesOf<SubdivisionMode>(kSubdivisionModes)}};
+  // Every named choice of the request, by its field: {name, description}.
+  json& enums = j["enums"];
+  auto publish = [&enums](const char* field, const auto& table) {
+    for (const auto& e : table) {
+      enums[field].push_back({{"name", e.name}, {"description", e.description}});
+    }
+  };
+  publish("surface.kind", proto::kSurfaceKinds);
+  publish("flatten.method", kFlattenMethods);
+  publish("placement.up", kUpAxes);
+  publish("placement.anchor", kAnchorModes);
+  publish("placement.outside", kOutsideModes);
+  publish("output.format", proto::kOutputFormats);
+  publish("subdivision.mode", kSubdivisionModes);
+  for (const auto& e : kErrorCodes) {  // problem+json's "code"
+    if (e.value != ErrorCode::kOk)
+      enums["problem.code"].push_back({{"name", e.name}, {"description", e.description}});
+  }
   return Dump(j);
 }
 

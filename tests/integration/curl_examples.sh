@@ -87,7 +87,27 @@ params = spec["components"]["schemas"]["DeformParams"]["example"]
 status = call("POST", "/v1/deform", open(sys.argv[3], "rb").read(),
               {"Content-Type": "application/octet-stream", "X-Surfdeform-Params": json.dumps(params)})
 assert status == 200, ("DeformParams example", status)
-print("openapi: %d paths routed, %d examples accepted" % (len(spec["paths"]), len(examples) + 1))
+# Every named choice in the contract is the server's table, name for name and
+# in order (the tables are published at /v1/info).
+with urllib.request.urlopen(base + "/v1/info") as r:
+    published = json.load(r)["enums"]
+schemas = spec["components"]["schemas"]
+contract = {
+    "surface.kind": schemas["Surface"]["properties"]["kind"]["enum"],
+    "flatten.method": schemas["Flatten"]["properties"]["method"]["enum"],
+    "placement.up": schemas["Placement"]["properties"]["up"]["enum"],
+    "placement.anchor": schemas["Placement"]["properties"]["anchor"]["oneOf"][0]["enum"],
+    "placement.outside": schemas["Placement"]["properties"]["outside"]["enum"],
+    "output.format": schemas["Output"]["properties"]["format"]["enum"],
+    "subdivision.mode": schemas["Subdivision"]["properties"]["mode"]["enum"],
+    "problem.code": schemas["Problem"]["properties"]["code"]["enum"],
+}
+assert sorted(contract) == sorted(published), (sorted(contract), sorted(published))
+for field, names in contract.items():
+    served = [e["name"] for e in published[field]]
+    assert names == served, (field, "openapi.yaml", names, "server", served)
+print("openapi: %d paths routed, %d examples accepted, %d enums match the server's tables"
+      % (len(spec["paths"]), len(examples) + 1, len(contract)))
 PY
 
 kill -TERM "$server_pid"
