@@ -15,7 +15,7 @@
 #include "engine/deform.hpp"
 #include "engine/flatten.hpp"
 #include "engine/sample_grid.hpp"
-#include "engine/status.hpp"
+#include "base/status.hpp"
 #include "engine/subdivide.hpp"
 #include "engine/surface_spec.hpp"
 #include "meshio/mesh_export.hpp"

@@ -14,9 +14,9 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/enum_table.hpp"
+#include "base/enum_table.hpp"
 #include "engine/geometry_types.hpp"
-#include "engine/status.hpp"
+#include "base/status.hpp"
 
 namespace surfdeform::proto {
 

@@ -23,7 +23,7 @@
 #include "engine/flatten.hpp"
 #include "engine/mesh.hpp"
 #include "engine/placement.hpp"
-#include "engine/status.hpp"
+#include "base/status.hpp"
 #include "engine/subdivide.hpp"
 #include "engine/surface.hpp"
 

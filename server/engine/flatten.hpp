@@ -34,10 +34,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/enum_table.hpp"
+#include "base/enum_table.hpp"
 #include "engine/geometry_types.hpp"
 #include "engine/sample_grid.hpp"
-#include "engine/status.hpp"
+#include "base/status.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {

@@ -14,12 +14,12 @@
 
 #include <vector>
 
-#include "engine/enum_table.hpp"
+#include "base/enum_table.hpp"
 #include "engine/flat_locator.hpp"
 #include "engine/flatten.hpp"
 #include "engine/geometry_types.hpp"
 #include "engine/sheet_map.hpp"
-#include "engine/status.hpp"
+#include "base/status.hpp"
 
 namespace surfdeform {
 

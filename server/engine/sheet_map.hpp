@@ -10,11 +10,11 @@
 // measures or adds, so both see the same map.
 #pragma once
 
-#include "engine/enum_table.hpp"
+#include "base/enum_table.hpp"
 #include "engine/flat_locator.hpp"
 #include "engine/flatten.hpp"
 #include "engine/geometry_types.hpp"
-#include "engine/status.hpp"
+#include "base/status.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {

@@ -66,10 +66,10 @@
 #include <optional>
 #include <vector>
 
-#include "engine/enum_table.hpp"
+#include "base/enum_table.hpp"
 #include "engine/mesh.hpp"
 #include "engine/sheet_map.hpp"
-#include "engine/status.hpp"
+#include "base/status.hpp"
 
 namespace surfdeform {
 

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "engine/geometry_types.hpp"
-#include "engine/status.hpp"
+#include "base/status.hpp"
 
 namespace surfdeform {
 

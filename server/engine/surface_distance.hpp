@@ -32,7 +32,7 @@
 
 #include <vector>
 
-#include "engine/status.hpp"
+#include "base/status.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {

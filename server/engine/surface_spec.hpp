@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "engine/geometry_types.hpp"
-#include "engine/status.hpp"
+#include "base/status.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {

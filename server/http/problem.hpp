@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "engine/status.hpp"
+#include "base/status.hpp"
 
 namespace surfdeform::http {
 

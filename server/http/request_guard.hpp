@@ -9,7 +9,7 @@
 
 #include <optional>
 
-#include "engine/status.hpp"
+#include "base/status.hpp"
 
 namespace surfdeform::http {
 

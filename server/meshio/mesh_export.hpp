@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "engine/mesh.hpp"
-#include "engine/status.hpp"
+#include "base/status.hpp"
 #include "meshio/mesh_format.hpp"
 
 namespace surfdeform {

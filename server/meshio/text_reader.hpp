@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-#include "engine/status.hpp"
+#include "base/status.hpp"
 
 namespace surfdeform::meshio {
 

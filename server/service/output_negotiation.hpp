@@ -5,7 +5,7 @@
 #include <optional>
 #include <string_view>
 
-#include "engine/status.hpp"
+#include "base/status.hpp"
 #include "proto/api.hpp"
 
 namespace surfdeform {

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/status.hpp"
+#include "base/status.hpp"
 #include "service/single_flight_cache.hpp"
 
 namespace surfdeform {

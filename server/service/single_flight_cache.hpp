@@ -19,7 +19,7 @@
 #include <unordered_map>
 #include <utility>
 
-#include "engine/status.hpp"
+#include "base/status.hpp"
 
 namespace surfdeform {
 

@@ -40,7 +40,7 @@ TEST(EnumTables, EveryTableNamesEachValueOnce) {
   ExpectComplete<SubdivisionMode>(kSubdivisionModes, 3);
   ExpectComplete<proto::OutputFormat>(proto::kOutputFormats, 5);
   ExpectComplete<proto::SurfaceKind>(proto::kSurfaceKinds, 9);
-  ExpectComplete<ErrorCode>(kErrorCodes, static_cast<int>(ErrorCode::kInternal) + 1);
+  ExpectComplete<ErrorCode>(kErrorCodes, static_cast<int>(ErrorCode::kUnavailable) + 1);
 }
 
 TEST(EnumTables, TheNameFunctionsReadTheTables) {

@@ -13,7 +13,7 @@
 
 #include "engine/mesh.hpp"
 #include "engine/sheet_map.hpp"
-#include "engine/status.hpp"
+#include "base/status.hpp"
 #include "engine/subdivide.hpp"
 #include "engine/subdivision/ids.hpp"
 

@@ -1,35 +1,41 @@
-// Error reporting for the geometry engine.
+// The error vocabulary every layer of surfdeform shares.
 //
-// Engine functions never throw and never assert on user input: they return a
-// Status (or a Result<T> holding either a value or a Status). The code tells the
-// caller what kind of failure it is (the HTTP layer maps codes to status codes
-// in one place); the message is written for the person who sent the input;
-// `field` names the offending input field as a JSON-like path ("control_points[3]")
-// when there is one.
+// Functions never throw and never assert on user input: they return a Status
+// (or a Result<T> holding either a value or a Status). The code tells the
+// caller what kind of failure it is; the message is written for the person who
+// sent the input; `field` names the offending input field as a JSON-like path
+// ("control_points[3]") when there is one. server/http/problem.cpp maps codes
+// to HTTP in one place; no caller decides anything from a message's text.
+//
+// The codes are grouped by the layer that raises them. The geometry engine
+// (server/engine) raises only the first group; a test
+// (tests/architecture/engine_boundaries.sh) keeps it so.
 #pragma once
 
 #include <string>
-
 #include <utility>
 #include <variant>
-#include "engine/enum_table.hpp"
+
+#include "base/enum_table.hpp"
 
 namespace surfdeform {
 
 enum class ErrorCode {
   kOk = 0,
-  kInvalidArgument,    // malformed or out-of-range input (a NaN, a count that does not match)
-  kDegenerate,         // well-formed but geometrically unusable (zero radius, vanishing normal)
-  kLimitExceeded,      // input larger than a published limit
-  kDeadlineExceeded,   // a time budget ran out (the limit and the time spent, ms, attached)
-  kNotConverged,       // a solver did not reach a usable result (e.g. folded cells remain)
-  kOutsideSheet,       // a model's footprint leaves the flat sheet
+  // The geometry engine's (and any layer's):
+  kInvalidArgument,   // malformed or out-of-range input (a NaN, a count that does not match)
+  kDegenerate,        // well-formed but geometrically unusable (zero radius, vanishing normal)
+  kLimitExceeded,     // input larger than a published limit
+  kDeadlineExceeded,  // a time budget ran out (the limit and the time spent, ms, attached)
+  kNotConverged,      // a solver did not reach a usable result (e.g. folded cells remain)
+  kOutsideSheet,      // a model's footprint leaves the flat sheet
+  kInternal,          // a bug: never caused by input
+  // Outside the engine: mesh formats (meshio), requests (proto, http), the service:
   kUnsupportedFormat,  // bytes in no format the reader knows (or one it refuses)
   kMalformed,          // a request that cannot be parsed (syntax, wrong types, unknown fields)
   kNotFound,           // an id that names nothing (e.g. a surface no longer cached)
   kNotAcceptable,      // no output format the caller accepts
   kUnavailable,        // overloaded or shutting down: retry later
-  kInternal,           // a bug: never caused by input
 };
 
 // The codes' names as problem+json's "code" spells them.
@@ -41,12 +47,12 @@ inline constexpr EnumEntry<ErrorCode> kErrorCodes[] = {
     {ErrorCode::kDeadlineExceeded, "deadline_exceeded", "a time budget ran out"},
     {ErrorCode::kNotConverged, "not_converged", "a solver did not reach a usable result"},
     {ErrorCode::kOutsideSheet, "outside_sheet", "the model's footprint leaves the flat sheet"},
+    {ErrorCode::kInternal, "internal", "a bug: never caused by input"},
     {ErrorCode::kUnsupportedFormat, "unsupported_format", "bytes in no format the reader knows"},
     {ErrorCode::kMalformed, "malformed", "a request that cannot be parsed"},
     {ErrorCode::kNotFound, "not_found", "an id that names nothing"},
     {ErrorCode::kNotAcceptable, "not_acceptable", "no output format the caller accepts"},
     {ErrorCode::kUnavailable, "unavailable", "overloaded or shutting down: retry later"},
-    {ErrorCode::kInternal, "internal", "a bug: never caused by input"},
 };
 const char* ErrorCodeName(ErrorCode code);  // from kErrorCodes
 

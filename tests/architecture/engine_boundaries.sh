@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# The layering of docs/ARCHITECTURE.md, checked on the sources:
+# - the geometry engine (server/engine) includes only itself, server/base,
+#   Eigen and the standard library: no I/O library, JSON or HTTP;
+# - it raises only the geometry codes of base/status.hpp, never the codes of
+#   formats, requests or the service;
+# - base/ includes nothing but itself and the standard library;
+# - no caller picks a behaviour from an error's message text.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+fail=0
+report() { echo "FAIL: $1"; printf '%s\n' "$2" | sed 's/^/  /'; fail=1; }
+
+hits=$(grep -rnE '#include "' "$root/server/engine" | grep -vE '#include "(engine|base)/' || true)
+[[ -z $hits ]] || report "the engine includes a project header outside engine/ and base/" "$hits"
+hits=$(grep -rnE '#include <(httplib|nlohmann|draco|tiny_gltf|CLI|openssl|fstream|iostream)' \
+         "$root/server/engine" || true)
+[[ -z $hits ]] || report "the engine includes an I/O, JSON or HTTP library" "$hits"
+hits=$(grep -rnE 'ErrorCode::k(UnsupportedFormat|Malformed|NotFound|NotAcceptable|Unavailable)\b' \
+         "$root/server/engine" || true)
+[[ -z $hits ]] || report "the engine raises a code that belongs outside it" "$hits"
+hits=$(grep -rnE '#include "' "$root/server/base" | grep -vE '#include "base/' || true)
+[[ -z $hits ]] || report "base/ includes a project header outside it" "$hits"
+hits=$(grep -rnE '(message|error)\(\)\.(rfind|find|starts_with|compare)\(|field\(\) == "' \
+         "$root/server" "$root/proto" "$root/client/cli" || true)
+[[ -z $hits ]] || report "a caller decides from an error's text" "$hits"
+hits=$(grep -rnE 'error\.rfind\("|message\.rfind\("' "$root/server" "$root/proto" "$root/client/cli" || true)
+[[ -z $hits ]] || report "a caller decides from an error's text" "$hits"
+((fail == 0)) && echo "engine boundaries: all hold"
+exit $fail
