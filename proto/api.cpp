@@ -17,12 +17,11 @@ std::string KindName(SurfaceKind kind) {
 Status ReadFrame(JsonObject& o, Frame* frame) {
   const json* v = o.Find("frame");
   if (v == nullptr) return Status::Ok();
-  auto f = JsonObject::Open(*v, o.PathOf("frame"));
-  if (!f.ok()) return f.status();
-  SURFDEFORM_RETURN_IF_ERROR(f->Vector3("origin", &frame->origin));
-  SURFDEFORM_RETURN_IF_ERROR(f->Vector3("x_axis", &frame->x_axis));
-  SURFDEFORM_RETURN_IF_ERROR(f->Vector3("z_axis", &frame->z_axis));
-  return f->Finish();
+  SURFDEFORM_ASSIGN_OR_RETURN(auto f, JsonObject::Open(*v, o.PathOf("frame")));
+  SURFDEFORM_RETURN_IF_ERROR(f.Vector3("origin", &frame->origin));
+  SURFDEFORM_RETURN_IF_ERROR(f.Vector3("x_axis", &frame->x_axis));
+  SURFDEFORM_RETURN_IF_ERROR(f.Vector3("z_axis", &frame->z_axis));
+  return f.Finish();
 }
 
 json FrameJson(const Frame& f) {
@@ -38,9 +37,7 @@ json PointsJson(const std::vector<Vec3>& points) {
 }
 
 Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
-  auto opened = JsonObject::Open(value, path);
-  if (!opened.ok()) return opened.status();
-  JsonObject& o = *opened;
+  SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(value, path));
   if (o.Find("kind") == nullptr) {
     std::string names;
     for (const auto& e : kSurfaceKinds) names += (names.empty() ? "" : ", ") + std::string(e.name);
@@ -191,11 +188,19 @@ json SurfaceJson(const SurfaceSpec& spec) {
                   {"v_max_deg", s.v_max_deg},
                   {"frame", FrameJson(s.frame)}};
         } else if constexpr (std::is_same_v<T, WaveSpec>) {
-          return {{"kind", KindName(SurfaceKind::kWave)},           {"length", s.length},         {"width", s.width},
-                  {"amplitude", s.amplitude}, {"wavelength", s.wavelength}, {"speed", s.speed},
-                  {"time", s.time},           {"frame", FrameJson(s.frame)}};
+          return {{"kind", KindName(SurfaceKind::kWave)},
+                  {"length", s.length},
+                  {"width", s.width},
+                  {"amplitude", s.amplitude},
+                  {"wavelength", s.wavelength},
+                  {"speed", s.speed},
+                  {"time", s.time},
+                  {"frame", FrameJson(s.frame)}};
         } else {
-          return {{"kind", KindName(SurfaceKind::kGrid)}, {"nu", s.nu}, {"nv", s.nv}, {"points", PointsJson(s.points)}};
+          return {{"kind", KindName(SurfaceKind::kGrid)},
+                  {"nu", s.nu},
+                  {"nv", s.nv},
+                  {"points", PointsJson(s.points)}};
         }
       },
       spec);
@@ -204,28 +209,26 @@ json SurfaceJson(const SurfaceSpec& spec) {
 Status ReadSampling(JsonObject& parent, SamplingOptions* out) {
   const json* v = parent.Find("sampling");
   if (v == nullptr) return Status::Ok();
-  auto o = JsonObject::Open(*v, parent.PathOf("sampling"));
-  if (!o.ok()) return o.status();
-  SURFDEFORM_RETURN_IF_ERROR(o->Integer("nu", &out->nu));
-  SURFDEFORM_RETURN_IF_ERROR(o->Integer("nv", &out->nv));
-  SURFDEFORM_RETURN_IF_ERROR(o->Finish());
+  SURFDEFORM_ASSIGN_OR_RETURN(auto o, JsonObject::Open(*v, parent.PathOf("sampling")));
+  SURFDEFORM_RETURN_IF_ERROR(o.Integer("nu", &out->nu));
+  SURFDEFORM_RETURN_IF_ERROR(o.Integer("nv", &out->nv));
+  SURFDEFORM_RETURN_IF_ERROR(o.Finish());
   return ValidateSampling(*out).WithFieldPrefix(parent.PathOf("sampling"));
 }
 
 Status ReadFlatten(JsonObject& parent, FlattenOptions* out) {
   const json* v = parent.Find("flatten");
   if (v == nullptr) return Status::Ok();
-  auto o = JsonObject::Open(*v, parent.PathOf("flatten"));
-  if (!o.ok()) return o.status();
-  SURFDEFORM_RETURN_IF_ERROR(o->Choice<FlattenMethod>("method", kFlattenMethods, &out->method));
-  SURFDEFORM_RETURN_IF_ERROR(o->Integer("range", &out->range));
-  SURFDEFORM_RETURN_IF_ERROR(o->Number("tolerance", &out->tolerance));
-  SURFDEFORM_RETURN_IF_ERROR(o->Integer("max_iterations", &out->max_iterations));
-  SURFDEFORM_RETURN_IF_ERROR(o->Number("step", &out->step));
-  SURFDEFORM_RETURN_IF_ERROR(o->Boolean("exact_developable", &out->exact_developable));
-  SURFDEFORM_RETURN_IF_ERROR(o->Integer("lattice_factor", &out->lattice_factor));
-  SURFDEFORM_RETURN_IF_ERROR(o->Integer("relax_steps", &out->relax_steps));
-  SURFDEFORM_RETURN_IF_ERROR(o->Finish());
+  SURFDEFORM_ASSIGN_OR_RETURN(auto o, JsonObject::Open(*v, parent.PathOf("flatten")));
+  SURFDEFORM_RETURN_IF_ERROR(o.Choice<FlattenMethod>("method", kFlattenMethods, &out->method));
+  SURFDEFORM_RETURN_IF_ERROR(o.Integer("range", &out->range));
+  SURFDEFORM_RETURN_IF_ERROR(o.Number("tolerance", &out->tolerance));
+  SURFDEFORM_RETURN_IF_ERROR(o.Integer("max_iterations", &out->max_iterations));
+  SURFDEFORM_RETURN_IF_ERROR(o.Number("step", &out->step));
+  SURFDEFORM_RETURN_IF_ERROR(o.Boolean("exact_developable", &out->exact_developable));
+  SURFDEFORM_RETURN_IF_ERROR(o.Integer("lattice_factor", &out->lattice_factor));
+  SURFDEFORM_RETURN_IF_ERROR(o.Integer("relax_steps", &out->relax_steps));
+  SURFDEFORM_RETURN_IF_ERROR(o.Finish());
   // The engine's own rules name the field without the prefix.
   return ValidateFlattenOptions(*out).WithFieldPrefix(parent.PathOf("flatten"));
 }
@@ -233,9 +236,8 @@ Status ReadFlatten(JsonObject& parent, FlattenOptions* out) {
 Status ReadSurfaceParts(JsonObject& o, SurfaceRequest* out) {
   const json* surface = o.Find("surface");
   if (surface == nullptr) return Malformed("is required", o.PathOf("surface"));
-  auto spec = ReadSurface(*surface, o.PathOf("surface"));
-  if (!spec.ok()) return spec.status();
-  out->surface = std::move(*spec);
+  SURFDEFORM_ASSIGN_OR_RETURN(auto spec, ReadSurface(*surface, o.PathOf("surface")));
+  out->surface = std::move(spec);
   SURFDEFORM_RETURN_IF_ERROR(ReadSampling(o, &out->sampling));
   return ReadFlatten(o, &out->flatten);
 }
@@ -244,9 +246,7 @@ Status ReadPlacement(JsonObject& parent, PlacementOptions* out) {
   const json* v = parent.Find("placement");
   if (v == nullptr) return ValidatePlacement(*out);
   const std::string path = parent.PathOf("placement");
-  auto opened = JsonObject::Open(*v, path);
-  if (!opened.ok()) return opened.status();
-  JsonObject& o = *opened;
+  SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(*v, path));
   SURFDEFORM_RETURN_IF_ERROR(o.Choice<UpAxis>("up", kUpAxes, &out->up));
   if (const json* a = o.Find("anchor"); a != nullptr) {
     if (a->is_number()) {
@@ -265,12 +265,11 @@ Status ReadPlacement(JsonObject& parent, PlacementOptions* out) {
       }
       out->center_mode = CenterMode::kSheetCenter;
     } else if (c->is_object()) {
-      auto f = JsonObject::Open(*c, o.PathOf("center"));
-      if (!f.ok()) return f.status();
-      const json* fr = f->Find("fraction");
-      if (fr == nullptr) return Malformed("is required", f->PathOf("fraction"));
-      SURFDEFORM_RETURN_IF_ERROR(ReadVec2(*fr, f->PathOf("fraction"), &out->center));
-      SURFDEFORM_RETURN_IF_ERROR(f->Finish());
+      SURFDEFORM_ASSIGN_OR_RETURN(auto f, JsonObject::Open(*c, o.PathOf("center")));
+      const json* fr = f.Find("fraction");
+      if (fr == nullptr) return Malformed("is required", f.PathOf("fraction"));
+      SURFDEFORM_RETURN_IF_ERROR(ReadVec2(*fr, f.PathOf("fraction"), &out->center));
+      SURFDEFORM_RETURN_IF_ERROR(f.Finish());
       out->center_mode = CenterMode::kFraction;
     } else {
       SURFDEFORM_RETURN_IF_ERROR(ReadVec2(*c, o.PathOf("center"), &out->center));
@@ -300,26 +299,24 @@ Status ReadPlacement(JsonObject& parent, PlacementOptions* out) {
 Status ReadOutput(JsonObject& parent, OutputOptions* out) {
   const json* v = parent.Find("output");
   if (v == nullptr) return Status::Ok();
-  auto o = JsonObject::Open(*v, parent.PathOf("output"));
-  if (!o.ok()) return o.status();
-  if (o->Find("format") != nullptr) {
+  SURFDEFORM_ASSIGN_OR_RETURN(auto o, JsonObject::Open(*v, parent.PathOf("output")));
+  if (o.Find("format") != nullptr) {
     OutputFormat format = OutputFormat::kDrc;
-    SURFDEFORM_RETURN_IF_ERROR(o->Choice<OutputFormat>("format", kOutputFormats, &format));
+    SURFDEFORM_RETURN_IF_ERROR(o.Choice<OutputFormat>("format", kOutputFormats, &format));
     out->format = format;
   }
-  if (const json* d = o->Find("draco"); d != nullptr) {
-    auto dj = JsonObject::Open(*d, o->PathOf("draco"));
-    if (!dj.ok()) return dj.status();
-    SURFDEFORM_RETURN_IF_ERROR(dj->Integer("position_bits", &out->draco.position_bits));
-    SURFDEFORM_RETURN_IF_ERROR(dj->Integer("normal_bits", &out->draco.normal_bits));
-    SURFDEFORM_RETURN_IF_ERROR(dj->Integer("uv_bits", &out->draco.uv_bits));
-    SURFDEFORM_RETURN_IF_ERROR(dj->Integer("color_bits", &out->draco.color_bits));
-    SURFDEFORM_RETURN_IF_ERROR(dj->Integer("speed", &out->draco.speed));
-    SURFDEFORM_RETURN_IF_ERROR(dj->Boolean("sequential", &out->draco.sequential));
-    SURFDEFORM_RETURN_IF_ERROR(dj->Finish());
+  if (const json* d = o.Find("draco"); d != nullptr) {
+    SURFDEFORM_ASSIGN_OR_RETURN(auto dj, JsonObject::Open(*d, o.PathOf("draco")));
+    SURFDEFORM_RETURN_IF_ERROR(dj.Integer("position_bits", &out->draco.position_bits));
+    SURFDEFORM_RETURN_IF_ERROR(dj.Integer("normal_bits", &out->draco.normal_bits));
+    SURFDEFORM_RETURN_IF_ERROR(dj.Integer("uv_bits", &out->draco.uv_bits));
+    SURFDEFORM_RETURN_IF_ERROR(dj.Integer("color_bits", &out->draco.color_bits));
+    SURFDEFORM_RETURN_IF_ERROR(dj.Integer("speed", &out->draco.speed));
+    SURFDEFORM_RETURN_IF_ERROR(dj.Boolean("sequential", &out->draco.sequential));
+    SURFDEFORM_RETURN_IF_ERROR(dj.Finish());
     SURFDEFORM_RETURN_IF_ERROR(ValidateDracoOptions(out->draco));  // names output.draco.*
   }
-  return o->Finish();
+  return o.Finish();
 }
 
 }  // namespace
@@ -360,18 +357,15 @@ MeshFormat OutputMeshFormat(OutputFormat format) {
 }
 
 Result<SurfaceRequest> ParseSurfaceRequest(const json& body) {
-  auto o = JsonObject::Open(body, "");
-  if (!o.ok()) return o.status();
+  SURFDEFORM_ASSIGN_OR_RETURN(auto o, JsonObject::Open(body, ""));
   SurfaceRequest request;
-  SURFDEFORM_RETURN_IF_ERROR(ReadSurfaceParts(*o, &request));
-  SURFDEFORM_RETURN_IF_ERROR(o->Finish());
+  SURFDEFORM_RETURN_IF_ERROR(ReadSurfaceParts(o, &request));
+  SURFDEFORM_RETURN_IF_ERROR(o.Finish());
   return request;
 }
 
 Result<DeformParams> ParseDeformParams(const json& body) {
-  auto opened = JsonObject::Open(body, "");
-  if (!opened.ok()) return opened.status();
-  JsonObject& o = *opened;
+  SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(body, ""));
   DeformParams params;
   const bool inline_surface = o.Find("surface") != nullptr;
   const json* id = o.Find("surface_id");
@@ -403,13 +397,12 @@ Result<DeformParams> ParseDeformParams(const json& body) {
   }
   SURFDEFORM_RETURN_IF_ERROR(ReadPlacement(o, &params.placement));
   if (const json* v = o.Find("subdivision"); v != nullptr) {
-    auto s = JsonObject::Open(*v, "subdivision");
-    if (!s.ok()) return s.status();
+    SURFDEFORM_ASSIGN_OR_RETURN(auto s, JsonObject::Open(*v, "subdivision"));
     SURFDEFORM_RETURN_IF_ERROR(
-        s->Choice<SubdivisionMode>("mode", kSubdivisionModes, &params.subdivision.mode));
-    SURFDEFORM_RETURN_IF_ERROR(s->Number("epsilon", &params.subdivision.epsilon));
-    SURFDEFORM_RETURN_IF_ERROR(s->Number("tolerance", &params.subdivision.tolerance));
-    SURFDEFORM_RETURN_IF_ERROR(s->Finish());
+        s.Choice<SubdivisionMode>("mode", kSubdivisionModes, &params.subdivision.mode));
+    SURFDEFORM_RETURN_IF_ERROR(s.Number("epsilon", &params.subdivision.epsilon));
+    SURFDEFORM_RETURN_IF_ERROR(s.Number("tolerance", &params.subdivision.tolerance));
+    SURFDEFORM_RETURN_IF_ERROR(s.Finish());
     SURFDEFORM_RETURN_IF_ERROR(ValidateSubdivision(params.subdivision));
   }
   SURFDEFORM_RETURN_IF_ERROR(ReadOutput(o, &params.output));

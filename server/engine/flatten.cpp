@@ -93,9 +93,8 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
                      std::chrono::duration<double, std::milli>(options_.time_budget_ms))
           : internal::kNoDeadline;
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
-  auto grid = SampleSurface(surface, sampling);
-  if (!grid.ok()) return grid.status();
-  const int nu = grid->nu, nv = grid->nv;
+  SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
+  const int nu = grid.nu, nv = grid.nv;
   const int n = nu * nv;
 
   // Distances over the solve's range and over r = 3 for the quality measures.
@@ -105,8 +104,7 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
   dopt.lattice_factor = options_.lattice_factor;
   dopt.relax_steps = options_.relax_steps;
   dopt.threads = options_.threads;
-  auto dist = ComputeSurfaceDistances(surface, nu, nv, dopt);
-  if (!dist.ok()) return dist.status();
+  SURFDEFORM_ASSIGN_OR_RETURN(auto dist, ComputeSurfaceDistances(surface, nu, nv, dopt));
   FlatSheet sheet;
   sheet.quality.distance_ms = MsSince(td);
 
@@ -124,10 +122,10 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
     sheet.quality.converged = true;
   } else {
     std::vector<GridEdge> edges;
-    if (options_.range == dist->range) {
-      edges = dist->edges;
+    if (options_.range == dist.range) {
+      edges = dist.edges;
     } else {
-      for (const GridEdge& e : dist->edges) {
+      for (const GridEdge& e : dist.edges) {
         if (e.ring <= options_.range) edges.push_back(e);
       }
     }
@@ -135,7 +133,7 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
         warm_start->flat.size() == static_cast<size_t>(n)) {
       x = warm_start->flat;
     } else {
-      x = ScaledParameterLayout(*dist);
+      x = ScaledParameterLayout(dist);
     }
     internal::SolveStats stats;
     if (options_.method == FlattenMethod::kMajorization) {
@@ -172,7 +170,7 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
   }
   internal::Canonicalize(nu, nv, &x, &sheet.frame_linear, &sheet.frame_offset);
   sheet.quality.solve_ms = MsSince(ts);
-  internal::MeasureQuality(*dist, x, &sheet.quality);
+  internal::MeasureQuality(dist, x, &sheet.quality);
   if (sheet.quality.folded_cells > 0) {
     return Status(ErrorCode::kNotConverged,
                   std::to_string(sheet.quality.folded_cells) + " of " +
@@ -183,8 +181,8 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
   }
   sheet.nu = nu;
   sheet.nv = nv;
-  sheet.points = std::move(grid->points);
-  sheet.normals = std::move(grid->normals);
+  sheet.points = std::move(grid.points);
+  sheet.normals = std::move(grid.normals);
   sheet.flat = std::move(x);
   sheet.quality.total_ms = MsSince(t0);
   return sheet;

@@ -265,9 +265,8 @@ Result<std::unique_ptr<Surface>> Build(const CylinderSpec& s) {
   SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.height, "height"));
   SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.angle_deg, "angle_deg"));
   SURFDEFORM_RETURN_IF_ERROR(CheckRange(s.angle_deg, 0.0, 360.0, "angle_deg"));
-  auto frame = BuildFrame(s.frame);
-  if (!frame.ok()) return frame.status();
-  return MakeCylinder(s, *frame);
+  SURFDEFORM_ASSIGN_OR_RETURN(auto frame, BuildFrame(s.frame));
+  return MakeCylinder(s, frame);
 }
 
 Result<std::unique_ptr<Surface>> Build(const ConeSpec& s) {
@@ -282,9 +281,8 @@ Result<std::unique_ptr<Surface>> Build(const ConeSpec& s) {
   SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.height, "height"));
   SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.angle_deg, "angle_deg"));
   SURFDEFORM_RETURN_IF_ERROR(CheckRange(s.angle_deg, 0.0, 360.0, "angle_deg"));
-  auto frame = BuildFrame(s.frame);
-  if (!frame.ok()) return frame.status();
-  return MakeCone(s, *frame);
+  SURFDEFORM_ASSIGN_OR_RETURN(auto frame, BuildFrame(s.frame));
+  return MakeCone(s, frame);
 }
 
 Result<std::unique_ptr<Surface>> Build(const SphereSpec& s) {
@@ -295,9 +293,8 @@ Result<std::unique_ptr<Surface>> Build(const SphereSpec& s) {
   SURFDEFORM_RETURN_IF_ERROR(CheckRange(s.lat_max_deg, -90.0, 90.0, "lat_max_deg"));
   SURFDEFORM_RETURN_IF_ERROR(
       CheckAngleSpan(s.lat_min_deg, s.lat_max_deg, "lat_min_deg", "lat_max_deg"));
-  auto frame = BuildFrame(s.frame);
-  if (!frame.ok()) return frame.status();
-  return MakeSphere(s, *frame);
+  SURFDEFORM_ASSIGN_OR_RETURN(auto frame, BuildFrame(s.frame));
+  return MakeSphere(s, frame);
 }
 
 Result<std::unique_ptr<Surface>> Build(const TorusSpec& s) {
@@ -305,9 +302,8 @@ Result<std::unique_ptr<Surface>> Build(const TorusSpec& s) {
   SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.minor_radius, "minor_radius"));
   SURFDEFORM_RETURN_IF_ERROR(CheckAngleSpan(s.u_min_deg, s.u_max_deg, "u_min_deg", "u_max_deg"));
   SURFDEFORM_RETURN_IF_ERROR(CheckAngleSpan(s.v_min_deg, s.v_max_deg, "v_min_deg", "v_max_deg"));
-  auto frame = BuildFrame(s.frame);
-  if (!frame.ok()) return frame.status();
-  return MakeTorus(s, *frame);
+  SURFDEFORM_ASSIGN_OR_RETURN(auto frame, BuildFrame(s.frame));
+  return MakeTorus(s, frame);
 }
 
 Result<std::unique_ptr<Surface>> Build(const WaveSpec& s) {
@@ -317,9 +313,8 @@ Result<std::unique_ptr<Surface>> Build(const WaveSpec& s) {
   SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.wavelength, "wavelength"));
   SURFDEFORM_RETURN_IF_ERROR(CheckFinite(s.speed, "speed"));
   SURFDEFORM_RETURN_IF_ERROR(CheckFinite(s.time, "time"));
-  auto frame = BuildFrame(s.frame);
-  if (!frame.ok()) return frame.status();
-  return MakeWave(s, *frame);
+  SURFDEFORM_ASSIGN_OR_RETURN(auto frame, BuildFrame(s.frame));
+  return MakeWave(s, frame);
 }
 
 }  // namespace

@@ -256,9 +256,9 @@ Result<Placement> ComputePlacement(const FlatLocator& locator, const FlatSheet& 
   }
   pl.scale = o.scale;
   if (o.fit) {
-    auto s = FitScale(locator, footprint, pl, o.fit_margin * sb.sizes().minCoeff());
-    if (!s.ok()) return s.status();
-    pl.scale = *s;
+    SURFDEFORM_ASSIGN_OR_RETURN(
+        auto s, FitScale(locator, footprint, pl, o.fit_margin * sb.sizes().minCoeff()));
+    pl.scale = s;
   }
   return pl;
 }

@@ -426,12 +426,11 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
                            "mesh")
         .WithLimit(limits.max_json_depth, depth);
   }
-  auto patched = DropDracoIndices(json);
-  if (!patched.ok()) return patched.status();
+  SURFDEFORM_ASSIGN_OR_RETURN(auto patched, DropDracoIndices(json));
   std::string rebuilt;
-  if (patched->size() != json.size() || *patched != json) {
+  if (patched.size() != json.size() || patched != json) {
     rebuilt =
-        binary ? RebuildGlb(bytes, json, std::move(patched).value()) : std::move(patched).value();
+        binary ? RebuildGlb(bytes, json, std::move(patched)) : std::move(patched);
     bytes = rebuilt;
   }
   tinygltf::TinyGLTF loader;

@@ -143,13 +143,12 @@ Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
     } else {
       const Mesh sub = SubMesh(mesh, g);
       int ids[6];
-      auto encoded = EncodeDraco(sub, o.draco, ids);
-      if (!encoded.ok()) return encoded.status();
+      SURFDEFORM_ASSIGN_OR_RETURN(auto encoded, EncodeDraco(sub, o.draco, ids));
       // Accessors describe the decoded data and have no buffer view.
       prim.attributes = AddAttributes(&m, sub, false);
       prim.indices = AddAccessor(&m, -1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
                                  sub.triangles.size() * 3);
-      const int view = AddView(&m, encoded->data(), encoded->size(), 0);
+      const int view = AddView(&m, encoded.data(), encoded.size(), 0);
       tinygltf::Value::Object attrs;
       const char* names[6] = {"POSITION",   "NORMAL",  "TEXCOORD_0",
                               "TEXCOORD_1", "COLOR_0", "TANGENT"};

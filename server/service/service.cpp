@@ -213,19 +213,17 @@ const ServiceLimits& Service::limits() const { return impl_->options.limits; }
 CacheStats Service::cache_stats() const { return impl_->cache.stats(); }
 
 Result<Reply> Service::CreateSurface(std::string_view body) {
-  auto ticket = impl_->admission.Enter();
-  if (!ticket.ok()) return ticket.status();
+  SURFDEFORM_ASSIGN_OR_RETURN(auto ticket, impl_->admission.Enter());
   const RequestClock clock(impl_->options.limits.request_time_budget_ms);
   const auto t0 = Clock::now();
-  auto parsed = proto::ParseRequestJson(body, impl_->options.limits.max_json_depth, "body");
-  if (!parsed.ok()) return parsed.status();
-  auto request = proto::ParseSurfaceRequest(*parsed);
-  if (!request.ok()) return request.status();
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      auto parsed, proto::ParseRequestJson(body, impl_->options.limits.max_json_depth, "body"));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto request, proto::ParseSurfaceRequest(parsed));
   const double parse_ms = MsSince(t0);
   SURFDEFORM_RETURN_IF_ERROR(clock.Check("parsing"));
   const auto t1 = Clock::now();
   bool hit = false;
-  auto entry = impl_->Flattened(*request, clock, &hit);
+  auto entry = impl_->Flattened(request, clock, &hit);
   if (!entry.ok()) return WithinBudget(clock, "flattening", entry.status());
   Reply reply;
   reply.cache_hit = hit;
@@ -240,9 +238,8 @@ Result<Reply> Service::CreateSurface(std::string_view body) {
 }
 
 Result<Reply> Service::GetSurface(std::string_view id) {
-  auto entry = impl_->Lookup(id);
-  if (!entry.ok()) return entry.status();
-  const CachedSurface& s = **entry;
+  SURFDEFORM_ASSIGN_OR_RETURN(auto entry, impl_->Lookup(id));
+  const CachedSurface& s = *entry;
   json j = SheetSummary(s, true);
   j["request"] = proto::CanonicalJson(s.request);
   json points = json::array();
@@ -260,28 +257,26 @@ Result<Reply> Service::GetSurface(std::string_view id) {
 }
 
 Result<Reply> Service::GetSurfaceSvg(std::string_view id) {
-  auto entry = impl_->Lookup(id);
-  if (!entry.ok()) return entry.status();
+  SURFDEFORM_ASSIGN_OR_RETURN(auto entry, impl_->Lookup(id));
   Reply reply;
   reply.cache_hit = true;
-  reply.body = FlatSheetSvg((*entry)->sheet, "surfdeform flat sheet " + (*entry)->id);
+  reply.body = FlatSheetSvg(entry->sheet, "surfdeform flat sheet " + entry->id);
   reply.content_type = "image/svg+xml";
   reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
 }
 
 Result<Reply> Service::Deform(const DeformRequest& request) {
-  auto ticket = impl_->admission.Enter();
-  if (!ticket.ok()) return ticket.status();
+  SURFDEFORM_ASSIGN_OR_RETURN(auto ticket, impl_->admission.Enter());
   const ServiceLimits& limits = impl_->options.limits;
   const RequestClock clock(limits.request_time_budget_ms);
   const auto t0 = Clock::now();
-  auto parsed = proto::ParseRequestJson(request.params, limits.max_json_depth, "params");
-  if (!parsed.ok()) return parsed.status();
-  auto params = proto::ParseDeformParams(*parsed);
-  if (!params.ok()) return params.status();  // fields: JSON paths in the parameters
-  auto format = ChooseOutputFormat(params->output.format, request.accept);
-  if (!format.ok()) return format.status();
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      auto parsed, proto::ParseRequestJson(request.params, limits.max_json_depth, "params"));
+  // Errors name their fields by JSON path in the parameters.
+  SURFDEFORM_ASSIGN_OR_RETURN(auto params, proto::ParseDeformParams(parsed));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto format,
+                              ChooseOutputFormat(params.output.format, request.accept));
   if (request.mesh.empty()) {
     return Status(ErrorCode::kMalformed, "the request carries no mesh", "mesh");
   }
@@ -290,20 +285,19 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   import_limits.max_vertices = limits.max_vertices;
   import_limits.max_triangles = limits.max_triangles;
   import_limits.max_json_depth = 2 * limits.max_json_depth;
-  auto imported = ImportMesh(request.mesh, import_limits);
-  if (!imported.ok()) return imported.status();
+  SURFDEFORM_ASSIGN_OR_RETURN(auto imported, ImportMesh(request.mesh, import_limits));
   const double parse_ms = MsSince(t0);
   SURFDEFORM_RETURN_IF_ERROR(clock.Check("parsing"));
 
   const auto t1 = Clock::now();
   bool hit = false;
   std::shared_ptr<const CachedSurface> entry;
-  if (params->surface) {
-    auto flattened = impl_->Flattened(*params->surface, clock, &hit);
+  if (params.surface) {
+    auto flattened = impl_->Flattened(*params.surface, clock, &hit);
     if (!flattened.ok()) return WithinBudget(clock, "flattening", flattened.status());
     entry = *flattened;
   } else {
-    auto found = impl_->Lookup(params->surface_id);
+    auto found = impl_->Lookup(params.surface_id);
     if (!found.ok()) {
       Status s = found.status();
       return Status(s.code(), s.message(), "surface_id");
@@ -315,15 +309,15 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   SURFDEFORM_RETURN_IF_ERROR(clock.Check("flattening"));
 
   const auto t2 = Clock::now();
-  PlacementOptions placement = params->placement;
+  PlacementOptions placement = params.placement;
   placement.threads = impl_->options.engine_threads;
-  SubdivisionOptions subdivision = params->subdivision;
+  SubdivisionOptions subdivision = params.subdivision;
   subdivision.threads = impl_->options.engine_threads;
   subdivision.max_vertices = limits.max_output_vertices;
   subdivision.max_triangles = limits.max_output_triangles;
   subdivision.time_budget_ms = clock.BudgetFor(limits.request_time_budget_ms);
   auto deformed =
-      DeformMesh(*entry->surface, entry->sheet, std::move(imported->mesh), placement, subdivision);
+      DeformMesh(*entry->surface, entry->sheet, std::move(imported.mesh), placement, subdivision);
   if (!deformed.ok()) return WithinBudget(clock, "subdivision", deformed.status());
   const double subdivide_ms = deformed->stats.subdivide_ms;
   const double deform_ms = MsSince(t2) - subdivide_ms;
@@ -331,17 +325,17 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
 
   const auto t3 = Clock::now();
   ExportOptions export_options;
-  export_options.draco = params->output.draco;
-  export_options.glb_draco = *format == proto::OutputFormat::kGlb;
-  export_options.materials = imported->materials;
-  auto bytes = ExportMesh(deformed->mesh, proto::OutputMeshFormat(*format), export_options);
-  if (!bytes.ok()) return bytes.status();
+  export_options.draco = params.output.draco;
+  export_options.glb_draco = format == proto::OutputFormat::kGlb;
+  export_options.materials = imported.materials;
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      auto bytes, ExportMesh(deformed->mesh, proto::OutputMeshFormat(format), export_options));
   const double encode_ms = MsSince(t3);
 
   Reply reply;
   reply.cache_hit = hit;
-  reply.body = std::move(*bytes);
-  reply.content_type = proto::OutputMediaType(*format);
+  reply.body = std::move(bytes);
+  reply.content_type = proto::OutputMediaType(format);
   reply.timings = {{"parse", parse_ms},
                    {"flatten", flatten_ms},
                    {"deform", deform_ms},
@@ -350,14 +344,14 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   const DeformStats& st = deformed->stats;
   json stats = {{"surface_id", entry->id},
                 {"cached", hit},
-                {"format", proto::OutputFormatName(*format)},
-                {"input_format", MeshFormatName(imported->format)},
+                {"format", proto::OutputFormatName(format)},
+                {"input_format", MeshFormatName(imported.format)},
                 {"vertices", st.vertices},
                 {"triangles", st.triangles},
                 {"subdivision", proto::SubdivisionStatsJson(st.subdivision)},
                 {"placement", proto::DeformStatsJson(st)},
                 {"quality", proto::QualityJson(entry->sheet.quality)},
-                {"warnings", imported->warnings}};
+                {"warnings", imported.warnings}};
   reply.stats_json = Dump(stats);
   reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
