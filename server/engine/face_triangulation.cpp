@@ -336,6 +336,10 @@ bool FaceTriangulation::Crosses(int a, int b, int p, int q) const {
   return (oa < -eps_len_ && ob > eps_len_) || (oa > eps_len_ && ob < -eps_len_);
 }
 
+// 84 lines, on purpose: its three phases (the wedge at a that holds the
+// direction to b, the march to b collecting the crossed edges, Sloan's flips)
+// share the crossing list and the on-segment splits, which recurse into
+// Constrain; apart, each would take and return that state.
 bool FaceTriangulation::Constrain(int a, int b) {
   if (a == b) return true;
   auto mark = [this](int t, int k) {

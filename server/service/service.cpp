@@ -124,6 +124,32 @@ Status WithinBudget(const RequestClock& clock, const char* phase, Status error) 
   return timed_out && !late.ok() ? late : error;
 }
 
+// What an import may read, from the service's limits (glTF's JSON nests
+// deeper than a request's).
+ImportLimits ImportLimitsOf(const ServiceLimits& limits) {
+  ImportLimits l;
+  l.max_bytes = limits.max_body_bytes;
+  l.max_vertices = limits.max_vertices;
+  l.max_triangles = limits.max_triangles;
+  l.max_json_depth = 2 * limits.max_json_depth;
+  return l;
+}
+
+// The X-Surfdeform-Stats of a deformation.
+json DeformStatsHeader(const CachedSurface& entry, bool hit, proto::OutputFormat format,
+                       const ImportedMesh& imported, const DeformStats& st) {
+  return {{"surface_id", entry.id},
+          {"cached", hit},
+          {"format", proto::OutputFormatName(format)},
+          {"input_format", MeshFormatName(imported.format)},
+          {"vertices", st.vertices},
+          {"triangles", st.triangles},
+          {"subdivision", proto::SubdivisionStatsJson(st.subdivision)},
+          {"placement", proto::DeformStatsJson(st)},
+          {"quality", proto::QualityJson(entry.sheet.quality)},
+          {"warnings", imported.warnings}};
+}
+
 std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
 
 }  // namespace
@@ -198,6 +224,25 @@ struct Service::Impl {
                     "POST its description to /v1/surfaces again, or send it inline",
                     "id");
     }
+    return found;
+  }
+
+  // The surface a deformation names: flattened (or from the cache) when it is
+  // inline, looked up when it is named by id (then *hit).
+  Result<std::shared_ptr<const CachedSurface>> SurfaceOf(const proto::DeformParams& params,
+                                                         const RequestClock& clock, bool* hit) {
+    *hit = false;
+    if (params.surface) {
+      auto flattened = Flattened(*params.surface, clock, hit);
+      if (!flattened.ok()) return WithinBudget(clock, "flattening", flattened.status());
+      return flattened;
+    }
+    auto found = Lookup(params.surface_id);
+    if (!found.ok()) {
+      const Status& s = found.status();
+      return Status(s.code(), s.message(), "surface_id");
+    }
+    *hit = true;
     return found;
   }
 
@@ -280,31 +325,14 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   if (request.mesh.empty()) {
     return Status(ErrorCode::kMalformed, "the request carries no mesh", "mesh");
   }
-  ImportLimits import_limits;
-  import_limits.max_bytes = limits.max_body_bytes;
-  import_limits.max_vertices = limits.max_vertices;
-  import_limits.max_triangles = limits.max_triangles;
-  import_limits.max_json_depth = 2 * limits.max_json_depth;
-  SURFDEFORM_ASSIGN_OR_RETURN(auto imported, ImportMesh(request.mesh, import_limits));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto imported, ImportMesh(request.mesh, ImportLimitsOf(limits)));
   const double parse_ms = MsSince(t0);
   SURFDEFORM_RETURN_IF_ERROR(clock.Check("parsing"));
 
   const auto t1 = Clock::now();
   bool hit = false;
-  std::shared_ptr<const CachedSurface> entry;
-  if (params.surface) {
-    auto flattened = impl_->Flattened(*params.surface, clock, &hit);
-    if (!flattened.ok()) return WithinBudget(clock, "flattening", flattened.status());
-    entry = *flattened;
-  } else {
-    auto found = impl_->Lookup(params.surface_id);
-    if (!found.ok()) {
-      Status s = found.status();
-      return Status(s.code(), s.message(), "surface_id");
-    }
-    entry = *found;
-    hit = true;
-  }
+  SURFDEFORM_ASSIGN_OR_RETURN(const std::shared_ptr<const CachedSurface> entry,
+                              impl_->SurfaceOf(params, clock, &hit));
   const double flatten_ms = MsSince(t1);
   SURFDEFORM_RETURN_IF_ERROR(clock.Check("flattening"));
 
@@ -341,18 +369,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
                    {"deform", deform_ms},
                    {"subdivide", subdivide_ms},
                    {"encode", encode_ms}};
-  const DeformStats& st = deformed->stats;
-  json stats = {{"surface_id", entry->id},
-                {"cached", hit},
-                {"format", proto::OutputFormatName(format)},
-                {"input_format", MeshFormatName(imported.format)},
-                {"vertices", st.vertices},
-                {"triangles", st.triangles},
-                {"subdivision", proto::SubdivisionStatsJson(st.subdivision)},
-                {"placement", proto::DeformStatsJson(st)},
-                {"quality", proto::QualityJson(entry->sheet.quality)},
-                {"warnings", imported.warnings}};
-  reply.stats_json = Dump(stats);
+  reply.stats_json = Dump(DeformStatsHeader(*entry, hit, format, imported, deformed->stats));
   reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
 }
