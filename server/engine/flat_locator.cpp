@@ -88,20 +88,21 @@ FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv),
   Bucket(segment_boxes, &boundary_start_, &boundary_segments_);
 }
 
+FlatLocator::BucketSpan FlatLocator::BucketsOf(const Eigen::AlignedBox2d& box) const {
+  const Vec2 lo = (box.min() - bounds_.min()).cwiseQuotient(bucket_size_);
+  const Vec2 hi = (box.max() - bounds_.min()).cwiseQuotient(bucket_size_);
+  auto column = [this](double r) {
+    return std::clamp(static_cast<int>(std::floor(r)), 0, bx_ - 1);
+  };
+  auto row = [this](double r) { return std::clamp(static_cast<int>(std::floor(r)), 0, by_ - 1); };
+  return {column(lo.x()), column(hi.x()), row(lo.y()), row(hi.y())};
+}
+
 void FlatLocator::Bucket(const std::vector<Eigen::AlignedBox2d>& boxes, std::vector<int>* start,
                          std::vector<int>* items) const {
-  auto range = [&](const Eigen::AlignedBox2d& box, int* x0, int* x1, int* y0, int* y1) {
-    const Vec2 lo = (box.min() - bounds_.min()).cwiseQuotient(bucket_size_);
-    const Vec2 hi = (box.max() - bounds_.min()).cwiseQuotient(bucket_size_);
-    *x0 = std::clamp(static_cast<int>(std::floor(lo.x())), 0, bx_ - 1);
-    *x1 = std::clamp(static_cast<int>(std::floor(hi.x())), 0, bx_ - 1);
-    *y0 = std::clamp(static_cast<int>(std::floor(lo.y())), 0, by_ - 1);
-    *y1 = std::clamp(static_cast<int>(std::floor(hi.y())), 0, by_ - 1);
-  };
   std::vector<int> count(static_cast<size_t>(bx_) * by_ + 1, 0);
   for (const Eigen::AlignedBox2d& box : boxes) {
-    int x0, x1, y0, y1;
-    range(box, &x0, &x1, &y0, &y1);
+    const auto [x0, x1, y0, y1] = BucketsOf(box);
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) ++count[x + bx_ * y + 1];
   }
@@ -109,8 +110,7 @@ void FlatLocator::Bucket(const std::vector<Eigen::AlignedBox2d>& boxes, std::vec
   *start = count;
   items->resize(count.back());
   for (size_t k = 0; k < boxes.size(); ++k) {
-    int x0, x1, y0, y1;
-    range(boxes[k], &x0, &x1, &y0, &y1);
+    const auto [x0, x1, y0, y1] = BucketsOf(boxes[k]);
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) (*items)[count[x + bx_ * y]++] = static_cast<int>(k);
   }
@@ -135,9 +135,8 @@ bool FlatLocator::Locate(const Vec2& p, SheetLocation* out, int* hint) const {
         rel.y() <= by_ * (1 + 1e-9))) {
     return false;
   }
-  const int x = std::clamp(static_cast<int>(rel.x()), 0, bx_ - 1);
-  const int y = std::clamp(static_cast<int>(rel.y()), 0, by_ - 1);
-  const int b = x + bx_ * y;
+  const BucketSpan at = BucketsOf(Eigen::AlignedBox2d(p, p));
+  const int b = at.x0 + bx_ * at.y0;
   for (int k = bucket_start_[b]; k < bucket_start_[b + 1]; ++k) {
     if (TryCell(bucket_cells_[k], p, out)) {
       if (hint != nullptr) *hint = bucket_cells_[k];
@@ -261,12 +260,7 @@ void FlatLocator::CellsAlongSegment(const Vec2& a, const Vec2& b, std::vector<in
 
 void FlatLocator::CellsInBox(const Eigen::AlignedBox2d& box, std::vector<int>* cells) const {
   cells->clear();
-  const Vec2 lo = (box.min() - bounds_.min()).cwiseQuotient(bucket_size_);
-  const Vec2 hi = (box.max() - bounds_.min()).cwiseQuotient(bucket_size_);
-  const int x0 = std::max(0, static_cast<int>(std::floor(lo.x())));
-  const int x1 = std::min(bx_ - 1, static_cast<int>(std::floor(hi.x())));
-  const int y0 = std::max(0, static_cast<int>(std::floor(lo.y())));
-  const int y1 = std::min(by_ - 1, static_cast<int>(std::floor(hi.y())));
+  const auto [x0, x1, y0, y1] = BucketsOf(box);
   for (int y = y0; y <= y1; ++y) AppendBucketRow(y, x0, x1, cells);
   SortUnique(cells);
 }

@@ -88,6 +88,13 @@ class FlatLocator {
   // removes repeats.
   void AppendBucketRow(int y, int x0, int x1, std::vector<int>* cells) const;
   static void SortUnique(std::vector<int>* cells);
+  // The buckets a box meets, clamped to the grid of buckets (a point: its own).
+  // BoundaryWithin computes its range apart: it must first see how many
+  // buckets an unclamped range spans, to fall back to a full scan.
+  struct BucketSpan {
+    int x0, x1, y0, y1;
+  };
+  BucketSpan BucketsOf(const Eigen::AlignedBox2d& box) const;
   // CSR lists of the items (indices into `boxes`) in each bucket: each item in
   // every bucket its box meets (clamped to the grid of buckets).
   void Bucket(const std::vector<Eigen::AlignedBox2d>& boxes, std::vector<int>* start,
