@@ -12,10 +12,10 @@
 #include <optional>
 #include <string>
 
+#include "base/status.hpp"
 #include "engine/deform.hpp"
 #include "engine/flatten.hpp"
 #include "engine/sample_grid.hpp"
-#include "base/status.hpp"
 #include "engine/subdivide.hpp"
 #include "engine/surface_spec.hpp"
 #include "meshio/mesh_export.hpp"
@@ -24,7 +24,17 @@
 namespace surfdeform::proto {
 
 // The surface kinds of the API (`surface.kind`).
-enum class SurfaceKind { kBezier, kBSpline, kNurbs, kCylinder, kCone, kSphere, kTorus, kWave, kGrid };
+enum class SurfaceKind {
+  kBezier,
+  kBSpline,
+  kNurbs,
+  kCylinder,
+  kCone,
+  kSphere,
+  kTorus,
+  kWave,
+  kGrid
+};
 inline constexpr EnumEntry<SurfaceKind> kSurfaceKinds[] = {
     {SurfaceKind::kBezier, "bezier", "tensor-product Bezier patch of any degree"},
     {SurfaceKind::kBSpline, "bspline", "clamped B-spline"},

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "base/enum_table.hpp"
-#include "engine/geometry_types.hpp"
 #include "base/status.hpp"
+#include "engine/geometry_types.hpp"
 
 namespace surfdeform::proto {
 

@@ -20,10 +20,10 @@
 
 #include <string>
 
+#include "base/status.hpp"
 #include "engine/flatten.hpp"
 #include "engine/mesh.hpp"
 #include "engine/placement.hpp"
-#include "base/status.hpp"
 #include "engine/subdivide.hpp"
 #include "engine/surface.hpp"
 

@@ -35,9 +35,9 @@
 #include <vector>
 
 #include "base/enum_table.hpp"
+#include "base/status.hpp"
 #include "engine/geometry_types.hpp"
 #include "engine/sample_grid.hpp"
-#include "base/status.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {

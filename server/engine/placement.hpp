@@ -15,11 +15,11 @@
 #include <vector>
 
 #include "base/enum_table.hpp"
+#include "base/status.hpp"
 #include "engine/flat_locator.hpp"
 #include "engine/flatten.hpp"
 #include "engine/geometry_types.hpp"
 #include "engine/sheet_map.hpp"
-#include "base/status.hpp"
 
 namespace surfdeform {
 

@@ -3,8 +3,8 @@
 
 #include <vector>
 
-#include "engine/geometry_types.hpp"
 #include "base/status.hpp"
+#include "engine/geometry_types.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {

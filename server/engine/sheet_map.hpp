@@ -11,10 +11,10 @@
 #pragma once
 
 #include "base/enum_table.hpp"
+#include "base/status.hpp"
 #include "engine/flat_locator.hpp"
 #include "engine/flatten.hpp"
 #include "engine/geometry_types.hpp"
-#include "base/status.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {

@@ -67,9 +67,9 @@
 #include <vector>
 
 #include "base/enum_table.hpp"
+#include "base/status.hpp"
 #include "engine/mesh.hpp"
 #include "engine/sheet_map.hpp"
-#include "base/status.hpp"
 
 namespace surfdeform {
 

@@ -13,8 +13,8 @@
 #include <optional>
 #include <string>
 
-#include "engine/geometry_types.hpp"
 #include "base/status.hpp"
+#include "engine/geometry_types.hpp"
 
 namespace surfdeform {
 

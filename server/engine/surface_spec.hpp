@@ -7,8 +7,8 @@
 #include <variant>
 #include <vector>
 
-#include "engine/geometry_types.hpp"
 #include "base/status.hpp"
+#include "engine/geometry_types.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {

@@ -429,8 +429,7 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
   SURFDEFORM_ASSIGN_OR_RETURN(auto patched, DropDracoIndices(json));
   std::string rebuilt;
   if (patched.size() != json.size() || patched != json) {
-    rebuilt =
-        binary ? RebuildGlb(bytes, json, std::move(patched)) : std::move(patched);
+    rebuilt = binary ? RebuildGlb(bytes, json, std::move(patched)) : std::move(patched);
     bytes = rebuilt;
   }
   tinygltf::TinyGLTF loader;

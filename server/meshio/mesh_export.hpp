@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/mesh.hpp"
 #include "base/status.hpp"
+#include "engine/mesh.hpp"
 #include "meshio/mesh_format.hpp"
 
 namespace surfdeform {

@@ -17,8 +17,8 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/mesh.hpp"
 #include "base/status.hpp"
+#include "engine/mesh.hpp"
 #include "meshio/mesh_format.hpp"
 
 namespace surfdeform {

@@ -11,9 +11,9 @@
 #include <limits>
 #include <vector>
 
+#include "base/status.hpp"
 #include "engine/mesh.hpp"
 #include "engine/sheet_map.hpp"
-#include "base/status.hpp"
 #include "engine/subdivide.hpp"
 #include "engine/subdivision/ids.hpp"
 
