@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -177,6 +179,74 @@ TEST(Service, ConcurrentIdenticalRequestsFlattenOnce) {
   EXPECT_EQ(service.cache_stats().misses, 1u);
   for (int t = 1; t < 8; ++t) EXPECT_EQ(etags[t], etags[0]);
   EXPECT_FALSE(etags[0].empty());
+}
+
+// Checklist 27: requests that only wait on a flattening already in flight for
+// the same surface, or hit the cache, are not refused by the work-in-flight
+// limit. With room for one flattening, sixteen identical requests on a cold
+// cache all succeed on one flattening (they used to take a ticket each: all
+// but the first were refused while it ran).
+TEST(ServiceAdmission, IdenticalRequestsWaitOnOneFlatteningInsteadOfBeingRefused) {
+  ServiceOptions options;
+  options.limits.max_in_flight = 1;
+  Service service(options);
+  // The paper's gradient descent on a 40 x 40 wave: long enough (~0.5 s) for
+  // all sixteen to arrive while it runs.
+  const std::string body =
+      R"({"surface":{"kind":"wave"},"sampling":{"nu":40,"nv":40},"flatten":{"method":"paper"}})";
+  constexpr int kClients = 16;
+  std::vector<int> failures(kClients, 0);
+  std::vector<char> computed(kClients, 0);
+  std::atomic<bool> go{false};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kClients; ++t) {
+    threads.emplace_back([&, t] {
+      while (!go) std::this_thread::yield();
+      auto r = service.CreateSurface(body);
+      failures[t] = r.ok() ? 0 : static_cast<int>(r.status().code());
+      computed[t] = r.ok() && !r->cache_hit;
+    });
+  }
+  go = true;
+  for (auto& t : threads) t.join();
+  for (int t = 0; t < kClients; ++t) EXPECT_EQ(failures[t], 0) << "client " << t;
+  EXPECT_EQ(service.cache_stats().misses, 1u);
+  int flattenings = 0;
+  for (char c : computed) flattenings += c;
+  EXPECT_EQ(flattenings, 1);
+}
+
+// A cached surface is served while the limit is full; a new surface is not.
+TEST(ServiceAdmission, ACacheHitIsServedWhileTheLimitIsFull) {
+  ServiceOptions options;
+  options.limits.max_in_flight = 1;
+  Service service(options);
+  const std::string cached = R"({"surface":{"kind":"cylinder"},"sampling":{"nu":8,"nv":8}})";
+  ASSERT_TRUE(service.CreateSurface(cached).ok());
+  std::thread slow([&] {  // holds the only slot for about two seconds
+    Result<Reply> r = Status(ErrorCode::kUnavailable, "not tried");
+    for (int k = 0; k < 400 && !r.ok(); ++k) {  // until it gets the slot
+      r = service.CreateSurface(
+          R"({"surface":{"kind":"wave"},"sampling":{"nu":48,"nv":48},"flatten":{"method":"paper"}})");
+      if (!r.ok()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    EXPECT_TRUE(r.ok()) << r.status().ToString();
+  });
+  // Wait until the slot is taken: a new surface (a new one each time, so none
+  // is a cache hit) is refused then.
+  bool refused = false;
+  for (int k = 0; k < 400 && !refused; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    auto r =
+        service.CreateSurface(R"({"surface":{"kind":"cone","radius_bottom":)" +
+                              std::to_string(1.0 + 0.001 * k) + R"(},"sampling":{"nu":8,"nv":8}})");
+    refused = !r.ok() && r.status().code() == ErrorCode::kUnavailable;
+  }
+  EXPECT_TRUE(refused) << "the slow flattening never held the slot";
+  auto hit = service.CreateSurface(cached);
+  EXPECT_TRUE(hit.ok()) << hit.status().ToString();  // no ASSERT: `slow` must be joined
+  EXPECT_TRUE(hit.ok() && hit->cache_hit);
+  slow.join();
 }
 
 }  // namespace
