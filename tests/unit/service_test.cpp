@@ -189,11 +189,13 @@ TEST(Service, ConcurrentIdenticalRequestsFlattenOnce) {
 TEST(ServiceAdmission, IdenticalRequestsWaitOnOneFlatteningInsteadOfBeingRefused) {
   ServiceOptions options;
   options.limits.max_in_flight = 1;
+  // Room for the sanitizer build, which runs the flattening ~15x slower.
+  options.limits.flatten_time_budget_ms = options.limits.request_time_budget_ms = 120000;
   Service service(options);
-  // The paper's gradient descent on a 40 x 40 wave: long enough (~0.5 s) for
-  // all sixteen to arrive while it runs.
+  // The paper's gradient descent on a 28 x 28 wave: long enough (~0.2 s in a
+  // release build) for all sixteen to arrive while it runs.
   const std::string body =
-      R"({"surface":{"kind":"wave"},"sampling":{"nu":40,"nv":40},"flatten":{"method":"paper"}})";
+      R"({"surface":{"kind":"wave"},"sampling":{"nu":28,"nv":28},"flatten":{"method":"paper"}})";
   constexpr int kClients = 16;
   std::vector<int> failures(kClients, 0);
   std::vector<char> computed(kClients, 0);
@@ -220,14 +222,15 @@ TEST(ServiceAdmission, IdenticalRequestsWaitOnOneFlatteningInsteadOfBeingRefused
 TEST(ServiceAdmission, ACacheHitIsServedWhileTheLimitIsFull) {
   ServiceOptions options;
   options.limits.max_in_flight = 1;
+  options.limits.flatten_time_budget_ms = options.limits.request_time_budget_ms = 120000;
   Service service(options);
   const std::string cached = R"({"surface":{"kind":"cylinder"},"sampling":{"nu":8,"nv":8}})";
   ASSERT_TRUE(service.CreateSurface(cached).ok());
-  std::thread slow([&] {  // holds the only slot for about two seconds
+  std::thread slow([&] {  // holds the only slot for a while (~0.2 s in a release build)
     Result<Reply> r = Status(ErrorCode::kUnavailable, "not tried");
     for (int k = 0; k < 400 && !r.ok(); ++k) {  // until it gets the slot
       r = service.CreateSurface(
-          R"({"surface":{"kind":"wave"},"sampling":{"nu":48,"nv":48},"flatten":{"method":"paper"}})");
+          R"({"surface":{"kind":"wave"},"sampling":{"nu":28,"nv":28},"flatten":{"method":"paper"}})");
       if (!r.ok()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
     EXPECT_TRUE(r.ok()) << r.status().ToString();
