@@ -15,6 +15,7 @@ packages=(
   libtinygltf-dev          # glTF / GLB
   libcpp-httplib-dev       # the HTTP server (and the client in integration tests)
   libssl-dev               # SHA-256 for surface ids and ETags (OpenSSL)
+  libhiredis-dev           # the optional shared surface tier (--redis)
   curl python3 python3-yaml  # the README's curl examples and the contract check, run as a test
   assimp-testmodels        # real glTF, OBJ, PLY, STL, OFF files (and broken ones) for tests
   clang-14 libclang-rt-14-dev  # libFuzzer for the mesh import fuzzer (tests/fuzz)
@@ -31,6 +32,7 @@ if [[ $build_only != 1 ]]; then
   # xauth, only recommended), its WebGL on Mesa's software renderer.
   packages+=(chromium firefox-esr xvfb xauth libgl1-mesa-dri)
   packages+=(nginx)     # the replica failover test runs docker/nginx.conf (no Docker needed)
+  packages+=(redis-server)  # the shared tier's tests run a real Redis (no Docker needed)
 fi
 
 missing=()
@@ -48,8 +50,8 @@ else
   if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
   export DEBIAN_FRONTEND=noninteractive
   "${sudo_cmd[@]}" apt-get update -qq
-  # Debian's nginx package starts a system nginx on port 80 when installed;
-  # the tests run their own. Without a policy-rc.d (Docker images have one),
+  # Debian's nginx and redis-server packages start system services (ports 80,
+  # 6379) when installed; the tests run their own. Without a policy-rc.d (Docker images have one),
   # deny service starts for the duration of the install.
   policy=/usr/sbin/policy-rc.d
   if [[ ! -e $policy ]]; then

@@ -1,9 +1,11 @@
 // surfdeform-server: flags and environment, signals, start.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "http/http_server.hpp"
@@ -133,6 +135,27 @@ int main(int argc, char** argv) {
       ->envname("SURFDEFORM_LOG_LEVEL")
       ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}))
       ->capture_default_str();
+  surfdeform::SharedTierOptions shared;
+  app.add_option("--redis", shared.url,
+                 "Share flattened surfaces with other replicas through Redis: "
+                 "redis://[[user]:password@]host[:port][/db] or unix:///path (empty: "
+                 "in-process cache only)")
+      ->envname("SURFDEFORM_REDIS");
+  app.add_option("--redis-ttl-s", shared.ttl_s, "A flattened surface's life in Redis, seconds")
+      ->envname("SURFDEFORM_REDIS_TTL_S")
+      ->check(CLI::Range(1.0, 3.2e7))
+      ->capture_default_str();
+  app.add_option("--redis-timeout-ms", shared.timeout_ms,
+                 "Bound on connecting to Redis and on each command, milliseconds")
+      ->envname("SURFDEFORM_REDIS_TIMEOUT_MS")
+      ->check(CLI::Range(1.0, 60000.0))
+      ->capture_default_str();
+  app.add_option("--redis-wait-ms", shared.wait_ms,
+                 "How long a replica waits for another replica's flattening of the same "
+                 "surface before flattening it itself, milliseconds")
+      ->envname("SURFDEFORM_REDIS_WAIT_MS")
+      ->check(CLI::Range(0.0, 600000.0))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   surfdeform::TuneAllocatorForServing();
   limits.cache_bytes = cache_mib << 20;
@@ -147,11 +170,28 @@ int main(int argc, char** argv) {
   sigaddset(&signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
+  if (!shared.url.empty()) {
+    shared.lock_ms = std::max(shared.wait_ms, limits.flatten_time_budget_ms) + 1000;
+    auto tier = surfdeform::SharedTier::Create(
+        shared, [](const std::string& state, const std::string& detail) {
+          // One line per change of the tier's state (the breaker opening or closing).
+          std::cout << "{\"event\":\"shared_tier\",\"state\":\"" << state << "\",\"detail\":"
+                    << nlohmann::json(detail).dump(-1, ' ', true,
+                                                   nlohmann::json::error_handler_t::replace)
+                    << "}" << std::endl;
+        });
+    if (!tier.ok()) {
+      std::cerr << "surfdeform-server: " << tier.status().message() << "\n";
+      return 2;
+    }
+    service_options.shared_tier = std::move(*tier);
+  }
   surfdeform::Service service(service_options);
   surfdeform::http::HttpServer server(service, http_options);
   if (!server.Bind()) return 1;
   std::cout << "{\"event\":\"listening\",\"host\":\"" << http_options.host
-            << "\",\"port\":" << server.port() << "}" << std::endl;
+            << "\",\"port\":" << server.port()
+            << ",\"shared_tier\":" << (shared.url.empty() ? "false" : "true") << "}" << std::endl;
 
   std::atomic<bool> stopped_by_signal{false};
   std::thread signal_thread([&] {

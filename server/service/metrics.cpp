@@ -33,7 +33,7 @@ void Metrics::Rejected(const std::string& reason) {
   ++rejected_[reason];
 }
 
-std::string Metrics::Render(const CacheStats& cache) const {
+std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shared) const {
   std::string out;
   auto line = [&out](const std::string& text) { out += text + "\n"; };
   std::lock_guard lock(mutex_);
@@ -96,6 +96,37 @@ std::string Metrics::Render(const CacheStats& cache) const {
   gauge("bytes", "Bytes held by cached flattened surfaces.", cache.bytes);
   gauge("entries", "Flattened surfaces in the cache.", cache.entries);
   gauge("capacity_bytes", "The cache's byte budget.", cache.capacity_bytes);
+  if (!shared.enabled) return out;
+
+  // The second level (Redis), when configured.
+  auto l2 = [&](const char* name, const char* type, const char* help, const std::string& value) {
+    line(std::string("# HELP surfdeform_l2_") + name + " " + help);
+    line(std::string("# TYPE surfdeform_l2_") + name + " " + type);
+    line(std::string("surfdeform_l2_") + name + " " + value);
+  };
+  line("# HELP surfdeform_l2_lookups_total Second-level (shared) cache lookups, by result.");
+  line("# TYPE surfdeform_l2_lookups_total counter");
+  line("surfdeform_l2_lookups_total{result=\"hit\"} " + std::to_string(shared.hits));
+  line("surfdeform_l2_lookups_total{result=\"miss\"} " + std::to_string(shared.misses));
+  line("surfdeform_l2_lookups_total{result=\"corrupt\"} " + std::to_string(shared.corrupt));
+  l2("errors_total", "counter", "Commands that timed out, failed to connect or were refused.",
+     std::to_string(shared.errors));
+  l2("skipped_total", "counter", "Commands not sent because the breaker was open.",
+     std::to_string(shared.skipped));
+  l2("writes_total", "counter", "Flattened surfaces written to the second level.",
+     std::to_string(shared.writes));
+  l2("locks_acquired_total", "counter", "Cross-replica flattening locks taken by this replica.",
+     std::to_string(shared.locks_acquired));
+  l2("lock_waits_total", "counter", "Waits for another replica's flattening.",
+     std::to_string(shared.lock_waits));
+  l2("lock_wait_hits_total", "counter", "Waits that ended with the other replica's surface.",
+     std::to_string(shared.lock_wait_hits));
+  line("# HELP surfdeform_l2_command_seconds Time spent in second-level commands.");
+  line("# TYPE surfdeform_l2_command_seconds summary");
+  line("surfdeform_l2_command_seconds_sum " + Number(shared.command_seconds));
+  line("surfdeform_l2_command_seconds_count " + std::to_string(shared.commands));
+  l2("breaker_open", "gauge", "1 while the breaker stops calls to the second level.",
+     shared.breaker_open ? "1" : "0");
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <tuple>
 
+#include "service/shared_tier.hpp"
 #include "service/single_flight_cache.hpp"
 
 namespace surfdeform {
@@ -26,8 +27,8 @@ class Metrics {
                        double seconds, uint64_t bytes_in, uint64_t bytes_out);
   void Rejected(const std::string& reason);  // load shedding and early rejections
 
-  // The whole exposition, cache counters included.
-  std::string Render(const CacheStats& cache) const;
+  // The whole exposition, cache counters (both levels) included.
+  std::string Render(const CacheStats& cache, const SharedTierStats& shared = {}) const;
 
  private:
   struct Histogram {

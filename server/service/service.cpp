@@ -18,6 +18,7 @@
 #include "proto/json_object.hpp"
 #include "service/flat_sheet_svg.hpp"
 #include "service/output_negotiation.hpp"
+#include "service/sheet_codec.hpp"
 
 namespace surfdeform {
 namespace {
@@ -158,6 +159,7 @@ std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_hand
 struct Service::Impl {
   explicit Impl(ServiceOptions o)
       : options(Normalised(o)),
+        shared(options.shared_tier),
         cache(options.limits.cache_bytes, [](const CachedSurface& s) { return s.bytes; }),
         admission(options.limits.max_in_flight) {}
 
@@ -191,9 +193,33 @@ struct Service::Impl {
                                                          bool admit = false) {
     SURFDEFORM_RETURN_IF_ERROR(CheckGrid(request.sampling));
     const std::string id = proto::SurfaceId(request);
-    return cache.GetOrCompute(
+    bool from_shared = false;  // computed here, but read from the second level
+    auto result = cache.GetOrCompute(
         id,
         [&]() -> Result<std::shared_ptr<const CachedSurface>> {
+          // The second level first; then, holding its lock (or when another
+          // replica holds it but never finishes), flatten here.
+          std::optional<SharedLock> lock;
+          if (shared != nullptr) {
+            if (auto e = FromShared(id)) {
+              from_shared = true;
+              return e;
+            }
+            std::string token;
+            switch (shared->TryLock(SheetLockKey(id), &token)) {
+              case SharedTier::Lock::kAcquired:
+                lock.emplace(shared.get(), SheetLockKey(id), std::move(token));
+                break;
+              case SharedTier::Lock::kHeldElsewhere:
+                if (auto e = WaitForShared(id, clock)) {
+                  from_shared = true;
+                  return e;
+                }
+                break;
+              case SharedTier::Lock::kUnavailable:
+                break;
+            }
+          }
           std::optional<Admission::Ticket> ticket;
           if (admit) {
             SURFDEFORM_ASSIGN_OR_RETURN(auto t, admission.Enter());
@@ -218,9 +244,86 @@ struct Service::Impl {
           entry->sheet = std::move(*sheet);
           entry->flatten_ms = MsSince(t0);
           entry->bytes = EstimateBytes(*entry);
+          if (shared != nullptr) {
+            shared->Put(SheetKey(id),
+                        EncodeSheet(entry->sheet,
+                                    {proto::CanonicalJson(request).dump(), entry->flatten_ms}));
+          }
           return std::shared_ptr<const CachedSurface>(std::move(entry));
         },
         hit);
+    if (from_shared) *hit = true;
+    return result;
+  }
+
+  // Releases a cross-replica flattening lock however the flattening ends.
+  class SharedLock {
+   public:
+    SharedLock(SharedTier* tier, std::string key, std::string token)
+        : tier_(tier), key_(std::move(key)), token_(std::move(token)) {}
+    SharedLock(const SharedLock&) = delete;
+    ~SharedLock() { tier_->Unlock(key_, token_); }
+
+   private:
+    SharedTier* tier_;
+    std::string key_, token_;
+  };
+
+  // Surface `id` from the second level, checked and rebuilt; nullptr for a
+  // miss, an unreachable tier, or a value that fails any check (counted).
+  std::shared_ptr<const CachedSurface> FromShared(const std::string& id) {
+    std::string value;
+    if (shared->Get(SheetKey(id), &value) != SharedTier::Lookup::kHit) return nullptr;
+    auto entry = Rebuild(id, value);
+    if (!entry.ok()) {
+      shared->CountCorrupt();
+      return nullptr;
+    }
+    return *entry;
+  }
+
+  Result<std::shared_ptr<const CachedSurface>> Rebuild(const std::string& id,
+                                                       std::string_view value) {
+    SURFDEFORM_ASSIGN_OR_RETURN(auto decoded, DecodeSheet(value, options.limits.max_grid_side));
+    SURFDEFORM_ASSIGN_OR_RETURN(
+        auto parsed, proto::ParseRequestJson(decoded.parts.canonical_request,
+                                             options.limits.max_json_depth, "shared_tier"));
+    SURFDEFORM_ASSIGN_OR_RETURN(auto request, proto::ParseSurfaceRequest(parsed));
+    if (proto::SurfaceId(request) != id || request.sampling.nu != decoded.sheet.nu ||
+        request.sampling.nv != decoded.sheet.nv) {
+      return Status(ErrorCode::kMalformed, "the shared sheet answers another request",
+                    "shared_tier");
+    }
+    SURFDEFORM_RETURN_IF_ERROR(CheckGrid(request.sampling));
+    SURFDEFORM_ASSIGN_OR_RETURN(auto surface, MakeSurface(request.surface));
+    auto entry = std::make_shared<CachedSurface>();
+    entry->id = id;
+    entry->request = std::move(request);
+    entry->surface = std::move(surface);
+    entry->sheet = std::move(decoded.sheet);
+    entry->flatten_ms = decoded.parts.flatten_ms;
+    entry->bytes = EstimateBytes(*entry);
+    return std::shared_ptr<const CachedSurface>(std::move(entry));
+  }
+
+  // Another replica holds the lock on `id`: its value, once the lock is
+  // released, or nullptr after the tier's wait bound (or half of what is left
+  // of this request's budget, whichever is less); then this replica flattens.
+  std::shared_ptr<const CachedSurface> WaitForShared(const std::string& id,
+                                                     const RequestClock& clock) {
+    const SharedTierOptions& o = shared->options();
+    const auto t0 = Clock::now();
+    const double bound = std::min(o.wait_ms, clock.remaining_ms() / 2);
+    const auto poll = std::chrono::duration<double, std::milli>(o.poll_ms);
+    while (MsSince(t0) < bound) {
+      std::this_thread::sleep_for(poll);
+      if (shared->Exists(SheetLockKey(id)) && MsSince(t0) < bound) continue;
+      auto e = FromShared(id);
+      shared->CountLockWait(e != nullptr);
+      return e;
+    }
+    shared->CountLockWait(false);
+    return FromShared(id);
   }
 
   Result<std::shared_ptr<const CachedSurface>> Lookup(std::string_view id) {
@@ -228,7 +331,20 @@ struct Service::Impl {
       return Status(ErrorCode::kNotFound,
                     "no surface has this id (ids are 32 hex digits from POST /v1/surfaces)", "id");
     }
-    auto found = cache.Find(std::string(id));
+    std::shared_ptr<const CachedSurface> found;
+    if (shared == nullptr) {
+      found = cache.Find(std::string(id));
+    } else {  // a miss here reads the second level (once for concurrent callers)
+      bool hit = false;
+      auto fetched = cache.GetOrCompute(
+          std::string(id),
+          [&]() -> Result<std::shared_ptr<const CachedSurface>> {
+            if (auto e = FromShared(std::string(id))) return e;
+            return Status(ErrorCode::kNotFound, "not in the shared tier");
+          },
+          &hit);
+      if (fetched.ok()) found = *fetched;
+    }
     if (found == nullptr) {
       return Status(ErrorCode::kNotFound,
                     "no flattened surface with this id is cached here (it may have been evicted): "
@@ -258,6 +374,7 @@ struct Service::Impl {
   }
 
   const ServiceOptions options;
+  const std::shared_ptr<SharedTier> shared;  // may be null
   SingleFlightCache<CachedSurface> cache;
   Admission admission;
 };
@@ -267,6 +384,9 @@ Service::~Service() = default;
 
 const ServiceLimits& Service::limits() const { return impl_->options.limits; }
 CacheStats Service::cache_stats() const { return impl_->cache.stats(); }
+SharedTierStats Service::shared_tier_stats() const {
+  return impl_->shared != nullptr ? impl_->shared->stats() : SharedTierStats{};
+}
 
 Result<Reply> Service::CreateSurface(std::string_view body) {
   // No ticket up front: parsing is bounded by the body's size and depth, and

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "base/status.hpp"
+#include "service/shared_tier.hpp"
 #include "service/single_flight_cache.hpp"
 
 namespace surfdeform {
@@ -38,6 +39,8 @@ struct ServiceLimits {
 struct ServiceOptions {
   ServiceLimits limits;
   int engine_threads = 0;  // threads per flattening or deformation; 0 = one per core
+  // The cache's second level, shared by replicas (Redis); null: in-process only.
+  std::shared_ptr<SharedTier> shared_tier;
 };
 
 struct Timing {
@@ -75,6 +78,7 @@ class Service {
 
   std::string InfoJson() const;  // GET /v1/info
   CacheStats cache_stats() const;
+  SharedTierStats shared_tier_stats() const;  // enabled = false without one
   const ServiceLimits& limits() const;
 
  private:

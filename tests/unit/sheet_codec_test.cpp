@@ -1,0 +1,80 @@
+// The shared tier's value format: a round trip is exact, and every damaged,
+// truncated or foreign value is refused.
+#include "service/sheet_codec.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "support/test_surfaces.hpp"
+
+namespace surfdeform {
+namespace {
+
+FlatSheet SmallSheet() {
+  auto surface = testing::MakeValid(WaveSpec{});
+  SamplingOptions sampling;
+  sampling.nu = 5;
+  sampling.nv = 4;
+  auto sheet = FlattenSurface(*surface, sampling);
+  EXPECT_TRUE(sheet.ok());
+  return sheet.ok() ? *sheet : FlatSheet{};
+}
+
+const EncodedSheetParts kParts = {R"({"sampling":{"nu":5,"nv":4},"surface":{"kind":"wave"}})",
+                                  12.5};
+
+TEST(SheetCodec, RoundTripIsExact) {
+  const FlatSheet sheet = SmallSheet();
+  ASSERT_EQ(sheet.points.size(), 20u);
+  const std::string bytes = EncodeSheet(sheet, kParts);
+  auto back = DecodeSheet(bytes, 256);
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  const FlatSheet& b = back->sheet;
+  EXPECT_EQ(b.nu, 5);
+  EXPECT_EQ(b.nv, 4);
+  EXPECT_EQ(b.points, sheet.points);
+  EXPECT_EQ(b.normals, sheet.normals);
+  EXPECT_EQ(b.flat, sheet.flat);
+  EXPECT_EQ(b.method, sheet.method);
+  EXPECT_EQ(b.frame_linear, sheet.frame_linear);
+  EXPECT_EQ(b.frame_offset, sheet.frame_offset);
+  EXPECT_EQ(b.quality.stress, sheet.quality.stress);
+  EXPECT_EQ(b.quality.iterations, sheet.quality.iterations);
+  EXPECT_EQ(b.quality.converged, sheet.quality.converged);
+  EXPECT_EQ(back->parts.canonical_request, kParts.canonical_request);
+  EXPECT_EQ(back->parts.flatten_ms, 12.5);
+}
+
+TEST(SheetCodec, EveryFlippedByteAndEveryTruncationIsRefused) {
+  const std::string bytes = EncodeSheet(SmallSheet(), kParts);
+  for (size_t k = 0; k < bytes.size(); ++k) {
+    std::string damaged = bytes;
+    damaged[k] ^= 0x20;
+    EXPECT_FALSE(DecodeSheet(damaged, 256).ok()) << "byte " << k;
+  }
+  for (size_t n = 0; n < bytes.size(); ++n) {
+    EXPECT_FALSE(DecodeSheet(std::string_view(bytes).substr(0, n), 256).ok()) << n << " bytes";
+  }
+  EXPECT_FALSE(DecodeSheet(bytes + "x", 256).ok());
+  EXPECT_FALSE(DecodeSheet("", 256).ok());
+  EXPECT_FALSE(DecodeSheet(std::string(1000, '\0'), 256).ok());
+}
+
+TEST(SheetCodec, AGridLargerThanTheServersLimitIsRefused) {
+  const std::string bytes = EncodeSheet(SmallSheet(), kParts);
+  EXPECT_TRUE(DecodeSheet(bytes, 5).ok());
+  auto refused = DecodeSheet(bytes, 4);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("grid size"), std::string::npos);
+}
+
+TEST(SheetCodec, KeysCarryTheFormatAndTheEngineVersion) {
+  const std::string key = SheetKey("0123456789abcdef0123456789abcdef");
+  EXPECT_EQ(key, "surfdeform:sheet:v" + std::to_string(kSheetFormatVersion) + ":" +
+                     SURFDEFORM_VERSION + ":0123456789abcdef0123456789abcdef");
+  EXPECT_EQ(SheetLockKey("ab"), SheetKey("ab") + ":lock");
+}
+
+}  // namespace
+}  // namespace surfdeform
