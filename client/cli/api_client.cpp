@@ -122,6 +122,12 @@ bool ApiClient::PostMesh(const std::string& path, const std::string& mesh,
       {"params", params, "", "application/json"}};
   httplib::Headers headers;
   if (!accept.empty()) headers.emplace("Accept", accept);
+  // A load balancer routes by it (docker/nginx.conf), so that the replica
+  // that already holds this surface serves it.
+  const auto j = nlohmann::json::parse(params, nullptr, false);
+  if (j.is_object() && j.contains("surface_id") && j["surface_id"].is_string()) {
+    headers.emplace("X-Surfdeform-Surface-Id", j["surface_id"].get<std::string>());
+  }
   return impl_->Exchange([&] { return impl_->client.Post(path, headers, items); }, out, failure);
 }
 

@@ -216,7 +216,8 @@ struct HttpServer::Impl {
       if (req.has_header("Origin") && AllowsOrigin(req.get_header_value("Origin"))) {
         res.set_header("Access-Control-Allow-Methods", "GET, POST, OPTIONS");
         res.set_header("Access-Control-Allow-Headers",
-                       "Content-Type, Accept, If-None-Match, X-Request-Id, X-Surfdeform-Params");
+                       "Content-Type, Accept, If-None-Match, X-Request-Id, X-Surfdeform-Params, "
+                       "X-Surfdeform-Surface-Id");
         res.set_header("Access-Control-Max-Age", "600");
       }
       return httplib::Server::HandlerResponse::Handled;
@@ -371,6 +372,9 @@ struct HttpServer::Impl {
                          "params"));
     }
     d.params = params;
+    d.routed_surface_id = req.has_param("surface_id")
+                              ? req.get_param_value("surface_id")
+                              : req.get_header_value("X-Surfdeform-Surface-Id");
     auto reply = service.Deform(d);
     if (!reply.ok()) return Fail(req, res, reply.status());
     Send(req, res, *reply);

@@ -455,8 +455,25 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   const auto t0 = Clock::now();
   SURFDEFORM_ASSIGN_OR_RETURN(
       auto parsed, proto::ParseRequestJson(request.params, limits.max_json_depth, "params"));
+  const std::string& routed = request.routed_surface_id;
+  if (!routed.empty() && parsed.is_object() && !parsed.contains("surface") &&
+      !parsed.contains("surface_id")) {
+    parsed["surface_id"] = routed;
+  }
   // Errors name their fields by JSON path in the parameters.
   SURFDEFORM_ASSIGN_OR_RETURN(auto params, proto::ParseDeformParams(parsed));
+  if (!routed.empty()) {
+    const std::string named =
+        params.surface ? proto::SurfaceId(*params.surface) : params.surface_id;
+    if (named != routed) {
+      return Status(ErrorCode::kMalformed,
+                    "the X-Surfdeform-Surface-Id header (or surface_id query parameter) names "
+                    "surface " +
+                        routed + " but the parameters name " + named +
+                        ": they must agree, since load balancers route by the header",
+                    "X-Surfdeform-Surface-Id");
+    }
+  }
   SURFDEFORM_ASSIGN_OR_RETURN(auto format,
                               ChooseOutputFormat(params.output.format, request.accept));
   if (request.mesh.empty()) {

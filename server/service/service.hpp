@@ -62,6 +62,10 @@ struct DeformRequest {
   std::string_view mesh;    // the mesh file's bytes
   std::string_view params;  // the parameters' JSON
   std::string accept;       // the Accept header (used when params name no format)
+  // The X-Surfdeform-Surface-Id header or surface_id query parameter, which
+  // load balancers route by: the surface when the parameters name none, and
+  // otherwise it must be the one they name.
+  std::string routed_surface_id{};
 };
 
 class Service {

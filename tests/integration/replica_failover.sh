@@ -16,10 +16,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 server_bin=$1
-nginx_bin=$(command -v nginx || echo /usr/sbin/nginx)
-[[ -x $nginx_bin ]] || { echo "FAIL: nginx is not installed (scripts/setup.sh installs it)" >&2; exit 1; }
 out=$(mktemp -d)
-chmod 755 "$out"  # nginx's workers (user nobody) write their temporary files here
 pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill -9 "$p" 2> /dev/null || true; done
@@ -33,7 +30,6 @@ fail() {
   tail -n 20 "$out/nginx-error.log" >&2 2> /dev/null || true
   exit 1
 }
-free_port() { python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 
 # Three replicas; each prints its port once listening.
 source "$here/launch_server.sh"
@@ -47,25 +43,9 @@ for r in 1 2 3; do
 done
 
 # docker/nginx.conf with loopback addresses and this run's temporary paths.
-nginx_port=$(free_port)
-servers=""
-for p in "${ports[@]}"; do servers+="server 127.0.0.1:$p max_fails=2 fail_timeout=5s; "; done
-mkdir -p "$out/tmp"
-chmod 777 "$out/tmp"
-sed -e '/resolver 127.0.0.11/d' \
-  -e "s|server surfdeform:8080 max_fails=2 fail_timeout=5s;|$servers|" \
-  -e "s|listen 8080;|listen 127.0.0.1:$nginx_port;|" \
-  -e "s|^http {|http {\n  access_log off;\n  client_body_temp_path $out/tmp/body;\n  proxy_temp_path $out/tmp/proxy;\n  fastcgi_temp_path $out/tmp/fastcgi;\n  uwsgi_temp_path $out/tmp/uwsgi;\n  scgi_temp_path $out/tmp/scgi;|" \
-  -e 's|^worker_processes auto;|worker_processes 1;|' \
-  "$here/../../docker/nginx.conf" > "$out/nginx.conf"
-grep -q "127.0.0.1:${ports[2]}" "$out/nginx.conf" || fail "the upstream line of docker/nginx.conf changed: update this test"
-"$nginx_bin" -p "$out" -c "$out/nginx.conf" -g "pid $out/nginx.pid; error_log $out/nginx-error.log warn;" \
-  || fail "nginx did not start: $(cat "$out/nginx-error.log" 2> /dev/null)"
-base="http://127.0.0.1:$nginx_port"
-for _ in $(seq 100); do
-  curl -s -o /dev/null "$base/healthz" && break
-  sleep 0.05
-done
+source "$here/nginx_front.sh"
+start_nginx "$out" "${ports[@]}"
+base=$NGINX_BASE
 
 # The paper's thin plate on an inline cylinder, subdivided to a fine
 # tolerance: ~40 ms of work each, so that every replica, the one stopped too,
@@ -120,7 +100,7 @@ for _ in $(seq 100); do
 done
 if kill -0 "${pids[1]}" 2> /dev/null; then fail "the stopped replica did not exit"; fi
 
-# In flight: nginx (one worker, round robin) gives two of four concurrent
+# In flight: nginx (one worker, least connections) gives two of four concurrent
 # slow requests to each surviving replica; the third replica crashes while it
 # computes its two, which nginx must send again to the first.
 rm -f "$out"/codes*

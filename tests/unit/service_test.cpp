@@ -109,6 +109,41 @@ TEST(Service, DeformsInlineAndById) {
   EXPECT_EQ(glb->body.substr(0, 4), "glTF");
 }
 
+// X-Surfdeform-Surface-Id (or ?surface_id=), which load balancers route by:
+// the surface when the parameters name none, else it must agree with them.
+TEST(Service, TheRoutingSurfaceIdNamesTheSurfaceOrMustAgree) {
+  Service service({});
+  auto created = service.CreateSurface(kCylinder);
+  ASSERT_TRUE(created.ok());
+  const std::string id = json::parse(created->body).at("id");
+  const std::string plate = PlateObj();
+  const std::string obj = R"({"output":{"format":"obj"}})";
+  auto by_header = service.Deform({plate, obj, "", id});
+  ASSERT_TRUE(by_header.ok()) << by_header.status().ToString();
+  auto by_params =
+      service.Deform({plate, R"({"surface_id":")" + id + R"(","output":{"format":"obj"}})", ""});
+  ASSERT_TRUE(by_params.ok());
+  EXPECT_EQ(by_header->body, by_params->body);
+  // Inline, the header must be that surface's id.
+  auto inline_agrees = service.Deform(
+      {plate, R"({"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180},
+          "sampling":{"nu":8,"nv":8}})",
+       "", id});
+  EXPECT_TRUE(inline_agrees.ok()) << inline_agrees.status().ToString();
+  const std::string other(32, 'a');
+  for (const std::string& params :
+       {R"({"surface_id":")" + id + R"("})",
+        std::string(R"({"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180},
+          "sampling":{"nu":8,"nv":8}})")}) {
+    auto disagrees = service.Deform({plate, params, "", other});
+    ASSERT_FALSE(disagrees.ok());
+    EXPECT_EQ(disagrees.status().code(), ErrorCode::kMalformed);
+    EXPECT_EQ(disagrees.status().field(), "X-Surfdeform-Surface-Id");
+    EXPECT_NE(disagrees.status().message().find(other), std::string::npos);
+    EXPECT_NE(disagrees.status().message().find(id), std::string::npos);
+  }
+}
+
 TEST(Service, ErrorsSayWhatAndWhere) {
   ServiceOptions options;
   options.limits.max_grid_side = 32;

@@ -46,9 +46,11 @@ export async function deform(meshBytes, meshName, params, accept) {
   const form = new FormData();
   form.append('mesh', new Blob([meshBytes]), meshName);
   form.append('params', JSON.stringify(params));
-  const r = await checked(await fetch('/v1/deform', {
-    method: 'POST', body: form, headers: accept ? { Accept: accept } : {},
-  }));
+  const headers = accept ? { Accept: accept } : {};
+  // A load balancer routes by it (docker/nginx.conf), so that the replica
+  // that already holds this surface serves it.
+  if (params.surface_id) headers['X-Surfdeform-Surface-Id'] = params.surface_id;
+  const r = await checked(await fetch('/v1/deform', { method: 'POST', body: form, headers }));
   const stats = JSON.parse(r.headers.get('X-Surfdeform-Stats') || '{}');
   const timing = {};
   for (const part of (r.headers.get('Server-Timing') || '').split(',')) {
