@@ -90,9 +90,20 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(4, 256))
       ->capture_default_str();
   app.add_option("--max-in-flight", limits.max_in_flight,
-                 "Flatten/deform requests at once before 503 (0: two per core)")
+                 "Flatten/deform requests running at once (0: one per core)")
       ->envname("SURFDEFORM_MAX_IN_FLIGHT")
       ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  app.add_option("--max-queued", limits.max_queued,
+                 "Flatten/deform requests that may wait for a slot; more are refused with 503 "
+                 "before their body is read (-1: four per core)")
+      ->envname("SURFDEFORM_MAX_QUEUED")
+      ->check(CLI::Range(-1, 65536))
+      ->capture_default_str();
+  app.add_option("--queue-timeout-ms", limits.queue_timeout_ms,
+                 "The longest a request waits for a slot before 503 (milliseconds)")
+      ->envname("SURFDEFORM_QUEUE_TIMEOUT_MS")
+      ->check(CLI::Range(0.0, 600000.0))
       ->capture_default_str();
   app.add_option("--flatten-budget-ms", limits.flatten_time_budget_ms,
                  "A flattening that takes longer than this fails with 413 (milliseconds)")

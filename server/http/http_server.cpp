@@ -4,12 +4,15 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
+#include <thread>
 
 #include "http/embedded_files.hpp"
 #include "http/problem.hpp"
@@ -30,6 +33,7 @@ struct RequestContext {
   std::string id;
   bool cache_hit = false;
   bool finished = false;  // logged and counted
+  size_t bytes_in = 0;    // a body read by its handler (not into req.body)
 };
 thread_local RequestContext t_context;
 
@@ -152,12 +156,22 @@ struct HttpServer::Impl {
                const Status& status) {
     res.status = http_status;
     res.set_content(ProblemJson(status, http_status, req.path, t_context.id), kProblemType);
-    if (http_status == 503) res.set_header("Retry-After", "1");
+    if (http_status == 503) {
+      res.set_header("Retry-After", std::to_string(service.RetryAfterSeconds()));
+    }
   }
 
   void Fail(const httplib::Request& req, httplib::Response& res, const Status& status) {
+    if (status.code() == ErrorCode::kUnavailable) HoldRefusal();
     Problem(req, res, HttpStatusOf(status.code()), status);
   }
+
+  // A refusal for overload is answered after a short pause. Load generators
+  // and naive clients retry at once whatever Retry-After says; answered at
+  // once, their retries (thousands a second) take the cores from the
+  // requests being served. Paused, each connection costs a few refusals a
+  // second; the pause holds a worker thread, not a core.
+  static void HoldRefusal() { std::this_thread::sleep_for(std::chrono::milliseconds(250)); }
 
   void Send(const httplib::Request& req, httplib::Response& res, const Reply& reply,
             int http_status = 200) {
@@ -306,8 +320,8 @@ struct HttpServer::Impl {
     double ms = 0.0;
     if (t_context.active) {
       ms = std::chrono::duration<double, std::milli>(Clock::now() - t_context.start).count();
-      metrics.RequestFinished(RouteOf(req.path), req.method, status, ms / 1000.0, req.body.size(),
-                              bytes_out);
+      metrics.RequestFinished(RouteOf(req.path), req.method, status, ms / 1000.0,
+                              req.body.size() + t_context.bytes_in, bytes_out);
     }
     const LogLevel level = status >= 500   ? LogLevel::kError
                            : status >= 400 ? LogLevel::kWarn
@@ -317,7 +331,7 @@ struct HttpServer::Impl {
                     {"method", req.method},
                     {"path", req.path},
                     {"status", status},
-                    {"bytes_in", req.body.size()},
+                    {"bytes_in", req.body.size() + t_context.bytes_in},
                     {"bytes_out", bytes_out},
                     {"duration_ms", ms},
                     {"cache_hit", t_context.cache_hit},
@@ -326,26 +340,81 @@ struct HttpServer::Impl {
     t_context.finished = true;
   }
 
-  void Deform(const httplib::Request& req, httplib::Response& res) {
+  // A deformation's body as its handler reads it.
+  struct DeformBody {
+    std::string raw;                                               // a raw mesh
+    std::multimap<std::string, httplib::MultipartFormData> parts;  // or a form's parts
+  };
+
+  // POST /v1/deform reads its own body: past the work-in-flight limit and
+  // its queue, the body is read and dropped as it arrives (no copy, no
+  // parse) and the request refused, so that a refusal costs a small part of
+  // what serving it would, and the connection stays usable (checklist 26).
+  void DeformWithBody(const httplib::Request& req, httplib::Response& res,
+                      const httplib::ContentReader& reader) {
+    const bool multipart = req.is_multipart_form_data();
+    DeformBody body;
+    bool read = false;
+    if (service.Saturated()) {
+      auto drop = [](const char*, size_t n) {
+        t_context.bytes_in += n;
+        return true;
+      };
+      read = multipart ? reader([](const httplib::MultipartFormData&) { return true; }, drop)
+                       : reader(drop);
+      if (!read) return;  // the connection failed: nobody to answer
+      metrics.Rejected("overload");
+      return Fail(req, res,
+                  Status(ErrorCode::kUnavailable,
+                         "the server is busy: every slot is taken and the queue is full; retry "
+                         "after the Retry-After seconds"));
+    }
+    if (multipart) {
+      httplib::MultipartFormData* part = nullptr;
+      read = reader(
+          [&](const httplib::MultipartFormData& header) {
+            part = &body.parts.emplace(header.name, header)->second;
+            return true;
+          },
+          [&](const char* data, size_t n) {
+            t_context.bytes_in += n;
+            if (part != nullptr) part->content.append(data, n);
+            return true;
+          });
+    } else {
+      body.raw.reserve(
+          std::min<size_t>(service.limits().max_body_bytes,
+                           static_cast<size_t>(std::strtoull(
+                               req.get_header_value("Content-Length").c_str(), nullptr, 10))));
+      read = reader([&](const char* data, size_t n) {
+        t_context.bytes_in += n;
+        body.raw.append(data, n);
+        return true;
+      });
+    }
+    if (!read) return;  // httplib answers (or the connection is gone)
+    Deform(req, res, body);
+  }
+
+  void Deform(const httplib::Request& req, httplib::Response& res, const DeformBody& body) {
     DeformRequest d;
     d.accept = req.get_header_value("Accept");
     std::string params;
     if (req.is_multipart_form_data()) {
-      if (!req.has_file("mesh")) {
+      if (body.parts.count("mesh") == 0) {
         return Fail(req, res,
                     Status(ErrorCode::kMalformed,
                            "the multipart body needs a \"mesh\" part (the mesh file) and a "
                            "\"params\" part (JSON)",
                            "mesh"));
       }
-      if (req.files.count("mesh") > 1 || req.files.count("params") > 1) {
+      if (body.parts.count("mesh") > 1 || body.parts.count("params") > 1) {
         return Fail(req, res,
                     Status(ErrorCode::kMalformed, "give one \"mesh\" part and one \"params\" part",
                            "mesh"));
       }
-      // By reference: get_file_value returns a copy.
-      d.mesh = req.files.find("mesh")->second.content;
-      if (auto it = req.files.find("params"); it != req.files.end()) params = it->second.content;
+      d.mesh = body.parts.find("mesh")->second.content;
+      if (auto it = body.parts.find("params"); it != body.parts.end()) params = it->second.content;
     } else {
       const std::string type = req.get_header_value("Content-Type");
       if (type.rfind("application/json", 0) == 0 || type.rfind("application/x-www-form", 0) == 0) {
@@ -356,7 +425,7 @@ struct HttpServer::Impl {
                            "\"params\" query parameter or the X-Surfdeform-Params header",
                            "Content-Type"));
       }
-      d.mesh = req.body;
+      d.mesh = body.raw;
       if (req.has_param("params")) {
         params = req.get_param_value("params");
       } else if (req.has_header("X-Surfdeform-Params")) {
@@ -411,14 +480,22 @@ struct HttpServer::Impl {
     // The handlers of kRoutes, in its order.
     using Handler = void (Impl::*)(const httplib::Request&, httplib::Response&);
     const Handler handlers[] = {
-        &Impl::Index, &Impl::Healthz,       &Impl::Readyz,     &Impl::MetricsText,  &Impl::OpenApi,
-        &Impl::Info,  &Impl::CreateSurface, &Impl::SurfaceSvg, &Impl::SurfaceSheet, &Impl::Deform};
+        &Impl::Index,        &Impl::Healthz, &Impl::Readyz,        &Impl::MetricsText,
+        &Impl::OpenApi,      &Impl::Info,    &Impl::CreateSurface, &Impl::SurfaceSvg,
+        &Impl::SurfaceSheet, nullptr /* POST /v1/deform reads its own body: DeformWithBody */};
     static_assert(sizeof(handlers) / sizeof(handlers[0]) == kRouteCount);
     // A mounted viewer serves GET / from its files first; the built-in page
     // stands in where it has none.
     MountViewer();
     for (size_t k = 0; k < kRouteCount; ++k) {
       const Handler h = handlers[k];
+      if (h == nullptr) {
+        server.Post(kRoutes[k].pattern, [this](const httplib::Request& req, httplib::Response& res,
+                                               const httplib::ContentReader& reader) {
+          DeformWithBody(req, res, reader);
+        });
+        continue;
+      }
       auto handler = [this, h](const httplib::Request& req, httplib::Response& res) {
         (this->*h)(req, res);
       };
@@ -445,7 +522,8 @@ struct HttpServer::Impl {
     }
   }
   void MetricsText(const httplib::Request&, httplib::Response& res) {
-    res.set_content(metrics.Render(service.cache_stats(), service.shared_tier_stats()),
+    res.set_content(metrics.Render(service.cache_stats(), service.shared_tier_stats(),
+                                   service.admission_stats()),
                     "text/plain; version=0.0.4");
   }
   void OpenApi(const httplib::Request&, httplib::Response& res) {

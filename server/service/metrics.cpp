@@ -1,5 +1,7 @@
 #include "service/metrics.hpp"
 
+#include <sys/resource.h>
+
 #include <cstdio>
 
 namespace surfdeform {
@@ -33,7 +35,8 @@ void Metrics::Rejected(const std::string& reason) {
   ++rejected_[reason];
 }
 
-std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shared) const {
+std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shared,
+                            const AdmissionStats& admission) const {
   std::string out;
   auto line = [&out](const std::string& text) { out += text + "\n"; };
   std::lock_guard lock(mutex_);
@@ -96,6 +99,36 @@ std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shar
   gauge("bytes", "Bytes held by cached flattened surfaces.", cache.bytes);
   gauge("entries", "Flattened surfaces in the cache.", cache.entries);
   gauge("capacity_bytes", "The cache's byte budget.", cache.capacity_bytes);
+
+  auto plain = [&](const std::string& name, const char* type, const char* help,
+                   const std::string& value) {
+    line("# HELP " + name + " " + help);
+    line("# TYPE " + name + " " + type);
+    line(name + " " + value);
+  };
+  plain("surfdeform_admission_running", "gauge", "Flatten/deform requests holding a slot.",
+        std::to_string(admission.running));
+  plain("surfdeform_admission_queued", "gauge", "Requests waiting for a slot.",
+        std::to_string(admission.queued));
+  plain("surfdeform_admission_admitted_total", "counter", "Requests given a slot.",
+        std::to_string(admission.admitted));
+  plain("surfdeform_admission_waited_total", "counter",
+        "Requests given a slot after waiting in the queue.", std::to_string(admission.waited));
+  line("# HELP surfdeform_admission_refused_total Requests refused (503), by reason.");
+  line("# TYPE surfdeform_admission_refused_total counter");
+  line("surfdeform_admission_refused_total{reason=\"queue_full\"} " +
+       std::to_string(admission.refused_full));
+  line("surfdeform_admission_refused_total{reason=\"queue_timeout\"} " +
+       std::to_string(admission.refused_timeout));
+  plain("surfdeform_admission_service_seconds", "gauge",
+        "Recent requests' time holding a slot (moving average): Retry-After comes from it.",
+        Number(admission.service_ms_ewma / 1000.0));
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const double cpu = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                     static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
+  plain("process_cpu_seconds_total", "counter", "User and system CPU time of the server.",
+        Number(cpu));
   if (!shared.enabled) return out;
 
   // The second level (Redis), when configured.

@@ -11,6 +11,7 @@
 #include <string>
 #include <tuple>
 
+#include "service/admission.hpp"
 #include "service/shared_tier.hpp"
 #include "service/single_flight_cache.hpp"
 
@@ -28,7 +29,9 @@ class Metrics {
   void Rejected(const std::string& reason);  // load shedding and early rejections
 
   // The whole exposition, cache counters (both levels) included.
-  std::string Render(const CacheStats& cache, const SharedTierStats& shared = {}) const;
+  // And the process's CPU time, for CPU per request under load.
+  std::string Render(const CacheStats& cache, const SharedTierStats& shared = {},
+                     const AdmissionStats& admission = {}) const;
 
  private:
   struct Histogram {

@@ -16,6 +16,7 @@
 #include "proto/api.hpp"
 #include "proto/content_hash.hpp"
 #include "proto/json_object.hpp"
+#include "service/admission.hpp"
 #include "service/flat_sheet_svg.hpp"
 #include "service/output_negotiation.hpp"
 #include "service/sheet_codec.hpp"
@@ -53,37 +54,6 @@ size_t EstimateBytes(const CachedSurface& s) {
   // much again as its spec (copies, derived coefficients).
   return sizeof(CachedSurface) + samples * (24 + 24 + 16) + 2 * spec + 1024;
 }
-
-// Counts requests doing real work; refuses past the limit instead of queueing.
-class Admission {
- public:
-  explicit Admission(int limit) : limit_(limit) {}
-  class Ticket {
-   public:
-    explicit Ticket(std::atomic<int>* count) : count_(count) {}
-    Ticket(Ticket&& o) noexcept : count_(std::exchange(o.count_, nullptr)) {}
-    Ticket(const Ticket&) = delete;
-    ~Ticket() {
-      if (count_ != nullptr) count_->fetch_sub(1);
-    }
-
-   private:
-    std::atomic<int>* count_;
-  };
-  Result<Ticket> Enter() {
-    if (count_.fetch_add(1) >= limit_) {
-      count_.fetch_sub(1);
-      return Status(ErrorCode::kUnavailable,
-                    "the server is busy: " + std::to_string(limit_) +
-                        " flatten/deform requests are in flight, its limit; retry in a second");
-    }
-    return Ticket(&count_);
-  }
-
- private:
-  const int limit_;
-  std::atomic<int> count_{0};
-};
 
 json SheetSummary(const CachedSurface& s, bool cached) {
   return {{"id", s.id},
@@ -161,14 +131,22 @@ struct Service::Impl {
       : options(Normalised(o)),
         shared(options.shared_tier),
         cache(options.limits.cache_bytes, [](const CachedSurface& s) { return s.bytes; }),
-        admission(options.limits.max_in_flight) {}
+        admission(AdmissionOptions{options.limits.max_in_flight, options.limits.max_queued,
+                                   options.limits.queue_timeout_ms, Cores()}) {}
+
+  static int Cores() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
 
   static ServiceOptions Normalised(ServiceOptions o) {
-    if (o.limits.max_in_flight <= 0) {
-      o.limits.max_in_flight =
-          2 * static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    }
+    if (o.limits.max_in_flight <= 0) o.limits.max_in_flight = Cores();
+    if (o.limits.max_queued < 0) o.limits.max_queued = 4 * Cores();
     return o;
+  }
+
+  // Threads for a request's own parallel work: what its ticket allows (all
+  // cores alone, one under load), at most --engine-threads when that is set.
+  int ThreadsFor(const Admission::Ticket& ticket) const {
+    const int t = ticket.threads();
+    return options.engine_threads > 0 ? std::min(options.engine_threads, t) : t;
   }
 
   Status CheckGrid(const SamplingOptions& s) const {
@@ -222,14 +200,14 @@ struct Service::Impl {
           }
           std::optional<Admission::Ticket> ticket;
           if (admit) {
-            SURFDEFORM_ASSIGN_OR_RETURN(auto t, admission.Enter());
+            SURFDEFORM_ASSIGN_OR_RETURN(auto t, admission.Enter(clock.remaining_ms()));
             ticket.emplace(std::move(t));
           }
           const auto t0 = Clock::now();
           auto surface = MakeSurface(request.surface);
           if (!surface.ok()) return surface.status().WithFieldPrefix("surface");
           FlattenOptions flatten = request.flatten;
-          flatten.threads = options.engine_threads;
+          flatten.threads = ticket ? ThreadsFor(*ticket) : options.engine_threads;
           flatten.time_budget_ms = clock.BudgetFor(options.limits.flatten_time_budget_ms);
           auto sheet = FlattenSurface(**surface, request.sampling, flatten);
           if (!sheet.ok()) {
@@ -384,6 +362,9 @@ Service::~Service() = default;
 
 const ServiceLimits& Service::limits() const { return impl_->options.limits; }
 CacheStats Service::cache_stats() const { return impl_->cache.stats(); }
+AdmissionStats Service::admission_stats() const { return impl_->admission.stats(); }
+bool Service::Saturated() const { return impl_->admission.Full(); }
+int Service::RetryAfterSeconds() const { return impl_->admission.RetryAfterSeconds(); }
 SharedTierStats Service::shared_tier_stats() const {
   return impl_->shared != nullptr ? impl_->shared->stats() : SharedTierStats{};
 }
@@ -449,9 +430,10 @@ Result<Reply> Service::GetSurfaceSvg(std::string_view id) {
 }
 
 Result<Reply> Service::Deform(const DeformRequest& request) {
-  SURFDEFORM_ASSIGN_OR_RETURN(auto ticket, impl_->admission.Enter());
   const ServiceLimits& limits = impl_->options.limits;
   const RequestClock clock(limits.request_time_budget_ms);
+  SURFDEFORM_ASSIGN_OR_RETURN(auto ticket, impl_->admission.Enter(clock.remaining_ms()));
+  const int threads = impl_->ThreadsFor(ticket);
   const auto t0 = Clock::now();
   SURFDEFORM_ASSIGN_OR_RETURN(
       auto parsed, proto::ParseRequestJson(request.params, limits.max_json_depth, "params"));
@@ -492,9 +474,9 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
 
   const auto t2 = Clock::now();
   PlacementOptions placement = params.placement;
-  placement.threads = impl_->options.engine_threads;
+  placement.threads = threads;
   SubdivisionOptions subdivision = params.subdivision;
-  subdivision.threads = impl_->options.engine_threads;
+  subdivision.threads = threads;
   subdivision.max_vertices = limits.max_output_vertices;
   subdivision.max_triangles = limits.max_output_triangles;
   subdivision.time_budget_ms = clock.BudgetFor(limits.request_time_budget_ms);
@@ -541,6 +523,8 @@ std::string Service::InfoJson() const {
               {"max_output_triangles", l.max_output_triangles},
               {"max_json_depth", l.max_json_depth},
               {"max_in_flight", l.max_in_flight},
+              {"max_queued", l.max_queued},
+              {"queue_timeout_ms", l.queue_timeout_ms},
               {"flatten_time_budget_ms", l.flatten_time_budget_ms},
               {"request_time_budget_ms", l.request_time_budget_ms},
               {"cache_bytes", l.cache_bytes}}},

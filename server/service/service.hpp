@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "base/status.hpp"
+#include "service/admission.hpp"
 #include "service/shared_tier.hpp"
 #include "service/single_flight_cache.hpp"
 
@@ -27,7 +28,9 @@ struct ServiceLimits {
   size_t max_output_vertices = 4'000'000;  // the mesh after subdivision
   size_t max_output_triangles = 8'000'000;
   int max_json_depth = 32;                // request JSON nesting (glTF JSON: twice this)
-  int max_in_flight = 0;                  // flatten/deform requests at once; 0 = 2 per core
+  int max_in_flight = 0;                  // flatten/deform requests running at once; 0 = 1 per core
+  int max_queued = -1;                    // more that wait for a slot; -1 = 4 per core
+  double queue_timeout_ms = 5000;         // the longest wait for a slot (then 503)
   double flatten_time_budget_ms = 20000;  // a flattening that takes longer fails (413)
   // A request's parsing, flattening, deformation and subdivision together;
   // past it the request fails (413). The encoding that follows is bounded by
@@ -83,6 +86,11 @@ class Service {
   std::string InfoJson() const;  // GET /v1/info
   CacheStats cache_stats() const;
   SharedTierStats shared_tier_stats() const;  // enabled = false without one
+  AdmissionStats admission_stats() const;
+  // Every slot busy and the queue full: a new request would be refused now
+  // (the HTTP layer refuses it before reading its body).
+  bool Saturated() const;
+  int RetryAfterSeconds() const;  // for a 503: from the measured service time and the queue
   const ServiceLimits& limits() const;
 
  private:

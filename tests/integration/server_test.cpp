@@ -641,11 +641,11 @@ std::string SlowSide(int release_side) {
 #endif
 }
 
-// Checklist 9: past the work-in-flight limit, 503 with Retry-After at once
-// (no queue), and the server stays healthy.
+// Checklist 9: past the work-in-flight limit and its queue (none here), 503
+// with Retry-After at once, and the server stays healthy.
 TEST(ServerConcurrency, OverloadIsShedWith503) {
-  ServerProcess server({"--log-level", "warn", "--max-in-flight", "1", "--flatten-budget-ms",
-                        "600000", "--request-budget-ms", "600000"});
+  ServerProcess server({"--log-level", "warn", "--max-in-flight", "1", "--max-queued", "0",
+                        "--flatten-budget-ms", "600000", "--request-budget-ms", "600000"});
   ASSERT_GT(server.port(), 0);
   // A slow request holds the only slot: the paper's gradient descent on a
   // 48 x 48 grid (about 2 s here in a release build).
@@ -675,6 +675,60 @@ TEST(ServerConcurrency, OverloadIsShedWith503) {
   }
   holder.join();
   EXPECT_EQ(slow_status.load(), 201);
+}
+
+// Checklist 26: with every slot busy and the queue full, a deformation is
+// refused with its body dropped as it arrives (raw or multipart), and the
+// connection stays usable; with room in the queue, it waits for the slot and
+// succeeds.
+TEST(ServerConcurrency, PastTheQueueADeformationIsRefusedAndItsBodyDropped) {
+  for (const char* queued : {"0", "1"}) {
+    SCOPED_TRACE(std::string("--max-queued ") + queued);
+    ServerProcess server({"--log-level", "warn", "--max-in-flight", "1", "--max-queued", queued,
+                          "--flatten-budget-ms", "600000", "--request-budget-ms", "600000",
+                          "--queue-timeout-ms", "600000"});
+    ASSERT_GT(server.port(), 0);
+    const std::string slow = R"({"surface":{"kind":"wave"},"sampling":{"nu":)" + SlowSide(48) +
+                             R"(,"nv":)" + SlowSide(48) + R"(},"flatten":{"method":"paper"}})";
+    std::atomic<int> slow_status{0};
+    std::thread holder([&] {
+      httplib::Client c("127.0.0.1", server.port());
+      c.set_read_timeout(120, 0);
+      auto r = c.Post("/v1/surfaces", slow, "application/json");
+      slow_status = r ? r->status : -1;
+    });
+    std::this_thread::sleep_for(300ms);
+    httplib::Client c("127.0.0.1", server.port());
+    c.set_read_timeout(120, 0);
+    // A plate padded with comment lines to 8 MiB.
+    std::string mesh = PlateObj();
+    for (int k = 0; k < (8 << 20) / 64; ++k) mesh += std::string(63, '#') + "\n";
+    httplib::Headers headers = {
+        {"X-Surfdeform-Params", R"({"surface":{"kind":"cylinder"},"subdivision":{"mode":"off"}})"}};
+    auto r = c.Post("/v1/deform", headers, mesh, "application/octet-stream");
+    const bool slow_done = slow_status.load() != 0;
+    // No ASSERT while `holder` runs (a joinable thread would terminate).
+    EXPECT_TRUE(r) << httplib::to_string(r.error());
+    if (!r) {
+      // nothing more to check
+    } else if (std::string(queued) == "0") {
+      EXPECT_FALSE(slow_done) << "the slow request finished first; make it slower";
+      EXPECT_EQ(r->status, 503) << r->body;
+      EXPECT_FALSE(r->get_header_value("Retry-After").empty());
+      EXPECT_EQ(json::parse(r->body).at("code"), "unavailable");
+      // The same connection carries the next request: multipart, refused too.
+      auto form = c.Post("/v1/deform", Multipart(mesh, DeformParams()));
+      EXPECT_TRUE(form && form->status == 503) << (form ? form->body : "no response");
+      auto m = c.Get("/metrics");
+      EXPECT_TRUE(m && m->body.find("surfdeform_http_rejected_total{reason=\"overload\"} 2") !=
+                           std::string::npos);
+    } else {
+      EXPECT_EQ(r->status, 200) << r->body;  // it waited for the slot
+      EXPECT_NE(slow_status.load(), 0);      // which came free when the slow one ended
+    }
+    holder.join();
+    EXPECT_EQ(slow_status.load(), 201);
+  }
 }
 
 // The per-request time budget: a flattening or a subdivision that would run

@@ -224,6 +224,7 @@ TEST(Service, ConcurrentIdenticalRequestsFlattenOnce) {
 TEST(ServiceAdmission, IdenticalRequestsWaitOnOneFlatteningInsteadOfBeingRefused) {
   ServiceOptions options;
   options.limits.max_in_flight = 1;
+  options.limits.max_queued = 0;  // refused at once
   // Room for the sanitizer build, which runs the flattening ~15x slower.
   options.limits.flatten_time_budget_ms = options.limits.request_time_budget_ms = 120000;
   Service service(options);
@@ -257,6 +258,7 @@ TEST(ServiceAdmission, IdenticalRequestsWaitOnOneFlatteningInsteadOfBeingRefused
 TEST(ServiceAdmission, ACacheHitIsServedWhileTheLimitIsFull) {
   ServiceOptions options;
   options.limits.max_in_flight = 1;
+  options.limits.max_queued = 0;  // refused at once
   options.limits.flatten_time_budget_ms = options.limits.request_time_budget_ms = 120000;
   Service service(options);
   const std::string cached = R"({"surface":{"kind":"cylinder"},"sampling":{"nu":8,"nv":8}})";
