@@ -33,6 +33,8 @@ if [[ $build_only != 1 ]]; then
   packages+=(chromium firefox-esr xvfb xauth libgl1-mesa-dri)
   packages+=(nginx)     # the replica failover test runs docker/nginx.conf (no Docker needed)
   packages+=(redis-server)  # the shared tier's tests run a real Redis (no Docker needed)
+  packages+=(wrk)           # tests/load and scripts/loadtest.sh
+  packages+=(yamllint)      # docker/k8s manifests are linted offline
 fi
 
 missing=()

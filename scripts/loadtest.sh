@@ -1,0 +1,153 @@
+#!/usr/bin/env bash
+# Load-tests surfdeform with wrk (tests/load/*.lua) and prints one table.
+#   scripts/loadtest.sh [URL]
+# Without a URL it builds (Release) and starts a server of its own on a free
+# loopback port. It creates the Figure 10 surface, then deforms a mesh by its
+# id at 1, 2, 3, 4, 6, 8, ... connections until goodput (200s per second)
+# stops rising: the best step is the capacity. Then it runs at 4x those
+# connections (overload) and prints, per step: requests per second, goodput,
+# p50 / p90 / p99 of the served requests, the status codes, and the server's
+# CPU time per served request (from /metrics: process_cpu_seconds_total).
+#
+# Environment:
+#   LOADTEST_SCRIPT       deform_by_id (default), deform_multipart, deform_inline
+#   LOADTEST_MESH         the mesh (default client/web/samples/bunny.ply)
+#   LOADTEST_SUBDIVISION  off (default), adaptive, uniform
+#   LOADTEST_SECONDS      seconds per step (default 5)
+#   LOADTEST_MAX_CONNECTIONS  the last step tried (default 64)
+#   LOADTEST_CHECK=1      exit 1 unless: no code but 200 and 503, every 503
+#                         has Retry-After, no socket error, and goodput at
+#                         overload >= LOADTEST_MIN_OVERLOAD (default 0.8) of
+#                         the capacity measured in the same run
+#   LOADTEST_JSON=FILE    also write the steps as JSON
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+script=${LOADTEST_SCRIPT:-deform_by_id}
+mesh=${LOADTEST_MESH:-$root/client/web/samples/bunny.ply}
+subdivision=${LOADTEST_SUBDIVISION:-off}
+seconds=${LOADTEST_SECONDS:-5}
+max_connections=${LOADTEST_MAX_CONNECTIONS:-64}
+min_overload=${LOADTEST_MIN_OVERLOAD:-0.8}
+command -v wrk > /dev/null || { echo "loadtest: wrk is not installed (scripts/setup.sh installs it)" >&2; exit 2; }
+[[ -f $mesh ]] || { echo "loadtest: no mesh at $mesh (set LOADTEST_MESH)" >&2; exit 2; }
+[[ -f $root/tests/load/$script.lua ]] || { echo "loadtest: no script tests/load/$script.lua" >&2; exit 2; }
+work=$(mktemp -d)
+server_pid=""
+cleanup() {
+  [[ -n $server_pid ]] && kill "$server_pid" 2> /dev/null && wait "$server_pid" 2> /dev/null
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+url=${1:-}
+if [[ -z $url ]]; then
+  bin=${SURFDEFORM_SERVER:-$root/build/server/surfdeform-server}
+  if [[ ! -x $bin ]]; then
+    cmake -S "$root" -B "$root/build" -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
+    cmake --build "$root/build" --target surfdeform-server > /dev/null
+  fi
+  "$bin" --host 127.0.0.1 --port 0 --log-level warn > "$work/server.log" 2>&1 &
+  server_pid=$!
+  for _ in $(seq 200); do
+    grep -q '"listening"' "$work/server.log" 2> /dev/null && break
+    sleep 0.05
+  done
+  port=$(sed -n 's/.*"port":\([0-9]*\).*/\1/p' "$work/server.log" | head -1)
+  [[ -n $port ]] || { echo "loadtest: the server did not start: $(cat "$work/server.log")" >&2; exit 2; }
+  url="http://127.0.0.1:$port"
+fi
+url=${url%/}
+
+python3 - "$root/client/web/samples/figure10.json" > "$work/surface.json" << 'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+s.pop("description", None)
+print(json.dumps({"surface": s, "sampling": {"nu": 32, "nv": 32}}, separators=(",", ":")))
+PY
+id=$(curl -sf -H 'Content-Type: application/json' --data-binary @"$work/surface.json" "$url/v1/surfaces" \
+  | python3 -c 'import json, sys; print(json.load(sys.stdin)["id"])') \
+  || { echo "loadtest: POST /v1/surfaces to $url failed" >&2; exit 2; }
+case $script in
+  deform_inline) args=("$work/surface.json" "$mesh" "$subdivision") ;;
+  *) args=("$id" "$mesh" "$subdivision") ;;
+esac
+
+metric() { curl -sf "$url/metrics" | awk -v m="$1" '$1 == m { v = $2 } END { print v + 0 }'; }
+# Requests of a previous step that the server is still finishing would be
+# counted in this one: wait until only the /metrics request is in flight.
+settle() {
+  for _ in $(seq 100); do
+    (($(metric surfdeform_http_requests_in_flight | cut -d. -f1) <= 1)) && return 0
+    sleep 0.1
+  done
+}
+step() {  # connections: appends one JSON line to $work/steps
+  local c=$1 cpu0 cpu1 out
+  settle
+  cpu0=$(metric process_cpu_seconds_total)
+  out=$(wrk -t"$c" -c"$c" -d"${seconds}s" --timeout 30s -s "$root/tests/load/$script.lua" "$url" -- "${args[@]}" \
+    | grep '^{"wrk"') || { echo "loadtest: wrk failed at $c connections" >&2; exit 2; }
+  cpu1=$(metric process_cpu_seconds_total)
+  python3 -c '
+import json, sys
+w = json.loads(sys.argv[1])["wrk"]
+w["connections"] = int(sys.argv[2])
+w["server_cpu_s"] = float(sys.argv[4]) - float(sys.argv[3])
+print(json.dumps(w))' "$out" "$c" "$cpu0" "$cpu1" >> "$work/steps"
+}
+goodput_of_last() { tail -1 "$work/steps" | python3 -c 'import json, sys; w = json.load(sys.stdin); print(w["codes"].get("200", 0) / w["duration_s"])'; }
+
+echo "loadtest: $url, tests/load/$script.lua, $(basename "$mesh"), subdivision $subdivision, ${seconds} s per step"
+best=0 best_c=0 flat=0
+for c in 1 2 3 4 6 8 12 16 24 32 48 64 96 128; do
+  ((c > max_connections)) && break
+  step "$c"
+  g=$(goodput_of_last)
+  if python3 -c "import sys; sys.exit(0 if $g > $best * 1.03 else 1)"; then
+    best=$g best_c=$c flat=0
+  else
+    flat=$((flat + 1))
+    ((flat >= 2)) && break  # two steps without a 3% gain: past capacity
+  fi
+done
+overload_c=$((4 * best_c))
+step "$overload_c"
+
+python3 - "$work/steps" "$best_c" "$overload_c" "${LOADTEST_CHECK:-0}" "$min_overload" "${LOADTEST_JSON:-}" << 'PY'
+import json, sys
+steps = [json.loads(l) for l in open(sys.argv[1])]
+best_c, overload_c, check, min_overload, json_out = int(sys.argv[2]), int(sys.argv[3]), sys.argv[4] == "1", float(sys.argv[5]), sys.argv[6]
+print(f"{'conns':>5} {'req/s':>8} {'goodput':>8} {'p50 ms':>8} {'p90 ms':>8} {'p99 ms':>8} {'p99/p50':>7} {'CPU ms/req':>10}  codes")
+for w in steps:
+    served = w["codes"].get("200", 0)
+    rps = w["requests"] / w["duration_s"]
+    good = served / w["duration_s"]
+    s = w["served_ms"]
+    ratio = s["p99"] / s["p50"] if s["p50"] else 0
+    cpu = 1000 * w["server_cpu_s"] / served if served else float("nan")
+    codes = " ".join(f"{k}:{v}" for k, v in sorted(w["codes"].items()))
+    errors = sum(w["socket_errors"].values())
+    tag = " (capacity)" if w["connections"] == best_c else " (4x: overload)" if w is steps[-1] else ""
+    print(f"{w['connections']:>5} {rps:>8.1f} {good:>8.1f} {s['p50']:>8.1f} {s['p90']:>8.1f} {s['p99']:>8.1f} {ratio:>7.2f} {cpu:>10.1f}  {codes}"
+          + (f" socket-errors:{errors}" if errors else "") + tag)
+capacity = max(w["codes"].get("200", 0) / w["duration_s"] for w in steps[:-1])
+over = steps[-1]
+over_good = over["codes"].get("200", 0) / over["duration_s"]
+print(f"capacity {capacity:.1f} req/s at {best_c} connections; at {overload_c} connections goodput "
+      f"{over_good:.1f} req/s ({100 * over_good / capacity:.0f}% of capacity), served p99/p50 "
+      f"{over['served_ms']['p99'] / max(over['served_ms']['p50'], 1e-9):.2f}")
+if json_out:
+    json.dump({"steps": steps, "capacity": capacity, "capacity_connections": best_c,
+               "overload_connections": overload_c, "overload_goodput": over_good}, open(json_out, "w"), indent=1)
+if check:
+    problems = []
+    for w in steps:
+        other = {k: v for k, v in w["codes"].items() if k not in ("200", "503")}
+        if other: problems.append(f"{w['connections']} connections: codes other than 200 and 503: {other}")
+        if w["retry_after_missing"]: problems.append(f"{w['connections']} connections: {w['retry_after_missing']} 503s without Retry-After")
+        if sum(w["socket_errors"].values()): problems.append(f"{w['connections']} connections: socket errors {w['socket_errors']}")
+    if over_good < min_overload * capacity:
+        problems.append(f"goodput at overload {over_good:.1f} req/s is under {min_overload:.0%} of capacity {capacity:.1f} req/s")
+    for p in problems: print("FAIL: " + p)
+    sys.exit(1 if problems else 0)
+PY
