@@ -21,8 +21,9 @@ packages=(
   clang-14 libclang-rt-14-dev  # libFuzzer for the mesh import fuzzer (tests/fuzz)
 )
 # npm installs the web viewer's three.js (client/web) and, for the tests, the
-# Khronos glTF validator and puppeteer-core (which drives Debian's Chromium and
-# Firefox ESR: no browser download). A machine that already has node and npm
+# Khronos glTF validator, puppeteer-core (which drives Debian's Chromium and
+# Firefox ESR: no browser download) and kubernetes-models (the Kubernetes
+# schemas, to check docker/k8s offline). A machine that already has node and npm
 # (e.g. Node 20) keeps them. SURFDEFORM_SETUP_BUILD_ONLY=1 (the Docker image's
 # build stage) skips what only the tests need.
 build_only=${SURFDEFORM_SETUP_BUILD_ONLY:-0}
@@ -76,4 +77,5 @@ npm_ci client/web three
 if [[ $build_only != 1 ]]; then
   npm_ci tests/gltf gltf-validator
   npm_ci tests/browser puppeteer-core
+  npm_ci tests/k8s kubernetes-models
 fi
