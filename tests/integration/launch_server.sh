@@ -13,3 +13,18 @@ launch_server() {
   done
   SERVER_PORT=$(sed -n 's/.*"port":\([0-9]*\).*/\1/p' "$log" | head -1)
 }
+
+# launch_replicas N LOG_PREFIX [FLAGS...]: N servers as above (logs
+# LOG_PREFIX1.log ...), appended to the arrays pids and ports; fails the test
+# (fail from the caller) if one does not start.
+launch_replicas() {
+  local n=$1 prefix=$2
+  shift 2
+  for r in $(seq "$n"); do
+    launch_server "$server_bin" "$prefix$r.log" "$@"
+    pids+=("$SERVER_PID")
+    disown
+    ports+=("$SERVER_PORT")
+    [[ -n $SERVER_PORT ]] || fail "replica $r did not start: $(cat "$prefix$r.log")"
+  done
+}

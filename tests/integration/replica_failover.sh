@@ -34,13 +34,7 @@ fail() {
 # Three replicas; each prints its port once listening.
 source "$here/launch_server.sh"
 ports=()
-for r in 1 2 3; do
-  launch_server "$server_bin" "$out/replica$r.log"
-  pids+=("$SERVER_PID")
-  disown
-  ports+=("$SERVER_PORT")
-  [[ -n $SERVER_PORT ]] || fail "replica $r did not start: $(cat "$out/replica$r.log")"
-done
+launch_replicas 3 "$out/replica"
 
 # docker/nginx.conf with loopback addresses and this run's temporary paths.
 source "$here/nginx_front.sh"

@@ -49,13 +49,7 @@ start_redis
 
 source "$here/launch_server.sh"
 ports=()
-for r in 1 2 3; do
-  launch_server "$server_bin" "$out/replica$r.log" --redis "redis://127.0.0.1:$redis_port"
-  pids+=("$SERVER_PID")
-  disown
-  ports+=("$SERVER_PORT")
-  [[ -n $SERVER_PORT ]] || fail "replica $r did not start: $(cat "$out/replica$r.log")"
-done
+launch_replicas 3 "$out/replica" --redis "redis://127.0.0.1:$redis_port"
 source "$here/nginx_front.sh"
 start_nginx "$out" "${ports[@]}"
 base=$NGINX_BASE

@@ -641,29 +641,44 @@ std::string SlowSide(int release_side) {
 #endif
 }
 
+// Holds the server's only slot for a while: the paper's gradient descent on a
+// 48 x 48 grid (about 2 s here in a release build), posted from a thread.
+class SlowFlattening {
+ public:
+  explicit SlowFlattening(int port) {
+    thread_ = std::thread([this, port] {
+      httplib::Client c("127.0.0.1", port);
+      c.set_read_timeout(120, 0);
+      const std::string slow = R"({"surface":{"kind":"wave"},"sampling":{"nu":)" + SlowSide(48) +
+                               R"(,"nv":)" + SlowSide(48) + R"(},"flatten":{"method":"paper"}})";
+      auto r = c.Post("/v1/surfaces", slow, "application/json");
+      status_ = r ? r->status : -1;
+    });
+  }
+  ~SlowFlattening() { Join(); }
+  int status() const { return status_.load(); }  // 0 while it runs
+  void Join() {
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  std::atomic<int> status_{0};
+  std::thread thread_;
+};
+
 // Checklist 9: past the work-in-flight limit and its queue (none here), 503
 // with Retry-After at once, and the server stays healthy.
 TEST(ServerConcurrency, OverloadIsShedWith503) {
   ServerProcess server({"--log-level", "warn", "--max-in-flight", "1", "--max-queued", "0",
                         "--flatten-budget-ms", "600000", "--request-budget-ms", "600000"});
   ASSERT_GT(server.port(), 0);
-  // A slow request holds the only slot: the paper's gradient descent on a
-  // 48 x 48 grid (about 2 s here in a release build).
-  const std::string slow = R"({"surface":{"kind":"wave"},"sampling":{"nu":)" + SlowSide(48) +
-                           R"(,"nv":)" + SlowSide(48) + R"(},"flatten":{"method":"paper"}})";
-  std::atomic<int> slow_status{0};
-  std::thread holder([&] {
-    httplib::Client c("127.0.0.1", server.port());
-    c.set_read_timeout(120, 0);
-    auto r = c.Post("/v1/surfaces", slow, "application/json");
-    slow_status = r ? r->status : -1;
-  });
+  SlowFlattening holder(server.port());
   std::this_thread::sleep_for(300ms);
   httplib::Client c("127.0.0.1", server.port());
   const auto t0 = std::chrono::steady_clock::now();
   auto r = c.Post("/v1/surfaces", SurfaceBody(), "application/json");
   ASSERT_TRUE(r);
-  if (slow_status.load() == 0) {  // the slow one is still running: we were shed
+  if (holder.status() == 0) {  // the slow one is still running: we were shed
     EXPECT_EQ(r->status, 503) << r->body;
     EXPECT_EQ(r->get_header_value("Retry-After"), "1");
     EXPECT_LT(std::chrono::steady_clock::now() - t0, 1s);
@@ -673,8 +688,8 @@ TEST(ServerConcurrency, OverloadIsShedWith503) {
   } else {
     ADD_FAILURE() << "the slow request finished in under 300 ms; make it slower";
   }
-  holder.join();
-  EXPECT_EQ(slow_status.load(), 201);
+  holder.Join();
+  EXPECT_EQ(holder.status(), 201);
 }
 
 // Checklist 26: with every slot busy and the queue full, a deformation is
@@ -688,15 +703,7 @@ TEST(ServerConcurrency, PastTheQueueADeformationIsRefusedAndItsBodyDropped) {
                           "--flatten-budget-ms", "600000", "--request-budget-ms", "600000",
                           "--queue-timeout-ms", "600000"});
     ASSERT_GT(server.port(), 0);
-    const std::string slow = R"({"surface":{"kind":"wave"},"sampling":{"nu":)" + SlowSide(48) +
-                             R"(,"nv":)" + SlowSide(48) + R"(},"flatten":{"method":"paper"}})";
-    std::atomic<int> slow_status{0};
-    std::thread holder([&] {
-      httplib::Client c("127.0.0.1", server.port());
-      c.set_read_timeout(120, 0);
-      auto r = c.Post("/v1/surfaces", slow, "application/json");
-      slow_status = r ? r->status : -1;
-    });
+    SlowFlattening holder(server.port());
     std::this_thread::sleep_for(300ms);
     httplib::Client c("127.0.0.1", server.port());
     c.set_read_timeout(120, 0);
@@ -706,8 +713,7 @@ TEST(ServerConcurrency, PastTheQueueADeformationIsRefusedAndItsBodyDropped) {
     httplib::Headers headers = {
         {"X-Surfdeform-Params", R"({"surface":{"kind":"cylinder"},"subdivision":{"mode":"off"}})"}};
     auto r = c.Post("/v1/deform", headers, mesh, "application/octet-stream");
-    const bool slow_done = slow_status.load() != 0;
-    // No ASSERT while `holder` runs (a joinable thread would terminate).
+    const bool slow_done = holder.status() != 0;
     EXPECT_TRUE(r) << httplib::to_string(r.error());
     if (!r) {
       // nothing more to check
@@ -724,10 +730,10 @@ TEST(ServerConcurrency, PastTheQueueADeformationIsRefusedAndItsBodyDropped) {
                            std::string::npos);
     } else {
       EXPECT_EQ(r->status, 200) << r->body;  // it waited for the slot
-      EXPECT_NE(slow_status.load(), 0);      // which came free when the slow one ended
+      EXPECT_NE(holder.status(), 0);         // which came free when the slow one ended
     }
-    holder.join();
-    EXPECT_EQ(slow_status.load(), 201);
+    holder.Join();
+    EXPECT_EQ(holder.status(), 201);
   }
 }
 
