@@ -370,6 +370,16 @@ TEST_F(ServerTest, ErrorsAreProblemJsonWithTheRightStatus) {
   Problem(c.Post("/v1/surfaces", SurfaceBody(), "text/plain"), 415);
   p = Problem(c.Post("/v1/deform", Multipart("\x89PNG\r\n\x1a\n not a mesh", DeformParams())), 415);
   EXPECT_EQ(p.value("field", ""), "mesh");
+  // What `curl --data-binary @mesh.ply` sends without -H Content-Type: a
+  // form type. A mesh of any size gets 415 naming Content-Type (httplib
+  // alone answered 413 "Content Too Large" past 8 KiB of form data).
+  httplib::Headers params = {{"X-Surfdeform-Params", R"({"surface":{"kind":"cylinder"}})"}};
+  for (size_t bytes : {size_t{100}, size_t{64} << 10}) {
+    std::string mesh = PlateObj();
+    while (mesh.size() < bytes) mesh += "# padding\n";
+    p = Problem(c.Post("/v1/deform", params, mesh, "application/x-www-form-urlencoded"), 415);
+    EXPECT_EQ(p.value("field", ""), "Content-Type") << bytes << " bytes";
+  }
   // 422: a degenerate surface, a model that does not fit, a bad value.
   p = Problem(
       c.Post("/v1/surfaces", R"({"surface":{"kind":"cylinder","radius":0}})", "application/json"),
