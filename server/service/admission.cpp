@@ -10,7 +10,7 @@ namespace surfdeform {
 
 using Clock = std::chrono::steady_clock;
 
-Admission::Admission(AdmissionOptions options) : options_(options) { stats_.service_ms_ewma = 0; }
+Admission::Admission(AdmissionOptions options) : options_(options) {}
 
 Admission::Ticket::Ticket(Admission* owner, int threads)
     : owner_(owner), threads_(threads), start_(Clock::now()) {}

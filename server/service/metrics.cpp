@@ -133,9 +133,7 @@ std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shar
 
   // The second level (Redis), when configured.
   auto l2 = [&](const char* name, const char* type, const char* help, const std::string& value) {
-    line(std::string("# HELP surfdeform_l2_") + name + " " + help);
-    line(std::string("# TYPE surfdeform_l2_") + name + " " + type);
-    line(std::string("surfdeform_l2_") + name + " " + value);
+    plain(std::string("surfdeform_l2_") + name, type, help, value);
   };
   line("# HELP surfdeform_l2_lookups_total Second-level (shared) cache lookups, by result.");
   line("# TYPE surfdeform_l2_lookups_total counter");

@@ -134,7 +134,7 @@ struct Service::Impl {
         admission(AdmissionOptions{options.limits.max_in_flight, options.limits.max_queued,
                                    options.limits.queue_timeout_ms, Cores()}) {}
 
-  static int Cores() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
+  static int Cores() { return ResolveThreads(0); }  // one per core
 
   static ServiceOptions Normalised(ServiceOptions o) {
     if (o.limits.max_in_flight <= 0) o.limits.max_in_flight = Cores();
