@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/usage_errors.hpp"
 #include "engine/subdivide.hpp"
 
 namespace {
@@ -16,7 +17,8 @@ constexpr char kExitCodes[] = R"(Exit codes:
      (connection errors, 503 with Retry-After); 4xx are never retried
   4  a local file could not be read, written or decoded
   5  batch: some files failed (each is reported with the server's message); the rest are done
-Server: --server URL or SURFDEFORM_SERVER (default http://127.0.0.1:8080).)";
+Server: --server URL or SURFDEFORM_SERVER (default http://127.0.0.1:8080).
+The global options (--server, --retries, --timeout, -v) go before or after the subcommand.)";
 
 }  // namespace
 
@@ -25,6 +27,9 @@ int main(int argc, char** argv) {
   CLI::App app{"surfdeform: bend 3D models along curved surfaces through a surfdeform server."};
   app.footer(kExitCodes);
   app.require_subcommand(1);
+  // Global options also after the subcommand (subcommands inherit this):
+  // `surfdeform deform --server URL ...` as well as `surfdeform --server URL deform ...`.
+  app.fallthrough(true);
   Connection c;
   app.add_option("--server", c.server, "Server URL")
       ->envname("SURFDEFORM_SERVER")
@@ -98,6 +103,13 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::ExtrasError& e) {
+    // CLI11 lists leftovers in reverse and without saying why; name each
+    // unknown or misplaced option, and where it belongs.
+    const std::string why = ExplainUnexpected(app, argc, argv);
+    if (why.empty()) return app.exit(e) == 0 ? kExitOk : kExitUsage;
+    std::fprintf(stderr, "%sRun with --help for more information.\n", why.c_str());
+    return kExitUsage;
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;

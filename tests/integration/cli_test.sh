@@ -101,6 +101,22 @@ expect 1 deform "$samples/bunny.ply" --surface-id "$id" --params "{not json" -o 
 expect 3 --server http://127.0.0.1:1 --retries 2 -v health
 grep -q "retry 1" "$out/e" || fail "no retry report for a connection error"
 
+# Global options work after the subcommand too (the environment points
+# nowhere, so only --server can reach the server); misplaced and unknown
+# options are named, with where they belong.
+SURFDEFORM_SERVER=http://127.0.0.1:1 expect 0 deform "$samples/bunny.ply" --server "$base" \
+  --retries 1 --timeout 60 -v --surface-id "$id" --scale fit -o "$out/after.drc"
+[[ -s $out/after.drc ]] || fail "no output with --server after the subcommand"
+SURFDEFORM_SERVER=http://127.0.0.1:1 expect 0 health --server="$base"
+expect 1 --surface-id "$id" deform "$samples/bunny.ply" -o "$out/x.drc"
+grep -q -- "--surface-id is an option of deform and batch: give it after the subcommand" "$out/e" \
+  || fail "misplaced option message: $(cat "$out/e")"
+expect 1 flatten "$out/figure10.json" --scale fit
+grep -q -- "--scale is an option of deform and batch, not of flatten" "$out/e" \
+  || fail "option of another subcommand: $(cat "$out/e")"
+expect 1 deform "$samples/bunny.ply" --surface-id "$id" -o "$out/x.drc" --bogus 3
+grep -q -- "unknown option --bogus for deform" "$out/e" || fail "unknown option message: $(cat "$out/e")"
+
 # 503: a server with one slot, held by a slow flattening; the client retries
 # until the slot frees, then succeeds.
 start_server busy --max-in-flight 1 --flatten-budget-ms 600000 --request-budget-ms 600000
