@@ -316,6 +316,7 @@ Status ReadOutput(JsonObject& parent, OutputOptions* out) {
     SURFDEFORM_RETURN_IF_ERROR(dj.Finish());
     SURFDEFORM_RETURN_IF_ERROR(ValidateDracoOptions(out->draco));  // names output.draco.*
   }
+  SURFDEFORM_RETURN_IF_ERROR(o.Boolean("distortion", &out->distortion));
   return o.Finish();
 }
 

@@ -71,6 +71,7 @@ MeshFormat OutputMeshFormat(OutputFormat format);
 struct OutputOptions {
   std::optional<OutputFormat> format;  // unset: from the Accept header, else drc
   DracoOptions draco;
+  bool distortion = false;  // per-vertex distortion of the map (glb, glb_plain, ply only)
 };
 
 // POST /v1/deform parameters: a surface inline (with its sampling and

@@ -178,6 +178,15 @@ bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* 
   out->kind = kind;
   out->decode = false;
   json& output = params["output"];
+  const bool distortion = o.distortion || (output.is_object() && output.value("distortion", false));
+  if (distortion) {
+    if (kind != OutputKind::kGlb && kind != OutputKind::kPly) {
+      *error = {CliError::Kind::kUsage,
+                "--distortion: the distortion map is written in .glb and .ply output only"};
+      return false;
+    }
+    output["distortion"] = true;
+  }
   switch (kind) {
     case OutputKind::kDrc:
       output["format"] = "drc";
@@ -189,7 +198,7 @@ bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* 
       break;
     case OutputKind::kObj:
     case OutputKind::kPly:
-      if (o.lossless) {
+      if (o.lossless || distortion) {  // Draco would not carry the distortion map
         output["format"] = kind == OutputKind::kObj ? "obj" : "ply";
       } else {
         // Draco over the wire (a fraction of the bytes), decoded here; the
@@ -233,6 +242,12 @@ int DeformFile(ApiClient& client, const DeformRequest& request, const std::strin
                     ? " (" + std::to_string(sub.value("vertices_added", 0)) + " added)"
                     : "") +
                ", " + std::to_string(bytes.size()) + " bytes";
+    if (const json d = stats.value("distortion", json()); d.is_object()) {
+      char line[128];
+      std::snprintf(line, sizeof line, "; distortion max %.4g, p95 %.4g, mean %.4g",
+                    d.value("max", 0.0), d.value("p95", 0.0), d.value("mean", 0.0));
+      *message += line;
+    }
   }
   return kExitOk;
 }

@@ -48,6 +48,7 @@ struct DeformOptions {
   double tolerance = 0.0;   // > 0: subdivision.tolerance
   std::string scale;        // "fit" or a number, or empty
   bool lossless = false;    // .obj/.ply: ask for them instead of decoding Draco locally
+  bool distortion = false;  // output.distortion (.glb and .ply only; .ply then comes lossless)
 };
 
 int RunInfo(const Connection& c);

@@ -72,6 +72,9 @@ int main(int argc, char** argv) {
             surfdeform::NamesOf<surfdeform::SubdivisionMode>(surfdeform::kSubdivisionModes)));
     sub->add_option("--tolerance", d.tolerance, "subdivision.tolerance, surface units")
         ->check(CLI::PositiveNumber);
+    sub->add_flag("--distortion", d.distortion,
+                  "Add the distortion map (.glb: attribute _DISTORTION; .ply: properties "
+                  "distortion_max, distortion_min) and print its summary");
     sub->add_flag("--lossless", d.lossless,
                   "For .obj/.ply, ask the server for them instead of Draco decoded here "
                   "(more bytes over the wire, no quantization)");

@@ -183,6 +183,31 @@ MapTally MapVertices(const SheetMap& map, const Placement& pl, const Refined& r,
   return total;
 }
 
+// Mesh::distortion of every vertex of `out`, the deformation of `r.source`:
+// the singular values of d(position)/d(a, b) at its placed coordinates,
+// minus 1 (an extra pass: only when asked for).
+void MapDistortion(const SheetMap& map, const Placement& pl, const Refined& r,
+                   const PlacementOptions& o, Mesh* out) {
+  const Mesh& in = *r.source;
+  const size_t n = in.positions.size();
+  out->distortion.resize(n);
+  const int threads = n >= 4096 ? ResolveThreads(o.threads) : 1;
+  // Outside the sheet the map is continued as the vertices were (clamped or
+  // extrapolated); with kError none is outside by now.
+  const OutsideMode mode = o.outside == OutsideMode::kError ? OutsideMode::kExtrapolate : o.outside;
+  ParallelChunks(static_cast<int>(n), threads, [&](int, int begin, int end) {
+    int hint = -1;
+    for (int k = begin; k < end; ++k) {
+      const Vec3 abh = r.placed.empty() ? pl.Apply(in.positions[k]) : r.placed[k];
+      const SheetParameters p = map.Parameters(abh.head<2>(), mode, true, &hint);
+      const SurfacePoint s = map.surface().Evaluate(p.uv.x(), p.uv.y(), 2);
+      Vec3 nrm;
+      const Mat3 jac = DeformJacobian(s, p, abh.z(), &nrm);
+      out->distortion[k] = SingularValues(jac.leftCols<2>()) - Vec2::Ones();
+    }
+  });
+}
+
 // The statistics, and the errors the map found.
 Status Report(const MapTally& t, const Mesh& in, size_t n_input, const Placement& pl,
               const PlacementOptions& o, DeformStats* st) {
@@ -211,7 +236,7 @@ Status Report(const MapTally& t, const Mesh& in, size_t n_input, const Placement
 // from `mesh`) or `mesh` itself (in place).
 Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
               const PlacementOptions& o, const SubdivisionOptions* subdivision,
-              DeformResult* result) {
+              const DeformExtras& extras, DeformResult* result) {
   const auto t0 = std::chrono::steady_clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidateInput(sheet, mesh, o, subdivision));
   const SheetMap map(surface, sheet);
@@ -224,8 +249,11 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
   SURFDEFORM_ASSIGN_OR_RETURN(const Refined r,
                               Refine(map, pl, mesh, o, subdivision, need_frame, result));
   PrepareOutput(*r.source, &result->mesh);
+  // Before the map, which may overwrite the source's positions (in place).
+  if (extras.distortion) MapDistortion(map, pl, r, o, &result->mesh);
   const MapTally t = MapVertices(map, pl, r, n_input, o, need_frame, &result->mesh);
   SURFDEFORM_RETURN_IF_ERROR(Report(t, *r.source, n_input, pl, o, &result->stats));
+  if (extras.distortion) result->stats.distortion = SummarizeDistortion(result->mesh);
   result->stats.time_ms = MsSince(t0);
   return Status::Ok();
 }
@@ -235,7 +263,7 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
 Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
                                 const PlacementOptions& options) {
   DeformResult result;
-  SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, mesh, options, nullptr, &result));
+  SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, mesh, options, nullptr, {}, &result));
   return result;
 }
 
@@ -243,19 +271,24 @@ Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, 
                                 const PlacementOptions& options) {
   DeformResult result;
   result.mesh = std::move(mesh);
-  SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, result.mesh, options, nullptr, &result));
+  SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, result.mesh, options, nullptr, {}, &result));
   return result;
 }
 
 Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
                                 const PlacementOptions& options,
                                 const SubdivisionOptions& subdivision) {
-  if (subdivision.mode == SubdivisionMode::kOff) {
-    return DeformMesh(surface, sheet, std::move(mesh), options);
-  }
+  return DeformMesh(surface, sheet, std::move(mesh), options, subdivision, DeformExtras{});
+}
+
+Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
+                                const PlacementOptions& options,
+                                const SubdivisionOptions& subdivision, const DeformExtras& extras) {
+  const SubdivisionOptions* refine =
+      subdivision.mode == SubdivisionMode::kOff ? nullptr : &subdivision;
   DeformResult result;
   result.mesh = std::move(mesh);
-  SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, result.mesh, options, &subdivision, &result));
+  SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, result.mesh, options, refine, extras, &result));
   return result;
 }
 

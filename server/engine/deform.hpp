@@ -16,11 +16,16 @@
 // the vertex order and count are kept (with subdivision, new vertices follow
 // the input's). Parallel over vertices; the result does not depend on the
 // thread count.
+//
+// Asked for (DeformExtras::distortion), the result's mesh also carries, per
+// vertex, the distortion of the map there (distortion.hpp), and the stats
+// summarise it.
 #pragma once
 
 #include <string>
 
 #include "base/status.hpp"
+#include "engine/distortion.hpp"
 #include "engine/flatten.hpp"
 #include "engine/mesh.hpp"
 #include "engine/placement.hpp"
@@ -38,6 +43,12 @@ struct DeformStats {
   double time_ms = 0.0;               // the whole call
   double subdivide_ms = 0.0;          // of which the subdivision
   SubdivisionStats subdivision;       // mode kOff when not asked for
+  DistortionStats distortion;         // computed only when asked for
+};
+
+// What a deformation computes besides the deformed mesh.
+struct DeformExtras {
+  bool distortion = false;  // Mesh::distortion per output vertex, and its stats
 };
 
 struct DeformResult {
@@ -61,5 +72,9 @@ Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, 
 Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
                                 const PlacementOptions& options,
                                 const SubdivisionOptions& subdivision);
+// The same, with extras.
+Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
+                                const PlacementOptions& options,
+                                const SubdivisionOptions& subdivision, const DeformExtras& extras);
 
 }  // namespace surfdeform

@@ -10,6 +10,7 @@ std::string CheckMesh(const Mesh& m) {
   if (bad_size(m.uv0.size())) return "uv0: one per vertex expected";
   if (bad_size(m.uv1.size())) return "uv1: one per vertex expected";
   if (bad_size(m.colors.size())) return "colors: one per vertex expected";
+  if (bad_size(m.distortion.size())) return "distortion: one per vertex expected";
   for (size_t t = 0; t < m.triangles.size(); ++t) {
     for (uint32_t v : m.triangles[t]) {
       if (v >= n) {

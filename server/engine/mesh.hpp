@@ -30,6 +30,11 @@ struct Mesh {
   std::vector<Vec2> uv0;
   std::vector<Vec2> uv1;
   std::vector<Vec4> colors;  // RGBA
+  // Written by the deformation when asked for (DeformExtras::distortion),
+  // never read from a file: per vertex, (s1 - 1, s2 - 1) with s1 >= s2 the
+  // singular values of the deformation's Jacobian along the sheet (see
+  // engine/distortion.hpp). Exported as glTF's _DISTORTION and two PLY properties.
+  std::vector<Vec2> distortion;
   std::vector<std::array<uint32_t, 3>> triangles;
   std::vector<MeshGroup> groups;  // cover the triangles in order; empty = one group
 

@@ -80,7 +80,8 @@ int AddAttribute(draco::Mesh* dm, draco::GeometryAttribute::Type type, int compo
 
 }  // namespace
 
-Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& o, int ids[6]) {
+Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& o,
+                                int ids[kGltfDracoAttributes]) {
   SURFDEFORM_RETURN_IF_ERROR(ValidateDracoOptions(o));
   const size_t n = mesh.positions.size();
   draco::Mesh dm;
@@ -91,7 +92,7 @@ Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& o, int ids
     dm.SetFace(draco::FaceIndex(static_cast<uint32_t>(f)),
                {draco::PointIndex(t[0]), draco::PointIndex(t[1]), draco::PointIndex(t[2])});
   }
-  int local[6] = {-1, -1, -1, -1, -1, -1};
+  int local[kGltfDracoAttributes] = {-1, -1, -1, -1, -1, -1, -1};
   using GA = draco::GeometryAttribute;
   local[0] = AddAttribute(&dm, GA::POSITION, 3, n, [&](size_t k, float* f) {
     for (int c = 0; c < 3; ++c) f[c] = static_cast<float>(mesh.positions[k][c]);
@@ -119,6 +120,12 @@ Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& o, int ids
       for (int c = 0; c < 4; ++c) f[c] = static_cast<float>(mesh.tangents[k][c]);
     });
   }
+  if (!mesh.distortion.empty() && ids != nullptr) {
+    local[6] = AddAttribute(&dm, GA::GENERIC, 2, n, [&](size_t k, float* f) {
+      f[0] = static_cast<float>(mesh.distortion[k].x());
+      f[1] = static_cast<float>(mesh.distortion[k].y());
+    });
+  }
   draco::Encoder encoder;
   encoder.SetAttributeQuantization(GA::POSITION, o.position_bits);
   encoder.SetAttributeQuantization(GA::NORMAL, o.normal_bits);
@@ -133,7 +140,9 @@ Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& o, int ids
     return Status(ErrorCode::kInternal, std::string("Draco encoding failed: ") + st.error_msg());
   }
   if (ids != nullptr) {
-    for (int k = 0; k < 6; ++k) ids[k] = local[k] < 0 ? -1 : dm.attribute(local[k])->unique_id();
+    for (int k = 0; k < kGltfDracoAttributes; ++k) {
+      ids[k] = local[k] < 0 ? -1 : dm.attribute(local[k])->unique_id();
+    }
   }
   return std::string(buffer.data(), buffer.size());
 }

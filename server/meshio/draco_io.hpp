@@ -10,12 +10,19 @@
 
 namespace surfdeform::meshio {
 
+// The glTF attributes of a Draco-compressed primitive, in the order of
+// EncodeDraco's ids.
+inline constexpr int kGltfDracoAttributes = 7;
+inline constexpr const char* kGltfDracoNames[kGltfDracoAttributes] = {
+    "POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "TANGENT", "_DISTORTION"};
+
 // Encodes positions, normals, uv0/uv1, colours and tangents (as a generic
-// 4-component attribute). `attribute_ids`, when given, receives the Draco
-// unique ids of POSITION, NORMAL, TEXCOORD_0, TEXCOORD_1, COLOR_0, TANGENT
-// (-1 where absent), as glTF's extension needs them.
+// 4-component attribute). `attribute_ids`, when given (glTF), receives the
+// Draco unique ids of kGltfDracoNames (-1 where absent), as glTF's extension
+// needs them; only then is Mesh::distortion encoded too (a generic
+// 2-component attribute, which only glTF's names tell apart).
 Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& options,
-                                int attribute_ids[6] = nullptr);
+                                int attribute_ids[kGltfDracoAttributes] = nullptr);
 
 // Decodes a Draco mesh after checking the counts its header claims against the
 // limits. With `gltf_ids` (POSITION, NORMAL, TEXCOORD_0, TEXCOORD_1, COLOR_0,

@@ -76,6 +76,9 @@ std::map<std::string, int> AddAttributes(tinygltf::Model* m, const Mesh& mesh, b
   if (!mesh.uv0.empty()) add("TEXCOORD_0", Floats(mesh.uv0, 2), TINYGLTF_TYPE_VEC2, 2);
   if (!mesh.uv1.empty()) add("TEXCOORD_1", Floats(mesh.uv1, 2), TINYGLTF_TYPE_VEC2, 2);
   if (!mesh.colors.empty()) add("COLOR_0", Floats(mesh.colors, 4), TINYGLTF_TYPE_VEC4, 4);
+  if (!mesh.distortion.empty()) {
+    add("_DISTORTION", Floats(mesh.distortion, 2), TINYGLTF_TYPE_VEC2, 2);
+  }
   return attrs;
 }
 
@@ -95,6 +98,7 @@ Mesh SubMesh(const Mesh& mesh, const MeshGroup& g) {
     if (!mesh.uv0.empty()) sub.uv0.push_back(mesh.uv0[v]);
     if (!mesh.uv1.empty()) sub.uv1.push_back(mesh.uv1[v]);
     if (!mesh.colors.empty()) sub.colors.push_back(mesh.colors[v]);
+    if (!mesh.distortion.empty()) sub.distortion.push_back(mesh.distortion[v]);
   }
   for (uint32_t t = g.first_triangle; t < g.first_triangle + g.triangle_count; ++t) {
     const auto& tri = mesh.triangles[t];
@@ -142,7 +146,7 @@ Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
                                  TINYGLTF_TYPE_SCALAR, idx.size());
     } else {
       const Mesh sub = SubMesh(mesh, g);
-      int ids[6];
+      int ids[kGltfDracoAttributes];
       SURFDEFORM_ASSIGN_OR_RETURN(auto encoded, EncodeDraco(sub, o.draco, ids));
       // Accessors describe the decoded data and have no buffer view.
       prim.attributes = AddAttributes(&m, sub, false);
@@ -150,10 +154,9 @@ Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
                                  sub.triangles.size() * 3);
       const int view = AddView(&m, encoded.data(), encoded.size(), 0);
       tinygltf::Value::Object attrs;
-      const char* names[6] = {"POSITION",   "NORMAL",  "TEXCOORD_0",
-                              "TEXCOORD_1", "COLOR_0", "TANGENT"};
-      for (int k = 0; k < 6; ++k)
-        if (ids[k] >= 0) attrs[names[k]] = tinygltf::Value(ids[k]);
+      for (int k = 0; k < kGltfDracoAttributes; ++k) {
+        if (ids[k] >= 0) attrs[kGltfDracoNames[k]] = tinygltf::Value(ids[k]);
+      }
       tinygltf::Value::Object ext;
       ext["bufferView"] = tinygltf::Value(view);
       ext["attributes"] = tinygltf::Value(attrs);

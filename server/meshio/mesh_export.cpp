@@ -84,6 +84,8 @@ std::string WritePly(const Mesh& m) {
   if (!m.colors.empty()) {
     s += "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n";
   }
+  // s1 - 1 and s2 - 1 (engine/distortion.hpp).
+  if (!m.distortion.empty()) s += "property float distortion_max\nproperty float distortion_min\n";
   s += "element face " + std::to_string(m.triangles.size()) + "\n";
   s += "property list uchar int vertex_indices\nend_header\n";
   for (size_t k = 0; k < m.positions.size(); ++k) {
@@ -97,6 +99,8 @@ std::string WritePly(const Mesh& m) {
         Put(&s, static_cast<uint8_t>(std::lround(std::clamp(m.colors[k][c], 0.0, 1.0) * 255)));
       }
     }
+    if (!m.distortion.empty())
+      for (int c = 0; c < 2; ++c) Put(&s, static_cast<float>(m.distortion[k][c]));
   }
   for (const auto& t : m.triangles) {
     Put(&s, static_cast<uint8_t>(3));
@@ -132,7 +136,8 @@ Result<std::string> ExportMesh(const Mesh& mesh, MeshFormat format, const Export
     return InvalidArgument("malformed mesh: " + problem, "mesh");
   }
   if (!AllFinite(mesh.positions) || !AllFinite(mesh.normals) || !AllFinite(mesh.tangents) ||
-      !AllFinite(mesh.uv0) || !AllFinite(mesh.uv1) || !AllFinite(mesh.colors)) {
+      !AllFinite(mesh.uv0) || !AllFinite(mesh.uv1) || !AllFinite(mesh.colors) ||
+      !AllFinite(mesh.distortion)) {
     return InvalidArgument("the mesh holds a non-finite value; it is never written", "mesh");
   }
   ExportOptions clean = o;

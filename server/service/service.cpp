@@ -110,16 +110,34 @@ ImportLimits ImportLimitsOf(const ServiceLimits& limits) {
 // The X-Surfdeform-Stats of a deformation.
 json DeformStatsHeader(const CachedSurface& entry, bool hit, proto::OutputFormat format,
                        const ImportedMesh& imported, const DeformStats& st) {
-  return {{"surface_id", entry.id},
-          {"cached", hit},
-          {"format", proto::OutputFormatName(format)},
-          {"input_format", MeshFormatName(imported.format)},
-          {"vertices", st.vertices},
-          {"triangles", st.triangles},
-          {"subdivision", proto::SubdivisionStatsJson(st.subdivision)},
-          {"placement", proto::DeformStatsJson(st)},
-          {"quality", proto::QualityJson(entry.sheet.quality)},
-          {"warnings", imported.warnings}};
+  json j = {{"surface_id", entry.id},
+            {"cached", hit},
+            {"format", proto::OutputFormatName(format)},
+            {"input_format", MeshFormatName(imported.format)},
+            {"vertices", st.vertices},
+            {"triangles", st.triangles},
+            {"subdivision", proto::SubdivisionStatsJson(st.subdivision)},
+            {"placement", proto::DeformStatsJson(st)},
+            {"quality", proto::QualityJson(entry.sheet.quality)},
+            {"warnings", imported.warnings}};
+  if (st.distortion.computed) {
+    j["distortion"] = {
+        {"max", st.distortion.max}, {"p95", st.distortion.p95}, {"mean", st.distortion.mean}};
+  }
+  return j;
+}
+
+// output.distortion travels only in formats that name custom attributes.
+Status CheckDistortionFormat(const proto::OutputOptions& o, proto::OutputFormat format) {
+  using F = proto::OutputFormat;
+  if (!o.distortion || format == F::kGlb || format == F::kGlbPlain || format == F::kPly) {
+    return Status::Ok();
+  }
+  return InvalidArgument(std::string("the distortion map is written in glb, glb_plain or ply "
+                                     "output (a _DISTORTION attribute, or two PLY properties); "
+                                     "the output format is ") +
+                             proto::OutputFormatName(format),
+                         "output.distortion");
 }
 
 std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
@@ -458,6 +476,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   }
   SURFDEFORM_ASSIGN_OR_RETURN(auto format,
                               ChooseOutputFormat(params.output.format, request.accept));
+  SURFDEFORM_RETURN_IF_ERROR(CheckDistortionFormat(params.output, format));
   if (request.mesh.empty()) {
     return Status(ErrorCode::kMalformed, "the request carries no mesh", "mesh");
   }
@@ -480,8 +499,10 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   subdivision.max_vertices = limits.max_output_vertices;
   subdivision.max_triangles = limits.max_output_triangles;
   subdivision.time_budget_ms = clock.BudgetFor(limits.request_time_budget_ms);
-  auto deformed =
-      DeformMesh(*entry->surface, entry->sheet, std::move(imported.mesh), placement, subdivision);
+  DeformExtras extras;
+  extras.distortion = params.output.distortion;
+  auto deformed = DeformMesh(*entry->surface, entry->sheet, std::move(imported.mesh), placement,
+                             subdivision, extras);
   if (!deformed.ok()) return WithinBudget(clock, "subdivision", deformed.status());
   const double subdivide_ms = deformed->stats.subdivide_ms;
   const double deform_ms = MsSince(t2) - subdivide_ms;

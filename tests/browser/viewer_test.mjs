@@ -1,7 +1,8 @@
 // The web viewer in a real browser: Debian's Chromium (DevTools protocol) or
 // Firefox ESR (WebDriver BiDi), driven by puppeteer-core, loads the page from
 // the real server, deforms the bundled bunny, checks that the 3D canvas shows
-// the model (its pixels, not the DOM), switches surface and model, drags the
+// the model (its pixels, not the DOM), switches surface and model, colours
+// the model by its distortion map, drags the
 // footprint, uploads a broken mesh and expects the server's error on the
 // page, and saves screenshots as test artifacts. Nothing may be fetched from
 // anywhere but the server (no CDN).
@@ -110,6 +111,28 @@ try {
     check(await coverage() > 0.005, 'the plate is on the canvas');
     await shot('plate-cylinder');
   }
+
+  // The distortion map on the plate: its faces off the mid surface stretch
+  // (outside, red) and shrink (inside, blue, the face the camera sees): red
+  // and blue pixels, hardly any of the plain colour (warm counts red too).
+  await page.click('#distortion');
+  await sleep(300);
+  if (await settled('ready', 'the plate coloured by distortion')) {
+    await sleep(300);
+    const s = await stats();
+    const n = await page.evaluate(() => window.surfdeformViewer.pixelCounts());
+    check(s && s.distortion && s.distortion.max > 0.01,
+          `distortion stats shown (max ${s && s.distortion && s.distortion.max})`);
+    const coloured = n.red + n.blue;
+    check(coloured > 0.005 * n.total && n.red > 0 && n.blue > 0 && n.warm - n.red < 0.2 * coloured,
+          `the model is coloured by distortion (${n.red} red, ${n.blue} blue, ${n.warm} plain pixels)`);
+    check(/distortion/.test(await text('#timings')), 'the distortion summary is listed');
+    await shot('plate-distortion');
+  }
+  await page.click('#distortion');
+  await sleep(300);
+  await settled('ready', 'the distortion map turned off');
+  check(await coverage() > 0.005, 'the plain colour is back');
 
   // Halve the scale (the fit fills the sheet), typed into the field as a
   // person would, then drag the footprint on the sheet: the model is deformed

@@ -1,6 +1,7 @@
 // Writes the GLB files that the Khronos validator checks (validate.mjs):
-// a deformed bunny and a grid with every attribute and two materials, each
-// plain and with KHR_draco_mesh_compression. Usage: write_glb_samples DIR
+// a deformed bunny (also with its distortion map, the custom attribute
+// _DISTORTION) and a grid with every attribute and two materials, each plain
+// and with KHR_draco_mesh_compression. Usage: write_glb_samples DIR
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -50,12 +51,20 @@ int main(int argc, char** argv) {
   placement.fit = true;
   auto deformed = DeformMesh(**surface, *sheet, bunny->mesh, placement);
   if (!sheet.ok() || !deformed.ok()) return 1;
+  DeformExtras extras;
+  extras.distortion = true;
+  SubdivisionOptions off;
+  off.mode = SubdivisionMode::kOff;
+  auto mapped = DeformMesh(**surface, *sheet, Mesh(bunny->mesh), placement, off, extras);
+  if (!mapped.ok() || mapped->mesh.distortion.empty()) return 1;
   Mesh grid = testing::FlatGrid(-1, -1, 2, 2, 10, 10, 0.0);
   grid.uv1 = grid.uv0;
   grid.groups = {{"a", 0, 0, 100}, {"b", 1, 100, 100}};
   const std::vector<std::string> materials = {"red", "blue"};
   const bool ok = Write(dir + "/bunny.glb", deformed->mesh, false, {}) &&
                   Write(dir + "/bunny_draco.glb", deformed->mesh, true, {}) &&
+                  Write(dir + "/bunny_distortion.glb", mapped->mesh, false, {}) &&
+                  Write(dir + "/bunny_distortion_draco.glb", mapped->mesh, true, {}) &&
                   Write(dir + "/grid.glb", grid, false, materials) &&
                   Write(dir + "/grid_draco.glb", grid, true, materials);
   return ok ? 0 : 1;

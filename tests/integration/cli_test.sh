@@ -86,6 +86,15 @@ EOF
 expect 0 deform "$samples/bunny.ply" --surface-id "$id" --scale fit -o "$out/bunny.ply"
 head -c 3 "$out/bunny.ply" | grep -q ply || fail ".ply header"
 
+# The distortion map: in .ply (then lossless: Draco would drop it) with its
+# summary printed; not in .obj or .drc (usage).
+expect 0 deform "$samples/bunny.ply" --surface-id "$id" --scale fit --distortion -o "$out/dist.ply"
+grep -q "distortion max" "$out/o" "$out/e" || fail "no distortion summary: $(cat "$out/o" "$out/e")"
+grep -a -q "property float distortion_max" "$out/dist.ply" || fail "no distortion properties in the PLY"
+expect 1 deform "$samples/bunny.ply" --surface-id "$id" --distortion -o "$out/dist.obj"
+grep -q -- "--distortion: the distortion map is written in .glb and .ply output only" "$out/e" \
+  || fail "distortion in .obj: $(cat "$out/e")"
+
 # Exit codes: usage 1, refused 2 (not retried), local file 4, unreachable 3.
 expect 1 deform "$samples/bunny.ply" --surface-id "$id" -o "$out/bunny.stl"
 expect 1 deform "$samples/bunny.ply" -o "$out/x.drc"

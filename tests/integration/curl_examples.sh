@@ -48,7 +48,31 @@ curl -sS -f -o "$out/bunny.glb" -H 'Accept: model/gltf-binary' \
 curl -sS -f -o "$out/bunny-plain.glb" -H 'Content-Type: application/octet-stream' \
   -H 'X-Surfdeform-Params: {"surface":{"kind":"cylinder","radius":1,"height":2,"angle_deg":180},"placement":{"scale":"fit"},"output":{"format":"glb_plain"}}' \
   --data-binary @"$data/bunny.ply" "$base/v1/deform"
-node "$here/../gltf/validate.mjs" "$out/bunny.glb" "$out/bunny-plain.glb"
+
+# The distortion map (README): GLB with _DISTORTION, the stats header's summary.
+curl -sS -f -o "$out/bunny-distortion.glb" -D "$out/distortion-headers.txt" \
+  --data-binary @"$data/bunny.ply" -H 'Content-Type: application/octet-stream' \
+  -H 'X-Surfdeform-Params: {"surface":{"kind":"cylinder","radius":1,"height":2,"angle_deg":180},"placement":{"scale":"fit"},"output":{"format":"glb","distortion":true}}' \
+  "$base/v1/deform"
+python3 - "$out/bunny-distortion.glb" "$out/distortion-headers.txt" << 'PY' || fail "distortion map"
+import json, struct, sys
+glb = open(sys.argv[1], "rb").read()
+n = struct.unpack_from("<I", glb, 12)[0]
+gltf = json.loads(glb[20:20 + n])
+prim = gltf["meshes"][0]["primitives"][0]
+assert "_DISTORTION" in prim["attributes"], prim["attributes"]
+assert "_DISTORTION" in prim["extensions"]["KHR_draco_mesh_compression"]["attributes"]
+line = [l for l in open(sys.argv[2]) if l.lower().startswith("x-surfdeform-stats:")][0]
+d = json.loads(line.split(":", 1)[1])["distortion"]
+assert 0 < d["mean"] <= d["p95"] <= d["max"] < 1, d
+PY
+status=$(curl -sS -o "$out/problem.json" -w '%{http_code}' --data-binary @"$data/bunny.ply" \
+  -H 'Content-Type: application/octet-stream' \
+  -H 'X-Surfdeform-Params: {"surface":{"kind":"cone"},"placement":{"scale":"fit"},"output":{"format":"obj","distortion":true}}' \
+  "$base/v1/deform")
+[[ $status == 422 ]] && grep -q '"field":"output.distortion"' "$out/problem.json" \
+  || fail "distortion in OBJ gave $status: $(cat "$out/problem.json")"
+node "$here/../gltf/validate.mjs" "$out/bunny.glb" "$out/bunny-plain.glb" "$out/bunny-distortion.glb"
 
 # An error is problem+json with the right status.
 status=$(curl -sS -o "$out/problem.json" -w '%{http_code}' -F mesh=@"$data/bunny.ply" \

@@ -7,6 +7,17 @@
 
 namespace surfdeform::testing {
 
+PlacementOptions KeepCoordinates(const Mesh& m, const Vec2& at) {
+  Eigen::AlignedBox3d box;
+  for (const Vec3& p : m.positions) box.extend(p);
+  PlacementOptions o;
+  o.anchor = AnchorMode::kValue;
+  o.anchor_value = 0.0;
+  o.center_mode = CenterMode::kSheetUnits;
+  o.center = at + 0.5 * (box.min() + box.max()).head<2>();
+  return o;
+}
+
 Mesh ThinPlate(double size_x, double size_y, double thickness) {
   Mesh m;
   const double x = size_x / 2, y = size_y / 2, z = thickness / 2;

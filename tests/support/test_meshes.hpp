@@ -4,8 +4,14 @@
 #include <string>
 
 #include "engine/mesh.hpp"
+#include "engine/placement.hpp"
 
 namespace surfdeform::testing {
+
+// Placement that keeps model coordinates: the model's origin at sheet point
+// `at`, heights from z = 0, scale 1; so (a, b, h) = (x + at.x, y + at.y, z)
+// for a model whose bounding box is centred on the origin in x and y.
+PlacementOptions KeepCoordinates(const Mesh& m, const Vec2& at);
 
 // The paper's thin plate: a box of 6 quads (12 triangles, 8 shared vertices),
 // size_x x size_y x thickness, centred at the origin, outward winding.

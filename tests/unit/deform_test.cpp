@@ -17,25 +17,13 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 using testing::Flattened;
+using testing::KeepCoordinates;
 using testing::Target;
 
 Mesh DeformOk(const Target& t, const Mesh& m, const PlacementOptions& o) {
   auto r = DeformMesh(*t.surface, t.sheet, m, o);
   EXPECT_TRUE(r.ok()) << r.status().ToString();
   return r.ok() ? std::move(r).value().mesh : Mesh{};
-}
-
-// Placement that keeps model coordinates: the model's origin at sheet point
-// `at`, height measured from z = 0.
-PlacementOptions KeepCoordinates(const Mesh& m, const Vec2& at) {
-  Eigen::AlignedBox3d box;
-  for (const Vec3& p : m.positions) box.extend(p);
-  PlacementOptions o;
-  o.anchor = AnchorMode::kValue;
-  o.anchor_value = 0.0;
-  o.center_mode = CenterMode::kSheetUnits;
-  o.center = at + 0.5 * (box.min() + box.max()).head<2>();
-  return o;
 }
 
 TEST(Deform, PlaneMapsTheModelToItself) {

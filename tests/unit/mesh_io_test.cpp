@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -141,6 +142,72 @@ TEST(MeshRoundTrip, PlyKeepsOrderAndAttributes) {
   const Mesh m = RichMesh();
   const ImportedMesh back = ImportOk(*ExportMesh(m, MeshFormat::kPly));
   ExpectSameOrdered(m, back.mesh, 1e-6);
+}
+
+// A mesh with only positions and the distortion map: (0.01 k, -0.002 k) at vertex k.
+Mesh WithDistortion() {
+  Mesh m = testing::FlatGrid(0.0, 0.0, 1.0, 1.0, 3, 2, 0.0);
+  m.normals.clear();
+  m.tangents.clear();
+  m.uv0.clear();
+  m.colors.clear();
+  for (size_t k = 0; k < m.positions.size(); ++k) {
+    const double x = static_cast<double>(k);
+    m.distortion.emplace_back(0.01 * x, -0.002 * x);
+  }
+  return m;
+}
+
+TEST(MeshExport, TheDistortionMapIsTwoPlyProperties) {
+  const Mesh m = WithDistortion();
+  const std::string ply = *ExportMesh(m, MeshFormat::kPly);
+  const std::string props =
+      "property float z\nproperty float distortion_max\nproperty float distortion_min\n";
+  ASSERT_NE(ply.find(props), std::string::npos);
+  const size_t body = ply.find("end_header\n") + 11;
+  for (size_t k = 0; k < m.positions.size(); ++k) {
+    float v[5];
+    std::memcpy(v, ply.data() + body + 20 * k, sizeof v);
+    EXPECT_FLOAT_EQ(v[0], static_cast<float>(m.positions[k].x()));
+    EXPECT_FLOAT_EQ(v[3], static_cast<float>(m.distortion[k].x())) << k;
+    EXPECT_FLOAT_EQ(v[4], static_cast<float>(m.distortion[k].y())) << k;
+  }
+  // Readers that do not know the properties skip them.
+  Mesh plain = m;
+  plain.distortion.clear();
+  ExpectSameOrdered(plain, ImportOk(ply).mesh, 1e-6);
+}
+
+TEST(MeshExport, TheDistortionMapIsTheGlbAttributeDistortion) {
+  const Mesh m = WithDistortion();
+  ExportOptions o;
+  o.glb_draco = false;
+  const std::string glb = *ExportMesh(m, MeshFormat::kGlb, o);
+  uint32_t json_length;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  const nlohmann::json gltf = nlohmann::json::parse(glb.substr(20, json_length));
+  const int accessor = gltf["meshes"][0]["primitives"][0]["attributes"]["_DISTORTION"];
+  const nlohmann::json& a = gltf["accessors"][accessor];
+  EXPECT_EQ(a["type"], "VEC2");
+  EXPECT_EQ(a["componentType"], 5126);  // FLOAT
+  ASSERT_EQ(a["count"], m.positions.size());
+  const nlohmann::json& view = gltf["bufferViews"][a["bufferView"].get<int>()];
+  const size_t bin = 20 + json_length + 8;  // the BIN chunk's data
+  const size_t at = bin + view.value("byteOffset", 0) + a.value("byteOffset", 0);
+  for (size_t k = 0; k < m.positions.size(); ++k) {
+    float v[2];
+    std::memcpy(v, glb.data() + at + 8 * k, sizeof v);
+    EXPECT_FLOAT_EQ(v[0], static_cast<float>(m.distortion[k].x())) << k;
+    EXPECT_FLOAT_EQ(v[1], static_cast<float>(m.distortion[k].y())) << k;
+  }
+  // The Draco-compressed primitive names it among its attributes too.
+  o.glb_draco = true;
+  const std::string draco = *ExportMesh(m, MeshFormat::kGlb, o);
+  std::memcpy(&json_length, draco.data() + 12, 4);
+  const nlohmann::json dj = nlohmann::json::parse(draco.substr(20, json_length));
+  EXPECT_TRUE(
+      dj["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]
+          .contains("_DISTORTION"));
 }
 
 TEST(MeshRoundTrip, PlainGlbKeepsOrderAttributesAndGroups) {

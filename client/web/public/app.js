@@ -139,7 +139,8 @@ function deformParams(format) {
       scale: state.fitNext ? 'fit' : p.scale,
     },
     subdivision: { mode: $('subdivision').value },
-    output: { format },
+    // The distortion map travels in GLB (and PLY) only.
+    output: format === 'glb' && $('distortion').checked ? { format, distortion: true } : { format },
   };
 }
 
@@ -168,7 +169,7 @@ async function runDeform() {
     const { bytes, stats, timing } = await deform(state.model.bytes, state.model.name,
                                                   deformParams('glb'), 'model/gltf-binary');
     const scene = (await gltf.parseAsync(bytes, '')).scene;
-    modelView.setModel(scene);
+    modelView.setModel(scene, { distortion: $('distortion').checked });
     if (state.fitNext) {
       state.fitNext = false;
       state.placement.scale = stats.placement.scale;
@@ -180,6 +181,8 @@ async function runDeform() {
       ['vertices', `${stats.vertices} (${sub.vertices_added || 0} added)`],
       ['triangles', stats.triangles],
       ['subdivision', `${sub.mode}${sub.tolerance ? `, tolerance ${fmt(sub.tolerance, 3)}` : ''}`],
+      ...(stats.distortion ? [['distortion', `max ${fmt(stats.distortion.max, 3)}, p95 ` +
+        `${fmt(stats.distortion.p95, 3)}, mean ${fmt(stats.distortion.mean, 3)}`]] : []),
       ...['parse', 'flatten', 'deform', 'subdivide', 'encode'].map((k) => [k, `${fmt(timing[k] || 0, 3)} ms`]),
       ['round trip', `${fmt(performance.now() - t0, 3)} ms, ${bytes.byteLength} bytes`],
     ]);
@@ -290,7 +293,7 @@ $('fit').addEventListener('click', () => {
   state.fitNext = true;
   scheduleDeform(0);
 });
-for (const id of ['up', 'anchor', 'subdivision']) {
+for (const id of ['up', 'anchor', 'subdivision', 'distortion']) {
   $(id).addEventListener('change', () => {
     if (id === 'up') {
       state.fitNext = true;
@@ -303,7 +306,8 @@ $('download-glb').addEventListener('click', () => download('glb'));
 $('download-drc').addEventListener('click', () => download('drc'));
 
 // For tests and the curious: the state and the model's share of the 3D canvas.
-window.surfdeformViewer = { state, modelCoverage: () => modelView.modelCoverage() };
+window.surfdeformViewer = { state, modelCoverage: () => modelView.modelCoverage(),
+                            pixelCounts: () => modelView.pixelCounts() };
 
 (async () => {
   try {

@@ -3,6 +3,26 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
+// Per vertex, the sheet view's colour scale: white where lengths keep, towards
+// red where the larger change stretches, towards blue where it shrinks; full
+// colour at |log s| = spread. `d` holds (s1 - 1, s2 - 1).
+function distortionColours(d, spread) {
+  const rgb = new Float32Array(3 * d.count);
+  for (let k = 0; k < d.count; ++k) {
+    const a = Math.log1p(d.getX(k)), b = Math.log1p(d.getY(k));
+    const x = Math.max(-1, Math.min(1, (Math.abs(a) >= Math.abs(b) ? a : b) / spread));
+    const w = 1 - Math.abs(x);
+    rgb.set(x > 0 ? [1, w, w] : [w, w, 1], 3 * k);
+  }
+  // The sheet's colours are sRGB; three.js lights in linear space.
+  const c = new THREE.Color();
+  for (let k = 0; k < d.count; ++k) {
+    c.setRGB(rgb[3 * k], rgb[3 * k + 1], rgb[3 * k + 2], THREE.SRGBColorSpace);
+    rgb.set([c.r, c.g, c.b], 3 * k);
+  }
+  return new THREE.BufferAttribute(rgb, 3);
+}
+
 export class ModelView {
   // onControlPoint(index, [x, y, z], final) when the person drags a control point.
   constructor(container, onControlPoint) {
@@ -86,17 +106,37 @@ export class ModelView {
     });
   }
 
-  // The deformed model (a three.js object from the GLB the server sent).
-  setModel(object) {
+  // The deformed model (a three.js object from the GLB the server sent);
+  // with distortion, coloured by its _DISTORTION attribute.
+  setModel(object, { distortion = false } = {}) {
     if (this.model) this.scene.remove(this.model);
     this.model = object;
-    object.traverse((o) => {
-      if (o.isMesh) {
-        if (!o.geometry.getAttribute('normal')) o.geometry.computeVertexNormals();
+    const meshes = [];
+    object.traverse((o) => { if (o.isMesh) meshes.push(o); });
+    const colour = distortion && meshes.every((o) => o.geometry.getAttribute('_distortion'));
+    // One scale for the whole model: its largest |log s|, as the sheet's
+    // colours span its largest |log area ratio|.
+    let spread = 0.01;
+    if (colour) {
+      for (const o of meshes) {
+        const d = o.geometry.getAttribute('_distortion');
+        for (let k = 0; k < d.count; ++k) {
+          spread = Math.max(spread, Math.abs(Math.log1p(d.getX(k))), Math.abs(Math.log1p(d.getY(k))));
+        }
+      }
+    }
+    for (const o of meshes) {
+      if (!o.geometry.getAttribute('normal')) o.geometry.computeVertexNormals();
+      if (colour) {
+        o.geometry.setAttribute('color', distortionColours(o.geometry.getAttribute('_distortion'), spread));
+        o.material = new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.6,
+                                                      side: THREE.DoubleSide });
+      } else {
         o.material = new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
                                                       side: THREE.DoubleSide });
       }
-    });
+    }
+    this.distortionSpread = colour ? spread : null;
     this.scene.add(object);
     if (!this.framed) {
       this.frame(object);
@@ -154,9 +194,9 @@ export class ModelView {
     this.onControlPoint(h.userData.index, h.position.toArray(), true);
   }
 
-  // The share of the canvas (0..1) that shows the model: its warm colour,
-  // unlike the background and the bluish surface.
-  modelCoverage() {
+  // Counts of the canvas's pixels by hue: {warm, red, blue, total}. warm is
+  // the model's plain colour; red and blue the distortion map's ends.
+  pixelCounts() {
     const src = this.renderer.domElement;
     const c = document.createElement('canvas');
     c.width = src.width;
@@ -164,10 +204,20 @@ export class ModelView {
     const ctx = c.getContext('2d');
     ctx.drawImage(src, 0, 0);
     const px = ctx.getImageData(0, 0, c.width, c.height).data;
-    let model = 0;
+    const n = { warm: 0, red: 0, blue: 0, total: px.length / 4 };
     for (let k = 0; k < px.length; k += 4) {
-      if (px[k] - px[k + 2] > 30) ++model;
+      const [r, g, b] = [px[k], px[k + 1], px[k + 2]];
+      if (r - b > 30) ++n.warm;
+      if (r - g > 60 && r - b > 60) ++n.red;
+      if (b - r > 60 && b - g > 60) ++n.blue;
     }
-    return model / (px.length / 4);
+    return n;
+  }
+
+  // The share of the canvas (0..1) that shows the model: its warm colour,
+  // unlike the background and the bluish surface.
+  modelCoverage() {
+    const n = this.pixelCounts();
+    return n.warm / n.total;
   }
 }
