@@ -84,6 +84,33 @@ int RunHealth(const Connection& c) {
   return is_ready ? kExitOk : kExitUnavailable;
 }
 
+int RunMap(const Connection& c, const std::string& surface_id, const std::string& request,
+           const std::string& out_path) {
+  json body;
+  CliError error;
+  if (!ReadJsonArgument(request, &body, &error)) {
+    std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
+    return error.exit_code();
+  }
+  ApiClient client(c.server, c.retry, c.timeout_s);
+  ConfigureRetries(c, &client);
+  HttpReply r;
+  HttpFailure f;
+  if (!client.PostJson("/v1/surfaces/" + surface_id + "/map", body.dump(), &r, &f)) {
+    std::fprintf(stderr, "surfdeform: %s\n", f.message.c_str());
+    return ExitFor(f);
+  }
+  const json j = json::parse(r.body, nullptr, false);
+  const std::string text = (j.is_discarded() ? r.body : j.dump(2)) + "\n";
+  if (out_path.empty()) {
+    std::fwrite(text.data(), 1, text.size(), stdout);
+  } else if (!WriteFileAtomically(out_path, text, &error.message)) {
+    std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
+    return kExitLocalFile;
+  }
+  return kExitOk;
+}
+
 int RunFlatten(const Connection& c, const std::string& surface_file, const std::string& svg_path,
                bool json_output) {
   json request;

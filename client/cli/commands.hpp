@@ -51,6 +51,10 @@ struct DeformOptions {
   bool distortion = false;  // output.distortion (.glb and .ply only; .ply then comes lossless)
 };
 
+// POST /v1/surfaces/{id}/map with `request` (JSON text or a file: points,
+// polylines or surface_points); the reply's JSON to `out_path`, or stdout.
+int RunMap(const Connection& c, const std::string& surface_id, const std::string& request,
+           const std::string& out_path);
 int RunInfo(const Connection& c);
 int RunHealth(const Connection& c);
 int RunFlatten(const Connection& c, const std::string& surface_file, const std::string& svg_path,

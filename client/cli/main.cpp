@@ -58,6 +58,19 @@ int main(int argc, char** argv) {
   flatten->add_option("--svg", svg_path, "Save the flat sheet, coloured by stretch, as SVG");
   flatten->add_flag("--json", json_output, "Print the server's JSON reply");
 
+  auto* map = app.add_subcommand(
+      "map",
+      "Carry marks between a flat sheet and its surface: points or polylines on the "
+      "sheet onto the surface, or points in space to the nearest surface points");
+  std::string map_id, map_request, map_out;
+  map->add_option("surface-id", map_id, "A surface already flattened (see flatten)")->required();
+  map->add_option("request", map_request,
+                  "JSON text or file: {\"points\": [[x, y], ...]}, {\"polylines\": [[[x, y], "
+                  "...], ...], \"tolerance\": t, \"max_segment\": s} or {\"surface_points\": "
+                  "[[x, y, z], ...]}")
+      ->required();
+  map->add_option("-o,--output", map_out, "Write the reply's JSON here (default: stdout)");
+
   DeformOptions d;
   auto add_deform_options = [&d](CLI::App* sub) {
     sub->add_option("--surface", d.surface_file,
@@ -120,6 +133,7 @@ int main(int argc, char** argv) {
   if (app.got_subcommand("info")) return RunInfo(c);
   if (app.got_subcommand("health")) return RunHealth(c);
   if (flatten->parsed()) return RunFlatten(c, surface_file, svg_path, json_output);
+  if (map->parsed()) return RunMap(c, map_id, map_request, map_out);
   if (deform->parsed()) return RunDeform(c, d, mesh_path, out_path);
   if (batch->parsed()) return RunBatch(c, d, inputs, out_dir, extension, jobs, force);
   return kExitUsage;

@@ -1,6 +1,7 @@
 #include "engine/sheet_map.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace surfdeform {
@@ -53,6 +54,22 @@ SheetParameters SheetMap::Parameters(const Vec2& ab, OutsideMode outside, bool w
     r.duv = locator_.ParameterScale().asDiagonal() * locator_.FlatJacobian(loc).inverse();
   }
   return r;
+}
+
+Vec2 SheetMap::SheetPoint(const Vec2& uv) const {
+  if (exact_) {
+    if (const auto raw = surface_.ExactUnrolling(uv.x(), uv.y())) {
+      return sheet_.frame_linear * *raw + sheet_.frame_offset;
+    }
+  }
+  const int nu = locator_.nu(), nv = locator_.nv();
+  const double gu = uv.x() * (nu - 1), gv = uv.y() * (nv - 1);
+  SheetLocation l;
+  l.i = std::clamp(static_cast<int>(std::floor(gu)), 0, nu - 2);
+  l.j = std::clamp(static_cast<int>(std::floor(gv)), 0, nv - 2);
+  l.s = gu - l.i;
+  l.t = gv - l.j;
+  return locator_.FlatPoint(l);
 }
 
 void SheetMap::SurfaceAndNormal(const Vec2& ab, OutsideMode outside, int* hint, Vec3* point,

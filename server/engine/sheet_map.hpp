@@ -53,6 +53,10 @@ class SheetMap {
   SheetParameters Parameters(const Vec2& ab, OutsideMode outside, bool want_jacobian,
                              int* hint) const;
 
+  // The flat point of surface parameters (u, v): the inverse of Parameters
+  // (the cell's bilinear map; the closed-form unrolling for exact kinds).
+  // (u, v) outside [0, 1]^2 continue the border cell's map.
+  Vec2 SheetPoint(const Vec2& uv) const;
   // F(a, b, h): the position only. Outside points as kExtrapolate unless
   // `outside` says otherwise (kError is taken as kExtrapolate here: callers
   // that must refuse outside points check Parameters first).

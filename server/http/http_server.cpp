@@ -58,6 +58,7 @@ constexpr Route kRoutes[] = {
     {"GET", R"(/v1/surfaces/([^/]+)/flat\.svg)", "/v1/surfaces/{id}/flat.svg"},
     {"GET", R"(/v1/surfaces/([^/]+))", "/v1/surfaces/{id}"},
     {"POST", "/v1/deform", "/v1/deform"},
+    {"POST", R"(/v1/surfaces/([^/]+)/map)", "/v1/surfaces/{id}/map"},
 };
 constexpr size_t kRouteCount = sizeof(kRoutes) / sizeof(kRoutes[0]);
 
@@ -480,9 +481,12 @@ struct HttpServer::Impl {
     // The handlers of kRoutes, in its order.
     using Handler = void (Impl::*)(const httplib::Request&, httplib::Response&);
     const Handler handlers[] = {
-        &Impl::Index,        &Impl::Healthz, &Impl::Readyz,        &Impl::MetricsText,
-        &Impl::OpenApi,      &Impl::Info,    &Impl::CreateSurface, &Impl::SurfaceSvg,
-        &Impl::SurfaceSheet, nullptr /* POST /v1/deform reads its own body: DeformWithBody */};
+        &Impl::Index,         &Impl::Healthz,
+        &Impl::Readyz,        &Impl::MetricsText,
+        &Impl::OpenApi,       &Impl::Info,
+        &Impl::CreateSurface, &Impl::SurfaceSvg,
+        &Impl::SurfaceSheet,  nullptr /* POST /v1/deform reads its own body: DeformWithBody */,
+        &Impl::MapOnSurface};
     static_assert(sizeof(handlers) / sizeof(handlers[0]) == kRouteCount);
     // A mounted viewer serves GET / from its files first; the built-in page
     // stands in where it has none.
@@ -545,6 +549,19 @@ struct HttpServer::Impl {
     if (!reply.ok()) return Fail(req, res, reply.status());
     res.set_header("Location", "/v1/surfaces/" + reply->surface_id);
     Send(req, res, *reply, reply->cache_hit ? 200 : 201);
+  }
+  void MapOnSurface(const httplib::Request& req, httplib::Response& res) {
+    const std::string type = req.get_header_value("Content-Type");
+    if (type.rfind("application/json", 0) != 0) {
+      return Fail(req, res,
+                  Status(ErrorCode::kUnsupportedFormat,
+                         "POST /v1/surfaces/{id}/map takes application/json, got \"" +
+                             type.substr(0, 64) + "\"",
+                         "Content-Type"));
+    }
+    auto reply = service.MapOnSurface(req.matches[1].str(), req.body);
+    if (!reply.ok()) return Fail(req, res, reply.status());
+    Send(req, res, *reply);
   }
   void SurfaceSvg(const httplib::Request& req, httplib::Response& res) {
     auto reply = service.GetSurfaceSvg(req.matches[1].str());

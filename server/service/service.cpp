@@ -10,12 +10,14 @@
 #include "engine/elapsed.hpp"
 #include "engine/flatten.hpp"
 #include "engine/parallel.hpp"
+#include "engine/sheet_marks.hpp"
 #include "engine/surface_spec.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
 #include "proto/api.hpp"
 #include "proto/content_hash.hpp"
 #include "proto/json_object.hpp"
+#include "proto/map_api.hpp"
 #include "service/admission.hpp"
 #include "service/flat_sheet_svg.hpp"
 #include "service/output_negotiation.hpp"
@@ -139,6 +141,11 @@ Status CheckDistortionFormat(const proto::OutputOptions& o, proto::OutputFormat 
                              proto::OutputFormatName(format),
                          "output.distortion");
 }
+
+// POST /v1/surfaces/{id}/map: the input counts (published at /v1/info) and
+// the points resampled polylines may have in all.
+constexpr proto::MapLimits kMapLimits;
+constexpr size_t kMaxMapOutputPoints = 1'000'000;
 
 std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
 
@@ -447,6 +454,46 @@ Result<Reply> Service::GetSurfaceSvg(std::string_view id) {
   return reply;
 }
 
+Result<Reply> Service::MapOnSurface(std::string_view id, std::string_view body) {
+  const ServiceLimits& limits = impl_->options.limits;
+  const RequestClock clock(limits.request_time_budget_ms);
+  const auto t0 = Clock::now();
+  SURFDEFORM_ASSIGN_OR_RETURN(auto parsed,
+                              proto::ParseRequestJson(body, limits.max_json_depth, "body"));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto request, proto::ParseMapRequest(parsed, kMapLimits));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto entry, impl_->Lookup(id));
+  const double parse_ms = MsSince(t0);
+  // Up to a million surface evaluations: a slot like any other work.
+  SURFDEFORM_ASSIGN_OR_RETURN(auto ticket, impl_->admission.Enter(clock.remaining_ms()));
+  const auto t1 = Clock::now();
+  const SheetMap map(*entry->surface, entry->sheet);
+  std::vector<std::vector<SheetMark>> marks;
+  switch (request.kind) {
+    case proto::MapRequest::Kind::kPoints:
+      marks.emplace_back();
+      for (const Vec2& p : request.points) marks[0].push_back(MarkAt(map, p));
+      break;
+    case proto::MapRequest::Kind::kSurfacePoints:
+      marks.emplace_back();
+      for (const Vec3& p : request.surface_points) marks[0].push_back(MarkNearest(map, p));
+      break;
+    case proto::MapRequest::Kind::kPolylines: {
+      PolylineOptions o = request.polyline;
+      o.max_points = kMaxMapOutputPoints;
+      SURFDEFORM_ASSIGN_OR_RETURN(marks, ResamplePolylines(map, request.polylines, o));
+      break;
+    }
+  }
+  Reply reply;
+  reply.cache_hit = true;
+  reply.surface_id = entry->id;
+  reply.body = Dump(proto::MapResponseJson(request.kind, marks));
+  reply.content_type = "application/json";
+  reply.timings = {{"parse", parse_ms}, {"map", MsSince(t1)}};
+  reply.etag = proto::Sha256Hex(reply.body, 32);
+  return reply;
+}
+
 Result<Reply> Service::Deform(const DeformRequest& request) {
   const ServiceLimits& limits = impl_->options.limits;
   const RequestClock clock(limits.request_time_budget_ms);
@@ -548,7 +595,10 @@ std::string Service::InfoJson() const {
               {"queue_timeout_ms", l.queue_timeout_ms},
               {"flatten_time_budget_ms", l.flatten_time_budget_ms},
               {"request_time_budget_ms", l.request_time_budget_ms},
-              {"cache_bytes", l.cache_bytes}}},
+              {"cache_bytes", l.cache_bytes},
+              {"max_map_points", kMapLimits.max_points},
+              {"max_map_surface_points", kMapLimits.max_surface_points},
+              {"max_map_output_points", kMaxMapOutputPoints}}},
             {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
             {"output_formats", NamesOf<proto::OutputFormat>(proto::kOutputFormats)},
             {"surface_kinds", NamesOf<proto::SurfaceKind>(proto::kSurfaceKinds)},

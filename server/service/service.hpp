@@ -82,6 +82,8 @@ class Service {
   Result<Reply> GetSurface(std::string_view id);       // GET /v1/surfaces/{id}
   Result<Reply> GetSurfaceSvg(std::string_view id);    // GET /v1/surfaces/{id}/flat.svg
   Result<Reply> Deform(const DeformRequest& request);  // POST /v1/deform
+  // POST /v1/surfaces/{id}/map (proto/map_api.hpp)
+  Result<Reply> MapOnSurface(std::string_view id, std::string_view body);
 
   std::string InfoJson() const;  // GET /v1/info
   CacheStats cache_stats() const;

@@ -2,7 +2,8 @@
 // Firefox ESR (WebDriver BiDi), driven by puppeteer-core, loads the page from
 // the real server, deforms the bundled bunny, checks that the 3D canvas shows
 // the model (its pixels, not the DOM), switches surface and model, colours
-// the model by its distortion map, drags the
+// the model by its distortion map, draws a mark on the sheet and sees it on
+// the surface, drags the
 // footprint, uploads a broken mesh and expects the server's error on the
 // page, and saves screenshots as test artifacts. Nothing may be fetched from
 // anywhere but the server (no CDN).
@@ -133,6 +134,10 @@ try {
   await sleep(300);
   await settled('ready', 'the distortion map turned off');
   check(await coverage() > 0.005, 'the plain colour is back');
+  // Clicking the controls may have scrolled the page (Firefox does): mouse
+  // positions below are taken with the views in sight.
+  const toTop = () => page.evaluate(() => window.scrollTo(0, 0));
+  await toTop();
 
   // Halve the scale (the fit fills the sheet), typed into the field as a
   // person would, then drag the footprint on the sheet: the model is deformed
@@ -147,6 +152,7 @@ try {
   await sleep(300);
   await settled('ready', 'at half the scale');
   const before = await page.evaluate(() => [...window.surfdeformViewer.state.placement.center]);
+  await toTop();
   const box = await (await page.$('#sheet')).boundingBox();
   await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
   await page.mouse.down();
@@ -161,6 +167,35 @@ try {
     check(s.placement.scale === fitted / 2, `deformed at the scale the person chose (${s.placement.scale})`);
     await shot('plate-moved');
   }
+
+  // Draw a mark on the sheet (three clicks across it): the server resamples
+  // it onto the surface and the 3D view draws it, green, on the cylinder.
+  await page.click('#mark');
+  await toTop();
+  const sheetBox = await (await page.$('#sheet')).boundingBox();
+  for (const fx of [0.2, 0.5, 0.8]) {
+    await page.mouse.click(sheetBox.x + fx * sheetBox.width, sheetBox.y + 0.3 * sheetBox.height);
+    await sleep(150);
+  }
+  try {
+    await page.waitForFunction(() => (window.surfdeformViewer.state.lastMark || []).length > 3,
+                               { timeout: 20000 });
+    await sleep(300);
+    const mark = await page.evaluate(() => window.surfdeformViewer.state.lastMark);
+    const n = await page.evaluate(() => window.surfdeformViewer.pixelCounts());
+    check(mark.every((m) => m.on_sheet && Math.abs(Math.hypot(m.point[0], m.point[1]) - 1) < 1e-6),
+          `the mark lies on the cylinder (${mark.length} points)`);
+    check(n.green > 50, `the mark is drawn in the 3D view (${n.green} green pixels)`);
+    await shot('mark-on-cylinder');
+  } catch (e) {
+    check(false, `the mark came back from the server: ${e}`);
+  }
+  await page.click('#mark');  // done marking: clicks move the footprint again
+  await page.click('#clear-marks');
+  await toTop();
+  await sleep(200);
+  const cleared = await page.evaluate(() => window.surfdeformViewer.pixelCounts());
+  check(cleared.green < 20, `clearing removes the mark (${cleared.green} green pixels)`);
 
   // A broken upload through the file input: the server's problem detail
   // appears on the page.

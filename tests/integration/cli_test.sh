@@ -60,6 +60,23 @@ grep -q '</svg>' "$out/flat.svg" || fail "flat.svg"
 expect 0 flatten "$out/figure10.json" --json
 grep -q '"cached": true' "$out/o" || fail "second flatten is not a cache hit"
 
+# map: sheet points onto the surface, then back (the same sheet points), a
+# polyline to a file; the server's 4xx is exit 2.
+expect 0 map "$id" '{"points": [[5.0, 5.0], [3.0, 6.0]]}'
+python3 -c 'import json,sys; print(json.dumps({"surface_points": [m["point"] for m in json.load(open(sys.argv[1]))["points"]]}))' \
+  "$out/o" > "$out/back.json"
+expect 0 map "$id" "$out/back.json" -o "$out/back-reply.json"
+python3 - "$out/back-reply.json" << 'EOF' || fail "map back"
+import json, sys
+got = [m["sheet"] for m in json.load(open(sys.argv[1]))["surface_points"]]
+for want, g in zip([[5.0, 5.0], [3.0, 6.0]], got):
+    assert max(abs(a - b) for a, b in zip(want, g)) < 1e-9, (want, g)
+EOF
+expect 0 map "$id" '{"polylines": [[[2.0, 2.0], [8.0, 7.0]]], "tolerance": 0.01}' -o "$out/line.json"
+grep -q '"polylines"' "$out/line.json" || fail "map polylines output"
+expect 2 map "$id" '{"points": [[1, 2]], "tolerance": 1}'
+grep -q "only polylines take it" "$out/e" || fail "map 4xx message: $(cat "$out/e")"
+
 # deform: the output's extension picks the format; each checked by a real reader.
 cyl='{"kind":"cylinder","radius":1,"height":2,"angle_deg":180}'
 echo "$cyl" > "$out/cylinder.json"

@@ -74,6 +74,29 @@ status=$(curl -sS -o "$out/problem.json" -w '%{http_code}' --data-binary @"$data
   || fail "distortion in OBJ gave $status: $(cat "$out/problem.json")"
 node "$here/../gltf/validate.mjs" "$out/bunny.glb" "$out/bunny-plain.glb" "$out/bunny-distortion.glb"
 
+# Marks (README): sheet points onto the surface, and those surface points
+# back onto the sheet: the same sheet points to 1e-9; a polyline resampled.
+cyl=$(curl -sS -f -H 'Content-Type: application/json' \
+  -d '{"surface":{"kind":"cylinder","radius":1,"height":2,"angle_deg":180}}' "$base/v1/surfaces" \
+  | python3 -c 'import json,sys; print(json.load(sys.stdin)["id"])')
+curl -sS -f -o "$out/marks.json" -H 'Content-Type: application/json' \
+  -d '{"points":[[1.0,1.0],[2.5,0.4]]}' "$base/v1/surfaces/$cyl/map"
+back=$(python3 -c 'import json,sys; print(json.dumps({"surface_points": [m["point"] for m in json.load(open(sys.argv[1]))["points"]]}))' "$out/marks.json")
+curl -sS -f -o "$out/back.json" -H 'Content-Type: application/json' -d "$back" "$base/v1/surfaces/$cyl/map"
+curl -sS -f -o "$out/line.json" -H 'Content-Type: application/json' \
+  -d '{"polylines":[[[0.2,1.0],[3.0,1.0]]],"tolerance":0.001}' "$base/v1/surfaces/$cyl/map"
+python3 - "$out/marks.json" "$out/back.json" "$out/line.json" << 'PY' || fail "map round trip"
+import json, math, sys
+there = json.load(open(sys.argv[1]))["points"]
+back = json.load(open(sys.argv[2]))["surface_points"]
+for want, m in zip([[1.0, 1.0], [2.5, 0.4]], back):
+    assert max(abs(a - b) for a, b in zip(want, m["sheet"])) < 1e-9, (want, m)
+    assert m["distance"] < 1e-9 and m["on_sheet"], m
+assert abs(there[0]["point"][0] - math.cos(1.0)) < 1e-9, there[0]
+line = json.load(open(sys.argv[3]))["polylines"][0]
+assert len(line) > 10 and line[0]["sheet"] == [0.2, 1.0] and line[-1]["sheet"] == [3.0, 1.0], len(line)
+PY
+
 # An error is problem+json with the right status.
 status=$(curl -sS -o "$out/problem.json" -w '%{http_code}' -F mesh=@"$data/bunny.ply" \
   -F 'params={"surface":{"kind":"cylinder","radius":0}}' "$base/v1/deform")
@@ -84,7 +107,7 @@ grep -q '"field":"surface.radius"' "$out/problem.json" || fail "problem field"
 # is routed (never 404), and its request examples are accepted.
 curl -sS -f -o "$out/openapi.yaml" "$base/openapi.yaml"
 cmp -s "$out/openapi.yaml" "$here/../../proto/openapi.yaml" || fail "served openapi.yaml differs"
-python3 - "$out/openapi.yaml" "$base" "$data/bunny.ply" <<'PY'
+python3 - "$out/openapi.yaml" "$base" "$data/bunny.ply" "$cyl" <<'PY'
 import json, sys, urllib.request, urllib.error, yaml
 spec = yaml.safe_load(open(sys.argv[1]))
 base = sys.argv[2]
@@ -107,6 +130,11 @@ examples = spec["paths"]["/v1/surfaces"]["post"]["requestBody"]["content"]["appl
 for name, ex in examples.items():
     status = call("POST", "/v1/surfaces", json.dumps(ex["value"]).encode(), {"Content-Type": "application/json"})
     assert status in (200, 201), (name, status)
+marks = spec["paths"]["/v1/surfaces/{id}/map"]["post"]["requestBody"]["content"]["application/json"]["examples"]
+for name, ex in marks.items():
+    status = call("POST", "/v1/surfaces/%s/map" % sys.argv[4], json.dumps(ex["value"]).encode(),
+                  {"Content-Type": "application/json"})
+    assert status == 200, ("map example", name, status)
 params = spec["components"]["schemas"]["DeformParams"]["example"]
 status = call("POST", "/v1/deform", open(sys.argv[3], "rb").read(),
               {"Content-Type": "application/octet-stream", "X-Surfdeform-Params": json.dumps(params)})
@@ -131,7 +159,7 @@ for field, names in contract.items():
     served = [e["name"] for e in published[field]]
     assert names == served, (field, "openapi.yaml", names, "server", served)
 print("openapi: %d paths routed, %d examples accepted, %d enums match the server's tables"
-      % (len(spec["paths"]), len(examples) + 1, len(contract)))
+      % (len(spec["paths"]), len(examples) + len(marks) + 1, len(contract)))
 PY
 
 kill -TERM "$server_pid"

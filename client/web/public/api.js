@@ -40,6 +40,15 @@ export async function getSurface(id) {
   return (await checked(await fetch(`/v1/surfaces/${id}`))).json();
 }
 
+// POST /v1/surfaces/{id}/map: marks between the sheet and the surface
+// ({points}, {polylines, tolerance, max_segment} or {surface_points}).
+export async function mapOnSurface(id, request) {
+  const r = await checked(await fetch(`/v1/surfaces/${id}/map`, {
+    method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(request),
+  }));
+  return r.json();
+}
+
 // POST /v1/deform (multipart: mesh + params). Returns the bytes, the stats
 // header and the Server-Timing entries.
 export async function deform(meshBytes, meshName, params, accept) {

@@ -10,7 +10,7 @@
 // deformation is on screen, so "ready" always shows the current inputs.
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 
-import { createSurface, deform, getSurface } from './api.js';
+import { createSurface, deform, getSurface, mapOnSurface } from './api.js';
 import { dracoLoader, footprint, readPositions } from './footprint.js';
 import { ModelView } from './model_view.js';
 import { sampleModel, surfacePreset } from './samples.js';
@@ -29,6 +29,7 @@ const state = {
   surfacePending: false, // a surface is being flattened: deformations wait for it
   lastStats: null,
   lastError: null,
+  lastMark: null,        // the mark on the surface, as /map returned it
 };
 
 const sheetView = new SheetView($('sheet'), (placement, final) => {
@@ -100,6 +101,7 @@ async function refreshSurface() {
     list($('quality'), state.surfaceInfo);
     sheetView.setSheet(sheet);
     modelView.setSurface(sheet.points, sheet.grid.nu, sheet.grid.nv);
+    showMark(sheetView.mark);  // the mark stays where it was on the sheet
     modelView.setControlPoints(state.spec.kind === 'bezier' ? state.spec.control_points : []);
     if (!state.placement.center || state.recentre) {
       state.placement.center = sheetView.sheetCentre();
@@ -212,6 +214,37 @@ async function download(format) {
     showError(e);
   }
 }
+
+// --- marks -----------------------------------------------------------------
+// "Draw a mark": clicks on the sheet add points to a polyline, which the
+// server resamples onto the surface (POST /v1/surfaces/{id}/map) and the 3D
+// view draws on it.
+
+async function showMark(points) {
+  if (!state.surfaceId || points.length < 2) {
+    modelView.setMarks([]);
+    return;
+  }
+  try {
+    const { polylines } = await mapOnSurface(state.surfaceId, { polylines: [points] });
+    modelView.setMarks(polylines);
+    state.lastMark = polylines[0];
+  } catch (e) {
+    showError(e);
+  }
+}
+
+$('mark').addEventListener('click', () => {
+  const on = $('mark').getAttribute('aria-pressed') !== 'true';
+  $('mark').setAttribute('aria-pressed', String(on));
+  $('mark').textContent = on ? 'Done marking' : 'Draw a mark';
+  sheetView.setMarking(on ? (points) => showMark(points) : null);
+});
+$('clear-marks').addEventListener('click', () => {
+  sheetView.setMark([]);
+  state.lastMark = null;
+  modelView.setMarks([]);
+});
 
 // --- models --------------------------------------------------------------
 

@@ -44,6 +44,8 @@ export class ModelView {
     this.scene.add(sun);
     this.surface = null;
     this.model = null;
+    this.marks = new THREE.Group();  // polylines on the surface
+    this.scene.add(this.marks);
     this.handles = new THREE.Group();
     this.scene.add(this.handles);
     this.framed = false;
@@ -88,6 +90,24 @@ export class ModelView {
     }));
     this.scene.add(this.surface);
     if (!this.framed) this.frame(this.surface);
+  }
+
+  // Marks on the surface: polylines of {point, normal}, drawn a hair above
+  // it (along the normal) so that the surface does not hide them.
+  setMarks(polylines) {
+    this.marks.clear();
+    if (!this.surface) return;
+    const size = new THREE.Box3().setFromObject(this.surface).getSize(new THREE.Vector3()).length();
+    const lift = 0.003 * size;
+    const material = new THREE.LineBasicMaterial({ color: 0x00aa00, depthTest: false });
+    for (const line of polylines) {
+      const xyz = line.flatMap((m) => m.point.map((x, i) => x + lift * m.normal[i]));
+      const geometry = new THREE.BufferGeometry();
+      geometry.setAttribute('position', new THREE.Float32BufferAttribute(xyz, 3));
+      const drawn = new THREE.Line(geometry, material);
+      drawn.renderOrder = 1;
+      this.marks.add(drawn);
+    }
   }
 
   // Bezier control points as draggable handles (an empty list hides them).
@@ -194,8 +214,9 @@ export class ModelView {
     this.onControlPoint(h.userData.index, h.position.toArray(), true);
   }
 
-  // Counts of the canvas's pixels by hue: {warm, red, blue, total}. warm is
-  // the model's plain colour; red and blue the distortion map's ends.
+  // Counts of the canvas's pixels by hue: {warm, red, blue, green, total}.
+  // warm is the model's plain colour; red and blue the distortion map's
+  // ends; green the marks.
   pixelCounts() {
     const src = this.renderer.domElement;
     const c = document.createElement('canvas');
@@ -204,12 +225,13 @@ export class ModelView {
     const ctx = c.getContext('2d');
     ctx.drawImage(src, 0, 0);
     const px = ctx.getImageData(0, 0, c.width, c.height).data;
-    const n = { warm: 0, red: 0, blue: 0, total: px.length / 4 };
+    const n = { warm: 0, red: 0, blue: 0, green: 0, total: px.length / 4 };
     for (let k = 0; k < px.length; k += 4) {
       const [r, g, b] = [px[k], px[k + 1], px[k + 2]];
       if (r - b > 30) ++n.warm;
       if (r - g > 60 && r - b > 60) ++n.red;
       if (b - r > 60 && b - g > 60) ++n.blue;
+      if (g - r > 60 && g - b > 60) ++n.green;
     }
     return n;
   }

@@ -1,6 +1,7 @@
 // The flat sheet in 2D: its cells coloured by how much flattening changed
 // their area (like the paper's Figure 11), and the model's footprint on it,
 // which the person drags (move), wheels (scale) and Shift-wheels (rotate).
+// In marking mode a click adds a point to the mark (a polyline) instead.
 
 function cellArea(p, q, r, s) {  // quad p q r s, as two triangles (2D or 3D)
   const tri = (a, b, c) => {
@@ -21,6 +22,8 @@ export class SheetView {
     this.sheet = null;
     this.footprint = null;
     this.placement = null;
+    this.marking = null;  // while drawing a mark: onMark(points) after each click
+    this.mark = [];       // the mark's points, sheet units
     canvas.addEventListener('pointerdown', (e) => this.down(e));
     canvas.addEventListener('pointermove', (e) => this.move(e));
     canvas.addEventListener('pointerup', (e) => this.up(e));
@@ -58,6 +61,13 @@ export class SheetView {
     return [0, 1].map((c) => (1 - s) * (1 - t) * p(i, j)[c] + s * (1 - t) * p(i + 1, j)[c] +
                              s * t * p(i + 1, j + 1)[c] + (1 - s) * t * p(i, j + 1)[c]);
   }
+
+  // Marking mode on (onMark(points) after each point) or off (null).
+  setMarking(onMark) {
+    this.marking = onMark;
+    this.canvas.style.cursor = onMark ? 'crosshair' : '';
+  }
+  setMark(points) { this.mark = points; this.draw(); }
 
   setFootprint(footprint) { this.footprint = footprint; this.draw(); }
   setPlacement(placement) { this.placement = placement; this.draw(); }
@@ -118,6 +128,19 @@ export class SheetView {
       ctx.stroke();
       ctx.lineWidth = 1;
     }
+    if (this.mark.length) {
+      ctx.strokeStyle = '#0a0';
+      ctx.fillStyle = '#0a0';
+      ctx.lineWidth = 2;
+      ctx.beginPath();
+      for (const p of this.mark) ctx.lineTo(...toPx(p));
+      ctx.stroke();
+      for (const p of this.mark) {
+        const [x, y] = toPx(p);
+        ctx.fillRect(x - 3, y - 3, 6, 6);
+      }
+      ctx.lineWidth = 1;
+    }
     ctx.fillStyle = '#333';
     ctx.font = '12px sans-serif';
     ctx.fillText(`area change up to ${(100 * (Math.exp(spread) - 1)).toFixed(2)}%`, 8, 16);
@@ -130,6 +153,12 @@ export class SheetView {
   }
 
   down(e) {
+    if (this.sheet && this.marking) {
+      this.mark = [...this.mark, this.eventPoint(e)];
+      this.draw();
+      this.marking(this.mark);
+      return;
+    }
     if (!this.sheet || !this.placement || typeof this.placement.scale !== 'number') return;
     this.drag = { start: this.eventPoint(e), center: [...this.placement.center] };
     this.canvas.setPointerCapture(e.pointerId);

@@ -1,0 +1,45 @@
+// POST /v1/surfaces/{id}/map: marks between the flat sheet and the surface.
+// The request names exactly one of
+//   "points":         [[x, y], ...]  sheet points -> where they land;
+//   "polylines":      [[[x, y], ...], ...], with optional "max_segment" and
+//                     "tolerance": each resampled so that its image follows
+//                     the surface (engine/sheet_marks.hpp);
+//   "surface_points": [[x, y, z], ...] -> the nearest surface points.
+// The answer has the same key, with a mark per point:
+//   {"point", "normal", "uv", "sheet", "on_sheet"} (and "distance" for
+//   surface_points).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "base/status.hpp"
+#include "engine/sheet_marks.hpp"
+
+namespace surfdeform::proto {
+
+struct MapRequest {
+  enum class Kind { kPoints, kPolylines, kSurfacePoints };
+  Kind kind = Kind::kPoints;
+  std::vector<Vec2> points;
+  std::vector<std::vector<Vec2>> polylines;
+  std::vector<Vec3> surface_points;
+  PolylineOptions polyline;  // max_segment and tolerance (max_points: the service's)
+};
+
+struct MapLimits {
+  size_t max_points = 100'000;         // points, or polyline vertices, in a request
+  size_t max_surface_points = 10'000;  // nearest-point queries in a request
+};
+
+// kMalformed for a wrong shape or type (naming the JSON path), for none or
+// more than one of the three keys, and for max_segment or tolerance without
+// polylines; kInvalidArgument for a negative or non-finite number;
+// kLimitExceeded past the limits (with the limit and the count).
+Result<MapRequest> ParseMapRequest(const nlohmann::json& body, const MapLimits& limits);
+
+// The answer: {"<kind>": [mark, ...]} or, for polylines, [[mark, ...], ...].
+nlohmann::json MapResponseJson(const MapRequest::Kind kind,
+                               const std::vector<std::vector<SheetMark>>& marks);
+
+}  // namespace surfdeform::proto
