@@ -396,6 +396,7 @@ Result<DeformParams> ParseDeformParams(const json& body) {
           o.Find("sampling") != nullptr ? "sampling" : "flatten");
     }
   }
+  params.placement.up = UpAxis::kAuto;  // the API's default
   SURFDEFORM_RETURN_IF_ERROR(ReadPlacement(o, &params.placement));
   if (const json* v = o.Find("subdivision"); v != nullptr) {
     SURFDEFORM_ASSIGN_OR_RETURN(auto s, JsonObject::Open(*v, "subdivision"));
@@ -471,11 +472,10 @@ json SubdivisionStatsJson(const SubdivisionStats& s) {
 }
 
 json DeformStatsJson(const DeformStats& s) {
-  return {{"vertices", s.vertices},
-          {"triangles", s.triangles},
-          {"outside", s.outside},
-          {"max_outside_distance", s.max_outside_distance},
-          {"scale", s.scale}};
+  return {{"vertices", s.vertices},  {"triangles", s.triangles},
+          {"outside", s.outside},    {"max_outside_distance", s.max_outside_distance},
+          {"scale", s.scale},        {"up", NameOf<UpAxis>(kUpAxes, s.up)},
+          {"up_reason", s.up_reason}};
 }
 
 }  // namespace surfdeform::proto

@@ -218,6 +218,8 @@ Status Report(const MapTally& t, const Mesh& in, size_t n_input, const Placement
     st->subdivision.triangles_before = st->subdivision.triangles_after = st->triangles;
   }
   st->scale = pl.scale;
+  st->up = pl.up;
+  st->up_reason = pl.up_reason;
   st->outside = t.outside;
   st->max_outside_distance = t.worst;
   if (st->outside > 0 && o.outside == OutsideMode::kError) {

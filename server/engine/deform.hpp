@@ -40,6 +40,8 @@ struct DeformStats {
   size_t outside = 0;  // footprint points outside the sheet (clamped or extrapolated)
   double max_outside_distance = 0.0;  // the farthest of them from the sheet, sheet units
   double scale = 1.0;                 // the scale used (the fitted one with fit)
+  UpAxis up = UpAxis::kPosZ;          // the model axis used as the normal (kAuto resolved)
+  const char* up_reason = "given";    // Placement::up_reason
   double time_ms = 0.0;               // the whole call
   double subdivide_ms = 0.0;          // of which the subdivision
   SubdivisionStats subdivision;       // mode kOff when not asked for

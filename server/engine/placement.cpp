@@ -35,6 +35,9 @@ Mat3 AxisBasis(UpAxis up) {
     case UpAxis::kNegY:
       m << 0, 0, 1, -1, 0, 0, 0, -1, 0;
       break;
+    case UpAxis::kAuto:  // resolved before (ResolveUpAxis)
+      m.setIdentity();
+      break;
   }
   return m;
 }
@@ -201,11 +204,34 @@ Status ValidatePlacement(const PlacementOptions& o) {
   return Status::Ok();
 }
 
+UpAxis ResolveUpAxis(UpAxis up, bool y_up_input, const std::vector<Vec3>& positions,
+                     const char** reason) {
+  *reason = "given";
+  if (up != UpAxis::kAuto) return up;
+  if (y_up_input) {
+    *reason = "gltf";
+    return UpAxis::kPosY;
+  }
+  Eigen::AlignedBox3d box;
+  for (const Vec3& p : positions) box.extend(p);
+  *reason = "default";
+  if (box.isEmpty()) return UpAxis::kPosZ;
+  const Vec3 size = box.sizes();
+  int thin = 0;
+  size.minCoeff(&thin);
+  const double next = std::min(size[(thin + 1) % 3], size[(thin + 2) % 3]);
+  if (!(size[thin] <= 0.5 * next)) return UpAxis::kPosZ;
+  *reason = "thinnest";
+  constexpr UpAxis kPositive[3] = {UpAxis::kPosX, UpAxis::kPosY, UpAxis::kPosZ};
+  return kPositive[thin];
+}
+
 Result<Placement> ComputePlacement(const FlatLocator& locator, const FlatSheet& sheet,
                                    const std::vector<Vec3>& positions, const PlacementOptions& o) {
   const size_t n = positions.size();
   Placement pl;
-  pl.basis = AxisBasis(o.up);
+  pl.up = ResolveUpAxis(o.up, o.y_up_input, positions, &pl.up_reason);
+  pl.basis = AxisBasis(pl.up);
   Eigen::AlignedBox3d box;
   std::vector<Vec2> footprint(n);
   for (size_t k = 0; k < n; ++k) {

@@ -23,14 +23,17 @@
 
 namespace surfdeform {
 
-enum class UpAxis { kPosX, kNegX, kPosY, kNegY, kPosZ, kNegZ };
+enum class UpAxis { kPosX, kNegX, kPosY, kNegY, kPosZ, kNegZ, kAuto };
 inline constexpr EnumEntry<UpAxis> kUpAxes[] = {
     {UpAxis::kPosX, "+x", "the model's +X becomes the surface normal"},
     {UpAxis::kNegX, "-x", "the model's -X becomes the surface normal"},
     {UpAxis::kPosY, "+y", "the model's +Y becomes the surface normal"},
     {UpAxis::kNegY, "-y", "the model's -Y becomes the surface normal"},
-    {UpAxis::kPosZ, "+z", "the model's +Z becomes the surface normal (the default)"},
+    {UpAxis::kPosZ, "+z", "the model's +Z becomes the surface normal"},
     {UpAxis::kNegZ, "-z", "the model's -Z becomes the surface normal"},
+    {UpAxis::kAuto, "auto",
+     "the API's default: +Y for glTF input (its convention); else the thinnest axis of the "
+     "bounding box when it is clearly thinnest (a plate, text, a logo); else +Z"},
 };
 enum class AnchorMode { kBottom, kCenter, kTop, kValue };
 // kValue is given as a number, not a name.
@@ -42,7 +45,8 @@ inline constexpr EnumEntry<AnchorMode> kAnchorModes[] = {
 enum class CenterMode { kSheetCenter, kSheetUnits, kFraction };
 
 struct PlacementOptions {
-  UpAxis up = UpAxis::kPosZ;                          // model axis that becomes the surface normal
+  UpAxis up = UpAxis::kPosZ;  // model axis that becomes the surface normal
+  bool y_up_input = false;    // kAuto: the input's format is Y-up by convention (glTF)
   AnchorMode anchor = AnchorMode::kCenter;            // the model height that lands on the surface:
   double anchor_value = 0.0;                          // with kValue, in model units along `up`
   CenterMode center_mode = CenterMode::kSheetCenter;  // where the footprint centre goes:
@@ -72,7 +76,9 @@ struct Placement {
   double h0 = 0.0;             // model height that lands on the surface
   Eigen::Matrix2d rotation = Eigen::Matrix2d::Identity();
   double scale = 1.0;
-  Vec2 target = Vec2::Zero();  // where the centre goes on the sheet
+  Vec2 target = Vec2::Zero();       // where the centre goes on the sheet
+  UpAxis up = UpAxis::kPosZ;        // the axis used (kAuto resolved)
+  const char* up_reason = "given";  // "given", or kAuto's: "gltf", "thinnest", "default"
 
   Vec3 Apply(const Vec3& p) const {
     const Vec3 q = basis * p;
@@ -86,6 +92,13 @@ struct Placement {
     return scale * r * basis;
   }
 };
+
+// What kAuto chooses for a model with these positions (sets *reason to
+// "gltf", "thinnest" or "default"): +Y when y_up_input; else the positive
+// axis along which the bounding box is at most half as thick as along the
+// next thinnest; else +Z. Other axes are returned as they are ("given").
+UpAxis ResolveUpAxis(UpAxis up, bool y_up_input, const std::vector<Vec3>& positions,
+                     const char** reason);
 
 // The placement of a model with these vertex positions (all finite). Errors:
 // kDegenerate for a footprint that cannot be fitted, kOutsideSheet when the

@@ -541,6 +541,8 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   const auto t2 = Clock::now();
   PlacementOptions placement = params.placement;
   placement.threads = threads;
+  placement.y_up_input =
+      imported.format == MeshFormat::kGlb || imported.format == MeshFormat::kGltf;
   SubdivisionOptions subdivision = params.subdivision;
   subdivision.threads = threads;
   subdivision.max_vertices = limits.max_output_vertices;

@@ -34,7 +34,7 @@ void ExpectComplete(std::span<const EnumEntry<E>> table, int count) {
 
 TEST(EnumTables, EveryTableNamesEachValueOnce) {
   ExpectComplete<FlattenMethod>(kFlattenMethods, 2);
-  ExpectComplete<UpAxis>(kUpAxes, 6);
+  ExpectComplete<UpAxis>(kUpAxes, 7);
   ExpectComplete<AnchorMode>(kAnchorModes, 3);  // kValue is a number, not a name
   ExpectComplete<OutsideMode>(kOutsideModes, 3);
   ExpectComplete<SubdivisionMode>(kSubdivisionModes, 3);

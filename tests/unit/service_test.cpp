@@ -109,6 +109,65 @@ TEST(Service, DeformsInlineAndById) {
   EXPECT_EQ(glb->body.substr(0, 4), "glTF");
 }
 
+// placement.up "auto" (the API's default): a Y-up glTF figure stands up on a
+// plane, the same figure as OBJ lies as +Z would have it, a plate thin in X
+// stands on its thin axis; explicit axes are kept. The stats say which.
+TEST(Service, UpAutoStandsGltfModelsUpAndThinObjectsOnTheirFace) {
+  Service service(ServiceOptions{});
+  // A plane: [0, 4]^2 at z = 0 (output z is the height along the normal).
+  const std::string plane =
+      R"({"surface":{"kind":"bezier","degree_u":1,"degree_v":1,)"
+      R"("control_points":[[0,0,0],[4,0,0],[0,4,0],[4,4,0]]},"sampling":{"nu":4,"nv":4}})";
+  auto created = service.CreateSurface(plane);
+  ASSERT_TRUE(created.ok()) << created.status().ToString();
+  const std::string id = created->surface_id;
+  // A figure 0.2 wide, 1.0 tall along +Y, 0.3 deep.
+  Mesh figure = testing::ThinPlate(0.2, 1.0, 0.3);
+  ExportOptions plain;
+  plain.glb_draco = false;
+  const std::string glb = *ExportMesh(figure, MeshFormat::kGlb, plain);
+  const std::string obj = *ExportMesh(figure, MeshFormat::kObj);
+  auto extent_z = [](const std::string& body) {
+    auto m = ImportMesh(body);
+    EXPECT_TRUE(m.ok());
+    double lo = 1e300, hi = -1e300;
+    for (const Vec3& p : m->mesh.positions) {
+      lo = std::min(lo, p.z());
+      hi = std::max(hi, p.z());
+    }
+    return hi - lo;
+  };
+  auto deform = [&](const std::string& mesh, const std::string& placement) {
+    auto r = service.Deform({mesh,
+                             R"({"surface_id":")" + id + R"(","placement":)" + placement +
+                                 R"(,"subdivision":{"mode":"off"},"output":{"format":"obj"}})",
+                             ""});
+    EXPECT_TRUE(r.ok()) << r.status().ToString();
+    return r.ok() ? *r : Reply{};
+  };
+  const Reply standing = deform(glb, "{}");
+  json st = json::parse(standing.stats_json).at("placement");
+  EXPECT_EQ(st.at("up"), "+y");
+  EXPECT_EQ(st.at("up_reason"), "gltf");
+  EXPECT_NEAR(extent_z(standing.body), 1.0, 1e-6);  // its height along the normal
+  const Reply lying = deform(glb, R"({"up":"+z"})");
+  st = json::parse(lying.stats_json).at("placement");
+  EXPECT_EQ(st.at("up"), "+z");
+  EXPECT_EQ(st.at("up_reason"), "given");
+  EXPECT_NEAR(extent_z(lying.body), 0.3, 1e-6);
+  const Reply as_obj = deform(obj, "{}");
+  st = json::parse(as_obj.stats_json).at("placement");
+  EXPECT_EQ(st.at("up"), "+z");  // 0.2 is not at most half of 0.3: not clearly thinnest
+  EXPECT_EQ(st.at("up_reason"), "default");
+  // A plate thin along X (a logo standing on its edge in the file).
+  const std::string logo = *ExportMesh(testing::ThinPlate(0.02, 0.8, 0.5), MeshFormat::kObj);
+  const Reply flat = deform(logo, "{}");
+  st = json::parse(flat.stats_json).at("placement");
+  EXPECT_EQ(st.at("up"), "+x");
+  EXPECT_EQ(st.at("up_reason"), "thinnest");
+  EXPECT_NEAR(extent_z(flat.body), 0.02, 1e-6);
+}
+
 // X-Surfdeform-Surface-Id (or ?surface_id=), which load balancers route by:
 // the surface when the parameters name none, else it must agree with them.
 TEST(Service, TheRoutingSurfaceIdNamesTheSurfaceOrMustAgree) {

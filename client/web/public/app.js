@@ -30,6 +30,7 @@ const state = {
   lastStats: null,
   lastError: null,
   lastMark: null,        // the mark on the surface, as /map returned it
+  upResolved: null,      // the axis "auto" chose for the current model
 };
 
 const sheetView = new SheetView($('sheet'), (placement, final) => {
@@ -72,8 +73,14 @@ function showPlacement() {
   sheetView.setPlacement(p);
 }
 
+// The up axis the footprint is drawn with: "auto" is the server's to
+// resolve (by format and shape), known from the last deformation's stats.
+function effectiveUp() {
+  return $('up').value === 'auto' ? state.upResolved || '+z' : $('up').value;
+}
+
 function updateFootprint() {
-  sheetView.setFootprint(state.model ? footprint(state.model.positions, $('up').value) : null);
+  sheetView.setFootprint(state.model ? footprint(state.model.positions, effectiveUp()) : null);
 }
 
 // --- surface -------------------------------------------------------------
@@ -178,6 +185,10 @@ async function runDeform() {
       showPlacement();
     }
     state.lastStats = stats;
+    if (stats.placement.up !== state.upResolved) {
+      state.upResolved = stats.placement.up;
+      if ($('up').value === 'auto') updateFootprint();
+    }
     const sub = stats.subdivision || {};
     list($('timings'), [
       ['vertices', `${stats.vertices} (${sub.vertices_added || 0} added)`],
@@ -250,6 +261,7 @@ $('clear-marks').addEventListener('click', () => {
 
 async function useModel(name, bytes) {
   state.model = { name, bytes, positions: await readPositions(name, bytes) };
+  state.upResolved = null;
   $('model-name').textContent = `${name} (${bytes.byteLength} bytes)` +
       (state.model.positions ? '' : ' — the browser cannot outline it; the server reads it');
   state.fitNext = true;
