@@ -12,6 +12,7 @@
 
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
+#include "meshio/gltf_look.hpp"
 #include "meshio/importers.hpp"
 #include "meshio/json_depth.hpp"
 
@@ -32,9 +33,60 @@ bool RefuseRead(std::vector<unsigned char>*, std::string* err, const std::string
 bool RefuseWrite(std::string*, const std::string&, const std::vector<unsigned char>&, void*) {
   return false;
 }
-bool KeepNoImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                 const unsigned char*, int, void*) {
-  return true;  // images are never decoded (and a loader must be set in 2.7.0)
+// Images are never decoded: the loader keeps each image's bytes as they are
+// (from its buffer view or its data: URI), by image index, in *user.
+bool KeepImageBytes(tinygltf::Image*, const int index, std::string*, std::string*, int, int,
+                    const unsigned char* bytes, int size, void* user) {
+  auto* kept = static_cast<std::vector<std::string>*>(user);
+  if (index < 0 || bytes == nullptr || size <= 0) return true;
+  if (static_cast<size_t>(index) >= kept->size()) kept->resize(static_cast<size_t>(index) + 1);
+  (*kept)[index].assign(reinterpret_cast<const char*>(bytes), static_cast<size_t>(size));
+  return true;
+}
+
+// The input's materials, textures, samplers and images for glTF output
+// (gltf_look.hpp): images by their bytes, of a type their magic bytes show.
+Result<std::shared_ptr<const GltfLook>> LookOf(const tinygltf::Model& model,
+                                               std::vector<std::string> image_bytes,
+                                               const ImportLimits& limits,
+                                               std::vector<std::string>* warnings) {
+  if (model.materials.empty()) return std::shared_ptr<const GltfLook>();
+  auto look = std::make_shared<GltfLook>();
+  look->materials = model.materials;
+  look->textures = model.textures;
+  look->samplers = model.samplers;
+  image_bytes.resize(model.images.size());
+  size_t total = 0, dropped = 0;
+  for (size_t k = 0; k < model.images.size(); ++k) {
+    tinygltf::Image image;
+    image.name = model.images[k].name;
+    const std::string_view type = ImageMediaType(image_bytes[k]);
+    if (type.empty()) {
+      ++dropped;
+      image_bytes[k].clear();
+    } else {
+      image.mimeType = std::string(type);
+      total += image_bytes[k].size();
+    }
+    look->images.push_back(std::move(image));
+  }
+  if (total > limits.max_image_bytes) {
+    return Status::LimitExceeded(
+        "glTF: the embedded images hold " + std::to_string(total) + " bytes; the limit is " +
+            std::to_string(limits.max_image_bytes),
+        "mesh", static_cast<double>(limits.max_image_bytes), static_cast<double>(total));
+  }
+  if (dropped > 0) {
+    warnings->push_back("dropped " + std::to_string(dropped) +
+                        " images that are not embedded PNG or JPEG (by their bytes)");
+  }
+  look->image_bytes = std::move(image_bytes);
+  for (const std::string& ext : model.extensionsUsed) {
+    if (ext.rfind("KHR_materials_", 0) == 0 || ext == "KHR_texture_transform") {
+      look->extensions.push_back(ext);
+    }
+  }
+  return std::shared_ptr<const GltfLook>(std::move(look));
 }
 
 // The JSON chunk of a GLB (bounds-checked), or the text itself.
@@ -414,6 +466,14 @@ std::string RebuildGlb(std::string_view bytes, std::string_view old_json, std::s
 
 }  // namespace
 
+std::string_view ImageMediaType(std::string_view b) {
+  if (b.size() >= 8 && b.substr(0, 8) == std::string_view("\x89PNG\r\n\x1a\n", 8)) {
+    return "image/png";
+  }
+  if (b.size() >= 3 && b.substr(0, 3) == std::string_view("\xff\xd8\xff", 3)) return "image/jpeg";
+  return {};
+}
+
 Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
                 ImportedMesh* out) {
   std::string_view json;
@@ -436,7 +496,8 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
   // Built without file system support; the callbacks refuse as well, should
   // that ever change.
   loader.SetFsCallbacks({&RefuseExists, &RefuseExpand, &RefuseRead, &RefuseWrite, nullptr});
-  loader.SetImageLoader(&KeepNoImage, nullptr);
+  std::vector<std::string> image_bytes;
+  loader.SetImageLoader(&KeepImageBytes, &image_bytes);
   tinygltf::Model model;
   std::string err, warn;
   const bool ok =
@@ -469,6 +530,8 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
     out->materials.push_back(m.name.empty() ? "material" + std::to_string(out->materials.size())
                                             : m.name);
   }
+  SURFDEFORM_ASSIGN_OR_RETURN(out->look,
+                              LookOf(model, std::move(image_bytes), limits, &out->warnings));
   // Every node of the default scene (or of all scenes, or every root node),
   // iteratively, each visited once (cycles in the node graph are errors).
   std::vector<int> roots;

@@ -6,6 +6,8 @@
 
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
+#include "meshio/gltf_look.hpp"
+#include "meshio/importers.hpp"
 
 namespace surfdeform::meshio {
 namespace {
@@ -109,6 +111,38 @@ Mesh SubMesh(const Mesh& mesh, const MeshGroup& g) {
   return sub;
 }
 
+// The input's look (gltf_look.hpp): its materials, samplers and textures as
+// they were, its images' bytes as buffer views (dropped ones removed and the
+// textures' sources renumbered), and the material extensions they use.
+void AddLook(tinygltf::Model* m, const GltfLook& look) {
+  std::vector<int> image_index(look.images.size(), -1);
+  for (size_t k = 0; k < look.images.size(); ++k) {
+    const std::string& bytes = look.image_bytes[k];
+    if (bytes.empty()) continue;
+    tinygltf::Image image = look.images[k];
+    image.name = CleanName(image.name);
+    image.bufferView = AddView(m, bytes.data(), bytes.size(), 0);
+    image_index[k] = static_cast<int>(m->images.size());
+    m->images.push_back(std::move(image));
+  }
+  for (tinygltf::Texture t : look.textures) {
+    t.name = CleanName(t.name);
+    t.source = t.source >= 0 && static_cast<size_t>(t.source) < image_index.size()
+                   ? image_index[t.source]
+                   : -1;
+    m->textures.push_back(std::move(t));
+  }
+  for (tinygltf::Sampler s : look.samplers) {
+    s.name = CleanName(s.name);
+    m->samplers.push_back(std::move(s));
+  }
+  for (tinygltf::Material mat : look.materials) {
+    mat.name = CleanName(mat.name);
+    m->materials.push_back(std::move(mat));
+  }
+  for (const std::string& ext : look.extensions) m->extensionsUsed.push_back(ext);
+}
+
 }  // namespace
 
 Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
@@ -119,11 +153,15 @@ Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
   std::vector<MeshGroup> groups = mesh.groups;
   if (groups.empty())
     groups.push_back({"mesh", -1, 0, static_cast<uint32_t>(mesh.triangles.size())});
-  // Materials: a plain PBR material per name, in order.
-  for (const std::string& name : o.materials) {
-    tinygltf::Material mat;
-    mat.name = name;
-    m.materials.push_back(mat);
+  // Materials: the input's glTF look, or a plain PBR material per name, in order.
+  if (o.look != nullptr) {
+    AddLook(&m, *o.look);
+  } else {
+    for (const std::string& name : o.materials) {
+      tinygltf::Material mat;
+      mat.name = name;
+      m.materials.push_back(mat);
+    }
   }
   tinygltf::Mesh gm;
   gm.name = groups.front().name.empty() ? "mesh" : groups.front().name;

@@ -5,6 +5,7 @@
 // Draco's edgebreaker (the default) compresses better and reorders.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,9 @@
 #include "meshio/mesh_format.hpp"
 
 namespace surfdeform {
+namespace meshio {
+struct GltfLook;  // gltf_look.hpp
+}
 
 struct DracoOptions {
   // Quantization bits per attribute (Draco's own defaults are 11 / 8 / 10 / 8;
@@ -29,6 +33,9 @@ struct ExportOptions {
   DracoOptions draco;
   bool glb_draco = true;               // GLB: compress primitives with KHR_draco_mesh_compression
   std::vector<std::string> materials;  // names for MeshGroup::material (OBJ usemtl, glTF)
+  // GLB: the input's glTF materials, textures and images (ImportedMesh::look),
+  // written instead of plain materials named by `materials`.
+  std::shared_ptr<const meshio::GltfLook> look;
 };
 
 // Errors: kInvalidArgument for a malformed mesh, non-finite values or bad

@@ -13,6 +13,7 @@
 // ones too) are triangulated by ear clipping.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,14 +28,21 @@ struct ImportLimits {
   size_t max_bytes = 256u << 20;    // input size
   size_t max_vertices = 4'000'000;  // after triangulation and welding
   size_t max_triangles = 8'000'000;
-  int max_json_depth = 64;  // glTF JSON nesting
+  int max_json_depth = 64;             // glTF JSON nesting
+  size_t max_image_bytes = 64u << 20;  // glTF: embedded images, in all (kept, never decoded)
 };
+
+namespace meshio {
+struct GltfLook;  // gltf_look.hpp
+}
 
 struct ImportedMesh {
   Mesh mesh;
   MeshFormat format = MeshFormat::kUnknown;
   std::vector<std::string> materials;  // MeshGroup::material indexes this
   std::vector<std::string> warnings;   // what was ignored (points, lines, skins, ...)
+  // glTF input: its materials, textures and images, for glTF output; else null.
+  std::shared_ptr<const meshio::GltfLook> look;
 };
 
 // Errors: kUnsupportedFormat (no format recognised), kLimitExceeded (with the

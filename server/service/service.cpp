@@ -106,6 +106,7 @@ ImportLimits ImportLimitsOf(const ServiceLimits& limits) {
   l.max_vertices = limits.max_vertices;
   l.max_triangles = limits.max_triangles;
   l.max_json_depth = 2 * limits.max_json_depth;
+  l.max_image_bytes = limits.max_body_bytes;  // they travel to the output as they came
   return l;
 }
 
@@ -562,6 +563,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   export_options.draco = params.output.draco;
   export_options.glb_draco = format == proto::OutputFormat::kGlb;
   export_options.materials = imported.materials;
+  export_options.look = imported.look;
   SURFDEFORM_ASSIGN_OR_RETURN(
       auto bytes, ExportMesh(deformed->mesh, proto::OutputMeshFormat(format), export_options));
   const double encode_ms = MsSince(t3);

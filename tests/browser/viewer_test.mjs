@@ -197,6 +197,24 @@ try {
   const cleared = await page.evaluate(() => window.surfdeformViewer.pixelCounts());
   check(cleared.green < 20, `clearing removes the mark (${cleared.green} green pixels)`);
 
+  // A textured glTF (assimp's BoxTextured) comes back textured: three.js
+  // decodes the image the server carried over, and draws the model with it.
+  await (await page.$('#upload')).uploadFile(
+    '/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb');
+  await sleep(500);
+  if (await settled('ready', 'the textured box')) {
+    try {
+      await page.waitForFunction(() => window.surfdeformViewer.texturedMeshes() > 0, { timeout: 20000 });
+      check(true, 'the deformed box is drawn with its texture');
+    } catch {
+      check(false, 'the deformed box is drawn with its texture');
+    }
+    const s = await stats();
+    check(s && s.placement.up === '+y', `a glTF model stands on its +Y (${s && s.placement.up})`);
+    await sleep(300);
+    await shot('textured-box');
+  }
+
   // A broken upload through the file input: the server's problem detail
   // appears on the page.
   const broken = path.join(artifacts, 'broken.obj');

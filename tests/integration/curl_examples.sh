@@ -74,6 +74,25 @@ status=$(curl -sS -o "$out/problem.json" -w '%{http_code}' --data-binary @"$data
   || fail "distortion in OBJ gave $status: $(cat "$out/problem.json")"
 node "$here/../gltf/validate.mjs" "$out/bunny.glb" "$out/bunny-plain.glb" "$out/bunny-distortion.glb"
 
+# A textured glTF (README) comes back textured: its image byte for byte, and
+# the Khronos validator accepts the GLB.
+box=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
+curl -sS -f -o "$out/box-on-cylinder.glb" --data-binary @"$box" -H 'Content-Type: application/octet-stream' \
+  -H 'X-Surfdeform-Params: {"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180},"placement":{"scale":"fit"},"output":{"format":"glb"}}' \
+  "$base/v1/deform"
+python3 - "$out/box-on-cylinder.glb" /usr/share/assimp/models/glTF2/BoxTextured-glTF/CesiumLogoFlat.png << 'PY' || fail "textured GLB"
+import json, struct, sys
+glb = open(sys.argv[1], "rb").read()
+n = struct.unpack_from("<I", glb, 12)[0]
+gltf = json.loads(glb[20:20 + n])
+(image,) = gltf["images"]
+view = gltf["bufferViews"][image["bufferView"]]
+start = 20 + n + 8 + view.get("byteOffset", 0)
+assert glb[start:start + view["byteLength"]] == open(sys.argv[2], "rb").read(), "image bytes differ"
+assert gltf["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] == 0
+PY
+node "$here/../gltf/validate.mjs" "$out/box-on-cylinder.glb"
+
 # Marks (README): sheet points onto the surface, and those surface points
 # back onto the sheet: the same sheet points to 1e-9; a polyline resampled.
 cyl=$(curl -sS -f -H 'Content-Type: application/json' \

@@ -144,6 +144,80 @@ TEST(MeshRoundTrip, PlyKeepsOrderAndAttributes) {
   ExpectSameOrdered(m, back.mesh, 1e-6);
 }
 
+// The images of a GLB: each image's bytes (through its buffer view) and mimeType.
+std::vector<std::pair<std::string, std::string>> GlbImages(const std::string& glb) {
+  uint32_t json_length;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  const nlohmann::json gltf = nlohmann::json::parse(glb.substr(20, json_length));
+  const size_t bin = 20 + json_length + 8;
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& image : gltf.value("images", nlohmann::json::array())) {
+    const nlohmann::json& view = gltf["bufferViews"][image["bufferView"].get<int>()];
+    out.emplace_back(glb.substr(bin + view.value("byteOffset", 0), view["byteLength"]),
+                     image.value("mimeType", ""));
+  }
+  return out;
+}
+
+TEST(MeshExport, TexturedGltfKeepsItsImagesByteForByte) {
+  const std::string png = ReadFile(kModels + "glTF2/BoxTextured-glTF/CesiumLogoFlat.png");
+  ASSERT_GT(png.size(), 1000u);
+  // The same box with its image in a GLB buffer view and in a data: URI.
+  for (const char* input : {"glTF2/BoxTextured-glTF-Binary/BoxTextured.glb",
+                            "glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf"}) {
+    const ImportedMesh in = ImportOk(ReadFile(kModels + input));
+    ASSERT_NE(in.look, nullptr) << input;
+    for (bool draco : {false, true}) {
+      ExportOptions o;
+      o.glb_draco = draco;
+      o.materials = in.materials;
+      o.look = in.look;
+      const std::string glb = *ExportMesh(in.mesh, MeshFormat::kGlb, o);
+      const auto images = GlbImages(glb);
+      ASSERT_EQ(images.size(), 1u) << input;
+      EXPECT_TRUE(images[0].first == png) << input << ": the image's bytes changed";
+      EXPECT_EQ(images[0].second, "image/png");
+      uint32_t json_length;
+      std::memcpy(&json_length, glb.data() + 12, 4);
+      const nlohmann::json gltf = nlohmann::json::parse(glb.substr(20, json_length));
+      EXPECT_EQ(gltf["textures"][0]["source"], 0);
+      EXPECT_EQ(gltf["textures"][0]["sampler"], 0);
+      EXPECT_EQ(gltf["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"], 0);
+      EXPECT_EQ(gltf["samplers"].size(), 1u);
+      // Read back: still textured, the UVs kept.
+      const ImportedMesh back = ImportOk(glb);
+      ASSERT_NE(back.look, nullptr);
+      EXPECT_EQ(back.mesh.uv0.size(), back.mesh.positions.size());
+    }
+  }
+}
+
+TEST(HostileInput, ImagesAreCheckedByTheirBytesAndCounted) {
+  std::string glb = ReadFile(kModels + "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
+  // Not a PNG any more (its signature overwritten): dropped, with a warning.
+  const size_t at = glb.find("\x89PNG");
+  ASSERT_NE(at, std::string::npos);
+  std::string fake = glb;
+  fake.replace(at, 4, "GIF8");
+  const ImportedMesh in = ImportOk(fake);
+  ASSERT_NE(in.look, nullptr);
+  ASSERT_FALSE(in.warnings.empty());
+  EXPECT_NE(in.warnings.back().find("not embedded PNG or JPEG"), std::string::npos);
+  ExportOptions o;
+  o.glb_draco = false;
+  o.look = in.look;
+  const std::string out = *ExportMesh(in.mesh, MeshFormat::kGlb, o);
+  EXPECT_TRUE(GlbImages(out).empty());
+  // Past the limit on image bytes: 413's code, with the limit and the count.
+  ImportLimits tight;
+  tight.max_image_bytes = 1000;
+  auto r = ImportMesh(glb, tight);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(r.status().limit(), 1000.0);
+  EXPECT_GT(r.status().actual(), 2000.0);
+}
+
 // A mesh with only positions and the distortion map: (0.01 k, -0.002 k) at vertex k.
 Mesh WithDistortion() {
   Mesh m = testing::FlatGrid(0.0, 0.0, 1.0, 1.0, 3, 2, 0.0);

@@ -352,7 +352,8 @@ $('download-drc').addEventListener('click', () => download('drc'));
 
 // For tests and the curious: the state and the model's share of the 3D canvas.
 window.surfdeformViewer = { state, modelCoverage: () => modelView.modelCoverage(),
-                            pixelCounts: () => modelView.pixelCounts() };
+                            pixelCounts: () => modelView.pixelCounts(),
+                            texturedMeshes: () => modelView.texturedMeshes() };
 
 (async () => {
   try {

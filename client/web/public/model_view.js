@@ -151,6 +151,9 @@ export class ModelView {
         o.geometry.setAttribute('color', distortionColours(o.geometry.getAttribute('_distortion'), spread));
         o.material = new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.6,
                                                       side: THREE.DoubleSide });
+      } else if (o.material && o.material.map) {  // textured: the model's own texture
+        o.material = new THREE.MeshStandardMaterial({ map: o.material.map, roughness: 0.6,
+                                                      side: THREE.DoubleSide });
       } else {
         o.material = new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
                                                       side: THREE.DoubleSide });
@@ -233,6 +236,16 @@ export class ModelView {
       if (b - r > 60 && b - g > 60) ++n.blue;
       if (g - r > 60 && g - b > 60) ++n.green;
     }
+    return n;
+  }
+
+  // Meshes of the model drawn with a texture whose image three.js decoded.
+  texturedMeshes() {
+    let n = 0;
+    this.model?.traverse((o) => {
+      const image = o.isMesh && o.material.map && o.material.map.image;
+      if (image && (image.width || image.naturalWidth) > 0) ++n;
+    });
     return n;
   }
 
