@@ -248,6 +248,7 @@ Status ReadPlacement(JsonObject& parent, PlacementOptions* out) {
   const std::string path = parent.PathOf("placement");
   SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(*v, path));
   SURFDEFORM_RETURN_IF_ERROR(o.Choice<UpAxis>("up", kUpAxes, &out->up));
+  SURFDEFORM_RETURN_IF_ERROR(o.Choice<RigidMode>("rigid", kRigidModes, &out->rigid));
   if (const json* a = o.Find("anchor"); a != nullptr) {
     if (a->is_number()) {
       out->anchor = AnchorMode::kValue;

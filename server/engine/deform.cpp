@@ -233,6 +233,30 @@ Status Report(const MapTally& t, const Mesh& in, size_t n_input, const Placement
   return Status::Ok();
 }
 
+// The deformation of `mesh` with its parts moved as rigid bodies (no
+// subdivision); the distortion of a rigid motion is 0.
+Status DeformRigidly(const SheetMap& map, const Placement& pl, const Mesh& mesh,
+                     const PlacementOptions& o, const DeformExtras& extras, DeformResult* result) {
+  PrepareOutput(mesh, &result->mesh);
+  int parts = 0;
+  const std::vector<int> part = RigidParts(mesh, o.rigid, &parts);
+  RigidStats rigid = PlaceRigidParts(map, pl, mesh, part, parts, o.outside, &result->mesh);
+  rigid.mode = o.rigid;
+  MapTally t;
+  for (size_t k = 0; k < mesh.positions.size(); ++k) {
+    if (rigid.each[part[k]].outside) ++t.outside;
+    if (!result->mesh.positions[k].allFinite() && t.bad < 0) t.bad = static_cast<long long>(k);
+  }
+  t.worst = rigid.max_outside_distance;
+  result->stats.rigid = std::move(rigid);
+  SURFDEFORM_RETURN_IF_ERROR(Report(t, result->mesh, mesh.positions.size(), pl, o, &result->stats));
+  if (extras.distortion) {
+    result->mesh.distortion.assign(mesh.positions.size(), Vec2::Zero());
+    result->stats.distortion = SummarizeDistortion(result->mesh);
+  }
+  return Status::Ok();
+}
+
 // The deformation of `mesh` into `*result_out`. result_out->mesh is either
 // empty (then everything but the attributes that are recomputed is copied
 // from `mesh`) or `mesh` itself (in place).
@@ -248,6 +272,7 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
   // refined mesh too.
   const bool need_frame = !mesh.normals.empty() || !mesh.tangents.empty();
   const size_t n_input = mesh.positions.size();
+  if (o.rigid != RigidMode::kNone) return DeformRigidly(map, pl, mesh, o, extras, result);
   SURFDEFORM_ASSIGN_OR_RETURN(const Refined r,
                               Refine(map, pl, mesh, o, subdivision, need_frame, result));
   PrepareOutput(*r.source, &result->mesh);

@@ -17,6 +17,9 @@
 // the input's). Parallel over vertices; the result does not depend on the
 // thread count.
 //
+// With placement.rigid, parts of the model move as rigid bodies instead
+// (rigid_parts.hpp); there is nothing to subdivide then.
+//
 // Asked for (DeformExtras::distortion), the result's mesh also carries, per
 // vertex, the distortion of the map there (distortion.hpp), and the stats
 // summarise it.
@@ -29,6 +32,7 @@
 #include "engine/flatten.hpp"
 #include "engine/mesh.hpp"
 #include "engine/placement.hpp"
+#include "engine/rigid_parts.hpp"
 #include "engine/subdivide.hpp"
 #include "engine/surface.hpp"
 
@@ -46,6 +50,7 @@ struct DeformStats {
   double subdivide_ms = 0.0;          // of which the subdivision
   SubdivisionStats subdivision;       // mode kOff when not asked for
   DistortionStats distortion;         // computed only when asked for
+  RigidStats rigid;                   // mode kNone unless placement.rigid
 };
 
 // What a deformation computes besides the deformed mesh.

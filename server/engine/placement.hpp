@@ -35,6 +35,15 @@ inline constexpr EnumEntry<UpAxis> kUpAxes[] = {
      "the API's default: +Y for glTF input (its convention); else the thinnest axis of the "
      "bounding box when it is clearly thinnest (a plate, text, a logo); else +Z"},
 };
+// Parts of the model that move as rigid bodies (rigid_parts.hpp).
+enum class RigidMode { kNone, kComponents, kGroups };
+inline constexpr EnumEntry<RigidMode> kRigidModes[] = {
+    {RigidMode::kNone, "none", "every vertex follows the surface (the default)"},
+    {RigidMode::kComponents, "components",
+     "each connected component (after welding by position) moves as one rigid body"},
+    {RigidMode::kGroups, "groups",
+     "each group of the input (glTF primitive, OBJ group or material) moves as one rigid body"},
+};
 enum class AnchorMode { kBottom, kCenter, kTop, kValue };
 // kValue is given as a number, not a name.
 inline constexpr EnumEntry<AnchorMode> kAnchorModes[] = {
@@ -45,8 +54,9 @@ inline constexpr EnumEntry<AnchorMode> kAnchorModes[] = {
 enum class CenterMode { kSheetCenter, kSheetUnits, kFraction };
 
 struct PlacementOptions {
-  UpAxis up = UpAxis::kPosZ;  // model axis that becomes the surface normal
-  bool y_up_input = false;    // kAuto: the input's format is Y-up by convention (glTF)
+  UpAxis up = UpAxis::kPosZ;           // model axis that becomes the surface normal
+  bool y_up_input = false;             // kAuto: the input's format is Y-up by convention (glTF)
+  RigidMode rigid = RigidMode::kNone;  // parts that move as rigid bodies (no subdivision then)
   AnchorMode anchor = AnchorMode::kCenter;            // the model height that lands on the surface:
   double anchor_value = 0.0;                          // with kValue, in model units along `up`
   CenterMode center_mode = CenterMode::kSheetCenter;  // where the footprint centre goes:

@@ -123,6 +123,18 @@ json DeformStatsHeader(const CachedSurface& entry, bool hit, proto::OutputFormat
             {"placement", proto::DeformStatsJson(st)},
             {"quality", proto::QualityJson(entry.sheet.quality)},
             {"warnings", imported.warnings}};
+  if (st.rigid.mode != RigidMode::kNone) {
+    json each = json::array();
+    for (size_t k = 0; k < st.rigid.each.size() && k < 1000; ++k) {
+      const RigidPartStats& e = st.rigid.each[k];
+      each.push_back({{"vertices", e.vertices}, {"lift", e.lift}, {"sink", e.sink}});
+    }
+    j["rigid"] = {{"mode", NameOf<RigidMode>(kRigidModes, st.rigid.mode)},
+                  {"parts", st.rigid.parts},
+                  {"max_lift", st.rigid.max_lift},
+                  {"max_sink", st.rigid.max_sink},
+                  {"each", std::move(each)}};  // the first 1000 parts
+  }
   if (st.distortion.computed) {
     j["distortion"] = {
         {"max", st.distortion.max}, {"p95", st.distortion.p95}, {"mean", st.distortion.mean}};
@@ -618,6 +630,7 @@ std::string Service::InfoJson() const {
   publish("surface.kind", proto::kSurfaceKinds);
   publish("flatten.method", kFlattenMethods);
   publish("placement.up", kUpAxes);
+  publish("placement.rigid", kRigidModes);
   publish("placement.anchor", kAnchorModes);
   publish("placement.outside", kOutsideModes);
   publish("output.format", proto::kOutputFormats);

@@ -74,10 +74,47 @@ status=$(curl -sS -o "$out/problem.json" -w '%{http_code}' --data-binary @"$data
   || fail "distortion in OBJ gave $status: $(cat "$out/problem.json")"
 node "$here/../gltf/validate.mjs" "$out/bunny.glb" "$out/bunny-plain.glb" "$out/bunny-distortion.glb"
 
+# Rigid parts (README): a word of three box glyphs on a cylinder, each glyph
+# keeps its edge lengths; the stats report the parts and their corners' lift.
+python3 - "$out/word.obj" << 'PY'
+import sys
+with open(sys.argv[1], "w") as f:
+    for g in range(3):
+        x0 = 0.4 * (g - 1) - 0.15
+        for dx in (0, 0.3):
+            for dy in (-0.2, 0.2):
+                for dz in (-0.025, 0.025):
+                    f.write("v %g %g %g\n" % (x0 + dx, dy, dz))
+        b = 8 * g + 1  # corners: index = 4*ix + 2*iy + iz
+        for q in ((0, 2, 6, 4), (1, 5, 7, 3), (0, 4, 5, 1), (2, 3, 7, 6), (0, 1, 3, 2), (4, 6, 7, 5)):
+            f.write("f %s\n" % " ".join(str(b + i) for i in q))
+PY
+curl -sS -f -o "$out/word-on-cylinder.obj" -D "$out/word-headers.txt" --data-binary @"$out/word.obj" \
+  -H 'Content-Type: application/octet-stream' \
+  -H 'X-Surfdeform-Params: {"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180},"placement":{"scale":1,"rigid":"components"},"output":{"format":"obj"}}' \
+  "$base/v1/deform"
+python3 - "$out/word.obj" "$out/word-on-cylinder.obj" "$out/word-headers.txt" << 'PY' || fail "rigid parts"
+import json, math, sys
+def verts(p):
+    return [tuple(map(float, l.split()[1:4])) for l in open(p) if l.startswith("v ")]
+a, b = verts(sys.argv[1]), verts(sys.argv[2])
+assert len(a) == len(b) == 24, (len(a), len(b))
+for g in range(3):
+    for i in range(8):
+        for j in range(i + 1, 8):
+            d0, d1 = math.dist(a[8 * g + i], a[8 * g + j]), math.dist(b[8 * g + i], b[8 * g + j])
+            assert abs(d0 - d1) < 1e-6 * d0, (g, i, j, d0, d1)  # OBJ's 9 digits
+line = [l for l in open(sys.argv[3]) if l.lower().startswith("x-surfdeform-stats:")][0]
+rigid = json.loads(line.split(":", 1)[1])["rigid"]
+assert rigid["mode"] == "components" and rigid["parts"] == 3 and len(rigid["each"]) == 3, rigid
+assert abs(rigid["max_lift"] - (2 * math.cos(0.075) + 0.15 * math.sin(0.075) - 2)) < 1e-9, rigid
+PY
+
 # A textured glTF (README) comes back textured: its image byte for byte, and
-# the Khronos validator accepts the GLB.
+# the Khronos validator accepts the GLB. Being glTF, it stands on its +Y
+# (placement.up "auto", the default).
 box=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
-curl -sS -f -o "$out/box-on-cylinder.glb" --data-binary @"$box" -H 'Content-Type: application/octet-stream' \
+curl -sS -f -o "$out/box-on-cylinder.glb" -D "$out/box-headers.txt" --data-binary @"$box" -H 'Content-Type: application/octet-stream' \
   -H 'X-Surfdeform-Params: {"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180},"placement":{"scale":"fit"},"output":{"format":"glb"}}' \
   "$base/v1/deform"
 python3 - "$out/box-on-cylinder.glb" /usr/share/assimp/models/glTF2/BoxTextured-glTF/CesiumLogoFlat.png << 'PY' || fail "textured GLB"
@@ -92,6 +129,8 @@ assert glb[start:start + view["byteLength"]] == open(sys.argv[2], "rb").read(), 
 assert gltf["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] == 0
 PY
 node "$here/../gltf/validate.mjs" "$out/box-on-cylinder.glb"
+grep -qi '^x-surfdeform-stats: .*"up":"+y","up_reason":"gltf"' "$out/box-headers.txt" \
+  || fail "a glTF model with up auto: $(grep -i stats "$out/box-headers.txt")"
 
 # Marks (README): sheet points onto the surface, and those surface points
 # back onto the sheet: the same sheet points to 1e-9; a polyline resampled.
@@ -167,6 +206,7 @@ contract = {
     "surface.kind": schemas["Surface"]["properties"]["kind"]["enum"],
     "flatten.method": schemas["Flatten"]["properties"]["method"]["enum"],
     "placement.up": schemas["Placement"]["properties"]["up"]["enum"],
+    "placement.rigid": schemas["Placement"]["properties"]["rigid"]["enum"],
     "placement.anchor": schemas["Placement"]["properties"]["anchor"]["oneOf"][0]["enum"],
     "placement.outside": schemas["Placement"]["properties"]["outside"]["enum"],
     "output.format": schemas["Output"]["properties"]["format"]["enum"],

@@ -143,6 +143,7 @@ function deformParams(format) {
     placement: {
       up: $('up').value,
       anchor: $('anchor').value,
+      rigid: $('rigid').value,
       center: p.center,
       rotation_deg: p.rotation_deg,
       scale: state.fitNext ? 'fit' : p.scale,
@@ -338,7 +339,7 @@ $('fit').addEventListener('click', () => {
   state.fitNext = true;
   scheduleDeform(0);
 });
-for (const id of ['up', 'anchor', 'subdivision', 'distortion']) {
+for (const id of ['up', 'anchor', 'rigid', 'subdivision', 'distortion']) {
   $(id).addEventListener('change', () => {
     if (id === 'up') {
       state.fitNext = true;
