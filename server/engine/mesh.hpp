@@ -21,6 +21,9 @@ struct MeshGroup {
   int material = -1;
   uint32_t first_triangle = 0;
   uint32_t triangle_count = 0;
+  // The input's unit these triangles came from, for rigid "groups": the glTF
+  // node, the OBJ g/o group (-1: none; the group is its own unit).
+  int part = -1;
 };
 
 struct Mesh {

@@ -66,12 +66,17 @@ std::vector<int> RigidParts(const Mesh& mesh, RigidMode mode, int* count) {
     return label;
   }
   if (mode == RigidMode::kGroups) {
+    // Labels: the group's input unit (its part, a glTF node or an OBJ g
+    // group) when it has one, else the group itself (past every part id).
+    int past = 0;
+    for (const MeshGroup& g : mesh.groups) past = std::max(past, g.part + 1);
     std::fill(label.begin(), label.end(), -1);
     for (size_t g = 0; g < mesh.groups.size(); ++g) {
       const MeshGroup& group = mesh.groups[g];
+      const int unit = group.part >= 0 ? group.part : past + static_cast<int>(g);
       for (uint32_t t = group.first_triangle; t < group.first_triangle + group.triangle_count; ++t)
         for (uint32_t v : mesh.triangles[t])
-          if (label[v] < 0) label[v] = static_cast<int>(g);
+          if (label[v] < 0) label[v] = unit;
     }
     for (int& l : label) l = std::max(l, 0);
     return Compact(label, count);

@@ -26,9 +26,10 @@ namespace surfdeform {
 
 // The part of each vertex (0 .. *count - 1). kComponents: connected by
 // triangles after welding vertices with equal positions (a vertex in no
-// triangle is a part of its own); kGroups: the MeshGroup of the first
-// triangle that uses it (the whole mesh for no groups; unused vertices go to
-// the first group). kNone: every vertex its own part.
+// triangle is a part of its own); kGroups: the input unit (MeshGroup::part:
+// glTF node, OBJ g/o group; else the MeshGroup itself) of the first triangle
+// that uses it (the whole mesh for no groups; unused vertices join the
+// first part). kNone: every vertex its own part.
 std::vector<int> RigidParts(const Mesh& mesh, RigidMode mode, int* count);
 
 struct RigidPartStats {

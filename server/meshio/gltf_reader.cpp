@@ -381,6 +381,7 @@ Status AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& 
     MeshGroup g;
     g.name = name;
     g.material = prim.material;
+    g.part = node;
     g.first_triangle = static_cast<uint32_t>(mesh.triangles.size());
     g.triangle_count = static_cast<uint32_t>(part.triangles.size());
     for (const auto& t : part.triangles) {

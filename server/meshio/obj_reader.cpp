@@ -35,11 +35,13 @@ Status ReadObj(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
   size_t ignored_lines = 0, ignored_points = 0;
   bool any_uv = false, any_normal = false, missing_uv = false, missing_normal = false;
 
+  int current_part = -1;  // the g/o group (counted), for rigid parts
   auto start_group = [&](int material, const std::string& name) {
     if (!mesh.groups.empty() && mesh.groups.back().triangle_count == 0) mesh.groups.pop_back();
     MeshGroup g;
     g.name = name;
     g.material = material;
+    g.part = current_part;
     g.first_triangle = static_cast<uint32_t>(mesh.triangles.size());
     mesh.groups.push_back(g);
   };
@@ -140,6 +142,12 @@ Status ReadObj(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
         out->materials.push_back(name);
       }
       current_material = index;
+      start_group(current_material, name);
+    } else if (tok == "g" || tok == "o") {
+      // A new group of the file: a new run (same material), its own part.
+      ++current_part;
+      std::string name(line);
+      while (!name.empty() && (name.front() == ' ' || name.front() == '\t')) name.erase(0, 1);
       start_group(current_material, name);
     } else if (tok == "l") {
       ++ignored_lines;

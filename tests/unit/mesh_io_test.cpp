@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "engine/deform.hpp"
+#include "engine/rigid_parts.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
 #include "support/surface_file.hpp"
@@ -216,6 +217,28 @@ TEST(HostileInput, ImagesAreCheckedByTheirBytesAndCounted) {
   EXPECT_EQ(r.status().code(), ErrorCode::kLimitExceeded);
   EXPECT_EQ(r.status().limit(), 1000.0);
   EXPECT_GT(r.status().actual(), 2000.0);
+}
+
+// OBJ's g (and o) groups, and glTF's nodes, are the units of rigid "groups":
+// a group split by usemtl stays one unit.
+TEST(MeshImport, ObjGroupsAndGltfNodesAreRigidUnits) {
+  const std::string obj =
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0\nv 5 2 0\n"
+      "g first\nf 1 2 3\ng second\nf 4 5 6\nusemtl red\nf 4 6 7\n";
+  const ImportedMesh in = ImportOk(obj);
+  ASSERT_EQ(in.mesh.groups.size(), 3u);
+  EXPECT_EQ(in.mesh.groups[0].part, 0);
+  EXPECT_EQ(in.mesh.groups[1].part, 1);
+  EXPECT_EQ(in.mesh.groups[2].part, 1);
+  int count = 0;
+  const std::vector<int> parts = RigidParts(in.mesh, RigidMode::kGroups, &count);
+  EXPECT_EQ(count, 2);
+  EXPECT_EQ(parts, (std::vector<int>{0, 0, 0, 1, 1, 1, 1}));
+  // A GLB of one node: one unit, whatever its primitives.
+  const ImportedMesh box =
+      ImportOk(ReadFile(kModels + "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb"));
+  RigidParts(box.mesh, RigidMode::kGroups, &count);
+  EXPECT_EQ(count, 1);
 }
 
 // A mesh with only positions and the distortion map: (0.01 k, -0.002 k) at vertex k.
