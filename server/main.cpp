@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 65535))
       ->capture_default_str();
   app.add_option("--http-threads", http_options.worker_threads,
-                 "Connections served at once (each keep-alive connection holds one)")
+                 "Worker threads: requests served at once (connections between requests wait off "
+                 "them, in the connection gate)")
       ->envname("SURFDEFORM_HTTP_THREADS")
       ->check(CLI::Range(2, 1024))
       ->capture_default_str();
@@ -131,6 +132,22 @@ int main(int argc, char** argv) {
   app.add_option("--read-timeout", http_options.read_timeout_s, "Socket read timeout, seconds")
       ->envname("SURFDEFORM_READ_TIMEOUT")
       ->check(CLI::Range(1, 600))
+      ->capture_default_str();
+  app.add_option("--head-timeout-ms", http_options.head_timeout_ms,
+                 "A request's head (and the start of its body) must arrive within this, ms; "
+                 "it waits off the worker threads meanwhile")
+      ->envname("SURFDEFORM_HEAD_TIMEOUT_MS")
+      ->check(CLI::Range(100, 600000))
+      ->capture_default_str();
+  app.add_option("--min-transfer-rate", http_options.min_transfer_bytes_per_s,
+                 "Bodies and responses slower than this, bytes/s, after the grace, are cut off")
+      ->envname("SURFDEFORM_MIN_TRANSFER_RATE")
+      ->check(CLI::Range(1, 1 << 30))
+      ->capture_default_str();
+  app.add_option("--transfer-grace", http_options.transfer_grace_s,
+                 "Seconds a body or response may take before the minimum rate applies")
+      ->envname("SURFDEFORM_TRANSFER_GRACE")
+      ->check(CLI::Range(0, 3600))
       ->capture_default_str();
   app.add_option("--keep-alive-timeout", http_options.keep_alive_timeout_s,
                  "Idle keep-alive connections are closed after this many seconds")

@@ -14,6 +14,7 @@
 #include <regex>
 #include <thread>
 
+#include "http/connection_gate.hpp"
 #include "http/embedded_files.hpp"
 #include "http/problem.hpp"
 #include "http/request_guard.hpp"
@@ -116,13 +117,39 @@ std::string ToAscii(const std::string& json_text) {
 
 // httplib::Server with access to its listening socket, whose backlog httplib
 // 0.11.4 fixes at 5: a burst of connections (a load test, 50 browser tabs)
-// would overflow it.
+// would overflow it. Accepted connections go through the connection gate
+// (its task queue) before a worker serves them.
 class Listener : public httplib::Server {
  public:
   void WidenBacklog(int backlog) {
     const auto fd = svr_sock_.load();
     if (fd != INVALID_SOCKET) ::listen(fd, backlog);  // Linux: updates the backlog
   }
+  // The task queue of each listen(): the gate, whose workers serve.
+  void UseGate(GateOptions options) {
+    new_task_queue = [this, options] {
+      auto* gate = new ConnectionGate(
+          options, [this](httplib::Stream& stream, bool close_connection, bool& closed) {
+            return process_request(stream, close_connection, closed, nullptr);
+          });
+      gate_.store(gate);
+      return gate;
+    };
+  }
+  ConnectionStats connection_stats() const {
+    ConnectionGate* gate = gate_.load();
+    return gate != nullptr ? gate->stats() : ConnectionStats{};
+  }
+
+ private:
+  // httplib's accept loop calls this (through the gate's enqueue) for each
+  // accepted socket: the gate holds it until its head is in.
+  bool process_and_close_socket(socket_t sock) override {
+    gate_.load()->Admit(sock);
+    return true;
+  }
+
+  std::atomic<ConnectionGate*> gate_{nullptr};
 };
 
 struct HttpServer::Impl {
@@ -194,6 +221,8 @@ struct HttpServer::Impl {
     t_context = RequestContext{};
     t_context.active = true;
     t_context.start = Clock::now();
+    connection_phase::HeadIn(static_cast<size_t>(
+        std::strtoull(req.get_header_value("Content-Length").c_str(), nullptr, 10)));
     const std::string given = req.get_header_value("X-Request-Id");
     t_context.id = IsSafeRequestId(given) ? given : NewRequestId();
     metrics.RequestStarted();
@@ -221,6 +250,7 @@ struct HttpServer::Impl {
                                });
       // The logger does not run for a connection ended this way.
       Finish(req, res.status, body->size());
+      connection_phase::Responding(body->size());
       return httplib::Server::HandlerResponse::Handled;
     }
     if (req.method == "OPTIONS") {
@@ -244,6 +274,7 @@ struct HttpServer::Impl {
   // body where the route set none (the body is deterministic for the same
   // state), and the total time in Server-Timing.
   void PostRouting(const httplib::Request& req, httplib::Response& res) {
+    connection_phase::Responding(res.body.size());
     if (res.status == 200 && !res.body.empty() && !res.has_header("ETag")) {
       const std::string etag = "\"" + proto::Sha256Hex(res.body, 32) + "\"";
       res.set_header("ETag", etag);
@@ -359,11 +390,13 @@ struct HttpServer::Impl {
     if (service.Saturated()) {
       auto drop = [](const char*, size_t n) {
         t_context.bytes_in += n;
+        connection_phase::BodyProgress(t_context.bytes_in);
         return true;
       };
       read = multipart ? reader([](const httplib::MultipartFormData&) { return true; }, drop)
                        : reader(drop);
       if (!read) return;  // the connection failed: nobody to answer
+      connection_phase::Handling();
       metrics.Rejected("overload");
       return Fail(req, res,
                   Status(ErrorCode::kUnavailable,
@@ -379,6 +412,7 @@ struct HttpServer::Impl {
           },
           [&](const char* data, size_t n) {
             t_context.bytes_in += n;
+            connection_phase::BodyProgress(t_context.bytes_in);
             if (part != nullptr) part->content.append(data, n);
             return true;
           });
@@ -389,11 +423,13 @@ struct HttpServer::Impl {
                                req.get_header_value("Content-Length").c_str(), nullptr, 10))));
       read = reader([&](const char* data, size_t n) {
         t_context.bytes_in += n;
+        connection_phase::BodyProgress(t_context.bytes_in);
         body.raw.append(data, n);
         return true;
       });
     }
     if (!read) return;  // httplib answers (or the connection is gone)
+    connection_phase::Handling();
     Deform(req, res, body);
   }
 
@@ -501,6 +537,7 @@ struct HttpServer::Impl {
         continue;
       }
       auto handler = [this, h](const httplib::Request& req, httplib::Response& res) {
+        connection_phase::Handling();  // httplib has read the body
         (this->*h)(req, res);
       };
       if (std::string(kRoutes[k].method) == "GET") {
@@ -527,7 +564,7 @@ struct HttpServer::Impl {
   }
   void MetricsText(const httplib::Request&, httplib::Response& res) {
     res.set_content(metrics.Render(service.cache_stats(), service.shared_tier_stats(),
-                                   service.admission_stats()),
+                                   service.admission_stats(), server.connection_stats()),
                     "text/plain; version=0.0.4");
   }
   void OpenApi(const httplib::Request&, httplib::Response& res) {
@@ -580,7 +617,17 @@ HttpServer::HttpServer(Service& service, HttpOptions options)
   Impl* s = impl_.get();
   httplib::Server& server = s->server;
   const int workers = std::max(2, s->options.worker_threads);
-  server.new_task_queue = [workers] { return new httplib::ThreadPool(workers); };
+  GateOptions gate;
+  gate.workers = workers;
+  gate.max_body_bytes = service.limits().max_body_bytes;
+  gate.head_timeout = std::chrono::milliseconds(std::max(1, s->options.head_timeout_ms));
+  gate.idle_timeout = std::chrono::seconds(s->options.keep_alive_timeout_s);
+  gate.min_bytes_per_s = std::max(1, s->options.min_transfer_bytes_per_s);
+  gate.transfer_grace = std::chrono::seconds(std::max(0, s->options.transfer_grace_s));
+  gate.max_requests_per_connection = std::max(1, s->options.keep_alive_max_requests);
+  gate.read_timeout = std::chrono::seconds(s->options.read_timeout_s);
+  gate.write_timeout = std::chrono::seconds(s->options.write_timeout_s);
+  s->server.UseGate(gate);
   server.set_payload_max_length(service.limits().max_body_bytes);
   // Without it, a small response waits for the client's delayed ACK (Nagle),
   // tens of milliseconds per request on loopback (bench/service_bench).

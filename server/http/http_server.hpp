@@ -19,12 +19,19 @@ enum class LogLevel { kDebug, kInfo, kWarn, kError, kOff };
 struct HttpOptions {
   std::string host = "127.0.0.1";
   int port = 8080;          // 0: any free port (see HttpServer::port)
-  int worker_threads = 32;  // connections served at once (each keep-alive connection holds one)
+  int worker_threads = 32;  // requests served at once (idle connections wait in the gate)
   std::vector<std::string> allowed_origins = {"*"};  // CORS; "*" = any
   int read_timeout_s = 10;
   int write_timeout_s = 10;
   int keep_alive_timeout_s = 5;
   int keep_alive_max_requests = 100;
+  // Slow clients (http/connection_gate.hpp): a request head (and the start
+  // of its body) must be in within head_timeout_ms, off the worker threads;
+  // bodies and responses must move at min_transfer_bytes_per_s once the
+  // first transfer_grace_s have passed.
+  int head_timeout_ms = 10000;
+  int min_transfer_bytes_per_s = 16 * 1024;
+  int transfer_grace_s = 10;
   LogLevel log_level = LogLevel::kInfo;
   // The web viewer's folder (client/web): public/ is served at /, samples/ at
   // /samples/ and node_modules/three at /vendor/three/. Empty or missing: / is

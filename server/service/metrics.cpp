@@ -36,7 +36,8 @@ void Metrics::Rejected(const std::string& reason) {
 }
 
 std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shared,
-                            const AdmissionStats& admission) const {
+                            const AdmissionStats& admission,
+                            const ConnectionStats& connections) const {
   std::string out;
   auto line = [&out](const std::string& text) { out += text + "\n"; };
   std::lock_guard lock(mutex_);
@@ -123,6 +124,28 @@ std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shar
   plain("surfdeform_admission_service_seconds", "gauge",
         "Recent requests' time holding a slot (moving average): Retry-After comes from it.",
         Number(admission.service_ms_ewma / 1000.0));
+  plain("surfdeform_connections_waiting", "gauge",
+        "Connections whose request head is not in yet (held off the workers).",
+        std::to_string(connections.waiting));
+  plain("surfdeform_connections_served", "gauge", "Connections on a worker thread.",
+        std::to_string(connections.served));
+  plain("surfdeform_connections_passed_total", "counter",
+        "Connections whose head came in, handed to a worker.", std::to_string(connections.passed));
+  line(
+      "# HELP surfdeform_connections_closed_total Connections closed before or while being "
+      "served: by the gate's deadlines and limits, or by the client, by reason.");
+  line("# TYPE surfdeform_connections_closed_total counter");
+  for (const auto& [reason, value] :
+       {std::pair<const char*, uint64_t>{"head_timeout", connections.head_timeout},
+        {"head_too_large", connections.head_too_large},
+        {"gate_full", connections.refused_full},
+        {"client_left", connections.closed_early},
+        {"slow_body", connections.slow_body},
+        {"slow_response", connections.slow_response},
+        {"keep_alive_idle", connections.idle}}) {
+    line(std::string("surfdeform_connections_closed_total{reason=\"") + reason + "\"} " +
+         std::to_string(value));
+  }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   const double cpu = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +

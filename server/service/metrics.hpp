@@ -17,6 +17,21 @@
 
 namespace surfdeform {
 
+// The HTTP layer's connection gate (http/connection_gate.hpp): slow clients
+// held off the workers and closed by its deadlines.
+struct ConnectionStats {
+  uint64_t waiting = 0;         // gauge: connections whose request head is not in yet
+  uint64_t served = 0;          // gauge: connections on a worker
+  uint64_t passed = 0;          // connections handed to a worker
+  uint64_t head_timeout = 0;    // 408: the head was not in by the head timeout
+  uint64_t head_too_large = 0;  // 431
+  uint64_t refused_full = 0;    // 503: the gate was full
+  uint64_t closed_early = 0;    // the client left before its head was in
+  uint64_t slow_body = 0;       // shut down on a worker, by phase
+  uint64_t slow_response = 0;
+  uint64_t idle = 0;  // kept alive, no next request within the keep-alive timeout
+};
+
 class Metrics {
  public:
   // Upper bounds of the latency histogram buckets, in seconds.
@@ -31,7 +46,8 @@ class Metrics {
   // The whole exposition, cache counters (both levels) included.
   // And the process's CPU time, for CPU per request under load.
   std::string Render(const CacheStats& cache, const SharedTierStats& shared = {},
-                     const AdmissionStats& admission = {}) const;
+                     const AdmissionStats& admission = {},
+                     const ConnectionStats& connections = {}) const;
 
  private:
   struct Histogram {

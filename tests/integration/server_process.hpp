@@ -33,6 +33,9 @@ class ServerProcess {
   std::string log_;
 };
 
+// A TCP connection to 127.0.0.1:port, or -1.
+int ConnectLoopback(int port);
+
 // The server binary (set by CMake).
 const char* ServerBinary();
 

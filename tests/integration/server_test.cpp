@@ -84,15 +84,8 @@ struct RawReply {
 
 RawReply Raw(int port, const std::string& request, std::chrono::milliseconds wait = 3000ms) {
   RawReply out;
-  int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    close(fd);
-    return out;
-  }
+  const int fd = ConnectLoopback(port);
+  if (fd < 0) return out;
   timeval tv{static_cast<time_t>(wait.count() / 1000),
              static_cast<suseconds_t>((wait.count() % 1000) * 1000)};
   setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);

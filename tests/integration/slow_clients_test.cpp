@@ -1,0 +1,242 @@
+// Slow clients against the real server, with no proxy in front
+// (docs/RELIABILITY.md, items 8 and 30): heads trickled a line at a time,
+// bodies trickled a few bytes at a time, and idle keep-alive connections,
+// each on twice the worker count. The server closes them by its own
+// deadlines, and /healthz and a real request keep answering meanwhile.
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "server_process.hpp"
+
+namespace surfdeform::testing {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kWorkers = 4;
+constexpr auto kHeadTimeout = 1500ms;
+
+bool SendAll(int fd, const std::string& bytes) {
+  size_t sent = 0;
+  while (sent < bytes.size()) {
+    const ssize_t n = send(fd, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
+    if (n <= 0) return false;
+    sent += static_cast<size_t>(n);
+  }
+  return true;
+}
+
+// A slow client: sends `first`, then `piece` every `every` until the server
+// closes the connection (or `give_up`). Records what the server sent and
+// when it closed.
+struct SlowClient {
+  std::string received;
+  Clock::duration closed_after{};
+  bool closed = false;
+};
+
+void Trickle(int port, const std::string& first, const std::string& piece,
+             std::chrono::milliseconds every, std::chrono::milliseconds give_up, SlowClient* out) {
+  const auto start = Clock::now();
+  const int fd = ConnectLoopback(port);
+  if (fd < 0) return;
+  timeval tv{0, 1000 * static_cast<suseconds_t>(every.count())};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  bool sending = SendAll(fd, first);
+  char buf[4096];
+  while (Clock::now() - start < give_up) {
+    const ssize_t n = recv(fd, buf, sizeof buf, 0);
+    if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK)) {
+      out->closed = true;
+      out->closed_after = Clock::now() - start;
+      break;
+    }
+    if (n > 0) out->received.append(buf, static_cast<size_t>(n));
+    if (sending) sending = SendAll(fd, piece);
+  }
+  close(fd);
+}
+
+// `count` slow clients at once, each as Trickle.
+struct SlowCrowd {
+  std::vector<SlowClient> clients;
+  std::vector<std::thread> threads;
+  SlowCrowd(int count, int port, const std::string& first, const std::string& piece,
+            std::chrono::milliseconds every, std::chrono::milliseconds give_up)
+      : clients(static_cast<size_t>(count)) {
+    for (SlowClient& c : clients) {
+      threads.emplace_back(Trickle, port, first, piece, every, give_up, &c);
+    }
+    std::this_thread::sleep_for(300ms);  // every slow connection is open
+  }
+  const std::vector<SlowClient>& Join() {
+    for (auto& t : threads) t.join();
+    return clients;
+  }
+};
+
+class SlowClients : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    server_ = new ServerProcess({"--log-level", "error", "--http-threads", std::to_string(kWorkers),
+                                 "--head-timeout-ms", std::to_string(kHeadTimeout.count()),
+                                 "--transfer-grace", "1", "--min-transfer-rate", "65536",
+                                 "--keep-alive-timeout", "3"});
+    ASSERT_GT(server_->port(), 0) << "the server did not start";
+  }
+  static void TearDownTestSuite() {
+    delete server_;
+    server_ = nullptr;
+  }
+  int port() const { return server_->port(); }
+
+  // While `clients` slow connections run, /healthz and a real request must
+  // each answer within `bound`, several times over.
+  void ExpectServing(std::chrono::milliseconds bound) {
+    for (int round = 0; round < 4; ++round) {
+      httplib::Client c("127.0.0.1", port());
+      c.set_connection_timeout(5, 0);
+      c.set_read_timeout(5, 0);
+      auto t0 = Clock::now();
+      auto health = c.Get("/healthz");
+      EXPECT_TRUE(health && health->status == 200) << "round " << round;
+      EXPECT_LT(Clock::now() - t0, bound) << "/healthz, round " << round;
+      t0 = Clock::now();
+      auto created = c.Post("/v1/surfaces",
+                            R"({"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":)" +
+                                std::to_string(60 + round) + R"(},"sampling":{"nu":8,"nv":8}})",
+                            "application/json");
+      EXPECT_TRUE(created && (created->status == 201 || created->status == 200))
+          << "round " << round;
+      EXPECT_LT(Clock::now() - t0, bound) << "POST /v1/surfaces, round " << round;
+      std::this_thread::sleep_for(200ms);
+    }
+  }
+
+  // A counter of /metrics: surfdeform_connections_closed_total{reason=...}.
+  double Closed(const std::string& reason) {
+    httplib::Client c("127.0.0.1", port());
+    auto r = c.Get("/metrics");
+    if (!r) return -1;
+    const std::string key = "surfdeform_connections_closed_total{reason=\"" + reason + "\"} ";
+    const size_t at = r->body.find(key);
+    return at == std::string::npos ? -1 : std::atof(r->body.c_str() + at + key.size());
+  }
+
+  static ServerProcess* server_;
+};
+ServerProcess* SlowClients::server_ = nullptr;
+
+TEST_F(SlowClients, TrickledHeadsNeverHoldAWorkerAndGet408) {
+  const double before = Closed("head_timeout");
+  constexpr int kCount = 2 * kWorkers * 4;  // well past twice the workers
+  SlowCrowd crowd(kCount, port(), "GET /healthz HTTP/1.1\r\nHost: x\r\n", "X-Slow: 1\r\n", 200ms,
+                  10000ms);
+  ExpectServing(1000ms);
+  for (const SlowClient& c : crowd.Join()) {
+    EXPECT_TRUE(c.closed) << "a trickling head was never cut off";
+    EXPECT_LT(c.closed_after, kHeadTimeout + 1000ms);
+    EXPECT_EQ(c.received.rfind("HTTP/1.1 408", 0), 0u) << c.received.substr(0, 80);
+    EXPECT_NE(c.received.find("application/problem+json"), std::string::npos);
+  }
+  EXPECT_GE(Closed("head_timeout") - before, kCount);
+}
+
+TEST_F(SlowClients, BodiesTrickledBeforeTheirFirstWindowNeverHoldAWorker) {
+  const double before = Closed("head_timeout");
+  constexpr int kCount = 2 * kWorkers;
+  const std::string head =
+      "POST /v1/surfaces HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+      "Content-Length: 1000000\r\n\r\n";
+  SlowCrowd crowd(kCount, port(), head + "{", "  ", 100ms, 10000ms);
+  ExpectServing(1000ms);
+  for (const SlowClient& c : crowd.Join()) {
+    EXPECT_TRUE(c.closed);
+    EXPECT_LT(c.closed_after, kHeadTimeout + 1000ms);
+    EXPECT_EQ(c.received.rfind("HTTP/1.1 408", 0), 0u) << c.received.substr(0, 80);
+  }
+  EXPECT_GE(Closed("head_timeout") - before, kCount);
+}
+
+TEST_F(SlowClients, BodiesThatSlowDownOnAWorkerAreCutOffAtTheMinimumRate) {
+  const double before = Closed("slow_body");
+  constexpr int kCount = 2 * kWorkers;
+  const std::string head =
+      "POST /v1/deform HTTP/1.1\r\nHost: x\r\nContent-Type: application/octet-stream\r\n"
+      "Content-Length: 1000000\r\n\r\n";
+  // 20 KiB at once (past the gate's window), then 100 bytes a tick. Each
+  // holds a worker until its pace falls under 64 KiB/s past the 1 s grace
+  // (20 KiB: at 1.3 s); twice the workers, so two rounds of them.
+  SlowCrowd crowd(kCount, port(), head + std::string(20 * 1024, 'x'), std::string(100, 'x'), 100ms,
+                  15000ms);
+  ExpectServing(4000ms);
+  for (const SlowClient& c : crowd.Join()) {
+    EXPECT_TRUE(c.closed) << "a trickling body was never cut off";
+    EXPECT_LT(c.closed_after, 6000ms);
+  }
+  EXPECT_GE(Closed("slow_body") - before, kCount);
+}
+
+TEST_F(SlowClients, IdleKeepAliveConnectionsWaitOffTheWorkers) {
+  // Three times the workers, each kept alive after one request (the
+  // keep-alive timeout is 3 s): none may hold a worker while it idles.
+  std::vector<std::unique_ptr<httplib::Client>> idle;
+  for (int k = 0; k < 3 * kWorkers; ++k) {
+    idle.push_back(std::make_unique<httplib::Client>("127.0.0.1", port()));
+    idle.back()->set_keep_alive(true);
+    auto r = idle.back()->Get("/healthz");
+    ASSERT_TRUE(r && r->status == 200);
+  }
+  ExpectServing(1000ms);
+  // And they are still usable: their next request is served.
+  for (auto& c : idle) {
+    auto r = c->Get("/v1/info");
+    EXPECT_TRUE(r && r->status == 200);
+  }
+}
+
+TEST_F(SlowClients, AKeptAliveConnectionThatTricklesItsNextHeadIsClosed) {
+  const int fd = ConnectLoopback(port());
+  ASSERT_GE(fd, 0);
+  ASSERT_TRUE(SendAll(fd, "GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n"));
+  char buf[4096];
+  std::string first;
+  while (first.find("{\"status\":\"ok\"}") == std::string::npos) {
+    const ssize_t n = recv(fd, buf, sizeof buf, 0);
+    ASSERT_GT(n, 0);
+    first.append(buf, static_cast<size_t>(n));
+  }
+  const auto start = Clock::now();
+  ASSERT_TRUE(SendAll(fd, "GET /healthz HTTP/1.1\r\n"));
+  timeval tv{0, 200000};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  std::string received;
+  bool closed = false;
+  while (Clock::now() - start < 15s) {
+    const ssize_t n = recv(fd, buf, sizeof buf, 0);
+    if (n == 0) {
+      closed = true;
+      break;
+    }
+    if (n > 0) received.append(buf, static_cast<size_t>(n));
+    SendAll(fd, "X-Slow: 1\r\n");
+  }
+  close(fd);
+  EXPECT_TRUE(closed);
+  // Its budget: the keep-alive wait plus the head timeout.
+  EXPECT_LT(Clock::now() - start, 3s + kHeadTimeout + 1500ms);
+  EXPECT_EQ(received.rfind("HTTP/1.1 408", 0), 0u) << received.substr(0, 80);
+}
+
+}  // namespace
+}  // namespace surfdeform::testing
