@@ -33,3 +33,28 @@ start_nginx() {
   done
   fail "nginx does not answer on $NGINX_BASE"
 }
+
+# stop_nginx OUT: stops the nginx that start_nginx OUT ran the way its manual
+# says (nginx -s stop, its fast shutdown, through the pid file), and waits
+# until the master and each of its workers have exited; a kill -9 only for
+# what is still there after 10 s. A worker left behind would outlive the test
+# (tests/support/no_orphans fails it).
+stop_nginx() {
+  local out=$1 nginx_bin master workers p
+  [[ -f $out/nginx.pid ]] || return 0
+  nginx_bin=$(command -v nginx || echo /usr/sbin/nginx)
+  master=$(cat "$out/nginx.pid")
+  workers=$(pgrep -P "$master" || true)
+  "$nginx_bin" -p "$out" -c "$out/nginx.conf" -g "pid $out/nginx.pid; error_log $out/nginx-error.log warn;" \
+    -s stop 2> /dev/null || kill -TERM "$master" 2> /dev/null || true
+  for _ in $(seq 200); do
+    local alive=0
+    for p in $master $workers; do  # a zombie has exited
+      grep -qs '^State:[[:space:]]*[^Z]' "/proc/$p/status" && alive=1
+    done
+    ((alive)) || return 0
+    sleep 0.05
+  done
+  echo "nginx did not stop within 10 s: killing it" >&2
+  for p in $master $workers; do kill -9 "$p" 2> /dev/null || true; done
+}

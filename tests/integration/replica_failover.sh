@@ -20,7 +20,8 @@ out=$(mktemp -d)
 pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill -9 "$p" 2> /dev/null || true; done
-  [[ -f $out/nginx.pid ]] && kill -9 "$(cat "$out/nginx.pid")" 2> /dev/null || true
+  declare -F stop_nginx > /dev/null && stop_nginx "$out"
+  wait 2> /dev/null || true  # the killed replicas
   rm -rf "$out"
 }
 trap cleanup EXIT
