@@ -14,6 +14,7 @@
 #include <regex>
 #include <thread>
 
+#include "base/fault_points.hpp"
 #include "http/connection_gate.hpp"
 #include "http/embedded_files.hpp"
 #include "http/problem.hpp"
@@ -223,6 +224,11 @@ struct HttpServer::Impl {
     t_context.start = Clock::now();
     connection_phase::HeadIn(static_cast<size_t>(
         std::strtoull(req.get_header_value("Content-Length").c_str(), nullptr, 10)));
+    // The test build's fault points (base/fault_points.hpp); a no-op in production.
+    faults::Disarm();
+    if (req.has_header("X-Surfdeform-Fault")) {
+      faults::ArmForThisThread(req.get_header_value("X-Surfdeform-Fault"));
+    }
     const std::string given = req.get_header_value("X-Request-Id");
     t_context.id = IsSafeRequestId(given) ? given : NewRequestId();
     metrics.RequestStarted();
@@ -370,6 +376,7 @@ struct HttpServer::Impl {
                     {"remote", req.remote_addr}});
     t_context = RequestContext{};
     t_context.finished = true;
+    faults::Disarm();
   }
 
   // A deformation's body as its handler reads it.
@@ -434,6 +441,7 @@ struct HttpServer::Impl {
   }
 
   void Deform(const httplib::Request& req, httplib::Response& res, const DeformBody& body) {
+    ThrowIfArmed();  // the body is in: the connection can go on
     DeformRequest d;
     d.accept = req.get_header_value("Accept");
     std::string params;
@@ -538,6 +546,7 @@ struct HttpServer::Impl {
       }
       auto handler = [this, h](const httplib::Request& req, httplib::Response& res) {
         connection_phase::Handling();  // httplib has read the body
+        ThrowIfArmed();
         (this->*h)(req, res);
       };
       if (std::string(kRoutes[k].method) == "GET") {
@@ -545,6 +554,14 @@ struct HttpServer::Impl {
       } else {
         server.Post(kRoutes[k].pattern, handler);
       }
+    }
+  }
+
+  // The test build's "handler that throws" (base/fault_points.hpp): its text
+  // must reach the log only, never the client.
+  static void ThrowIfArmed() {
+    if (faults::Armed(faults::Fault::kHandlerThrows)) {
+      throw std::runtime_error("injected fault: internal detail /srv/secret");
     }
   }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "base/fault_points.hpp"
 #include "meshio/importers.hpp"
 
 namespace surfdeform::meshio {
@@ -135,7 +136,9 @@ Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& o,
   encoder.SetEncodingMethod(o.sequential ? draco::MESH_SEQUENTIAL_ENCODING
                                          : draco::MESH_EDGEBREAKER_ENCODING);
   draco::EncoderBuffer buffer;
-  const draco::Status st = encoder.EncodeMeshToBuffer(dm, &buffer);
+  const draco::Status st = faults::Armed(faults::Fault::kDracoEncodeFails)
+                               ? draco::Status(draco::Status::DRACO_ERROR, "injected fault")
+                               : encoder.EncodeMeshToBuffer(dm, &buffer);
   if (!st.ok()) {
     return Status(ErrorCode::kInternal, std::string("Draco encoding failed: ") + st.error_msg());
   }

@@ -6,6 +6,7 @@
 #include <optional>
 #include <thread>
 
+#include "base/fault_points.hpp"
 #include "engine/deform.hpp"
 #include "engine/elapsed.hpp"
 #include "engine/flatten.hpp"
@@ -540,6 +541,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   if (request.mesh.empty()) {
     return Status(ErrorCode::kMalformed, "the request carries no mesh", "mesh");
   }
+  faults::MaybeFailAllocation();  // the test build's fault point; nothing in production
   SURFDEFORM_ASSIGN_OR_RETURN(auto imported, ImportMesh(request.mesh, ImportLimitsOf(limits)));
   const double parse_ms = MsSince(t0);
   SURFDEFORM_RETURN_IF_ERROR(clock.Check("parsing"));

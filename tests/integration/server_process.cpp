@@ -13,14 +13,18 @@
 namespace surfdeform::testing {
 
 const char* ServerBinary() { return SURFDEFORM_SERVER_BINARY; }
+const char* FaultServerBinary() { return SURFDEFORM_FAULT_SERVER_BINARY; }
 
-ServerProcess::ServerProcess(const std::vector<std::string>& args) {
+ServerProcess::ServerProcess(const std::vector<std::string>& args)
+    : ServerProcess(ServerBinary(), args) {}
+
+ServerProcess::ServerProcess(const std::string& binary, const std::vector<std::string>& args) {
   // A server that refuses a body closes the connection while the client may
   // still be sending it: that must be an error return, not a fatal signal.
   signal(SIGPIPE, SIG_IGN);
   int pipe_fds[2];
   if (pipe(pipe_fds) != 0) return;
-  std::vector<std::string> argv_strings = {ServerBinary(), "--host", "127.0.0.1", "--port", "0"};
+  std::vector<std::string> argv_strings = {binary, "--host", "127.0.0.1", "--port", "0"};
   argv_strings.insert(argv_strings.end(), args.begin(), args.end());
   pid_ = fork();
   if (pid_ == 0) {

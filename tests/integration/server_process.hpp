@@ -16,9 +16,12 @@ class ServerProcess {
   // Starts the server with `--host 127.0.0.1 --port 0` plus `args`, and waits
   // for its "listening" line. port() is 0 when it failed to start.
   explicit ServerProcess(const std::vector<std::string>& args = {});
+  // The same with another build of the server (e.g. the fault-point one).
+  ServerProcess(const std::string& binary, const std::vector<std::string>& args);
   ~ServerProcess();  // SIGKILL if still running
 
   int port() const { return port_; }
+  pid_t pid() const { return pid_; }
   // Sends `signal` and waits for the exit; returns the exit status (or
   // 128 + signal when killed by one).
   int Stop(int signal);
@@ -36,7 +39,8 @@ class ServerProcess {
 // A TCP connection to 127.0.0.1:port, or -1.
 int ConnectLoopback(int port);
 
-// The server binary (set by CMake).
+// The server binary, and the one with fault points (set by CMake).
 const char* ServerBinary();
+const char* FaultServerBinary();
 
 }  // namespace surfdeform::testing
