@@ -157,6 +157,20 @@ Status DecodeDraco(std::string_view bytes, const ImportLimits& limits, Mesh* mes
   SURFDEFORM_RETURN_IF_ERROR(PeekCounts(bytes, &faces, &points));
   SURFDEFORM_RETURN_IF_ERROR(CheckLimit("triangles", faces, limits.max_triangles));
   SURFDEFORM_RETURN_IF_ERROR(CheckLimit("vertices", points, limits.max_vertices));
+  // Counts the bytes cannot hold are refused before Draco allocates for them
+  // (its decoder sizes buffers from the header; docs/RELIABILITY.md, item
+  // 7). Draco is dense: a 500 x 500 grid at 1-bit positions, edgebreaker at
+  // level 7, is 678 bytes, 369 vertices and 735 triangles a byte. The bound
+  // is ten times that.
+  constexpr uint64_t kMaxVerticesPerByte = 4096, kMaxTrianglesPerByte = 8192;
+  if (points > kMaxVerticesPerByte * bytes.size() || faces > kMaxTrianglesPerByte * bytes.size()) {
+    return Status::LimitExceeded("Draco: the header claims " + std::to_string(points) +
+                                     " vertices and " + std::to_string(faces) +
+                                     " triangles, more than " + std::to_string(bytes.size()) +
+                                     " bytes can hold",
+                                 "mesh", static_cast<double>(kMaxVerticesPerByte * bytes.size()),
+                                 static_cast<double>(points));
+  }
   draco::DecoderBuffer buffer;
   buffer.Init(bytes.data(), bytes.size());
   draco::Decoder decoder;
