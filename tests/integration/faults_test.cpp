@@ -102,8 +102,11 @@ ServerProcess* Faults::server_ = nullptr;
 
 TEST_F(Faults, AHandlerThatThrowsIsAnOpaque500AndTheConnectionGoesOn) {
   auto c = Client();
-  const httplib::Headers fault = {{"X-Surfdeform-Fault", "handler_throws"}};
-  ExpectOpaque500(c.Get("/v1/info", fault), "GET /v1/info");
+  const httplib::Headers fault = {{"X-Surfdeform-Fault", "handler_throws"},
+                                  {"Origin", "https://viewer.example"}};
+  auto thrown = c.Get("/v1/info", fault);
+  ExpectOpaque500(thrown, "GET /v1/info");
+  EXPECT_EQ(thrown->get_header_value("Access-Control-Allow-Origin"), "*");  // CORS on 500 too
   ExpectOpaque500(c.Post("/v1/surfaces", fault,
                          R"({"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":90}})",
                          "application/json"),

@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "engine/deform.hpp"
 #include "engine/rigid_parts.hpp"
 #include "meshio/mesh_export.hpp"
@@ -543,13 +545,30 @@ TEST(HostileInput, MinimalGltfIsFine) {
 }
 
 TEST(HostileInput, ExternalUrisAreNeverRead) {
-  for (const std::string uri :
-       {"../../etc/passwd", "/etc/passwd", "file:///etc/passwd", "/tmp/", "."}) {
+  // A readable file that holds exactly the triangle's 36 bytes, named by
+  // absolute, file: and relative (to the working directory) URIs: were any
+  // read, the import would succeed.
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("surfdeform-uri-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string bytes(
+      "\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0", 36);
+  std::ofstream(dir / "tri.bin", std::ios::binary) << bytes;
+  const std::string local = "surfdeform-uri-" + std::to_string(::getpid()) + ".bin";
+  std::ofstream(local, std::ios::binary) << bytes;
+  const std::string abs = (dir / "tri.bin").string();
+  for (const std::string& uri :
+       {abs, "file://" + abs, local, "./" + local,
+        "../" + std::filesystem::current_path().filename().string() + "/" + local,
+        std::string("../../etc/passwd"), std::string("/tmp/"), std::string(".")}) {
     auto r = ImportMesh(MinimalGltf(uri));
-    ASSERT_FALSE(r.ok()) << uri;
+    ASSERT_FALSE(r.ok()) << uri << " was read";
     EXPECT_EQ(r.status().message().find("passwd"), std::string::npos) << r.status().message();
     EXPECT_EQ(r.status().message().find("/etc"), std::string::npos) << r.status().message();
+    EXPECT_EQ(r.status().message().find(dir.string()), std::string::npos) << r.status().message();
   }
+  std::filesystem::remove_all(dir);
+  std::filesystem::remove(local);
 }
 
 TEST(HostileInput, AccessorCountPastTheBufferIsRejected) {
@@ -688,12 +707,28 @@ TEST(HostileInput, ObjNegativeIndexOutOfRange) {
 }
 
 TEST(HostileInput, TinyStlAndOffClaims) {
-  EXPECT_FALSE(ImportMesh(std::string(1, 'x')).ok());
+  // A binary STL is known by its size alone (84 + 50 x its count): a single
+  // byte, or 84 bytes that claim 2^28 triangles, are no format at all (415),
+  // so no reader sizes anything from them.
   std::string stl(84, '\0');
   const uint32_t count = 0x10000000;
   std::memcpy(stl.data() + 80, &count, 4);
-  EXPECT_FALSE(ImportMesh(stl).ok());
-  EXPECT_FALSE(ImportMesh("OFF\n100000000 1 0\n0 0 0\n").ok());
+  for (const std::string& bytes : {std::string(1, 'x'), stl}) {
+    auto r = ImportMesh(bytes);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.status().code(), ErrorCode::kUnsupportedFormat) << r.status().ToString();
+  }
+  // The same 84 bytes with one real record's worth less claimed: an STL, and
+  // one whose count the size does hold.
+  std::string one(84 + 50, '\0');
+  const uint32_t single = 1;
+  std::memcpy(one.data() + 80, &single, 4);
+  EXPECT_EQ(DetectMeshFormat(one), MeshFormat::kStl);
+  // OFF counts past what the text holds: refused before allocating, by name.
+  auto off = ImportMesh("OFF\n3000000 1 0\n0 0 0\n");  // under the 4M limit
+  ASSERT_FALSE(off.ok());
+  EXPECT_EQ(off.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(off.status().message().find("claims"), std::string::npos) << off.status().message();
 }
 
 TEST(HostileInput, DracoHeaderClaimingHugeCountsIsRejectedBeforeDecoding) {
