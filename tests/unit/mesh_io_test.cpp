@@ -221,6 +221,32 @@ TEST(HostileInput, ImagesAreCheckedByTheirBytesAndCounted) {
   EXPECT_GT(r.status().actual(), 2000.0);
 }
 
+// Checklist 14: images are carried as bytes and never decoded. A PNG whose
+// header claims 16M x 16M pixels over a garbage IDAT would make any decoder
+// fail (or allocate a petabyte): it imports, and comes back byte for byte.
+TEST(HostileInput, ImagesAreNeverDecoded) {
+  std::string glb = ReadFile(kModels + "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
+  const size_t png = glb.find("\x89PNG\r\n\x1a\n");
+  ASSERT_NE(png, std::string::npos);
+  ASSERT_EQ(glb.compare(png + 12, 4, "IHDR"), 0);
+  const char huge[4] = {0x00, static_cast<char>(0xff), static_cast<char>(0xff),
+                        static_cast<char>(0xff)};
+  glb.replace(png + 16, 4, huge, 4);  // width
+  glb.replace(png + 20, 4, huge, 4);  // height
+  const size_t idat = glb.find("IDAT", png);
+  ASSERT_NE(idat, std::string::npos);
+  glb.replace(idat + 4, 32, std::string(32, static_cast<char>(0xa5)));
+  const ImportedMesh in = ImportOk(glb);
+  ASSERT_NE(in.look, nullptr);
+  ExportOptions o;
+  o.glb_draco = false;
+  o.look = in.look;
+  const auto images = GlbImages(*ExportMesh(in.mesh, MeshFormat::kGlb, o));
+  ASSERT_EQ(images.size(), 1u);
+  EXPECT_EQ(images[0].first.substr(0, 24), glb.substr(png, 24));  // the lying header
+  EXPECT_EQ(images[0].first.find(std::string(32, static_cast<char>(0xa5))), idat + 4 - png);
+}
+
 // OBJ's g (and o) groups, and glTF's nodes, are the units of rigid "groups":
 // a group split by usemtl stays one unit.
 TEST(MeshImport, ObjGroupsAndGltfNodesAreRigidUnits) {
@@ -575,6 +601,39 @@ TEST(HostileInput, AccessorCountPastTheBufferIsRejected) {
   auto r = ImportMesh(MinimalGltf(kTriangleData, 1000000));
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.status().message().find("do not fit"), std::string::npos) << r.status().message();
+}
+
+// Checklist 11: strides, views and sparse accessors that point past the
+// bytes (run under ASan in CI: no out-of-bounds read either).
+TEST(HostileInput, StridesViewsAndSparseAccessorsPastTheBufferAreRejected) {
+  const nlohmann::json base = nlohmann::json::parse(MinimalGltf(kTriangleData));
+  std::vector<std::pair<std::string, nlohmann::json>> cases;
+  nlohmann::json j = base;
+  j["bufferViews"][0]["byteStride"] = 252;  // 3 vertices 252 bytes apart: 516 > 36
+  cases.emplace_back("byteStride", j);
+  j = base;
+  j["bufferViews"][0]["byteOffset"] = 24;  // a 36-byte view from 24 in a 36-byte buffer
+  cases.emplace_back("bufferView past the buffer", j);
+  j = base;
+  j["bufferViews"][0]["byteLength"] = 1 << 30;
+  cases.emplace_back("bufferView longer than the buffer", j);
+  j = base;
+  j["accessors"][0]["byteOffset"] = 4294967292u;
+  cases.emplace_back("accessor offset", j);
+  j = base;
+  // Sparse indices read from bytes 12-15 of the data: 0x3f800000, far past
+  // the 3 vertices.
+  j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 12}, {"byteLength", 4}});
+  j["accessors"][0]["sparse"] = {{"count", 1},
+                                 {"indices", {{"bufferView", 1}, {"componentType", 5125}}},
+                                 {"values", {{"bufferView", 0}}}};
+  cases.emplace_back("sparse index out of range", j);
+  for (const auto& [what, gltf] : cases) {
+    auto r = ImportMesh(gltf.dump());
+    ASSERT_FALSE(r.ok()) << what;
+    EXPECT_EQ(r.status().code(), ErrorCode::kInvalidArgument)
+        << what << ": " << r.status().ToString();
+  }
 }
 
 TEST(HostileInput, DeepJsonIsRejectedBeforeParsing) {
