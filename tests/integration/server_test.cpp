@@ -485,14 +485,31 @@ TEST_F(ServerTest, RequestFramingAttacks) {
         << k.headers << reply.bytes;
     EXPECT_NE(reply.bytes.find("application/problem+json"), std::string::npos);
   }
-  // Thousands of overlapping ranges: ignored, one plain response.
+  // Thousands of overlapping ranges, on every kind of route (a static file,
+  // a built-in GET, a JSON POST, an error): ignored, one plain response.
   std::string ranges = "bytes=0-5";
   for (int k = 0; k < 1500; ++k) ranges += ",0-5";
-  RawReply reply =
-      Raw(port(), "GET /openapi.yaml HTTP/1.1\r\nHost: x\r\nConnection: close\r\nRange: " + ranges +
-                      "\r\n\r\n");
-  EXPECT_EQ(reply.bytes.rfind("HTTP/1.1 200", 0), 0u);
-  EXPECT_EQ(reply.bytes.find("multipart/byteranges"), std::string::npos);
+  const std::string surface = SurfaceBody();
+  for (const auto& [request, status] :
+       {std::pair{std::string("GET /openapi.yaml HTTP/1.1\r\n"), 200},
+        std::pair{std::string("GET /healthz HTTP/1.1\r\n"), 200},
+        std::pair{std::string("GET /v1/info HTTP/1.1\r\n"), 200},
+        std::pair{std::string("GET /no-such HTTP/1.1\r\n"), 404},
+        std::pair{
+            "POST /v1/surfaces HTTP/1.1\r\nContent-Type: application/json\r\nContent-Length: " +
+                std::to_string(surface.size()) + "\r\n",
+            201}}) {
+    const bool post = request.rfind("POST", 0) == 0;
+    RawReply reply = Raw(port(), request + "Host: x\r\nConnection: close\r\nRange: " + ranges +
+                                     "\r\n\r\n" + (post ? surface : ""));
+    EXPECT_TRUE(reply.bytes.rfind("HTTP/1.1 " + std::to_string(status), 0) == 0 ||
+                (post && reply.bytes.rfind("HTTP/1.1 200", 0) == 0))
+        << request << reply.bytes.substr(0, 80);
+    EXPECT_EQ(CountResponses(reply.bytes), 1) << request;
+    EXPECT_EQ(reply.bytes.find("multipart/byteranges"), std::string::npos) << request;
+    EXPECT_EQ(reply.bytes.find("HTTP/1.1 206"), std::string::npos) << request;
+  }
+  RawReply reply;
   // A 1 MB header line and 10,000 headers.
   reply = Raw(port(), "GET /healthz HTTP/1.1\r\nHost: x\r\nX-Big: " + std::string(1 << 20, 'a') +
                           "\r\n\r\n");
