@@ -1,5 +1,5 @@
 // Checks on a request's framing, made before its body is read: they close
-// the gaps of cpp-httplib 0.11.4 listed in RELIABILITY.md (chunked bodies and
+// the gaps of cpp-httplib 0.11.4 listed in docs/RELIABILITY.md (chunked bodies and
 // bodies without a length are read without limit; Content-Length parsed with
 // strtoull; compressed bodies inflated past the size limit; header counts
 // unbounded).

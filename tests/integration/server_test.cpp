@@ -455,7 +455,7 @@ TEST_F(ServerTest, CorsPreflightAndHeadersOnErrors) {
   EXPECT_EQ(r->get_header_value("Access-Control-Allow-Origin"), "");
 }
 
-// RELIABILITY.md checklist 1-7: framing attacks get an answer before any body
+// docs/RELIABILITY.md, checklist 1-7: framing attacks get an answer before any body
 // is read, the connection is closed, and left-over bytes are never parsed as
 // another request.
 TEST_F(ServerTest, RequestFramingAttacks) {
@@ -540,7 +540,7 @@ std::string Gltf(const std::string& uri, const std::string& accessor_extra = "",
          extras + "}";
 }
 
-// RELIABILITY.md checklist 10-16 and 19 through the HTTP API: hostile mesh
+// docs/RELIABILITY.md, checklist 10-16 and 19 through the HTTP API: hostile mesh
 // bytes get a clear 4xx, never a file read, a path in the text, or a crash.
 TEST_F(ServerTest, HostileMeshesGetClearErrors) {
   auto c = Client();
@@ -864,9 +864,18 @@ TEST(ServerShutdown, SigtermFinishesInFlightRequestsAndExitsZero) {
       statuses[t] = r ? r->status : -1;
     });
   }
-  std::this_thread::sleep_for(300ms);
-  pid_t pid = -1;
-  (void)pid;
+  // The server's own count says they are all in flight when the signal
+  // comes (each flattening takes seconds; the wait for them to start is
+  // bounded).
+  double running = 0;
+  for (int k = 0; k < 50 && running < kClients; ++k) {
+    std::this_thread::sleep_for(100ms);
+    httplib::Client c("127.0.0.1", port);
+    auto m = c.Get("/metrics");
+    ASSERT_TRUE(m);
+    running = MetricValue(m->body, "surfdeform_admission_running");
+  }
+  ASSERT_EQ(running, kClients) << "the slow requests were not all in flight";
   std::thread stopper([&] { EXPECT_EQ(server.Stop(SIGTERM), 0); });
   std::this_thread::sleep_for(150ms);
   {
