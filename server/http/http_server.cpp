@@ -2,9 +2,11 @@
 
 #include <httplib.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -114,6 +116,41 @@ std::string ToAscii(const std::string& json_text) {
   return json::parse(json_text, nullptr, false).dump(-1, ' ', true, json::error_handler_t::replace);
 }
 
+// A connection in memory (HttpServer::ServeBytes): reads from the input,
+// writes to the output.
+class MemoryStream final : public httplib::Stream {
+ public:
+  explicit MemoryStream(std::string_view input) : input_(input) {}
+  bool is_readable() const override { return at_ < input_.size(); }
+  bool is_writable() const override { return true; }
+  ssize_t read(char* ptr, size_t size) override {
+    const size_t n = std::min(size, input_.size() - at_);
+    std::memcpy(ptr, input_.data() + at_, n);
+    at_ += n;
+    return static_cast<ssize_t>(n);
+  }
+  ssize_t write(const char* ptr, size_t size) override {
+    output_.append(ptr, size);
+    return static_cast<ssize_t>(size);
+  }
+  void get_remote_ip_and_port(std::string& ip, int& port) const override {
+    ip = "127.0.0.1";
+    port = 1;
+  }
+  void get_local_ip_and_port(std::string& ip, int& port) const override {
+    ip = "127.0.0.1";
+    port = 2;
+  }
+  socket_t socket() const override { return 0; }
+  bool done() const { return at_ >= input_.size(); }
+  std::string& output() { return output_; }
+
+ private:
+  std::string_view input_;
+  size_t at_ = 0;
+  std::string output_;
+};
+
 }  // namespace
 
 // httplib::Server with access to its listening socket, whose backlog httplib
@@ -136,6 +173,10 @@ class Listener : public httplib::Server {
       gate_.store(gate);
       return gate;
     };
+  }
+  // One request from `stream`, as on a connection (see HttpServer::ServeBytes).
+  bool ServeStream(httplib::Stream& stream, bool& connection_closed) {
+    return process_request(stream, false, connection_closed, nullptr);
   }
   ConnectionStats connection_stats() const {
     ConnectionGate* gate = gate_.load();
@@ -693,5 +734,14 @@ void HttpServer::Run() { impl_->server.listen_after_bind(); }
 void HttpServer::Drain() { impl_->ready.store(false); }
 
 void HttpServer::Stop() { impl_->server.stop(); }
+
+std::string HttpServer::ServeBytes(std::string_view input) {
+  MemoryStream stream(input);
+  bool closed = false;
+  while (!stream.done() && !closed) {
+    if (!impl_->server.ServeStream(stream, closed)) break;
+  }
+  return std::move(stream.output());
+}
 
 }  // namespace surfdeform::http

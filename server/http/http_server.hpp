@@ -7,6 +7,7 @@
 #include <atomic>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "service/metrics.hpp"
@@ -53,6 +54,12 @@ class HttpServer {
   void Drain();
   // Stops accepting; requests in flight finish, then Run() returns.
   void Stop();
+
+  // One connection's bytes in, what the server wrote back out, with no
+  // socket: the requests in `input` are served in turn, as on a kept-alive
+  // connection, until it ends or the server closes it. For the fuzzers
+  // (tests/fuzz/http_fuzzer.cpp); no Bind() needed.
+  std::string ServeBytes(std::string_view input);
 
  private:
   struct Impl;

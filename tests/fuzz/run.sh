@@ -1,28 +1,41 @@
 #!/usr/bin/env bash
-# Builds the mesh import fuzzer with clang (libFuzzer + AddressSanitizer +
-# UndefinedBehaviorSanitizer) and runs it from a seed corpus of small real
-# files: for SECONDS (default 60), or, with FUZZ_RUNS set, for that many inputs
-# from a fixed seed (deterministic: what scripts/test.sh does).
-# Usage: tests/fuzz/run.sh [SECONDS]
+# Builds the libFuzzer targets with clang (libFuzzer + AddressSanitizer +
+# UndefinedBehaviorSanitizer) and runs them:
+#   import  mesh import (every format), then every writer on what it accepted
+#   params  request JSON into the request types
+#   http    whole connections into the HTTP layer: framing, multipart, routes
+# Each starts from its committed seeds (tests/fuzz/seeds/TARGET) and the
+# corpus it grew before, kept in build-fuzz/corpus/TARGET between runs.
+# Findings go to build-fuzz/crashes/TARGET-*; the run fails on one.
+#
+# Usage: tests/fuzz/run.sh [SECONDS] [TARGET...]
+#   SECONDS per target (default 60); targets default to all three.
+#   FUZZ_RUNS=N instead runs N inputs per target from a fixed seed
+#   (deterministic on a fresh clone: what scripts/test.sh does).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-seconds=${1:-60}
+seconds=60
+if [[ ${1:-} =~ ^[0-9]+$ ]]; then
+  seconds=$1
+  shift
+fi
+targets=("$@")
+((${#targets[@]})) || targets=(import params http)
 CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DSURFDEFORM_FUZZ=ON -DSURFDEFORM_BUILD_TESTS=OFF -DSURFDEFORM_BUILD_BENCH=OFF \
   -DSURFDEFORM_AVX2=OFF > /dev/null
-cmake --build build-fuzz --target import_fuzzer
-corpus=$(mktemp -d)
-trap 'rm -rf "$corpus"' EXIT
-models=/usr/share/assimp/models
-for f in PLY/cube.ply PLY/cube_binary.ply OBJ/box.obj OBJ/cube_usemtl.obj STL/triangle.stl \
-         OFF/Cube.off glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf; do
-  cp "$models/$f" "$corpus/$(echo "$f" | tr / _)"
-done
-mkdir -p build-fuzz/crashes
+cmake --build build-fuzz --target "${targets[@]/%/_fuzzer}"
 if [[ -n ${FUZZ_RUNS:-} ]]; then
   budget=(-runs="$FUZZ_RUNS" -seed=1)
 else
   budget=(-max_total_time="$seconds")
 fi
-./build-fuzz/tests/fuzz/import_fuzzer "$corpus" "${budget[@]}" -max_len=65536 \
-  -rss_limit_mb=2048 -artifact_prefix=build-fuzz/crashes/ -print_final_stats=1
+mkdir -p build-fuzz/crashes
+for t in "${targets[@]}"; do
+  echo "== fuzzing $t"
+  mkdir -p "build-fuzz/corpus/$t"
+  # Quiet by default: a line per second of progress is noise in CI logs.
+  ./build-fuzz/tests/fuzz/${t}_fuzzer "build-fuzz/corpus/$t" "tests/fuzz/seeds/$t" "${budget[@]}" \
+    -max_len=65536 -timeout=20 -rss_limit_mb=2048 -artifact_prefix="build-fuzz/crashes/$t-" \
+    -print_final_stats=1 -print_coverage=0 -close_fd_mask=1
+done

@@ -1,0 +1,24 @@
+// libFuzzer target: request JSON into the request types, as the service
+// reads it (the depth limit first, then the parsers of POST /v1/surfaces,
+// the deformation parameters and POST /v1/surfaces/{id}/map). Whatever is
+// accepted is serialised back. Build with SURFDEFORM_FUZZ=ON and clang (see
+// tests/fuzz/run.sh).
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "proto/api.hpp"
+#include "proto/json_object.hpp"
+#include "proto/map_api.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  auto json = surfdeform::proto::ParseRequestJson(text, 32, "params");
+  if (!json.ok()) return 0;
+  (void)surfdeform::proto::ParseSurfaceRequest(*json);
+  (void)surfdeform::proto::ParseDeformParams(*json);
+  (void)surfdeform::proto::ParseMapRequest(*json, surfdeform::proto::MapLimits{});
+  // The replies' JSON is dumped with replacement of invalid UTF-8, as ever.
+  (void)json->dump(-1, ' ', true, nlohmann::json::error_handler_t::replace);
+  return 0;
+}
