@@ -34,13 +34,35 @@ bool RefuseWrite(std::string*, const std::string&, const std::vector<unsigned ch
   return false;
 }
 // Images are never decoded: the loader keeps each image's bytes as they are
-// (from its buffer view or its data: URI), by image index, in *user.
-bool KeepImageBytes(tinygltf::Image*, const int index, std::string*, std::string*, int, int,
-                    const unsigned char* bytes, int size, void* user) {
-  auto* kept = static_cast<std::vector<std::string>*>(user);
+// (from its buffer view or its data: URI), by image index.
+struct ImageSink {
+  const tinygltf::Model* model = nullptr;  // the one being loaded: its buffers are in
+  std::vector<std::string> kept;
+};
+bool KeepImageBytes(tinygltf::Image* image, const int index, std::string* err, std::string*, int,
+                    int, const unsigned char* bytes, int size, void* user) {
+  auto* sink = static_cast<ImageSink*>(user);
   if (index < 0 || bytes == nullptr || size <= 0) return true;
-  if (static_cast<size_t>(index) >= kept->size()) kept->resize(static_cast<size_t>(index) + 1);
-  (*kept)[index].assign(reinterpret_cast<const char*>(bytes), static_cast<size_t>(size));
+  // tinygltf 2.7.0 hands over a buffer view's bytes without checking the view
+  // against its buffer (found by tests/fuzz, import target): check it here,
+  // before reading one byte.
+  if (image != nullptr && image->bufferView >= 0) {
+    const auto& views = sink->model->bufferViews;
+    const size_t v = static_cast<size_t>(image->bufferView);
+    const bool fits = v < views.size() && views[v].buffer >= 0 &&
+                      static_cast<size_t>(views[v].buffer) < sink->model->buffers.size() &&
+                      views[v].byteOffset <= sink->model->buffers[views[v].buffer].data.size() &&
+                      static_cast<size_t>(size) <=
+                          sink->model->buffers[views[v].buffer].data.size() - views[v].byteOffset;
+    if (!fits) {
+      if (err != nullptr) *err += "an image's buffer view runs past its buffer\n";
+      return false;
+    }
+  }
+  if (static_cast<size_t>(index) >= sink->kept.size()) {
+    sink->kept.resize(static_cast<size_t>(index) + 1);
+  }
+  sink->kept[index].assign(reinterpret_cast<const char*>(bytes), static_cast<size_t>(size));
   return true;
 }
 
@@ -497,9 +519,10 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
   // Built without file system support; the callbacks refuse as well, should
   // that ever change.
   loader.SetFsCallbacks({&RefuseExists, &RefuseExpand, &RefuseRead, &RefuseWrite, nullptr});
-  std::vector<std::string> image_bytes;
-  loader.SetImageLoader(&KeepImageBytes, &image_bytes);
   tinygltf::Model model;
+  ImageSink images;
+  images.model = &model;
+  loader.SetImageLoader(&KeepImageBytes, &images);
   std::string err, warn;
   const bool ok =
       binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
@@ -532,7 +555,7 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
                                             : m.name);
   }
   SURFDEFORM_ASSIGN_OR_RETURN(out->look,
-                              LookOf(model, std::move(image_bytes), limits, &out->warnings));
+                              LookOf(model, std::move(images.kept), limits, &out->warnings));
   // Every node of the default scene (or of all scenes, or every root node),
   // iteratively, each visited once (cycles in the node graph are errors).
   std::vector<int> roots;

@@ -247,6 +247,21 @@ TEST(HostileInput, ImagesAreNeverDecoded) {
   EXPECT_EQ(images[0].first.find(std::string(32, static_cast<char>(0xa5))), idat + 4 - png);
 }
 
+// Found by the import fuzzer: tinygltf 2.7.0 hands an image's buffer view to
+// the image loader without checking it against its buffer. A buffer that
+// declares fewer bytes than the image's view needs: refused, never read past
+// (this runs under ASan in CI).
+TEST(HostileInput, AnImageViewPastItsBufferIsRefused) {
+  std::string glb = ReadFile(kModels + "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
+  const std::string declared = "\"buffers\":[{\"byteLength\":3273}]";
+  const size_t at = glb.find(declared);
+  ASSERT_NE(at, std::string::npos);
+  glb.replace(at, declared.size(), "\"buffers\":[{\"byteLength\":1636}]");  // same length
+  auto r = ImportMesh(glb);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kInvalidArgument) << r.status().ToString();
+}
+
 // OBJ's g (and o) groups, and glTF's nodes, are the units of rigid "groups":
 // a group split by usemtl stays one unit.
 TEST(MeshImport, ObjGroupsAndGltfNodesAreRigidUnits) {
@@ -488,7 +503,7 @@ INSTANTIATE_TEST_SUITE_P(
       return n;
     });
 
-// --- hostile input (RELIABILITY.md checklist 10-17) ---
+// --- hostile input (docs/RELIABILITY.md, checklist 10-17) ---
 
 std::string MinimalGltf(const std::string& buffer_uri, size_t accessor_count = 3) {
   nlohmann::json j = {
