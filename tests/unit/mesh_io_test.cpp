@@ -1,6 +1,7 @@
 // Mesh import/export: round trips, real files, hostile input.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -803,6 +804,22 @@ TEST(HostileInput, TinyStlAndOffClaims) {
   ASSERT_FALSE(off.ok());
   EXPECT_EQ(off.status().code(), ErrorCode::kInvalidArgument);
   EXPECT_NE(off.status().message().find("claims"), std::string::npos) << off.status().message();
+}
+
+// Found by the import fuzzer: an element of no properties and 10^14
+// records held the reader in its record loop for good.
+TEST(HostileInput, PlyElementWithoutPropertiesIsRefusedAtOnce) {
+  for (const char* format : {"ascii", "binary_little_endian"}) {
+    const std::string ply = std::string("ply\nformat ") + format +
+                            " 1.0\nelement vertex 100000000000000\nend_header\n0 0 0\n";
+    const auto t0 = std::chrono::steady_clock::now();
+    auto r = ImportMesh(ply);
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1)) << format;
+    ASSERT_FALSE(r.ok()) << format;
+    EXPECT_EQ(r.status().code(), ErrorCode::kInvalidArgument) << r.status().ToString();
+    EXPECT_NE(r.status().message().find("no properties"), std::string::npos)
+        << r.status().message();
+  }
 }
 
 TEST(HostileInput, DracoHeaderClaimingHugeCountsIsRejectedBeforeDecoding) {
