@@ -49,12 +49,7 @@ std::string StatusLine(int port, const std::string& bytes) {
   if (fd < 0) return "";
   timeval tv{10, 0};
   setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-  size_t sent = 0;
-  while (sent < bytes.size()) {
-    const ssize_t n = send(fd, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
-    if (n <= 0) break;
-    sent += static_cast<size_t>(n);
-  }
+  SendAll(fd, bytes);  // the server may refuse before it has all of it
   std::string reply;
   char buf[4096];
   while (reply.find("\r\n") == std::string::npos) {

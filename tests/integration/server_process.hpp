@@ -38,6 +38,8 @@ class ServerProcess {
 
 // A TCP connection to 127.0.0.1:port, or -1.
 int ConnectLoopback(int port);
+// Sends all of `bytes` (MSG_NOSIGNAL); false once the peer stops taking them.
+bool SendAll(int fd, const std::string& bytes);
 
 // The server binary, and the one with fault points (set by CMake).
 const char* ServerBinary();

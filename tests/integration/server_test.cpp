@@ -89,12 +89,7 @@ RawReply Raw(int port, const std::string& request, std::chrono::milliseconds wai
   timeval tv{static_cast<time_t>(wait.count() / 1000),
              static_cast<suseconds_t>((wait.count() % 1000) * 1000)};
   setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-  size_t sent = 0;
-  while (sent < request.size()) {
-    const ssize_t n = send(fd, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
-    if (n <= 0) break;
-    sent += static_cast<size_t>(n);
-  }
+  SendAll(fd, request);  // the server may close before it has all of it
   char buf[65536];
   for (;;) {
     const ssize_t n = recv(fd, buf, sizeof buf, 0);

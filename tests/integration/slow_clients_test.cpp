@@ -26,16 +26,6 @@ using Clock = std::chrono::steady_clock;
 constexpr int kWorkers = 4;
 constexpr auto kHeadTimeout = 1500ms;
 
-bool SendAll(int fd, const std::string& bytes) {
-  size_t sent = 0;
-  while (sent < bytes.size()) {
-    const ssize_t n = send(fd, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
-    if (n <= 0) return false;
-    sent += static_cast<size_t>(n);
-  }
-  return true;
-}
-
 // A slow client: sends `first`, then `piece` every `every` until the server
 // closes the connection (or `give_up`). Records what the server sent and
 // when it closed.
