@@ -85,12 +85,15 @@ sleep 1
 running_on() {
   curl -s "http://127.0.0.1:$1/metrics" | awk '$1 == "surfdeform_admission_running" { print $2 }'
 }
-# Stopped while it serves: a bounded wait until it has a request in flight.
-for _ in $(seq 100); do
-  (($(running_on "${ports[1]}") >= 1)) && break
-  sleep 0.02
+# Stopped while it serves: a bounded wait until it has a request in flight,
+# then the stop at once (the count that let the loop end is the one reported:
+# a second read could land between two requests and see none).
+stopped_in_flight=0
+for _ in $(seq 200); do
+  stopped_in_flight=$(running_on "${ports[1]}")
+  ((${stopped_in_flight:-0} >= 1)) && break
+  sleep 0.01
 done
-stopped_in_flight=$(running_on "${ports[1]}")
 kill -TERM "${pids[1]}"
 for p in "${load[@]}"; do wait "$p" || fail "a load client ended with status $?"; done
 
