@@ -269,6 +269,7 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
   std::vector<int> relaxed(threads, 0);
   std::vector<int> direct_count(threads, 0);
   std::vector<long long> failed(threads, -1);  // first failing edge index per chunk
+  std::vector<char> out_of_time(threads, 0);
   std::vector<std::vector<PathPoint>> paths(threads);
   std::vector<std::vector<Vec2>> steps(threads);
   std::vector<std::vector<PathPoint>> trials(threads);
@@ -277,6 +278,10 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
     std::vector<Vec2>& step = steps[slot];
     std::vector<PathPoint>& trial = trials[slot];
     for (int ri = r0; ri < r1; ++ri) {
+      if (std::chrono::steady_clock::now() > options.deadline) {
+        out_of_time[slot] = 1;
+        break;
+      }
       const auto [di, dj, j, first] = rows[ri];
       const int ring = std::max(std::abs(di), dj);
       size_t slot_edge = first;
@@ -340,6 +345,12 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
   for (int t = 0; t < threads; ++t) {
     out.relaxed_paths += relaxed[t];
     out.direct_pairs += direct_count[t];
+  }
+  for (char late : out_of_time) {
+    if (late) {
+      return Status::DeadlineExceeded("the surface distances ran past the time budget", "flatten",
+                                      0.0, 0.0);
+    }
   }
   long long first_failure = -1;
   for (long long fe : failed) {

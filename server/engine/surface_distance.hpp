@@ -30,6 +30,7 @@
 // plus up to (f * r - 1) * steps evaluations per pair whose path bends.
 #pragma once
 
+#include <chrono>
 #include <vector>
 
 #include "base/status.hpp"
@@ -42,6 +43,8 @@ struct DistanceOptions {
   int lattice_factor = 0;  // lattice points per grid cell side; 0 = automatic (4, or 2 above 64)
   int relax_steps = 2;     // Gauss-Newton steps per path; 0 = straight segments only
   int threads = 0;         // worker threads; 0 = one per core. Results do not depend on it.
+  // Past it, the work stops between rows of pairs with kDeadlineExceeded.
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 // One pair of samples (i < j in index order) with its surface distance.

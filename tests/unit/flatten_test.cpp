@@ -214,6 +214,25 @@ TEST(Flatten, RejectsBadOptions) {
   EXPECT_EQ(FlattenSurface(*s, {8, 600}).status().field(), "nv");
 }
 
+// The time budget covers the surface distances too, not only the solve: a
+// 1 ms budget on a 96 x 96 wave (tens of ms of distances alone) stops there,
+// with the budget and the time spent.
+TEST(Flatten, TheTimeBudgetStopsTheSurfaceDistances) {
+  auto s = Make(WaveSpec{});
+  FlattenOptions o;
+  o.time_budget_ms = 1;
+  o.threads = 1;
+  auto r = FlattenSurface(*s, {96, 96}, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kDeadlineExceeded);
+  EXPECT_EQ(r.status().field(), "flatten");
+  EXPECT_NE(r.status().message().find("surface distances"), std::string::npos)
+      << r.status().ToString();
+  // With no budget the same grid flattens.
+  o.time_budget_ms = 0;
+  EXPECT_TRUE(FlattenSurface(*s, {96, 96}, o).ok());
+}
+
 TEST(Flatten, DivergingPaperStepIsAnErrorNotNaN) {
   auto s = Make(testing::LoadBezierFile(testing::DataPath("figure8.json")));
   FlattenOptions o;
