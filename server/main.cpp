@@ -221,18 +221,25 @@ int main(int argc, char** argv) {
             << "\",\"port\":" << server.port()
             << ",\"shared_tier\":" << (shared.url.empty() ? "false" : "true") << "}" << std::endl;
 
+  // The signal thread drains and stops the server; it is joined before the
+  // server and the service are destroyed (ThreadSanitizer caught a detached
+  // one still inside Stop() while main destroyed the server).
   std::atomic<bool> stopped_by_signal{false};
+  std::atomic<bool> run_ended{false};
   std::thread signal_thread([&] {
     int signal = 0;
     sigwait(&signals, &signal);
+    if (run_ended) return;  // woken below: the server stopped by itself
     stopped_by_signal = true;
     std::cout << "{\"event\":\"draining\",\"signal\":" << signal << "}" << std::endl;
     server.Drain();
     std::this_thread::sleep_for(std::chrono::duration<double>(drain_seconds));
     server.Stop();
   });
-  signal_thread.detach();
   server.Run();
+  run_ended = true;
+  if (!stopped_by_signal) pthread_kill(signal_thread.native_handle(), SIGTERM);
+  signal_thread.join();
   std::cout << "{\"event\":\"stopped\"}" << std::endl;
   return stopped_by_signal ? 0 : 1;
 }
