@@ -5,8 +5,8 @@
 #   params  request JSON into the request types
 #   http    whole connections into the HTTP layer: framing, multipart, routes
 # Each starts from its committed seeds (tests/fuzz/seeds/TARGET) and the
-# corpus it grew before, kept in build-fuzz/corpus/TARGET between runs.
-# Findings go to build-fuzz/crashes/TARGET-*; the run fails on one.
+# corpus it grew before, kept in BUILD/corpus/TARGET between runs.
+# Findings go to BUILD/crashes/TARGET-*; the run fails on one.
 #
 # Usage: tests/fuzz/run.sh [SECONDS] [TARGET...]
 #   SECONDS per target (default 60); targets default to all three.
@@ -21,21 +21,27 @@ if [[ ${1:-} =~ ^[0-9]+$ ]]; then
 fi
 targets=("$@")
 ((${#targets[@]})) || targets=(import params http)
-CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DSURFDEFORM_FUZZ=ON -DSURFDEFORM_BUILD_TESTS=OFF -DSURFDEFORM_BUILD_BENCH=OFF \
-  -DSURFDEFORM_AVX2=OFF > /dev/null
-cmake --build build-fuzz --target "${targets[@]/%/_fuzzer}"
+# FUZZ_BUILD_DIR=DIR uses a build already configured with SURFDEFORM_FUZZ
+# (scripts/test.sh's build-san, which also holds the sanitized tests); by
+# default the fuzzers get a build of their own, build-fuzz.
+dir=${FUZZ_BUILD_DIR:-build-fuzz}
+if [[ -z ${FUZZ_BUILD_DIR:-} ]]; then
+  CC=clang-14 CXX=clang++-14 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DSURFDEFORM_FUZZ=ON -DSURFDEFORM_BUILD_TESTS=OFF -DSURFDEFORM_BUILD_BENCH=OFF \
+    -DSURFDEFORM_AVX2=OFF > /dev/null
+fi
+cmake --build "$dir" --target "${targets[@]/%/_fuzzer}"
 if [[ -n ${FUZZ_RUNS:-} ]]; then
   budget=(-runs="$FUZZ_RUNS" -seed=1)
 else
   budget=(-max_total_time="$seconds")
 fi
-mkdir -p build-fuzz/crashes
+mkdir -p "$dir/crashes"
 for t in "${targets[@]}"; do
   echo "== fuzzing $t"
-  mkdir -p "build-fuzz/corpus/$t"
+  mkdir -p "$dir/corpus/$t"
   # Quiet by default: a line per second of progress is noise in CI logs.
-  ./build-fuzz/tests/fuzz/${t}_fuzzer "build-fuzz/corpus/$t" "tests/fuzz/seeds/$t" "${budget[@]}" \
-    -max_len=65536 -timeout=20 -rss_limit_mb=2048 -artifact_prefix="build-fuzz/crashes/$t-" \
+  "$dir/tests/fuzz/${t}_fuzzer" "$dir/corpus/$t" "tests/fuzz/seeds/$t" "${budget[@]}" \
+    -max_len=65536 -timeout=20 -rss_limit_mb=2048 -artifact_prefix="$dir/crashes/$t-" \
     -print_final_stats=1 -print_coverage=0 -close_fd_mask=1
 done
