@@ -198,16 +198,17 @@ TEST(Disconnects, MidUploadAndMidDownloadLeakNoDescriptorAndNoRequestInFlight) {
   // Every connection ends: the descriptors and the in-flight gauge come
   // back (a bound on the wait, not a sleep to hope by).
   int after = -1;
-  double in_flight = -1;
+  double in_flight = -1, served = -1;
   for (int k = 0; k < 100; ++k) {
     std::this_thread::sleep_for(100ms);
     after = OpenDescriptors(server.pid());
     in_flight = Metric(port, "surfdeform_http_requests_in_flight");
-    if (after <= before && in_flight == 1) break;
+    served = Metric(port, "surfdeform_connections_served");
+    if (after <= before && in_flight == 1 && served == 1) break;
   }
   EXPECT_LE(after, before) << "descriptors leaked";
   EXPECT_EQ(in_flight, 1) << "requests stuck in flight (the one counted is /metrics)";
-  EXPECT_EQ(Metric(port, "surfdeform_connections_served"), 1);  // /metrics
+  EXPECT_EQ(served, 1) << "connections held by workers (the one counted is /metrics)";
   auto r = warm.Get("/healthz");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 200);
