@@ -318,7 +318,60 @@ Status ReadOutput(JsonObject& parent, OutputOptions* out) {
     SURFDEFORM_RETURN_IF_ERROR(ValidateDracoOptions(out->draco));  // names output.draco.*
   }
   SURFDEFORM_RETURN_IF_ERROR(o.Boolean("distortion", &out->distortion));
+  if (o.Find("compression") != nullptr) {
+    AnimationCompression c = AnimationCompression::kMeshopt;
+    SURFDEFORM_RETURN_IF_ERROR(
+        o.Choice<AnimationCompression>("compression", kAnimationCompressions, &c));
+    out->compression = c;
+  }
   return o.Finish();
+}
+
+Status ReadSubdivision(JsonObject& parent, SubdivisionOptions* out) {
+  const json* v = parent.Find("subdivision");
+  if (v == nullptr) return Status::Ok();
+  SURFDEFORM_ASSIGN_OR_RETURN(auto s, JsonObject::Open(*v, parent.PathOf("subdivision")));
+  SURFDEFORM_RETURN_IF_ERROR(s.Choice<SubdivisionMode>("mode", kSubdivisionModes, &out->mode));
+  SURFDEFORM_RETURN_IF_ERROR(s.Number("epsilon", &out->epsilon));
+  SURFDEFORM_RETURN_IF_ERROR(s.Number("tolerance", &out->tolerance));
+  SURFDEFORM_RETURN_IF_ERROR(s.Finish());
+  return ValidateSubdivision(*out);
+}
+
+// "animation" (keyframes, interpolation, frames, fps) and, beside it,
+// "sampling" and "flatten".
+Status ReadAnimationParts(JsonObject& parent, AnimationRequest* out) {
+  const json* v = parent.Find("animation");
+  if (v == nullptr) return Malformed("is required", parent.PathOf("animation"));
+  const std::string path = parent.PathOf("animation");
+  SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(*v, path));
+  AnimationSpec& spec = out->animation;
+  const json* keys = o.Find("keyframes");
+  if (keys == nullptr) return Malformed("is required", o.PathOf("keyframes"));
+  if (!keys->is_array()) {
+    return Malformed("must be an array of {\"time\", \"surface\"}, got " + JsonTypeName(*keys),
+                     o.PathOf("keyframes"));
+  }
+  for (size_t k = 0; k < keys->size(); ++k) {
+    const std::string key_path = JoinPath(o.PathOf("keyframes"), k);
+    SURFDEFORM_ASSIGN_OR_RETURN(JsonObject kj, JsonObject::Open((*keys)[k], key_path));
+    Keyframe key;
+    if (kj.Find("time") == nullptr) return Malformed("is required", kj.PathOf("time"));
+    SURFDEFORM_RETURN_IF_ERROR(kj.Number("time", &key.time));
+    const json* surface = kj.Find("surface");
+    if (surface == nullptr) return Malformed("is required", kj.PathOf("surface"));
+    SURFDEFORM_ASSIGN_OR_RETURN(key.surface, ReadSurface(*surface, kj.PathOf("surface")));
+    SURFDEFORM_RETURN_IF_ERROR(kj.Finish());
+    spec.keyframes.push_back(std::move(key));
+  }
+  SURFDEFORM_RETURN_IF_ERROR(
+      o.Choice<Interpolation>("interpolation", kInterpolations, &spec.interpolation));
+  SURFDEFORM_RETURN_IF_ERROR(o.Integer("frames", &spec.frames));
+  SURFDEFORM_RETURN_IF_ERROR(o.Number("fps", &spec.fps));
+  SURFDEFORM_RETURN_IF_ERROR(o.Finish());
+  SURFDEFORM_RETURN_IF_ERROR(ValidateAnimation(spec, kMaxAnimationFrames).WithFieldPrefix(path));
+  SURFDEFORM_RETURN_IF_ERROR(ReadSampling(parent, &out->sampling));
+  return ReadFlatten(parent, &out->flatten);
 }
 
 }  // namespace
@@ -371,13 +424,32 @@ Result<DeformParams> ParseDeformParams(const json& body) {
   DeformParams params;
   const bool inline_surface = o.Find("surface") != nullptr;
   const json* id = o.Find("surface_id");
-  if (inline_surface == (id != nullptr)) {
+  const bool animated = o.Find("animation") != nullptr;
+  if (static_cast<int>(inline_surface) + static_cast<int>(id != nullptr) +
+          static_cast<int>(animated) !=
+      1) {
     return Malformed(
-        "give exactly one of \"surface\" (inline) and \"surface_id\" (from POST "
-        "/v1/surfaces)",
-        inline_surface ? "surface_id" : "surface");
+        "give exactly one of \"surface\" (inline), \"surface_id\" (from POST "
+        "/v1/surfaces) and \"animation\" (with \"frame\")",
+        inline_surface ? (id != nullptr ? "surface_id" : "animation") : "surface");
   }
-  if (inline_surface) {
+  const json* frame = o.Find("frame");
+  if (animated) {
+    AnimationRequest request;
+    SURFDEFORM_RETURN_IF_ERROR(ReadAnimationParts(o, &request));
+    if (frame == nullptr) {
+      return Malformed("is required with \"animation\": the frame to deform, from 0", "frame");
+    }
+    SURFDEFORM_RETURN_IF_ERROR(o.Integer("frame", &params.frame));
+    if (params.frame < 0 || params.frame >= request.animation.frames) {
+      return InvalidArgument("must be from 0 to " + std::to_string(request.animation.frames - 1) +
+                                 " (the animation's frames), got " + std::to_string(params.frame),
+                             "frame");
+    }
+    params.animation = std::move(request);
+  } else if (frame != nullptr) {
+    return Malformed("belongs to an \"animation\"; a surface has no frames", "frame");
+  } else if (inline_surface) {
     SurfaceRequest request;
     SURFDEFORM_RETURN_IF_ERROR(ReadSurfaceParts(o, &request));
     params.surface = std::move(request);
@@ -399,16 +471,43 @@ Result<DeformParams> ParseDeformParams(const json& body) {
   }
   params.placement.up = UpAxis::kAuto;  // the API's default
   SURFDEFORM_RETURN_IF_ERROR(ReadPlacement(o, &params.placement));
-  if (const json* v = o.Find("subdivision"); v != nullptr) {
-    SURFDEFORM_ASSIGN_OR_RETURN(auto s, JsonObject::Open(*v, "subdivision"));
-    SURFDEFORM_RETURN_IF_ERROR(
-        s.Choice<SubdivisionMode>("mode", kSubdivisionModes, &params.subdivision.mode));
-    SURFDEFORM_RETURN_IF_ERROR(s.Number("epsilon", &params.subdivision.epsilon));
-    SURFDEFORM_RETURN_IF_ERROR(s.Number("tolerance", &params.subdivision.tolerance));
-    SURFDEFORM_RETURN_IF_ERROR(s.Finish());
-    SURFDEFORM_RETURN_IF_ERROR(ValidateSubdivision(params.subdivision));
-  }
+  SURFDEFORM_RETURN_IF_ERROR(ReadSubdivision(o, &params.subdivision));
   SURFDEFORM_RETURN_IF_ERROR(ReadOutput(o, &params.output));
+  if (params.output.compression) {
+    return Malformed("belongs to POST /v1/animate (a GLB of every frame)", "output.compression");
+  }
+  SURFDEFORM_RETURN_IF_ERROR(o.Finish());
+  return params;
+}
+
+Result<AnimateParams> ParseAnimateParams(const json& body) {
+  SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(body, ""));
+  AnimateParams params;
+  for (const char* other : {"surface", "surface_id", "frame"}) {
+    if (o.Find(other) != nullptr) {
+      return Malformed(std::string("does not belong to an animation: give \"animation\" with "
+                                   "its keyframes (POST /v1/deform takes \"") +
+                           other + "\")",
+                       other);
+    }
+  }
+  SURFDEFORM_RETURN_IF_ERROR(ReadAnimationParts(o, &params.animation));
+  params.placement.up = UpAxis::kAuto;  // the API's default
+  SURFDEFORM_RETURN_IF_ERROR(ReadPlacement(o, &params.placement));
+  SURFDEFORM_RETURN_IF_ERROR(ReadSubdivision(o, &params.subdivision));
+  SURFDEFORM_RETURN_IF_ERROR(ReadOutput(o, &params.output));
+  const OutputOptions& out = params.output;
+  if (out.format && *out.format != OutputFormat::kGlb) {
+    return InvalidArgument(std::string("an animation is a GLB of morph targets; got \"") +
+                               OutputFormatName(*out.format) + "\"",
+                           "output.format");
+  }
+  if (out.distortion) {
+    return InvalidArgument(
+        "the distortion map is not written into animations; ask POST "
+        "/v1/deform for a frame with it",
+        "output.distortion");
+  }
   SURFDEFORM_RETURN_IF_ERROR(o.Finish());
   return params;
 }
@@ -426,6 +525,28 @@ json CanonicalJson(const SurfaceRequest& r) {
             {"exact_developable", f.exact_developable},
             {"lattice_factor", f.lattice_factor},
             {"relax_steps", f.relax_steps}}}};
+}
+
+json CanonicalJson(const AnimationRequest& r) {
+  // The flattening and sampling as for one surface; the keyframes in order.
+  SurfaceRequest first{r.animation.keyframes.front().surface, r.sampling, r.flatten};
+  json j = CanonicalJson(first);
+  j.erase("surface");
+  json keys = json::array();
+  for (const Keyframe& k : r.animation.keyframes) {
+    keys.push_back({{"time", k.time}, {"surface", SurfaceJson(k.surface)}});
+  }
+  j["animation"] = {{"keyframes", std::move(keys)},
+                    {"interpolation", std::string(NameOf<Interpolation>(
+                                          kInterpolations, r.animation.interpolation))},
+                    {"frames", r.animation.frames},
+                    {"fps", r.animation.fps}};
+  return j;
+}
+
+std::string AnimationId(const AnimationRequest& request) {
+  const std::string text = "surfdeform-animation-1\n" + CanonicalJson(request).dump();
+  return Sha256Hex(text, 32);
 }
 
 std::string SurfaceId(const SurfaceRequest& request) {

@@ -13,11 +13,13 @@
 #include <string>
 
 #include "base/status.hpp"
+#include "engine/animation.hpp"
 #include "engine/deform.hpp"
 #include "engine/flatten.hpp"
 #include "engine/sample_grid.hpp"
 #include "engine/subdivide.hpp"
 #include "engine/surface_spec.hpp"
+#include "meshio/animation_glb.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_format.hpp"
 
@@ -72,15 +74,40 @@ struct OutputOptions {
   std::optional<OutputFormat> format;  // unset: from the Accept header, else drc
   DracoOptions draco;
   bool distortion = false;  // per-vertex distortion of the map (glb, glb_plain, ply only)
+  // POST /v1/animate only: how the GLB's buffers are compressed.
+  std::optional<AnimationCompression> compression;
 };
+
+// An animated surface: its keyframes, and the sampling and flattening of
+// every frame (POST /v1/animate, and POST /v1/deform with a frame).
+struct AnimationRequest {
+  AnimationSpec animation;
+  SamplingOptions sampling;
+  FlattenOptions flatten;
+};
+
+// The most frames any request may name (the server's own limit, published
+// at /v1/info, is at most this).
+inline constexpr int kMaxAnimationFrames = 100000;
 
 // POST /v1/deform parameters: a surface inline (with its sampling and
 // flattening) or the id of a flattened one, and what to do with the mesh.
 struct DeformParams {
-  std::optional<SurfaceRequest> surface;  // inline ...
-  std::string surface_id;                 // ... or by id (exactly one of them)
+  std::optional<SurfaceRequest> surface;      // inline ...
+  std::string surface_id;                     // ... or by id ...
+  std::optional<AnimationRequest> animation;  // ... or one frame of an animation
+  int frame = -1;                             // with animation: which, 0 .. frames - 1
   PlacementOptions placement;
   SubdivisionOptions subdivision;  // mode, epsilon, tolerance (limits: the server's)
+  OutputOptions output;
+};
+
+// POST /v1/animate parameters: the animation, and what to do with the mesh
+// (output: GLB only, with its compression).
+struct AnimateParams {
+  AnimationRequest animation;
+  PlacementOptions placement;
+  SubdivisionOptions subdivision;
   OutputOptions output;
 };
 
@@ -88,6 +115,7 @@ struct DeformParams {
 // and "flatten" (POST /v1/surfaces), or the deform parameters.
 Result<SurfaceRequest> ParseSurfaceRequest(const nlohmann::json& body);
 Result<DeformParams> ParseDeformParams(const nlohmann::json& body);
+Result<AnimateParams> ParseAnimateParams(const nlohmann::json& body);
 
 // The surface request with every default filled in, in a canonical form
 // (sorted keys, shortest round-trip numbers): equal requests, equal text.
@@ -97,6 +125,12 @@ nlohmann::json CanonicalJson(const SurfaceRequest& request);
 // canonical form (and the flattening algorithm's version), 32 hex digits.
 // The same on every replica.
 std::string SurfaceId(const SurfaceRequest& request);
+
+// The same for an animation's sheets: the canonical form of its keyframes,
+// interpolation, frames and fps (a single wave key advances by 1 / fps),
+// sampling and flattening.
+nlohmann::json CanonicalJson(const AnimationRequest& request);
+std::string AnimationId(const AnimationRequest& request);
 
 // True for a string that has the shape of a SurfaceId.
 bool IsSurfaceIdShaped(std::string_view text);

@@ -13,6 +13,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev  # optional peer in benchmarks (ARAP, LSCM)
   libdraco-dev draco       # Draco meshes: library, and draco_decoder for round-trip tests
   libtinygltf-dev          # glTF / GLB
+  libmeshoptimizer-dev     # EXT_meshopt_compression of animations' morph targets (/v1/animate)
   libcpp-httplib-dev       # the HTTP server (and the client in integration tests)
   libssl-dev               # SHA-256 for surface ids and ETags (OpenSSL)
   libhiredis-dev           # the optional shared surface tier (--redis)

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <span>
 
 #include "engine/elapsed.hpp"
 #include "engine/parallel.hpp"
@@ -35,13 +36,32 @@ Status ValidateInput(const FlatSheet& sheet, const Mesh& mesh, const PlacementOp
 
 // What the map reads after the subdivision: the mesh to deform (the input or
 // the refined one, in result->mesh), its placed coordinates (empty: placed
-// on the fly), and the input vertices the subdivision deformed already.
+// on the fly), and the input vertices the subdivision deformed already. The
+// spans view either the owned vectors or a PreparedModel's.
 struct Refined {
   const Mesh* source = nullptr;
-  std::vector<Vec3> placed;
-  std::vector<Vec3> known;  // per input vertex, where known_on_sheet
-  std::vector<char> known_on_sheet;
+  std::span<const Vec3> placed;
+  std::span<const Vec3> known;  // per input vertex, where known_on_sheet
+  std::span<const char> known_on_sheet;
+  std::vector<Vec3> owned_placed, owned_known;
+  std::vector<char> owned_on_sheet;
+  void Own() {
+    placed = owned_placed;
+    known = owned_known;
+    known_on_sheet = owned_on_sheet;
+  }
 };
+
+// The placed coordinates of every vertex of `mesh`.
+std::vector<Vec3> PlaceAll(const Placement& pl, const Mesh& mesh, int threads_option) {
+  const size_t n = mesh.positions.size();
+  std::vector<Vec3> placed(n);
+  const int threads = n >= 4096 ? ResolveThreads(threads_option) : 1;
+  ParallelChunks(static_cast<int>(n), threads, [&](int, int begin, int end) {
+    for (int k = begin; k < end; ++k) placed[k] = pl.Apply(mesh.positions[k]);
+  });
+  return placed;
+}
 
 // The subdivision, when asked for: refines `mesh` into result->mesh (or
 // leaves it, when nothing is needed). Positions of the input vertices are
@@ -58,37 +78,39 @@ Result<Refined> Refine(const SheetMap& map, const Placement& pl, const Mesh& mes
   const auto ts = std::chrono::steady_clock::now();
   // Placed coordinates; footprints off the sheet are reported by the map
   // (subdivision continues the map past the border meanwhile).
-  const size_t n = mesh.positions.size();
-  r.placed.resize(n);
-  const int threads = n >= 4096 ? ResolveThreads(o.threads) : 1;
-  ParallelChunks(static_cast<int>(n), threads, [&](int, int begin, int end) {
-    for (int k = begin; k < end; ++k) r.placed[k] = pl.Apply(mesh.positions[k]);
-  });
+  r.owned_placed = PlaceAll(pl, mesh, o.threads);
   SubdivisionOptions so = *subdivision;
   if (so.threads == 0) so.threads = o.threads;
   const InputPositions want = need_frame ? InputPositions::kNotWanted : InputPositions::kWanted;
   SURFDEFORM_ASSIGN_OR_RETURN(SubdivisionResult refined,
-                              Subdivide(mesh, r.placed, map, o.outside, so, want));
+                              Subdivide(mesh, r.owned_placed, map, o.outside, so, want));
   result->stats.subdivision = refined.stats;
   if (refined.input_positions) {
-    r.known = std::move(*refined.input_positions);
-    r.known_on_sheet = std::move(refined.on_sheet);
+    r.owned_known = std::move(*refined.input_positions);
+    r.owned_on_sheet = std::move(refined.on_sheet);
   }
   if (refined.unchanged) {
     if (&result->mesh != &mesh) result->mesh = Mesh{};  // as without subdivision
   } else {
     result->mesh = std::move(refined.mesh);
-    r.placed = std::move(refined.placed);
+    r.owned_placed = std::move(refined.placed);
     r.source = &result->mesh;
   }
+  r.Own();
   result->stats.subdivide_ms = MsSince(ts);
   return r;
 }
 
 // Sizes `out` for `in` and carries over what the map does not recompute,
 // unless they are the same mesh (in place).
-void PrepareOutput(const Mesh& in, Mesh* out) {
+void PrepareOutput(const Mesh& in, Mesh* out, bool geometry_only = false) {
   if (out == &in) return;
+  if (geometry_only) {
+    out->positions.resize(in.positions.size());
+    out->normals.resize(in.normals.size());
+    out->tangents.resize(in.tangents.size());
+    return;
+  }
   out->triangles = in.triangles;
   out->groups = in.groups;
   out->uv0 = in.uv0;
@@ -237,7 +259,7 @@ Status Report(const MapTally& t, const Mesh& in, size_t n_input, const Placement
 // subdivision); the distortion of a rigid motion is 0.
 Status DeformRigidly(const SheetMap& map, const Placement& pl, const Mesh& mesh,
                      const PlacementOptions& o, const DeformExtras& extras, DeformResult* result) {
-  PrepareOutput(mesh, &result->mesh);
+  PrepareOutput(mesh, &result->mesh, extras.geometry_only);
   int parts = 0;
   const std::vector<int> part = RigidParts(mesh, o.rigid, &parts);
   RigidStats rigid = PlaceRigidParts(map, pl, mesh, part, parts, o.outside, &result->mesh);
@@ -316,6 +338,131 @@ Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, 
   DeformResult result;
   result.mesh = std::move(mesh);
   SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, result.mesh, options, refine, extras, &result));
+  return result;
+}
+
+Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&& mesh,
+                                   const PlacementOptions& o,
+                                   const SubdivisionOptions& subdivision) {
+  if (maps.empty()) return InvalidArgument("no sheet to place the model on", "surface");
+  const SheetMap& first = *maps.front();
+  SURFDEFORM_RETURN_IF_ERROR(ValidateInput(first.sheet(), mesh, o, &subdivision));
+  for (const SheetMap* m : maps) {
+    if (m->sheet().nu != first.sheet().nu || m->sheet().nv != first.sheet().nv) {
+      return InvalidArgument("the sheets of one model must share their grid", "surface");
+    }
+  }
+  PreparedModel model;
+  SURFDEFORM_ASSIGN_OR_RETURN(model.placement,
+                              ComputePlacement(first.locator(), first.sheet(), mesh.positions, o));
+  model.input_vertices = mesh.positions.size();
+  model.need_frame = !mesh.normals.empty() || !mesh.tangents.empty();
+  model.known.resize(maps.size());
+  model.known_on_sheet.resize(maps.size());
+  model.mesh = std::move(mesh);
+  SubdivisionStats& st = model.subdivision;
+  st.vertices_before = st.vertices_after = model.mesh.positions.size();
+  st.triangles_before = st.triangles_after = model.mesh.triangles.size();
+  if (o.rigid != RigidMode::kNone || subdivision.mode == SubdivisionMode::kOff ||
+      model.mesh.triangles.empty()) {
+    return model;
+  }
+  const auto ts = std::chrono::steady_clock::now();
+  st.mode = subdivision.mode;
+  model.placed = PlaceAll(model.placement, model.mesh, o.threads);
+  SubdivisionOptions so = subdivision;
+  if (so.threads == 0) so.threads = o.threads;
+  const InputPositions want =
+      model.need_frame ? InputPositions::kNotWanted : InputPositions::kWanted;
+  // Refine for every map in turn: a refinement only adds vertices (after the
+  // ones it was given, in order), so what one frame needed stays for the
+  // others. A pass in which no map adds anything has measured every map on
+  // the final mesh; a third pass is never needed in practice, and the last
+  // one's measurements are what the statistics report.
+  constexpr int kMaxPasses = 3;
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    bool changed = false;
+    double max_deviation = 0.0, max_estimate = 0.0;
+    size_t measured = 0;
+    for (size_t k = 0; k < maps.size(); ++k) {
+      if (so.time_budget_ms > 0.0) {
+        so.time_budget_ms = subdivision.time_budget_ms - MsSince(ts);
+        if (so.time_budget_ms <= 0.0) {
+          return Status::DeadlineExceeded(
+              "the subdivision for every frame ran past its time budget of " +
+                  std::to_string(static_cast<long long>(subdivision.time_budget_ms)) + " ms",
+              "subdivision", subdivision.time_budget_ms, MsSince(ts));
+        }
+      }
+      SURFDEFORM_ASSIGN_OR_RETURN(
+          SubdivisionResult refined,
+          Subdivide(model.mesh, model.placed, *maps[k], o.outside, so, want));
+      max_deviation = std::max(max_deviation, refined.stats.max_deviation);
+      max_estimate = std::max(max_estimate, refined.stats.max_estimated_deviation);
+      measured += refined.stats.measured_points;
+      st.epsilon = refined.stats.epsilon;
+      st.tolerance = refined.stats.tolerance;
+      st.edge_points_considered += refined.stats.edge_points_considered;
+      st.edge_points_kept += refined.stats.edge_points_kept;
+      st.face_points_considered += refined.stats.face_points_considered;
+      st.face_points_kept += refined.stats.face_points_kept;
+      st.refinement_points += refined.stats.refinement_points;
+      if (refined.input_positions) {
+        model.known[k] = std::move(*refined.input_positions);
+        model.known_on_sheet[k] = std::move(refined.on_sheet);
+      } else {
+        model.known[k].clear();
+        model.known_on_sheet[k].clear();
+      }
+      // Only new points change the topology for the other frames; a frame
+      // that adds none may still re-triangulate the faces it measured, which
+      // is kept only if another frame adds points anyway (known positions
+      // stay valid: the vertices are the same, in the same order).
+      if (!refined.unchanged && refined.mesh.positions.size() > model.mesh.positions.size()) {
+        changed = true;
+        model.mesh = std::move(refined.mesh);
+        model.placed = std::move(refined.placed);
+      }
+    }
+    ++model.subdivision_passes;
+    st.max_deviation = max_deviation;
+    st.max_estimated_deviation = max_estimate;
+    st.measured_points = measured;
+    if (!changed) break;
+  }
+  st.vertices_after = model.mesh.positions.size();
+  st.triangles_after = model.mesh.triangles.size();
+  model.subdivide_ms = MsSince(ts);
+  st.time_ms = model.subdivide_ms;
+  return model;
+}
+
+Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& model, size_t index,
+                                    const PlacementOptions& o, const DeformExtras& extras) {
+  const auto t0 = std::chrono::steady_clock::now();
+  DeformResult result;
+  const Placement& pl = model.placement;
+  if (o.rigid != RigidMode::kNone) {
+    SURFDEFORM_RETURN_IF_ERROR(DeformRigidly(map, pl, model.mesh, o, extras, &result));
+    result.stats.time_ms = MsSince(t0);
+    return result;
+  }
+  Refined r;
+  r.source = &model.mesh;
+  r.placed = model.placed;
+  if (index < model.known.size()) {
+    r.known = model.known[index];
+    r.known_on_sheet = model.known_on_sheet[index];
+  }
+  PrepareOutput(model.mesh, &result.mesh, extras.geometry_only);
+  if (extras.distortion) MapDistortion(map, pl, r, o, &result.mesh);
+  const MapTally t =
+      MapVertices(map, pl, r, model.input_vertices, o, model.need_frame, &result.mesh);
+  result.stats.subdivision = model.subdivision;
+  result.stats.subdivide_ms = model.subdivide_ms;
+  SURFDEFORM_RETURN_IF_ERROR(Report(t, model.mesh, model.input_vertices, pl, o, &result.stats));
+  if (extras.distortion) result.stats.distortion = SummarizeDistortion(result.mesh);
+  result.stats.time_ms = MsSince(t0);
   return result;
 }
 

@@ -25,7 +25,9 @@
 // summarise it.
 #pragma once
 
+#include <span>
 #include <string>
+#include <vector>
 
 #include "base/status.hpp"
 #include "engine/distortion.hpp"
@@ -56,6 +58,11 @@ struct DeformStats {
 // What a deformation computes besides the deformed mesh.
 struct DeformExtras {
   bool distortion = false;  // Mesh::distortion per output vertex, and its stats
+  // Only the geometry the map computes (positions, normals, tangents, and the
+  // distortion when asked for) is written: for callers that keep the rest
+  // (triangles, texture coordinates, colours, groups) from the model, as an
+  // animation's frames do (DeformPrepared).
+  bool geometry_only = false;
 };
 
 struct DeformResult {
@@ -83,5 +90,39 @@ Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, 
 Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
                                 const PlacementOptions& options,
                                 const SubdivisionOptions& subdivision, const DeformExtras& extras);
+
+// One model deformed through several sheets of one grid (the frames of an
+// animation): placed once, on the first sheet, in sheet coordinates, and
+// refined once, so that every frame has one topology (the input's vertices
+// first, in order) and meets the subdivision's tolerance.
+struct PreparedModel {
+  Mesh mesh;                  // model coordinates, refined
+  std::vector<Vec3> placed;   // (a, b, h) per vertex of mesh; empty: placed on the fly
+  Placement placement;        // computed on the first sheet
+  size_t input_vertices = 0;  // the input's, before any refinement
+  bool need_frame = false;    // normals or tangents to carry
+  // The topology's: counts before and after; the largest deviation measured
+  // over every frame in the last pass, and the points measured there.
+  SubdivisionStats subdivision;
+  double subdivide_ms = 0.0;
+  int subdivision_passes = 0;  // over every map (a pass that adds nothing ends it)
+  // Per map: the deformed positions of the vertices that the last subdivision
+  // for it measured, where on the sheet (reused by the map; empty: none).
+  std::vector<std::vector<Vec3>> known;
+  std::vector<std::vector<char>> known_on_sheet;
+};
+
+// Places `mesh` on the first map's sheet and refines it for every map in
+// turn, until a pass over all of them adds nothing. Errors as DeformMesh's;
+// kDeadlineExceeded past subdivision.time_budget_ms (all maps together).
+Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&& mesh,
+                                   const PlacementOptions& options,
+                                   const SubdivisionOptions& subdivision);
+
+// The deformation of a prepared model through `map`, the map `index` of
+// those it was prepared for. The same for every caller that asks for the same
+// frame: an animation's frame k and a single frame k are one computation.
+Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& model, size_t index,
+                                    const PlacementOptions& options, const DeformExtras& extras);
 
 }  // namespace surfdeform

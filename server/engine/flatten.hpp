@@ -110,6 +110,9 @@ class Flattener {
                             const FlatSheet* warm_start = nullptr);
 
   const FlattenOptions& options() const { return options_; }
+  // New options for the next solves (an animation's time budget, frame by
+  // frame); what is cached stays valid.
+  void set_options(const FlattenOptions& options) { options_ = options; }
 
  private:
   struct Cache;

@@ -63,6 +63,7 @@ constexpr Route kRoutes[] = {
     {"GET", R"(/v1/surfaces/([^/]+))", "/v1/surfaces/{id}"},
     {"POST", "/v1/deform", "/v1/deform"},
     {"POST", R"(/v1/surfaces/([^/]+)/map)", "/v1/surfaces/{id}/map"},
+    {"POST", "/v1/animate", "/v1/animate"},
 };
 constexpr size_t kRouteCount = sizeof(kRoutes) / sizeof(kRoutes[0]);
 
@@ -426,7 +427,7 @@ struct HttpServer::Impl {
     std::multimap<std::string, httplib::MultipartFormData> parts;  // or a form's parts
   };
 
-  // POST /v1/deform reads its own body: past the work-in-flight limit and
+  // POST /v1/deform and /v1/animate read their own bodies: past the work-in-flight limit and
   // its queue, the body is read and dropped as it arrives (no copy, no
   // parse) and the request refused, so that a refusal costs a small part of
   // what serving it would, and the connection stays usable (checklist 26).
@@ -481,6 +482,8 @@ struct HttpServer::Impl {
     Deform(req, res, body);
   }
 
+  // POST /v1/deform and POST /v1/animate: one mesh and its parameters, in the
+  // same body forms.
   void Deform(const httplib::Request& req, httplib::Response& res, const DeformBody& body) {
     ThrowIfArmed();  // the body is in: the connection can go on
     DeformRequest d;
@@ -506,9 +509,10 @@ struct HttpServer::Impl {
       if (type.rfind("application/json", 0) == 0 || type.rfind("application/x-www-form", 0) == 0) {
         return Fail(req, res,
                     Status(ErrorCode::kUnsupportedFormat,
-                           "POST /v1/deform takes multipart/form-data (parts \"mesh\" and "
-                           "\"params\") or the raw mesh bytes with the parameters in the "
-                           "\"params\" query parameter or the X-Surfdeform-Params header",
+                           "POST " + req.path +
+                               " takes multipart/form-data (parts \"mesh\" and "
+                               "\"params\") or the raw mesh bytes with the parameters in the "
+                               "\"params\" query parameter or the X-Surfdeform-Params header",
                            "Content-Type"));
       }
       d.mesh = body.raw;
@@ -530,7 +534,7 @@ struct HttpServer::Impl {
     d.routed_surface_id = req.has_param("surface_id")
                               ? req.get_param_value("surface_id")
                               : req.get_header_value("X-Surfdeform-Surface-Id");
-    auto reply = service.Deform(d);
+    auto reply = req.path == "/v1/animate" ? service.Animate(d) : service.Deform(d);
     if (!reply.ok()) return Fail(req, res, reply.status());
     Send(req, res, *reply);
   }
@@ -571,7 +575,7 @@ struct HttpServer::Impl {
         &Impl::OpenApi,       &Impl::Info,
         &Impl::CreateSurface, &Impl::SurfaceSvg,
         &Impl::SurfaceSheet,  nullptr /* POST /v1/deform reads its own body: DeformWithBody */,
-        &Impl::MapOnSurface};
+        &Impl::MapOnSurface,  nullptr /* POST /v1/animate: as /v1/deform */};
     static_assert(sizeof(handlers) / sizeof(handlers[0]) == kRouteCount);
     // A mounted viewer serves GET / from its files first; the built-in page
     // stands in where it has none.

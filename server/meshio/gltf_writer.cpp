@@ -7,12 +7,11 @@
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
 #include "meshio/gltf_look.hpp"
+#include "meshio/gltf_model.hpp"
 #include "meshio/importers.hpp"
 
 namespace surfdeform::meshio {
-namespace {
 
-// Appends raw data to the single buffer as a new buffer view (4-byte aligned).
 int AddView(tinygltf::Model* m, const void* data, size_t bytes, int target) {
   std::vector<unsigned char>& buf = m->buffers[0].data;
   while (buf.size() % 4 != 0) buf.push_back(0);
@@ -28,7 +27,7 @@ int AddView(tinygltf::Model* m, const void* data, size_t bytes, int target) {
 }
 
 int AddAccessor(tinygltf::Model* m, int view, int component, int type, size_t count,
-                std::vector<double> min = {}, std::vector<double> max = {}) {
+                std::vector<double> min, std::vector<double> max) {
   tinygltf::Accessor a;
   a.bufferView = view;
   a.componentType = component;
@@ -40,13 +39,7 @@ int AddAccessor(tinygltf::Model* m, int view, int component, int type, size_t co
   return static_cast<int>(m->accessors.size()) - 1;
 }
 
-template <typename V>
-std::vector<float> Floats(const std::vector<V>& values, int comps) {
-  std::vector<float> f(values.size() * comps);
-  for (size_t k = 0; k < values.size(); ++k)
-    for (int c = 0; c < comps; ++c) f[k * comps + c] = static_cast<float>(values[k][c]);
-  return f;
-}
+namespace {
 
 // Accessors of the vertex attributes; POSITION gets the min/max glTF requires.
 // With view < 0 (Draco), accessors carry no buffer view.
@@ -111,9 +104,8 @@ Mesh SubMesh(const Mesh& mesh, const MeshGroup& g) {
   return sub;
 }
 
-// The input's look (gltf_look.hpp): its materials, samplers and textures as
-// they were, its images' bytes as buffer views (dropped ones removed and the
-// textures' sources renumbered), and the material extensions they use.
+}  // namespace
+
 void AddLook(tinygltf::Model* m, const GltfLook& look) {
   std::vector<int> image_index(look.images.size(), -1);
   for (size_t k = 0; k < look.images.size(); ++k) {
@@ -143,7 +135,17 @@ void AddLook(tinygltf::Model* m, const GltfLook& look) {
   for (const std::string& ext : look.extensions) m->extensionsUsed.push_back(ext);
 }
 
-}  // namespace
+void AddMaterials(tinygltf::Model* m, const ExportOptions& o) {
+  if (o.look != nullptr) {
+    AddLook(m, *o.look);
+    return;
+  }
+  for (const std::string& name : o.materials) {
+    tinygltf::Material mat;
+    mat.name = name;
+    m->materials.push_back(mat);
+  }
+}
 
 Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
   tinygltf::Model m;
@@ -153,16 +155,7 @@ Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
   std::vector<MeshGroup> groups = mesh.groups;
   if (groups.empty())
     groups.push_back({"mesh", -1, 0, static_cast<uint32_t>(mesh.triangles.size())});
-  // Materials: the input's glTF look, or a plain PBR material per name, in order.
-  if (o.look != nullptr) {
-    AddLook(&m, *o.look);
-  } else {
-    for (const std::string& name : o.materials) {
-      tinygltf::Material mat;
-      mat.name = name;
-      m.materials.push_back(mat);
-    }
-  }
+  AddMaterials(&m, o);
   tinygltf::Mesh gm;
   gm.name = groups.front().name.empty() ? "mesh" : groups.front().name;
   std::map<std::string, int> shared;

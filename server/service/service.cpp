@@ -7,12 +7,14 @@
 #include <thread>
 
 #include "base/fault_points.hpp"
+#include "engine/animation.hpp"
 #include "engine/deform.hpp"
 #include "engine/elapsed.hpp"
 #include "engine/flatten.hpp"
 #include "engine/parallel.hpp"
 #include "engine/sheet_marks.hpp"
 #include "engine/surface_spec.hpp"
+#include "meshio/animation_glb.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
 #include "proto/api.hpp"
@@ -39,6 +41,24 @@ struct CachedSurface {
   double flatten_ms = 0.0;
   size_t bytes = 0;
 };
+
+// An animation's sheets as the cache holds them: immutable once built.
+struct CachedAnimation {
+  std::string id;
+  proto::AnimationRequest request;
+  AnimatedSheets sheets;
+  double flatten_ms = 0.0;
+  size_t bytes = 0;
+};
+
+size_t EstimateBytes(const CachedAnimation& a) {
+  size_t samples = 0;
+  for (const FlatSheet& s : a.sheets.sheets) samples += s.points.size();
+  // Samples: position, normal, flat position; each frame's surface about as
+  // much as a key's spec (a Bezier's control points, a grid's points).
+  return sizeof(CachedAnimation) + samples * (24 + 24 + 16) + a.sheets.surfaces.size() * 4096 +
+         1024;
+}
 
 size_t EstimateBytes(const CachedSurface& s) {
   const size_t samples = s.sheet.points.size();
@@ -112,9 +132,10 @@ ImportLimits ImportLimitsOf(const ServiceLimits& limits) {
 }
 
 // The X-Surfdeform-Stats of a deformation.
-json DeformStatsHeader(const CachedSurface& entry, bool hit, proto::OutputFormat format,
-                       const ImportedMesh& imported, const DeformStats& st) {
-  json j = {{"surface_id", entry.id},
+json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, bool hit,
+                       proto::OutputFormat format, const ImportedMesh& imported,
+                       const DeformStats& st) {
+  json j = {{"surface_id", id},
             {"cached", hit},
             {"format", proto::OutputFormatName(format)},
             {"input_format", MeshFormatName(imported.format)},
@@ -122,7 +143,7 @@ json DeformStatsHeader(const CachedSurface& entry, bool hit, proto::OutputFormat
             {"triangles", st.triangles},
             {"subdivision", proto::SubdivisionStatsJson(st.subdivision)},
             {"placement", proto::DeformStatsJson(st)},
-            {"quality", proto::QualityJson(entry.sheet.quality)},
+            {"quality", proto::QualityJson(quality)},
             {"warnings", imported.warnings}};
   if (st.rigid.mode != RigidMode::kNone) {
     json each = json::array();
@@ -163,6 +184,30 @@ constexpr size_t kMaxMapOutputPoints = 1'000'000;
 
 std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
 
+// A deformed mesh encoded as asked, and the reply around it: `timings` gain
+// the encoding's.
+Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
+                        proto::OutputFormat format, const ImportedMesh& imported, bool hit,
+                        std::vector<Timing> timings, const json& stats) {
+  const auto t0 = Clock::now();
+  ExportOptions export_options;
+  export_options.draco = output.draco;
+  export_options.glb_draco = format == proto::OutputFormat::kGlb;
+  export_options.materials = imported.materials;
+  export_options.look = imported.look;
+  SURFDEFORM_ASSIGN_OR_RETURN(auto bytes,
+                              ExportMesh(mesh, proto::OutputMeshFormat(format), export_options));
+  timings.push_back({"encode", MsSince(t0)});
+  Reply reply;
+  reply.cache_hit = hit;
+  reply.body = std::move(bytes);
+  reply.content_type = proto::OutputMediaType(format);
+  reply.timings = std::move(timings);
+  reply.stats_json = Dump(stats);
+  reply.etag = proto::Sha256Hex(reply.body, 32);
+  return reply;
+}
+
 }  // namespace
 
 struct Service::Impl {
@@ -170,6 +215,7 @@ struct Service::Impl {
       : options(Normalised(o)),
         shared(options.shared_tier),
         cache(options.limits.cache_bytes, [](const CachedSurface& s) { return s.bytes; }),
+        animations(options.limits.cache_bytes, [](const CachedAnimation& a) { return a.bytes; }),
         admission(AdmissionOptions{options.limits.max_in_flight, options.limits.max_queued,
                                    options.limits.queue_timeout_ms, Cores()}) {}
 
@@ -390,9 +436,128 @@ struct Service::Impl {
     return found;
   }
 
+  // The sheets of an animation, from the cache or flattened now (within the
+  // caller's slot: single-flight, so concurrent requests for one animation
+  // share one flattening).
+  Result<std::shared_ptr<const CachedAnimation>> FlattenedAnimation(
+      const proto::AnimationRequest& request, const RequestClock& clock, int threads, bool* hit) {
+    SURFDEFORM_RETURN_IF_ERROR(CheckGrid(request.sampling));
+    const int frames = request.animation.frames;
+    const int limit = options.limits.max_animation_frames;
+    if (frames > limit) {
+      return Status::LimitExceeded("this server animates at most " + std::to_string(limit) +
+                                       " frames, asked for " + std::to_string(frames),
+                                   "animation.frames", limit, frames);
+    }
+    const std::string id = proto::AnimationId(request);
+    return animations.GetOrCompute(
+        id,
+        [&]() -> Result<std::shared_ptr<const CachedAnimation>> {
+          const auto t0 = Clock::now();
+          FlattenOptions flatten = request.flatten;
+          flatten.threads = threads;
+          flatten.time_budget_ms = clock.BudgetFor(options.limits.flatten_time_budget_ms);
+          auto sheets = FlattenAnimation(request.animation, request.sampling, flatten);
+          if (!sheets.ok()) {
+            const Status& st = sheets.status();
+            if (st.code() == ErrorCode::kDeadlineExceeded) return st;
+            // The frame's surface is at fault: name the animation.
+            return Status(st.code(), st.message(),
+                          st.field().empty() ? std::string("animation") : st.field());
+          }
+          auto entry = std::make_shared<CachedAnimation>();
+          entry->id = id;
+          entry->request = request;
+          entry->sheets = std::move(*sheets);
+          entry->flatten_ms = MsSince(t0);
+          entry->bytes = EstimateBytes(*entry);
+          return std::shared_ptr<const CachedAnimation>(std::move(entry));
+        },
+        hit);
+  }
+
+  // A model on an animation: its sheets, one map per frame, and the model
+  // placed on the first sheet and refined for every frame.
+  struct AnimatedModel {
+    std::shared_ptr<const CachedAnimation> entry;
+    std::vector<SheetMap> maps;
+    PreparedModel model;
+    bool hit = false;
+    double flatten_ms = 0.0;
+    double subdivide_ms = 0.0;
+  };
+
+  Result<AnimatedModel> PrepareAnimated(const proto::AnimationRequest& request, Mesh&& mesh,
+                                        PlacementOptions placement, SubdivisionOptions subdivision,
+                                        const RequestClock& clock, int threads) {
+    AnimatedModel a;
+    const auto t0 = Clock::now();
+    auto entry = FlattenedAnimation(request, clock, threads, &a.hit);
+    if (!entry.ok()) return WithinBudget(clock, "flattening", entry.status());
+    a.entry = *entry;
+    a.flatten_ms = MsSince(t0);
+    SURFDEFORM_RETURN_IF_ERROR(clock.Check("flattening"));
+    const auto t1 = Clock::now();
+    const AnimatedSheets& sheets = a.entry->sheets;
+    a.maps.reserve(sheets.sheets.size());
+    for (size_t k = 0; k < sheets.sheets.size(); ++k) {
+      a.maps.emplace_back(*sheets.surfaces[k], sheets.sheets[k]);
+    }
+    std::vector<const SheetMap*> maps;
+    for (const SheetMap& m : a.maps) maps.push_back(&m);
+    placement.threads = threads;
+    subdivision.threads = threads;
+    subdivision.max_vertices = options.limits.max_output_vertices;
+    subdivision.max_triangles = options.limits.max_output_triangles;
+    subdivision.time_budget_ms = clock.BudgetFor(options.limits.request_time_budget_ms);
+    auto model = PrepareModel(maps, std::move(mesh), placement, subdivision);
+    if (!model.ok()) return WithinBudget(clock, "subdivision", model.status());
+    a.model = std::move(*model);
+    a.subdivide_ms = MsSince(t1);
+    SURFDEFORM_RETURN_IF_ERROR(clock.Check("subdivision"));
+    return a;
+  }
+
+  static PlacementOptions PlacementFor(const PlacementOptions& given, const ImportedMesh& m) {
+    PlacementOptions p = given;
+    p.y_up_input = m.format == MeshFormat::kGlb || m.format == MeshFormat::kGltf;
+    return p;
+  }
+
+  // POST /v1/deform with an animation: frame k alone, the same computation
+  // as frame k of POST /v1/animate.
+  Result<Reply> DeformFrame(const proto::DeformParams& params, ImportedMesh imported,
+                            proto::OutputFormat format, const RequestClock& clock, int threads,
+                            double parse_ms) {
+    const PlacementOptions placement = PlacementFor(params.placement, imported);
+    SURFDEFORM_ASSIGN_OR_RETURN(
+        AnimatedModel a, PrepareAnimated(*params.animation, std::move(imported.mesh), placement,
+                                         params.subdivision, clock, threads));
+    const auto t2 = Clock::now();
+    const size_t k = static_cast<size_t>(params.frame);
+    DeformExtras extras;
+    extras.distortion = params.output.distortion;
+    PlacementOptions p = placement;
+    p.threads = threads;
+    SURFDEFORM_ASSIGN_OR_RETURN(DeformResult deformed,
+                                DeformPrepared(a.maps[k], a.model, k, p, extras));
+    const double deform_ms = MsSince(t2);
+    const FrameFlattening& f = a.entry->sheets.frames[k];
+    json stats = DeformStatsHeader(a.entry->id, f.quality, a.hit, format, imported, deformed.stats);
+    stats["animation"] = {
+        {"frame", params.frame}, {"frames", params.animation->animation.frames}, {"time", f.time}};
+    return MeshReply(deformed.mesh, params.output, format, imported, a.hit,
+                     {{"parse", parse_ms},
+                      {"flatten", a.flatten_ms},
+                      {"deform", deform_ms},
+                      {"subdivide", a.subdivide_ms}},
+                     stats);
+  }
+
   const ServiceOptions options;
   const std::shared_ptr<SharedTier> shared;  // may be null
   SingleFlightCache<CachedSurface> cache;
+  SingleFlightCache<CachedAnimation> animations;
   Admission admission;
 };
 
@@ -545,6 +710,9 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto imported, ImportMesh(request.mesh, ImportLimitsOf(limits)));
   const double parse_ms = MsSince(t0);
   SURFDEFORM_RETURN_IF_ERROR(clock.Check("parsing"));
+  if (params.animation) {
+    return impl_->DeformFrame(params, std::move(imported), format, clock, threads, parse_ms);
+  }
 
   const auto t1 = Clock::now();
   bool hit = false;
@@ -572,26 +740,148 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   const double deform_ms = MsSince(t2) - subdivide_ms;
   SURFDEFORM_RETURN_IF_ERROR(clock.Check("deformation"));
 
-  const auto t3 = Clock::now();
-  ExportOptions export_options;
-  export_options.draco = params.output.draco;
-  export_options.glb_draco = format == proto::OutputFormat::kGlb;
-  export_options.materials = imported.materials;
-  export_options.look = imported.look;
+  return MeshReply(
+      deformed->mesh, params.output, format, imported, hit,
+      {{"parse", parse_ms},
+       {"flatten", flatten_ms},
+       {"deform", deform_ms},
+       {"subdivide", subdivide_ms}},
+      DeformStatsHeader(entry->id, entry->sheet.quality, hit, format, imported, deformed->stats));
+}
+
+Result<Reply> Service::Animate(const DeformRequest& request) {
+  const ServiceLimits& limits = impl_->options.limits;
+  const RequestClock clock(limits.request_time_budget_ms);
+  SURFDEFORM_ASSIGN_OR_RETURN(auto ticket, impl_->admission.Enter(clock.remaining_ms()));
+  const int threads = impl_->ThreadsFor(ticket);
+  const auto t0 = Clock::now();
   SURFDEFORM_ASSIGN_OR_RETURN(
-      auto bytes, ExportMesh(deformed->mesh, proto::OutputMeshFormat(format), export_options));
+      auto parsed, proto::ParseRequestJson(request.params, limits.max_json_depth, "params"));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto params, proto::ParseAnimateParams(parsed));
+  if (!request.accept.empty() && request.accept.find("*/*") == std::string::npos &&
+      request.accept.find("model/gltf-binary") == std::string::npos &&
+      request.accept.find("model/*") == std::string::npos) {
+    return Status(
+        ErrorCode::kNotAcceptable,
+        "an animation is a GLB (model/gltf-binary); the Accept header asks for " + request.accept,
+        "Accept");
+  }
+  if (request.mesh.empty()) {
+    return Status(ErrorCode::kMalformed, "the request carries no mesh", "mesh");
+  }
+  SURFDEFORM_ASSIGN_OR_RETURN(auto imported, ImportMesh(request.mesh, ImportLimitsOf(limits)));
+  const double parse_ms = MsSince(t0);
+  SURFDEFORM_RETURN_IF_ERROR(clock.Check("parsing"));
+  const PlacementOptions placement = Impl::PlacementFor(params.placement, imported);
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      Impl::AnimatedModel a, impl_->PrepareAnimated(params.animation, std::move(imported.mesh),
+                                                    placement, params.subdivision, clock, threads));
+  const size_t frames = a.maps.size();
+  const size_t vertices = a.model.mesh.positions.size();
+  if (frames * vertices > limits.max_animation_frame_vertices) {
+    return Status::LimitExceeded(
+        std::to_string(frames) + " frames of " + std::to_string(vertices) +
+            " vertices are more than this server animates in one request (" +
+            std::to_string(limits.max_animation_frame_vertices) +
+            " frame vertices); ask for fewer frames or a smaller model",
+        "animation.frames", static_cast<double>(limits.max_animation_frame_vertices),
+        static_cast<double>(frames * vertices));
+  }
+
+  const auto t2 = Clock::now();
+  MorphAnimation anim;
+  anim.base = &a.model.mesh;
+  anim.fps = params.animation.animation.fps;
+  anim.positions.resize(frames);
+  if (a.model.need_frame && !a.model.mesh.normals.empty()) anim.normals.resize(frames);
+  PlacementOptions p = placement;
+  p.threads = threads;
+  DeformExtras extras;
+  extras.geometry_only = true;
+  DeformStats first_stats;
+  for (size_t k = 0; k < frames; ++k) {
+    auto frame = DeformPrepared(a.maps[k], a.model, k, p, extras);
+    if (!frame.ok()) {
+      const Status& st = frame.status();
+      return Status(st.code(), "frame " + std::to_string(k) + ": " + st.message(), st.field());
+    }
+    if (k == 0) first_stats = frame->stats;
+    const Mesh& m = frame->mesh;
+    anim.positions[k].resize(m.positions.size());
+    for (size_t v = 0; v < m.positions.size(); ++v) {
+      anim.positions[k][v] = m.positions[v].cast<float>();
+    }
+    if (!anim.normals.empty()) {
+      anim.normals[k].resize(m.normals.size());
+      for (size_t v = 0; v < m.normals.size(); ++v) anim.normals[k][v] = m.normals[v].cast<float>();
+    }
+    SURFDEFORM_RETURN_IF_ERROR(clock.Check("deformation"));
+  }
+  const double deform_ms = MsSince(t2);
+
+  const auto t3 = Clock::now();
+  AnimationGlbOptions glb;
+  glb.compression = params.output.compression.value_or(AnimationCompression::kMeshopt);
+  glb.look.materials = imported.materials;
+  glb.look.look = imported.look;
+  SURFDEFORM_ASSIGN_OR_RETURN(std::string bytes, WriteAnimationGlb(anim, glb));
+  if (bytes.size() > limits.max_animation_bytes) {
+    return Status::LimitExceeded("the animation's GLB would be " + std::to_string(bytes.size()) +
+                                     " bytes, more than this server returns (" +
+                                     std::to_string(limits.max_animation_bytes) + ")",
+                                 "animation.frames",
+                                 static_cast<double>(limits.max_animation_bytes),
+                                 static_cast<double>(bytes.size()));
+  }
   const double encode_ms = MsSince(t3);
 
+  const AnimatedSheets& sheets = a.entry->sheets;
+  json per_frame = json::array();
+  long long warm_iterations = 0;
+  for (const FrameFlattening& f : sheets.frames) {
+    per_frame.push_back({{"time", f.time},
+                         {"warm", f.warm},
+                         {"stress", f.quality.stress},
+                         {"iterations", f.quality.iterations},
+                         {"folded_cells", f.quality.folded_cells},
+                         {"ms", f.quality.total_ms}});
+    if (f.warm) warm_iterations += f.quality.iterations;
+  }
+  // Frame 0 starts cold: what the others would have taken each, at most.
+  const long long cold = sheets.frames.front().quality.iterations;
+  json stats = {
+      {"animation_id", a.entry->id},
+      {"cached", a.hit},
+      {"frames", frames},
+      {"fps", anim.fps},
+      {"vertices", vertices},
+      {"triangles", a.model.mesh.triangles.size()},
+      {"compression", NameOf<AnimationCompression>(kAnimationCompressions, glb.compression)},
+      {"input_format", MeshFormatName(imported.format)},
+      {"subdivision", proto::SubdivisionStatsJson(a.model.subdivision)},
+      {"subdivision_passes", a.model.subdivision_passes},
+      {"placement", proto::DeformStatsJson(first_stats)},
+      {"flatten",
+       {{"iterations_first", cold},
+        {"iterations_warm_mean",
+         frames > 1 ? static_cast<double>(warm_iterations) / static_cast<double>(frames - 1) : 0.0},
+        {"iterations_saved_estimate",
+         std::max(0LL, cold * static_cast<long long>(frames - 1) - warm_iterations)},
+        {"each", std::move(per_frame)}}},
+      {"warnings", imported.warnings}};
   Reply reply;
-  reply.cache_hit = hit;
+  reply.cache_hit = a.hit;
   reply.body = std::move(bytes);
-  reply.content_type = proto::OutputMediaType(format);
+  reply.content_type = "model/gltf-binary";
   reply.timings = {{"parse", parse_ms},
-                   {"flatten", flatten_ms},
+                   {"flatten", a.flatten_ms},
+                   {"subdivide", a.subdivide_ms},
                    {"deform", deform_ms},
-                   {"subdivide", subdivide_ms},
                    {"encode", encode_ms}};
-  reply.stats_json = Dump(DeformStatsHeader(*entry, hit, format, imported, deformed->stats));
+  // The per-frame list can be long: the header keeps the first 100 frames.
+  json& each = stats["flatten"]["each"];
+  if (each.size() > 100) each.erase(each.begin() + 100, each.end());
+  reply.stats_json = Dump(stats);
   reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
 }
@@ -616,7 +906,10 @@ std::string Service::InfoJson() const {
               {"cache_bytes", l.cache_bytes},
               {"max_map_points", kMapLimits.max_points},
               {"max_map_surface_points", kMapLimits.max_surface_points},
-              {"max_map_output_points", kMaxMapOutputPoints}}},
+              {"max_map_output_points", kMaxMapOutputPoints},
+              {"max_animation_frames", l.max_animation_frames},
+              {"max_animation_frame_vertices", l.max_animation_frame_vertices},
+              {"max_animation_bytes", l.max_animation_bytes}}},
             {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
             {"output_formats", NamesOf<proto::OutputFormat>(proto::kOutputFormats)},
             {"surface_kinds", NamesOf<proto::SurfaceKind>(proto::kSurfaceKinds)},
@@ -637,6 +930,8 @@ std::string Service::InfoJson() const {
   publish("placement.outside", kOutsideModes);
   publish("output.format", proto::kOutputFormats);
   publish("subdivision.mode", kSubdivisionModes);
+  publish("animation.interpolation", kInterpolations);
+  publish("output.compression", kAnimationCompressions);
   for (const auto& e : kErrorCodes) {  // problem+json's "code"
     if (e.value != ErrorCode::kOk)
       enums["problem.code"].push_back({{"name", e.name}, {"description", e.description}});

@@ -37,6 +37,12 @@ struct ServiceLimits {
   // the output size limits instead.
   double request_time_budget_ms = 60000;
   size_t cache_bytes = 256u << 20;
+  // Animations (POST /v1/animate, and /v1/deform with a frame): frames, and
+  // frames times the model's vertices after subdivision (the frames are held
+  // in memory, 24 bytes per vertex), and the GLB's size.
+  int max_animation_frames = 600;
+  size_t max_animation_frame_vertices = 8'000'000;
+  size_t max_animation_bytes = 256u << 20;
 };
 
 struct ServiceOptions {
@@ -78,10 +84,11 @@ class Service {
   Service(const Service&) = delete;
   Service& operator=(const Service&) = delete;
 
-  Result<Reply> CreateSurface(std::string_view body);  // POST /v1/surfaces
-  Result<Reply> GetSurface(std::string_view id);       // GET /v1/surfaces/{id}
-  Result<Reply> GetSurfaceSvg(std::string_view id);    // GET /v1/surfaces/{id}/flat.svg
-  Result<Reply> Deform(const DeformRequest& request);  // POST /v1/deform
+  Result<Reply> CreateSurface(std::string_view body);   // POST /v1/surfaces
+  Result<Reply> GetSurface(std::string_view id);        // GET /v1/surfaces/{id}
+  Result<Reply> GetSurfaceSvg(std::string_view id);     // GET /v1/surfaces/{id}/flat.svg
+  Result<Reply> Deform(const DeformRequest& request);   // POST /v1/deform
+  Result<Reply> Animate(const DeformRequest& request);  // POST /v1/animate
   // POST /v1/surfaces/{id}/map (proto/map_api.hpp)
   Result<Reply> MapOnSurface(std::string_view id, std::string_view body);
 

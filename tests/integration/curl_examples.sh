@@ -197,6 +197,10 @@ params = spec["components"]["schemas"]["DeformParams"]["example"]
 status = call("POST", "/v1/deform", open(sys.argv[3], "rb").read(),
               {"Content-Type": "application/octet-stream", "X-Surfdeform-Params": json.dumps(params)})
 assert status == 200, ("DeformParams example", status)
+animate = spec["components"]["schemas"]["AnimateParams"]["example"]
+status = call("POST", "/v1/animate", open(sys.argv[3], "rb").read(),
+              {"Content-Type": "application/octet-stream", "X-Surfdeform-Params": json.dumps(animate)})
+assert status == 200, ("AnimateParams example", status)
 # Every named choice in the contract is the server's table, name for name and
 # in order (the tables are published at /v1/info).
 with urllib.request.urlopen(base + "/v1/info") as r:
@@ -211,6 +215,8 @@ contract = {
     "placement.outside": schemas["Placement"]["properties"]["outside"]["enum"],
     "output.format": schemas["Output"]["properties"]["format"]["enum"],
     "subdivision.mode": schemas["Subdivision"]["properties"]["mode"]["enum"],
+    "animation.interpolation": schemas["Animation"]["properties"]["interpolation"]["enum"],
+    "output.compression": schemas["Output"]["properties"]["compression"]["enum"],
     "problem.code": schemas["Problem"]["properties"]["code"]["enum"],
 }
 assert sorted(contract) == sorted(published), (sorted(contract), sorted(published))
@@ -218,7 +224,7 @@ for field, names in contract.items():
     served = [e["name"] for e in published[field]]
     assert names == served, (field, "openapi.yaml", names, "server", served)
 print("openapi: %d paths routed, %d examples accepted, %d enums match the server's tables"
-      % (len(spec["paths"]), len(examples) + len(marks) + 1, len(contract)))
+      % (len(spec["paths"]), len(examples) + len(marks) + 2, len(contract)))
 PY
 
 kill -TERM "$server_pid"

@@ -1,0 +1,354 @@
+#include "engine/animation.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <type_traits>
+
+#include "engine/elapsed.hpp"
+
+namespace surfdeform {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Every number of a spec, in a fixed order: f(name, value), where name() gives
+// its field, the JSON path below the surface ("radius",
+// "control_points[3][1]"), built only when asked for.
+template <typename F>
+void WalkFrame(Frame& frame, F&& f) {
+  const char* axes[] = {"origin", "x_axis", "z_axis"};
+  Vec3* values[] = {&frame.origin, &frame.x_axis, &frame.z_axis};
+  for (int a = 0; a < 3; ++a) {
+    for (int c = 0; c < 3; ++c) {
+      f([&] { return std::string("frame.") + axes[a] + "[" + std::to_string(c) + "]"; },
+        (*values[a])[c]);
+    }
+  }
+}
+
+template <typename F>
+void WalkPoints(const char* name, std::vector<Vec3>& points, F&& f) {
+  for (size_t k = 0; k < points.size(); ++k) {
+    for (int c = 0; c < 3; ++c) {
+      f(
+          [&] {
+            return std::string(name) + "[" + std::to_string(k) + "][" + std::to_string(c) + "]";
+          },
+          points[k][c]);
+    }
+  }
+}
+
+template <typename F>
+void WalkList(const char* name, std::vector<double>& values, F&& f) {
+  for (size_t k = 0; k < values.size(); ++k) {
+    f([&] { return std::string(name) + "[" + std::to_string(k) + "]"; }, values[k]);
+  }
+}
+
+template <typename F>
+void WalkNumbers(SurfaceSpec& spec, F&& f) {
+  auto scalar = [&f](const char* name, double& v) { f([name] { return std::string(name); }, v); };
+  std::visit(
+      [&](auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, BezierSpec>) {
+          WalkPoints("control_points", s.control_points, f);
+        } else if constexpr (std::is_same_v<T, BSplineSpec>) {
+          WalkPoints("control_points", s.control_points, f);
+          WalkList("knots_u", s.knots_u, f);
+          WalkList("knots_v", s.knots_v, f);
+          WalkList("weights", s.weights, f);
+        } else if constexpr (std::is_same_v<T, CylinderSpec>) {
+          scalar("radius", s.radius);
+          scalar("height", s.height);
+          scalar("angle_deg", s.angle_deg);
+          WalkFrame(s.frame, f);
+        } else if constexpr (std::is_same_v<T, ConeSpec>) {
+          scalar("radius_bottom", s.radius_bottom);
+          scalar("radius_top", s.radius_top);
+          scalar("height", s.height);
+          scalar("angle_deg", s.angle_deg);
+          WalkFrame(s.frame, f);
+        } else if constexpr (std::is_same_v<T, SphereSpec>) {
+          scalar("radius", s.radius);
+          scalar("lon_min_deg", s.lon_min_deg);
+          scalar("lon_max_deg", s.lon_max_deg);
+          scalar("lat_min_deg", s.lat_min_deg);
+          scalar("lat_max_deg", s.lat_max_deg);
+          WalkFrame(s.frame, f);
+        } else if constexpr (std::is_same_v<T, TorusSpec>) {
+          scalar("major_radius", s.major_radius);
+          scalar("minor_radius", s.minor_radius);
+          scalar("u_min_deg", s.u_min_deg);
+          scalar("u_max_deg", s.u_max_deg);
+          scalar("v_min_deg", s.v_min_deg);
+          scalar("v_max_deg", s.v_max_deg);
+          WalkFrame(s.frame, f);
+        } else if constexpr (std::is_same_v<T, WaveSpec>) {
+          scalar("length", s.length);
+          scalar("width", s.width);
+          scalar("amplitude", s.amplitude);
+          scalar("wavelength", s.wavelength);
+          scalar("speed", s.speed);
+          scalar("time", s.time);
+          WalkFrame(s.frame, f);
+        } else if constexpr (std::is_same_v<T, GridSpec>) {
+          WalkPoints("points", s.points, f);
+        }
+      },
+      spec);
+}
+
+std::vector<double> NumbersOf(const SurfaceSpec& spec) {
+  std::vector<double> out;
+  SurfaceSpec copy = spec;
+  WalkNumbers(copy, [&out](const auto&, double& v) { out.push_back(v); });
+  return out;
+}
+
+void SetNumbers(const std::vector<double>& values, SurfaceSpec* spec) {
+  size_t k = 0;
+  WalkNumbers(*spec, [&](const auto&, double& v) { v = values[k++]; });
+}
+
+std::string NumberField(const SurfaceSpec& spec, size_t index) {
+  SurfaceSpec copy = spec;
+  std::string field;
+  size_t k = 0;
+  WalkNumbers(copy, [&](const auto& name, double&) {
+    if (k++ == index) field = name();
+  });
+  return field;
+}
+
+const char* KindOf(const SurfaceSpec& spec) {
+  static constexpr const char* kNames[] = {"bezier", "bspline", "cylinder", "cone",
+                                           "sphere", "torus",   "wave",     "grid"};
+  if (const auto* b = std::get_if<BSplineSpec>(&spec); b != nullptr && b->rational) return "nurbs";
+  return kNames[spec.index()];
+}
+
+// `key`'s shape against the first key's: the integers and the list sizes.
+Status SameShape(const SurfaceSpec& first, const SurfaceSpec& key) {
+  if (first.index() != key.index() ||
+      std::string_view(KindOf(first)) != std::string_view(KindOf(key))) {
+    return InvalidArgument(std::string("is \"") + KindOf(key) + "\" but keyframe 0 is \"" +
+                               KindOf(first) + "\": keyframes are surfaces of one kind",
+                           "kind");
+  }
+  auto differ = [](const std::string& field, long long a, long long b) {
+    return InvalidArgument("is " + std::to_string(b) + " but " + std::to_string(a) +
+                               " in keyframe 0: keyframes must have one shape, since every "
+                               "number is interpolated between them",
+                           field);
+  };
+  if (const auto* a = std::get_if<BezierSpec>(&first)) {
+    const auto& b = std::get<BezierSpec>(key);
+    if (a->degree_u != b.degree_u) return differ("degree_u", a->degree_u, b.degree_u);
+    if (a->degree_v != b.degree_v) return differ("degree_v", a->degree_v, b.degree_v);
+    if (a->control_points.size() != b.control_points.size()) {
+      return differ("control_points", static_cast<long long>(a->control_points.size()),
+                    static_cast<long long>(b.control_points.size()));
+    }
+  }
+  if (const auto* a = std::get_if<BSplineSpec>(&first)) {
+    const auto& b = std::get<BSplineSpec>(key);
+    if (a->degree_u != b.degree_u) return differ("degree_u", a->degree_u, b.degree_u);
+    if (a->degree_v != b.degree_v) return differ("degree_v", a->degree_v, b.degree_v);
+    if (a->count_u != b.count_u) return differ("count_u", a->count_u, b.count_u);
+    if (a->count_v != b.count_v) return differ("count_v", a->count_v, b.count_v);
+    auto size = [](const auto& v) { return static_cast<long long>(v.size()); };
+    if (size(a->control_points) != size(b.control_points)) {
+      return differ("control_points", size(a->control_points), size(b.control_points));
+    }
+    if (size(a->knots_u) != size(b.knots_u))
+      return differ("knots_u", size(a->knots_u), size(b.knots_u));
+    if (size(a->knots_v) != size(b.knots_v))
+      return differ("knots_v", size(a->knots_v), size(b.knots_v));
+    if (size(a->weights) != size(b.weights))
+      return differ("weights", size(a->weights), size(b.weights));
+  }
+  if (const auto* a = std::get_if<GridSpec>(&first)) {
+    const auto& b = std::get<GridSpec>(key);
+    if (a->nu != b.nu) return differ("nu", a->nu, b.nu);
+    if (a->nv != b.nv) return differ("nv", a->nv, b.nv);
+    if (a->points.size() != b.points.size()) {
+      return differ("points", static_cast<long long>(a->points.size()),
+                    static_cast<long long>(b.points.size()));
+    }
+  }
+  return Status::Ok();
+}
+
+// Cubic Hermite on [t0, t1] with end values p0, p1 and slopes m0, m1.
+double Hermite(double t, double t0, double t1, double p0, double p1, double m0, double m1) {
+  const double h = t1 - t0;
+  const double s = (t - t0) / h;
+  const double s2 = s * s, s3 = s2 * s;
+  return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * h * m0 + (-2 * s3 + 3 * s2) * p1 +
+         (s3 - s2) * h * m1;
+}
+
+// Frame k lands exactly on a keyframe's time (always frame 0).
+bool OnKey(const AnimationSpec& spec, int frame) {
+  if (frame == 0) return true;
+  if (spec.keyframes.size() == 1) return false;
+  const double t = FrameTime(spec, frame);
+  for (const Keyframe& k : spec.keyframes) {
+    if (k.time == t) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+Status ValidateAnimation(const AnimationSpec& spec, int max_frames) {
+  if (spec.keyframes.empty()) {
+    return InvalidArgument("needs at least one keyframe", "keyframes");
+  }
+  if (spec.frames < 1 || spec.frames > max_frames) {
+    if (spec.frames > max_frames) {
+      return Status::LimitExceeded("this server animates at most " + std::to_string(max_frames) +
+                                       " frames, asked for " + std::to_string(spec.frames),
+                                   "frames", max_frames, spec.frames);
+    }
+    return InvalidArgument("must be at least 1, got " + std::to_string(spec.frames), "frames");
+  }
+  if (!(spec.fps > 0.0 && spec.fps <= 1000.0)) {
+    return InvalidArgument("must be in (0, 1000] frames per second", "fps");
+  }
+  if (spec.keyframes.size() == 1 && !std::holds_alternative<WaveSpec>(spec.keyframes[0].surface)) {
+    return InvalidArgument(
+        std::string("a single keyframe must be a wave (whose time advances); a \"") +
+            KindOf(spec.keyframes[0].surface) + "\" needs a second keyframe to move",
+        "keyframes");
+  }
+  const SurfaceSpec& first = spec.keyframes[0].surface;
+  for (size_t k = 0; k < spec.keyframes.size(); ++k) {
+    const std::string key = "keyframes[" + std::to_string(k) + "]";
+    const Keyframe& kf = spec.keyframes[k];
+    if (!std::isfinite(kf.time)) return InvalidArgument("must be finite", key + ".time");
+    if (k > 0 && !(kf.time > spec.keyframes[k - 1].time)) {
+      return InvalidArgument("must be later than keyframe " + std::to_string(k - 1) + "'s (" +
+                                 std::to_string(spec.keyframes[k - 1].time) + ")",
+                             key + ".time");
+    }
+    SURFDEFORM_RETURN_IF_ERROR(SameShape(first, kf.surface).WithFieldPrefix(key + ".surface"));
+    const std::vector<double> numbers = NumbersOf(kf.surface);
+    for (size_t n = 0; n < numbers.size(); ++n) {
+      if (!std::isfinite(numbers[n])) {
+        return InvalidArgument("must be finite", key + ".surface." + NumberField(kf.surface, n));
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+double FrameTime(const AnimationSpec& spec, int frame) {
+  const double t0 = spec.keyframes.front().time;
+  if (spec.keyframes.size() == 1) return t0 + frame / spec.fps;
+  if (spec.frames <= 1) return t0;
+  const double t1 = spec.keyframes.back().time;
+  // The last frame lands on the last key exactly.
+  if (frame >= spec.frames - 1) return t1;
+  return t0 + (t1 - t0) * frame / (spec.frames - 1);
+}
+
+SurfaceSpec SurfaceAtFrame(const AnimationSpec& spec, int frame) {
+  const auto& keys = spec.keyframes;
+  const double t = FrameTime(spec, frame);
+  if (keys.size() == 1) {
+    SurfaceSpec s = keys[0].surface;
+    std::get<WaveSpec>(s).time += t - keys[0].time;
+    return s;
+  }
+  // The span [k, k + 1] that holds t (the last span for t at the end).
+  size_t k = 0;
+  while (k + 2 < keys.size() && t >= keys[k + 1].time) ++k;
+  const double t0 = keys[k].time, t1 = keys[k + 1].time;
+  const std::vector<double> p0 = NumbersOf(keys[k].surface);
+  const std::vector<double> p1 = NumbersOf(keys[k + 1].surface);
+  std::vector<double> out(p0.size());
+  if (t == t0 || t == t1) {  // exactly a key: its numbers, bit for bit
+    out = t == t0 ? p0 : p1;
+  } else if (spec.interpolation == Interpolation::kLinear) {
+    const double s = (t - t0) / (t1 - t0);
+    for (size_t n = 0; n < out.size(); ++n) out[n] = p0[n] + s * (p1[n] - p0[n]);
+  } else {
+    // Catmull-Rom slopes: centred differences over the neighbouring keys,
+    // one-sided at the ends.
+    const std::vector<double> before = k > 0 ? NumbersOf(keys[k - 1].surface) : p0;
+    const std::vector<double> after = k + 2 < keys.size() ? NumbersOf(keys[k + 2].surface) : p1;
+    const double tb = k > 0 ? keys[k - 1].time : t0;
+    const double ta = k + 2 < keys.size() ? keys[k + 2].time : t1;
+    for (size_t n = 0; n < out.size(); ++n) {
+      const double m0 = (p1[n] - before[n]) / (t1 - tb);
+      const double m1 = (after[n] - p0[n]) / (ta - t0);
+      out[n] = Hermite(t, t0, t1, p0[n], p1[n], m0, m1);
+    }
+  }
+  SurfaceSpec s = keys[k].surface;
+  SetNumbers(out, &s);
+  return s;
+}
+
+Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const SamplingOptions& sampling,
+                                        const FlattenOptions& options,
+                                        const FrameProgress& progress) {
+  const auto t0 = Clock::now();
+  SURFDEFORM_RETURN_IF_ERROR(ValidateAnimation(spec, spec.frames));
+  AnimatedSheets out;
+  out.surfaces.reserve(spec.frames);
+  out.sheets.reserve(spec.frames);
+  Flattener flattener(options);
+  for (int k = 0; k < spec.frames; ++k) {
+    const std::string which =
+        "frame " + std::to_string(k) + " (time " + std::to_string(FrameTime(spec, k)) + "): ";
+    auto surface = MakeSurface(SurfaceAtFrame(spec, k));
+    if (!surface.ok()) {
+      const Status& s = surface.status();
+      return Status(s.code(), which + s.message(), s.field());
+    }
+    // What is left of the budget goes to this frame.
+    if (options.time_budget_ms > 0.0) {
+      const double left = options.time_budget_ms - MsSince(t0);
+      if (left <= 0.0) {
+        return Status::DeadlineExceeded(
+            "the animation's flattening ran past its time budget of " +
+                std::to_string(static_cast<long long>(options.time_budget_ms)) + " ms after " +
+                std::to_string(k) + " of " + std::to_string(spec.frames) + " frames",
+            "animation", options.time_budget_ms, MsSince(t0));
+      }
+      FlattenOptions o = flattener.options();
+      o.time_budget_ms = left;
+      flattener.set_options(o);
+    }
+    // A frame on a key starts cold, as the key alone would: its sheet is
+    // then bit for bit the static surface's (deformations of the keys match
+    // POST /v1/deform on them exactly).
+    const FlatSheet* warm = k > 0 && !OnKey(spec, k) ? &out.sheets.back() : nullptr;
+    auto sheet = flattener.Flatten(**surface, sampling, warm);
+    if (!sheet.ok()) {
+      const Status& s = sheet.status();
+      Status framed(s.code(), which + s.message(), s.field());
+      return s.code() == ErrorCode::kDeadlineExceeded
+                 ? Status::DeadlineExceeded(which + s.message(), "animation",
+                                            options.time_budget_ms, MsSince(t0))
+                 : framed;
+    }
+    FrameFlattening f;
+    f.time = FrameTime(spec, k);
+    f.warm = warm != nullptr;
+    f.quality = sheet->quality;
+    out.frames.push_back(f);
+    out.sheets.push_back(std::move(*sheet));
+    out.surfaces.push_back(std::move(*surface));
+    if (progress) progress(k, spec.frames);
+  }
+  out.total_ms = MsSince(t0);
+  return out;
+}
+
+}  // namespace surfdeform

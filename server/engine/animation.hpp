@@ -1,0 +1,97 @@
+// Animated surfaces: keyframes of one surface shape, interpolated in time, and
+// the sequence of flat sheets they give (the paper's Figures 12-13: a model
+// swimming along a moving surface).
+//
+// Keyframes are surfaces of one kind and shape (the same degrees, counts of
+// control points and knots, grid size; for analytic kinds the same fields).
+// Every number of the surface is interpolated between them: kLinear, or
+// kCubic (cubic Hermite with Catmull-Rom tangents, finite differences of the
+// neighbouring keys over their time span; one-sided at the ends: C1 through
+// the keys, and linear for two keys). A single keyframe must be a wave, whose
+// time then advances by 1 / fps per frame. Frames are sampled evenly over the
+// key times: frame k of n at t_first + k (t_last - t_first) / (n - 1).
+//
+// Flattening the sequence (FlattenAnimation): one Flattener for all frames,
+// so the factored Laplacian is shared; each frame starts from the previous
+// frame's sheet (warm start), except frames that land exactly on a key, which
+// start as the key alone would, so that their sheets are bit for bit the
+// static surface's (and so are deformations through them). Every
+// sheet is in the canonical frame of flatten.hpp (sample (0, 0) at the
+// origin, its first grid edge along +X), which moves continuously with the
+// surface: nothing jumps or spins between frames. A model is placed once, on
+// the first sheet, in sheet coordinates (deform.hpp, PrepareModel), so it
+// does not slide over the surface as it moves.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "base/enum_table.hpp"
+#include "base/status.hpp"
+#include "engine/flatten.hpp"
+#include "engine/sample_grid.hpp"
+#include "engine/surface.hpp"
+#include "engine/surface_spec.hpp"
+
+namespace surfdeform {
+
+enum class Interpolation { kLinear, kCubic };
+inline constexpr EnumEntry<Interpolation> kInterpolations[] = {
+    {Interpolation::kLinear, "linear", "straight lines between the keys"},
+    {Interpolation::kCubic, "cubic",
+     "cubic Hermite with Catmull-Rom tangents: C1 through the keys (the default)"},
+};
+
+struct Keyframe {
+  double time = 0.0;
+  SurfaceSpec surface;
+};
+
+struct AnimationSpec {
+  std::vector<Keyframe> keyframes;  // in increasing time
+  Interpolation interpolation = Interpolation::kCubic;
+  int frames = 60;    // 1 .. the caller's limit
+  double fps = 30.0;  // playback rate; a single (wave) key also advances by 1 / fps per frame
+};
+
+// Keyframes: at least one, times finite and increasing, all of one kind and
+// shape (a single one must be a wave); frames from 1 to max_frames; fps in
+// (0, 1000]. Errors name the offending key and field ("keyframes[2].surface.
+// degree_u"): kInvalidArgument, or kLimitExceeded for too many frames.
+Status ValidateAnimation(const AnimationSpec& spec, int max_frames);
+
+// The time of frame k (the wave's time for a single key).
+double FrameTime(const AnimationSpec& spec, int frame);
+
+// The surface of frame k, every number interpolated. Only for a valid spec.
+SurfaceSpec SurfaceAtFrame(const AnimationSpec& spec, int frame);
+
+// What one frame's flattening did.
+struct FrameFlattening {
+  double time = 0.0;
+  bool warm = false;  // started from the previous frame's sheet
+  FlattenQuality quality;
+};
+
+struct AnimatedSheets {
+  std::vector<std::unique_ptr<const Surface>> surfaces;  // per frame
+  std::vector<FlatSheet> sheets;                         // per frame, canonical frame
+  std::vector<FrameFlattening> frames;
+  double total_ms = 0.0;
+};
+
+// Called after each frame is flattened (frame index, frames in all), from the
+// calling thread; for progress.
+using FrameProgress = std::function<void(int, int)>;
+
+// Flattens every frame of a valid spec, warm-started frame to frame. Errors
+// are the flattening's, prefixed with the frame ("frame 12: ..."), with the
+// field of the frame's surface where the surface itself is at fault.
+// options.time_budget_ms bounds the whole sequence.
+Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const SamplingOptions& sampling,
+                                        const FlattenOptions& options,
+                                        const FrameProgress& progress = {});
+
+}  // namespace surfdeform

@@ -1,0 +1,369 @@
+#include "meshio/animation_glb.hpp"
+
+#include <meshoptimizer.h>
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "meshio/gltf_model.hpp"
+
+namespace surfdeform {
+namespace {
+
+using meshio::AddAccessor;
+using meshio::AddView;
+using meshio::Floats;
+using nlohmann::json;
+
+// How a buffer view is compressed with EXT_meshopt_compression.
+struct ViewCodec {
+  enum class Mode { kNone, kAttributes, kTriangles } mode = Mode::kNone;
+  int stride = 0;
+};
+
+struct Quantizer {
+  Vec3f origin = Vec3f::Zero();
+  float step = 1.0f;  // model units per integer step
+  std::array<int16_t, 4> operator()(const Vec3f& p) const {
+    std::array<int16_t, 4> q{};
+    for (int c = 0; c < 3; ++c) {
+      const float v = std::round((p[c] - origin[c]) / step);
+      q[c] = static_cast<int16_t>(std::clamp(v, -16383.0f, 16383.0f));
+    }
+    return q;
+  }
+};
+
+// Over the bounding box of every frame: integers within +-16383, so that
+// the difference of two fits 16 bits.
+Quantizer MakeQuantizer(const MorphAnimation& a) {
+  Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max());
+  Vec3f hi = -lo;
+  for (const auto& frame : a.positions) {
+    for (const Vec3f& p : frame) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  }
+  Quantizer q;
+  q.origin = 0.5f * (lo + hi);
+  const float side = (hi - lo).maxCoeff();
+  q.step = side > 0.0f ? side / 32766.0f : 1.0f;
+  return q;
+}
+
+std::vector<double> MinMax(const std::vector<std::array<int16_t, 4>>& v, bool max) {
+  std::vector<double> out(3, 0.0);
+  for (int c = 0; c < 3; ++c) {
+    int m = v.empty() ? 0 : v[0][c];
+    for (const auto& q : v) m = max ? std::max<int>(m, q[c]) : std::min<int>(m, q[c]);
+    out[c] = m;
+  }
+  return out;
+}
+
+// meshoptimizer's index codec may start a triangle at another of its corners
+// (same triangle, same winding): both files carry the order it decodes to,
+// so that the twins are byte for byte the same data.
+Status AsTheCodecDecodes(std::vector<uint32_t>* idx) {
+  if (idx->empty()) return Status::Ok();
+  std::vector<unsigned char> encoded(meshopt_encodeIndexBufferBound(idx->size(), idx->size()));
+  const size_t size =
+      meshopt_encodeIndexBuffer(encoded.data(), encoded.size(), idx->data(), idx->size());
+  if (size == 0 ||
+      meshopt_decodeIndexBuffer(idx->data(), idx->size(), 4, encoded.data(), size) != 0) {
+    return Status(ErrorCode::kInternal, "meshopt index coding failed");
+  }
+  return Status::Ok();
+}
+
+// The uncompressed GLB, and how each of its buffer views would be compressed.
+struct Built {
+  std::string glb;
+  std::vector<ViewCodec> codecs;  // per buffer view
+};
+
+Result<Built> BuildModel(const MorphAnimation& a, const AnimationGlbOptions& o) {
+  const Mesh& base = *a.base;
+  const size_t n = base.positions.size();
+  const size_t frames = a.positions.size();
+  tinygltf::Model m;
+  m.asset.version = "2.0";
+  m.asset.generator = "surfdeform";
+  m.buffers.resize(1);
+  std::vector<ViewCodec> codecs;
+  auto view = [&](const void* data, size_t bytes, int target, ViewCodec codec) {
+    const int v = AddView(&m, data, bytes, target);
+    if (codec.stride > 0) m.bufferViews[v].byteStride = static_cast<size_t>(codec.stride);
+    // Only vertex attributes have a stride in glTF; the codec's is its own.
+    if (target != TINYGLTF_TARGET_ARRAY_BUFFER) m.bufferViews[v].byteStride = 0;
+    codecs.resize(m.bufferViews.size());
+    codecs[v] = codec;
+    return v;
+  };
+  const ViewCodec kAttr8{ViewCodec::Mode::kAttributes, 8};
+  const ViewCodec kAttr12{ViewCodec::Mode::kAttributes, 12};
+
+  // Positions: frame 0 quantized, and each frame's integer change.
+  const Quantizer quant = MakeQuantizer(a);
+  std::vector<std::array<int16_t, 4>> q0(n), qk(n);
+  for (size_t v = 0; v < n; ++v) q0[v] = quant(a.positions[0][v]);
+  std::map<std::string, int> attrs;
+  attrs["POSITION"] = AddAccessor(
+      &m, view(q0.data(), q0.size() * 8, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr8),
+      TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3, n, MinMax(q0, false), MinMax(q0, true));
+  m.accessors[attrs["POSITION"]].normalized = true;
+  const bool with_normals = !a.normals.empty();
+  if (with_normals) {
+    const std::vector<float> n0 = Floats(a.normals[0], 3);
+    attrs["NORMAL"] =
+        AddAccessor(&m, view(n0.data(), n0.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr12),
+                    TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n);
+  }
+  auto floats = [&](const char* name, const std::vector<float>& data, int type, int comps) {
+    const ViewCodec codec{ViewCodec::Mode::kAttributes, 4 * comps};
+    attrs[name] =
+        AddAccessor(&m, view(data.data(), data.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER, codec),
+                    TINYGLTF_COMPONENT_TYPE_FLOAT, type, n);
+  };
+  if (!base.uv0.empty()) floats("TEXCOORD_0", Floats(base.uv0, 2), TINYGLTF_TYPE_VEC2, 2);
+  if (!base.uv1.empty()) floats("TEXCOORD_1", Floats(base.uv1, 2), TINYGLTF_TYPE_VEC2, 2);
+  if (!base.colors.empty()) floats("COLOR_0", Floats(base.colors, 4), TINYGLTF_TYPE_VEC4, 4);
+
+  std::vector<std::map<std::string, int>> targets(frames);
+  std::vector<float> dn(3 * n);
+  for (size_t k = 0; k < frames; ++k) {
+    if (k == 0) {  // no change: zeros, with no buffer view
+      targets[0]["POSITION"] = AddAccessor(&m, -1, TINYGLTF_COMPONENT_TYPE_SHORT,
+                                           TINYGLTF_TYPE_VEC3, n, {0, 0, 0}, {0, 0, 0});
+      m.accessors[targets[0]["POSITION"]].normalized = true;
+      if (with_normals) {
+        targets[0]["NORMAL"] =
+            AddAccessor(&m, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n);
+      }
+      continue;
+    }
+    for (size_t v = 0; v < n; ++v) {
+      const auto q = quant(a.positions[k][v]);
+      for (int c = 0; c < 3; ++c) qk[v][c] = static_cast<int16_t>(q[c] - q0[v][c]);
+      qk[v][3] = 0;
+    }
+    const int pv = view(qk.data(), qk.size() * 8, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr8);
+    targets[k]["POSITION"] = AddAccessor(&m, pv, TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3,
+                                         n, MinMax(qk, false), MinMax(qk, true));
+    m.accessors[targets[k]["POSITION"]].normalized = true;
+    if (with_normals) {
+      for (size_t v = 0; v < n; ++v) {
+        for (int c = 0; c < 3; ++c) {
+          const float d = a.normals[k][v][c] - a.normals[0][v][c];
+          dn[3 * v + c] = std::round(d * 4096.0f) / 4096.0f;
+        }
+      }
+      targets[k]["NORMAL"] =
+          AddAccessor(&m, view(dn.data(), dn.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr12),
+                      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n);
+    }
+  }
+
+  meshio::AddMaterials(&m, o.look);
+  std::vector<MeshGroup> groups = base.groups;
+  if (groups.empty())
+    groups.push_back({"mesh", -1, 0, static_cast<uint32_t>(base.triangles.size())});
+  tinygltf::Mesh gm;
+  gm.name = groups.front().name.empty() ? "animation" : groups.front().name;
+  gm.weights.assign(frames, 0.0);
+  tinygltf::Value::Array names;
+  for (size_t k = 0; k < frames; ++k) names.emplace_back("frame " + std::to_string(k));
+  tinygltf::Value::Object extras;
+  extras["targetNames"] = tinygltf::Value(names);
+  gm.extras = tinygltf::Value(extras);
+  for (const MeshGroup& g : groups) {
+    tinygltf::Primitive prim;
+    prim.mode = TINYGLTF_MODE_TRIANGLES;
+    prim.material =
+        g.material >= 0 && g.material < static_cast<int>(m.materials.size()) ? g.material : -1;
+    prim.attributes = attrs;
+    prim.targets = targets;
+    std::vector<uint32_t> idx;
+    idx.reserve(3 * size_t{g.triangle_count});
+    for (uint32_t t = g.first_triangle; t < g.first_triangle + g.triangle_count; ++t)
+      for (uint32_t v : base.triangles[t]) idx.push_back(v);
+    SURFDEFORM_RETURN_IF_ERROR(AsTheCodecDecodes(&idx));
+    const int iv = view(idx.data(), idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
+                        {ViewCodec::Mode::kTriangles, 4});
+    prim.indices =
+        AddAccessor(&m, iv, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, idx.size());
+    gm.primitives.push_back(prim);
+  }
+  m.meshes.push_back(gm);
+
+  // The weights' animation: one-hot at each frame's time, LINEAR between.
+  std::vector<float> times(frames);
+  for (size_t k = 0; k < frames; ++k) times[k] = static_cast<float>(static_cast<double>(k) / a.fps);
+  std::vector<uint8_t> weights(frames * frames, 0);
+  for (size_t k = 0; k < frames; ++k) weights[k * frames + k] = 255;
+  weights.resize((weights.size() + 3) / 4 * 4, 0);  // whole 4-byte elements for the codec
+  const ViewCodec kAnim{ViewCodec::Mode::kAttributes, 4};
+  const int input =
+      AddAccessor(&m, view(times.data(), times.size() * 4, 0, kAnim), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                  TINYGLTF_TYPE_SCALAR, frames, {times.front()}, {times.back()});
+  const int output =
+      AddAccessor(&m, view(weights.data(), weights.size(), 0, kAnim),
+                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_SCALAR, frames * frames);
+  m.accessors[output].normalized = true;
+  tinygltf::Animation anim;
+  anim.name = "surface";
+  tinygltf::AnimationSampler sampler;
+  sampler.input = input;
+  sampler.output = output;
+  sampler.interpolation = "LINEAR";
+  anim.samplers.push_back(sampler);
+  tinygltf::AnimationChannel channel;
+  channel.sampler = 0;
+  channel.target_node = 0;
+  channel.target_path = "weights";
+  anim.channels.push_back(channel);
+  m.animations.push_back(anim);
+
+  tinygltf::Node node;
+  node.mesh = 0;
+  node.name = gm.name;
+  // Undoes the quantization: integer q / 32767 * scale + origin.
+  const double scale = static_cast<double>(quant.step) * 32767.0;
+  node.translation = {quant.origin.x(), quant.origin.y(), quant.origin.z()};
+  node.scale = {scale, scale, scale};
+  m.nodes.push_back(node);
+  tinygltf::Scene scene;
+  scene.nodes.push_back(0);
+  m.scenes.push_back(scene);
+  m.defaultScene = 0;
+  m.extensionsUsed.push_back("KHR_mesh_quantization");
+  m.extensionsRequired.push_back("KHR_mesh_quantization");
+  m.buffers[0].data.resize((m.buffers[0].data.size() + 3) / 4 * 4, 0);
+  tinygltf::TinyGLTF writer;
+  std::ostringstream out;
+  if (!writer.WriteGltfSceneToStream(&m, out, false, true)) {
+    return Status(ErrorCode::kInternal, "GLB writing failed");
+  }
+  codecs.resize(m.bufferViews.size());
+  return Built{out.str(), std::move(codecs)};
+}
+
+uint32_t ReadU32(const std::string& s, size_t at) {
+  uint32_t v = 0;
+  std::memcpy(&v, s.data() + at, 4);
+  return v;
+}
+
+void AppendU32(std::string* s, uint32_t v) { s->append(reinterpret_cast<const char*>(&v), 4); }
+
+std::string Glb(const json& doc, const std::string& bin) {
+  std::string text = doc.dump();
+  while (text.size() % 4 != 0) text.push_back(' ');
+  std::string out;
+  AppendU32(&out, 0x46546C67);  // "glTF"
+  AppendU32(&out, 2);
+  AppendU32(&out, static_cast<uint32_t>(12 + 8 + text.size() + 8 + bin.size()));
+  AppendU32(&out, static_cast<uint32_t>(text.size()));
+  AppendU32(&out, 0x4E4F534A);  // "JSON"
+  out += text;
+  AppendU32(&out, static_cast<uint32_t>(bin.size()));
+  AppendU32(&out, 0x004E4942);  // "BIN\0"
+  out += bin;
+  return out;
+}
+
+// The uncompressed GLB with its vertex, index and animation views compressed
+// (EXT_meshopt_compression): their data move to buffer 0 compressed, and the
+// views themselves point into buffer 1, a fallback with no data and the
+// uncompressed layout.
+Result<std::string> Compress(const Built& built) {
+  const std::string& glb = built.glb;
+  const uint32_t json_len = ReadU32(glb, 12);
+  json doc = json::parse(glb.substr(20, json_len));
+  const size_t bin_at = 20 + json_len + 8;
+  const std::string_view bin(glb.data() + bin_at, glb.size() - bin_at);
+  std::string packed;
+  json& views = doc["bufferViews"];
+  std::vector<unsigned char> scratch;
+  for (size_t v = 0; v < views.size(); ++v) {
+    json& view = views[v];
+    const size_t offset = view.value("byteOffset", size_t{0});
+    const size_t length = view["byteLength"].get<size_t>();
+    const std::string_view data = bin.substr(offset, length);
+    while (packed.size() % 4 != 0) packed.push_back('\0');
+    const ViewCodec codec = v < built.codecs.size() ? built.codecs[v] : ViewCodec{};
+    if (codec.mode == ViewCodec::Mode::kNone) {  // images: as they are, in buffer 0
+      view["byteOffset"] = packed.size();
+      packed.append(data);
+      continue;
+    }
+    size_t encoded = 0;
+    size_t count = 0;
+    const char* mode = "ATTRIBUTES";
+    if (codec.mode == ViewCodec::Mode::kTriangles) {
+      count = length / 4;
+      std::vector<unsigned int> idx(count);
+      std::memcpy(idx.data(), data.data(), length);
+      scratch.resize(meshopt_encodeIndexBufferBound(count, count));
+      encoded = meshopt_encodeIndexBuffer(scratch.data(), scratch.size(), idx.data(), count);
+      mode = "TRIANGLES";
+    } else {
+      count = length / static_cast<size_t>(codec.stride);
+      scratch.resize(meshopt_encodeVertexBufferBound(count, codec.stride));
+      encoded = meshopt_encodeVertexBuffer(scratch.data(), scratch.size(), data.data(), count,
+                                           codec.stride);
+    }
+    if (encoded == 0) return Status(ErrorCode::kInternal, "meshopt compression failed");
+    view["extensions"]["EXT_meshopt_compression"] = {
+        {"buffer", 0},           {"byteOffset", packed.size()},
+        {"byteLength", encoded}, {"byteStride", codec.stride},
+        {"count", count},        {"mode", mode}};
+    view["buffer"] = 1;
+    packed.append(reinterpret_cast<const char*>(scratch.data()), encoded);
+  }
+  while (packed.size() % 4 != 0) packed.push_back('\0');
+  doc["buffers"] =
+      json::array({{{"byteLength", packed.size()}},
+                   {{"byteLength", bin.size()},
+                    {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}});
+  doc["extensionsUsed"].push_back("EXT_meshopt_compression");
+  doc["extensionsRequired"].push_back("EXT_meshopt_compression");
+  return Glb(doc, packed);
+}
+
+}  // namespace
+
+Result<std::string> WriteAnimationGlb(const MorphAnimation& a, const AnimationGlbOptions& o) {
+  if (a.base == nullptr || a.positions.empty()) {
+    return InvalidArgument("an animation needs a mesh and at least one frame", "frames");
+  }
+  const size_t n = a.base->positions.size();
+  for (size_t k = 0; k < a.positions.size(); ++k) {
+    const bool normals_ok =
+        a.normals.empty() || (a.normals.size() == a.positions.size() && a.normals[k].size() == n);
+    if (a.positions[k].size() != n || !normals_ok) {
+      return InvalidArgument("frame " + std::to_string(k) + " does not match the mesh", "frames");
+    }
+    for (const Vec3f& p : a.positions[k]) {
+      if (!p.allFinite()) {
+        return InvalidArgument("frame " + std::to_string(k) + " has a position that is not finite",
+                               "frames");
+      }
+    }
+  }
+  if (!(a.fps > 0.0)) return InvalidArgument("must be positive", "fps");
+  if (std::string problem = CheckMesh(*a.base); !problem.empty()) {
+    return InvalidArgument("malformed mesh: " + problem, "mesh");
+  }
+  SURFDEFORM_ASSIGN_OR_RETURN(Built built, BuildModel(a, o));
+  if (o.compression == AnimationCompression::kNone) return std::move(built.glb);
+  return Compress(built);
+}
+
+}  // namespace surfdeform

@@ -1,0 +1,254 @@
+// Animated surfaces: keyframe validation and interpolation, the warm-started
+// sequence of sheets, and a model deformed through every frame.
+#include "engine/animation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "engine/deform.hpp"
+#include "support/surface_file.hpp"
+#include "support/test_meshes.hpp"
+#include "support/test_surfaces.hpp"
+
+namespace surfdeform {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+BezierSpec Figure10(double height_scale) {
+  BezierSpec b = testing::LoadBezierFile(testing::DataPath("figure10.json"));
+  for (Vec3& p : b.control_points) p.z() *= height_scale;
+  return b;
+}
+
+AnimationSpec Pair(const SurfaceSpec& a, const SurfaceSpec& b, int frames) {
+  AnimationSpec s;
+  s.keyframes = {{0.0, a}, {1.0, b}};
+  s.frames = frames;
+  return s;
+}
+
+TEST(Animation, KeyframesThatDoNotMatchNameTheKeyAndTheField) {
+  BezierSpec cubic = Figure10(1.0);
+  BezierSpec quadratic;
+  quadratic.degree_u = quadratic.degree_v = 2;
+  quadratic.control_points.assign(9, Vec3::Zero());
+  Status s = ValidateAnimation(Pair(cubic, quadratic, 10), 100);
+  EXPECT_EQ(s.code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(s.field(), "keyframes[1].surface.degree_u");
+
+  s = ValidateAnimation(Pair(cubic, CylinderSpec{}, 10), 100);
+  EXPECT_EQ(s.field(), "keyframes[1].surface.kind");
+
+  BezierSpec bad = cubic;
+  bad.control_points[5].y() = std::numeric_limits<double>::infinity();
+  s = ValidateAnimation(Pair(cubic, bad, 10), 100);
+  EXPECT_EQ(s.field(), "keyframes[1].surface.control_points[5][1]");
+
+  AnimationSpec late = Pair(cubic, cubic, 10);
+  late.keyframes[1].time = 0.0;
+  EXPECT_EQ(ValidateAnimation(late, 100).field(), "keyframes[1].time");
+
+  s = ValidateAnimation(Pair(cubic, cubic, 101), 100);
+  EXPECT_EQ(s.code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(s.field(), "frames");
+  EXPECT_EQ(s.limit(), 100);
+
+  AnimationSpec single;
+  single.keyframes = {{0.0, cubic}};
+  EXPECT_EQ(ValidateAnimation(single, 100).field(), "keyframes");
+  single.keyframes = {{0.0, WaveSpec{}}};
+  EXPECT_TRUE(ValidateAnimation(single, 100).ok());
+}
+
+TEST(Animation, FramesSpanTheKeysAndHitThemExactly) {
+  const CylinderSpec a{1.0, 2.0, 180.0, {}}, b{3.0, 2.0, 180.0, {}};
+  AnimationSpec spec = Pair(a, b, 5);
+  spec.keyframes[1].time = 2.0;
+  EXPECT_DOUBLE_EQ(FrameTime(spec, 0), 0.0);
+  EXPECT_DOUBLE_EQ(FrameTime(spec, 2), 1.0);
+  EXPECT_DOUBLE_EQ(FrameTime(spec, 4), 2.0);
+  // Two keys: cubic Catmull-Rom is the straight line.
+  EXPECT_NEAR(std::get<CylinderSpec>(SurfaceAtFrame(spec, 1)).radius, 1.5, 1e-12);
+  EXPECT_EQ(std::get<CylinderSpec>(SurfaceAtFrame(spec, 4)).radius, 3.0);
+  // Three keys: C1 through the middle one, and through the keys exactly.
+  spec.keyframes.push_back({3.0, CylinderSpec{1.0, 2.0, 180.0, {}}});
+  spec.frames = 31;
+  // Frames every 0.1 time units over [0, 3].
+  auto radius = [&](double t) {
+    const int frame = static_cast<int>(std::lround(t * 10));
+    return std::get<CylinderSpec>(SurfaceAtFrame(spec, frame)).radius;
+  };
+  EXPECT_EQ(radius(2.0), 3.0);
+  EXPECT_EQ(radius(0.0), 1.0);
+  // Catmull-Rom slope at the middle key: (1 - 1) / (3 - 0) = 0, so it peaks there.
+  EXPECT_LT(radius(1.9), 3.0);
+  EXPECT_LT(radius(2.1), 3.0);
+  // Slope 0 at the key: the one-sided differences are second order there
+  // (straight lines would give +1 and -2).
+  const double left = (radius(2.0) - radius(1.9)) / 0.1, right = (radius(2.1) - radius(2.0)) / 0.1;
+  EXPECT_NEAR(left, 0.0, 0.15);
+  EXPECT_NEAR(right, 0.0, 0.45);
+  spec.interpolation = Interpolation::kLinear;
+  EXPECT_NEAR(radius(1.0), 2.0, 1e-12);
+
+  AnimationSpec wave;
+  wave.keyframes = {{0.0, WaveSpec{}}};
+  wave.fps = 25;
+  wave.frames = 10;
+  EXPECT_NEAR(std::get<WaveSpec>(SurfaceAtFrame(wave, 5)).time, 0.2, 1e-15);
+}
+
+TEST(Animation, WarmStartsSaveIterationsAtTheSameStress) {
+  AnimationSpec spec = Pair(Figure10(0.5), Figure10(1.0), 8);
+  FlattenOptions o;
+  auto sheets = FlattenAnimation(spec, {16, 16}, o);
+  ASSERT_TRUE(sheets.ok()) << sheets.status().ToString();
+  ASSERT_EQ(sheets->sheets.size(), 8u);
+  int warm = 0, cold = 0;
+  for (int k = 1; k < spec.frames; ++k) {
+    // The last frame is on the last key: it starts cold, as the key alone.
+    EXPECT_EQ(sheets->frames[k].warm, k < spec.frames - 1) << k;
+    auto surface = MakeSurface(SurfaceAtFrame(spec, k));
+    auto alone = FlattenSurface(**surface, {16, 16}, o);
+    ASSERT_TRUE(alone.ok());
+    EXPECT_NEAR(sheets->frames[k].quality.stress, alone->quality.stress,
+                1e-6 * alone->quality.stress)
+        << k;
+    if (sheets->frames[k].warm) {
+      warm += sheets->frames[k].quality.iterations;
+      cold += alone->quality.iterations;
+    }
+    // One canonical frame: sample 0 at the origin, the first edge along +X.
+    EXPECT_LT(sheets->sheets[k].flat[0].norm(), 1e-12);
+    EXPECT_LT(std::abs(sheets->sheets[k].flat[1].y()), 1e-12);
+    // And it moves little between frames: no jump, no spin.
+    double moved = 0.0;
+    for (size_t i = 0; i < sheets->sheets[k].flat.size(); ++i) {
+      moved = std::max(moved, (sheets->sheets[k].flat[i] - sheets->sheets[k - 1].flat[i]).norm());
+    }
+    EXPECT_LT(moved, 0.5) << k;
+  }
+  EXPECT_LT(warm, cold);
+}
+
+// The model placed once on the first sheet and mapped through every frame.
+struct Animated {
+  AnimatedSheets sheets;
+  std::vector<SheetMap> maps;
+  PreparedModel model;
+};
+
+Animated Animate(const AnimationSpec& spec, int n, const FlattenOptions& f, Mesh mesh,
+                 const PlacementOptions& placement, const SubdivisionOptions& subdivision) {
+  Animated a;
+  auto sheets = FlattenAnimation(spec, {n, n}, f);
+  EXPECT_TRUE(sheets.ok()) << sheets.status().ToString();
+  a.sheets = std::move(*sheets);
+  a.maps.reserve(a.sheets.sheets.size());
+  std::vector<const SheetMap*> maps;
+  for (size_t k = 0; k < a.sheets.sheets.size(); ++k) {
+    a.maps.emplace_back(*a.sheets.surfaces[k], a.sheets.sheets[k]);
+  }
+  for (const SheetMap& m : a.maps) maps.push_back(&m);
+  auto model = PrepareModel(maps, std::move(mesh), placement, subdivision);
+  EXPECT_TRUE(model.ok()) << model.status().ToString();
+  a.model = std::move(*model);
+  return a;
+}
+
+Mesh Frame(const Animated& a, size_t k, const PlacementOptions& placement) {
+  auto r = DeformPrepared(a.maps[k], a.model, k, placement, {});
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  return r.ok() ? std::move(r->mesh) : Mesh{};
+}
+
+TEST(Animation, TheEndFramesEqualDeformationsOnTheStaticKeys) {
+  // Frames on a key are flattened from the key alone: bit for bit the
+  // static flattening.
+  const FlattenOptions f;
+  const BezierSpec first = Figure10(0.6), last = Figure10(1.0);
+  const AnimationSpec spec = Pair(first, last, 6);
+  const Mesh plate = testing::FlatGrid(-2.0, -1.5, 4.0, 3.0, 24, 18, 0.1);
+  const PlacementOptions placement = testing::KeepCoordinates(plate, Vec2(5.0, 4.5));
+  SubdivisionOptions off;
+  off.mode = SubdivisionMode::kOff;
+  const Animated a = Animate(spec, 16, f, plate, placement, off);
+  const Mesh& frame_first = Frame(a, 0, placement);
+  const Mesh& frame_last = Frame(a, 5, placement);
+  double apart = 0.0;
+  for (const auto& [k, spec_k] :
+       {std::pair{0, SurfaceSpec(first)}, std::pair{5, SurfaceSpec(last)}}) {
+    const testing::Target t = [&] {
+      testing::Target target;
+      target.surface = testing::MakeValid(spec_k);
+      target.sheet = *FlattenSurface(*target.surface, {16, 16}, f);
+      return target;
+    }();
+    auto alone = DeformMesh(*t.surface, t.sheet, plate, placement);
+    ASSERT_TRUE(alone.ok()) << alone.status().ToString();
+    const Mesh& frame = k == 0 ? frame_first : frame_last;
+    double worst = 0.0;
+    for (size_t v = 0; v < plate.positions.size(); ++v) {
+      worst = std::max(worst, (frame.positions[v] - alone->mesh.positions[v]).norm());
+      worst = std::max(worst, (frame.normals[v] - alone->mesh.normals[v]).norm());
+    }
+    EXPECT_LT(worst, 1e-9) << "frame " << k;
+  }
+  for (size_t v = 0; v < plate.positions.size(); ++v) {
+    apart = std::max(apart, (frame_first.positions[v] - frame_last.positions[v]).norm());
+  }
+  EXPECT_GT(apart, 0.1);  // the two ends are different shapes
+}
+
+TEST(Animation, APlateOnACylinderOfAnimatedRadiusWrapsAsTheClosedFormSays) {
+  const double height = 3.0;
+  // The arc keeps its length: radius 2 over 180 degrees to radius 4 over 90.
+  AnimationSpec spec =
+      Pair(CylinderSpec{2.0, height, 180.0, {}}, CylinderSpec{4.0, height, 90.0, {}}, 7);
+  spec.interpolation = Interpolation::kLinear;
+  const Mesh plate = testing::ThinPlate(4.0, 2.0, 0.2);
+  const Vec2 at(kPi, height / 2);  // the middle of the sheet at frame 0
+  const PlacementOptions placement = testing::KeepCoordinates(plate, at);
+  const Animated a = Animate(spec, 16, {}, plate, placement, {});
+  for (int k = 0; k < spec.frames; ++k) {
+    const CylinderSpec c = std::get<CylinderSpec>(SurfaceAtFrame(spec, k));
+    const Mesh out = Frame(a, k, placement);
+    // The exact unrolling is canonical: the arc from angle 0, height along +Y.
+    for (size_t v = 0; v < a.model.input_vertices; ++v) {
+      const Vec3& p = plate.positions[v];
+      const double s = p.x() + at.x(), b = p.y() + at.y(), h = p.z();
+      const double angle = s / c.radius;
+      const Vec3 exact((c.radius + h) * std::cos(angle), (c.radius + h) * std::sin(angle), b);
+      EXPECT_LT((out.positions[v] - exact).norm(), 1e-9) << "frame " << k << " vertex " << v;
+    }
+  }
+}
+
+TEST(Animation, EveryFrameHasOneTopologyThatMeetsTheTolerance) {
+  // A coarse plate bent ever more: the subdivision chosen for all frames.
+  const AnimationSpec spec = Pair(Figure10(0.2), Figure10(1.0), 4);
+  const Mesh plate = testing::ThinPlate(4.0, 3.0, 0.1);
+  const PlacementOptions placement = testing::KeepCoordinates(plate, Vec2(5.0, 4.5));
+  SubdivisionOptions sub;
+  sub.tolerance = 0.01;
+  const Animated a = Animate(spec, 16, {}, plate, placement, sub);
+  EXPECT_GT(a.model.mesh.positions.size(), plate.positions.size());
+  EXPECT_LE(a.model.subdivision.max_deviation, 0.01);
+  EXPECT_GE(a.model.subdivision_passes, 1);
+  // Each frame on its own asks for no more points than the shared topology has.
+  for (int k = 0; k < spec.frames; ++k) {
+    SubdivisionOptions again = sub;
+    auto r = Subdivide(a.model.mesh, a.model.placed, a.maps[k], placement.outside, again);
+    ASSERT_TRUE(r.ok());
+    EXPECT_EQ(r->stats.vertices_after, r->stats.vertices_before) << "frame " << k;
+    EXPECT_LE(r->stats.max_deviation, 0.01) << k;
+    const Mesh out = Frame(a, k, placement);
+    EXPECT_EQ(out.positions.size(), a.model.mesh.positions.size());
+  }
+}
+
+}  // namespace
+}  // namespace surfdeform
