@@ -4,7 +4,6 @@
 #include <nlohmann/json.hpp>
 
 namespace surfdeform::cli {
-namespace {
 
 using nlohmann::json;
 
@@ -21,7 +20,7 @@ void ConfigureRetries(const Connection& c, ApiClient* client) {
 }
 
 // JSON text, or the name of a file holding it.
-bool ReadJsonArgument(const std::string& text_or_file, json* out, CliError* error) {
+bool ReadJsonArgument(const std::string& text_or_file, nlohmann::json* out, CliError* error) {
   std::string text = text_or_file;
   const size_t first = text.find_first_not_of(" \t\r\n");
   if (first == std::string::npos || (text[first] != '{' && text[first] != '[')) {
@@ -38,6 +37,8 @@ bool ReadJsonArgument(const std::string& text_or_file, json* out, CliError* erro
   }
   return true;
 }
+
+namespace {
 
 // {"surface": ..., "sampling": ..., "flatten": ...} from a surface file: a
 // whole surface request, or a bare surface ({"kind": ...}).
@@ -182,7 +183,8 @@ bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* 
     for (const char* key : {"surface", "sampling", "flatten"}) params.erase(key);
     params["surface_id"] = o.surface_id;
   }
-  if (!params.contains("surface") && !params.contains("surface_id")) {
+  if (!params.contains("surface") && !params.contains("surface_id") &&
+      !params.contains("animation")) {
     *error = {CliError::Kind::kUsage,
               "no surface: give --surface FILE, --surface-id ID, or a surface in --params"};
     return false;

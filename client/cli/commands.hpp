@@ -3,6 +3,7 @@
 // stdout, progress and errors on stderr.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -61,10 +62,28 @@ int RunFlatten(const Connection& c, const std::string& surface_file, const std::
                bool json_output);
 int RunDeform(const Connection& c, const DeformOptions& o, const std::string& mesh_path,
               const std::string& out_path);
+// POST /v1/animate: `animation_file` holds {"animation", "sampling",
+// "flatten"} or a bare animation ({"keyframes", ...}); the GLB to out_path
+// (may be empty with frames_dir), and with frames_dir each frame alone
+// (POST /v1/deform with "frame") as frame_NNNN.<frame_ext>.
+struct AnimateOptions {
+  std::string animation_file;
+  std::string compression;  // "meshopt", "none" or empty
+  std::string frames_dir;
+  std::string frame_ext = ".glb";
+};
+int RunAnimate(const Connection& c, const DeformOptions& d, const AnimateOptions& a,
+               const std::string& mesh_path, const std::string& out_path);
 int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std::string>& inputs,
              const std::string& out_dir, const std::string& extension, int jobs, bool force);
 
-// Shared by deform and batch.
+// Shared by the subcommands.
+int ExitFor(const HttpFailure& f);
+void ConfigureRetries(const Connection& c, ApiClient* client);
+// JSON text, or the name of a file holding it.
+bool ReadJsonArgument(const std::string& text_or_file, nlohmann::json* out, CliError* error);
+
+// Shared by deform, batch and animate.
 struct DeformRequest {
   std::string params;  // the JSON sent
   std::string accept;

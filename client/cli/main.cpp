@@ -117,6 +117,36 @@ int main(int argc, char** argv) {
   batch->add_flag("--force", force, "Redo files whose output exists (default: skip them)");
   add_deform_options(batch);
 
+  auto* animate = app.add_subcommand(
+      "animate",
+      "Deform one mesh along an animated surface: one .glb that plays every frame (morph "
+      "targets), and/or each frame alone into a folder");
+  AnimateOptions a;
+  std::string animate_mesh, animate_out;
+  animate->add_option("mesh", animate_mesh, "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  animate->add_option("-o,--output", animate_out, "Output .glb");
+  animate
+      ->add_option("--surface", a.animation_file,
+                   "JSON file: {\"animation\": {\"keyframes\": ...}, \"sampling\", "
+                   "\"flatten\"} or a bare animation {\"keyframes\": ...}")
+      ->required();
+  animate->add_option("--compression", a.compression, "output.compression")
+      ->check(CLI::IsMember({"meshopt", "none"}));
+  animate->add_option("--frames-dir", a.frames_dir,
+                      "Also write each frame alone here (frame_0000.glb ...), with progress");
+  animate->add_option("--frame-ext", a.frame_ext, "The frames' format: .drc .glb .obj .ply")
+      ->capture_default_str();
+  animate->add_option("--params", d.params,
+                      "Other parameters (placement, subdivision): JSON text or a file");
+  animate->add_option("--scale", d.scale, "placement.scale: \"fit\" or a number");
+  animate->add_option("--subdivision", d.subdivision, "subdivision.mode")
+      ->check(CLI::IsMember(
+          surfdeform::NamesOf<surfdeform::SubdivisionMode>(surfdeform::kSubdivisionModes)));
+  animate->add_option("--tolerance", d.tolerance, "subdivision.tolerance, surface units")
+      ->check(CLI::PositiveNumber);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ExtrasError& e) {
@@ -135,6 +165,7 @@ int main(int argc, char** argv) {
   if (flatten->parsed()) return RunFlatten(c, surface_file, svg_path, json_output);
   if (map->parsed()) return RunMap(c, map_id, map_request, map_out);
   if (deform->parsed()) return RunDeform(c, d, mesh_path, out_path);
+  if (animate->parsed()) return RunAnimate(c, d, a, animate_mesh, animate_out);
   if (batch->parsed()) return RunBatch(c, d, inputs, out_dir, extension, jobs, force);
   return kExitUsage;
 }

@@ -38,9 +38,13 @@ std::string ExplainUnexpected(CLI::App& app, int argc, const char* const* argv) 
     const std::string name = arg.substr(0, arg.find('='));
     // Before the subcommand only the program's own options are taken.
     if (Takes(&app, name) || (k > given_at && Takes(given, name))) continue;
-    std::string owners;
+    std::vector<std::string> takers;
     for (CLI::App* sub : subcommands) {
-      if (Takes(sub, name)) owners += (owners.empty() ? "" : " and ") + sub->get_name();
+      if (Takes(sub, name)) takers.push_back(sub->get_name());
+    }
+    std::string owners;  // "deform", "deform and batch", "deform, batch and animate"
+    for (size_t t = 0; t < takers.size(); ++t) {
+      owners += (t == 0 ? "" : t + 1 == takers.size() ? " and " : ", ") + takers[t];
     }
     if (!owners.empty()) {
       out += name + " is an option of " + owners;

@@ -138,10 +138,29 @@ expect 1 --surface-id "$id" deform "$samples/bunny.ply" -o "$out/x.drc"
 grep -q -- "--surface-id is an option of deform and batch: give it after the subcommand" "$out/e" \
   || fail "misplaced option message: $(cat "$out/e")"
 expect 1 flatten "$out/figure10.json" --scale fit
-grep -q -- "--scale is an option of deform and batch, not of flatten" "$out/e" \
+grep -q -- "--scale is an option of deform, batch and animate, not of flatten" "$out/e" \
   || fail "option of another subcommand: $(cat "$out/e")"
 expect 1 deform "$samples/bunny.ply" --surface-id "$id" -o "$out/x.drc" --bogus 3
 grep -q -- "unknown option --bogus for deform" "$out/e" || fail "unknown option message: $(cat "$out/e")"
+
+# animate: one GLB of morph targets, and each frame alone, with progress.
+cat > "$out/wave.json" << 'JSON'
+{"keyframes": [{"time": 0, "surface": {"kind": "wave", "length": 4, "width": 1, "amplitude": 0.2}}],
+ "frames": 4, "fps": 8}
+JSON
+expect 0 animate "$samples/bunny.ply" --surface "$out/wave.json" --scale fit -o "$out/wave.glb" \
+  --frames-dir "$out/frames" --frame-ext .ply
+grep -q "wave.glb: 4 frames at 8 fps, 37706 vertices" "$out/o" || fail "animate summary: $(cat "$out/o")"
+grep -q "animating 4 frames" "$out/e" || fail "animate progress: $(cat "$out/e")"
+grep -q "frame 4/4 -> .*frame_0003.ply" "$out/e" || fail "frame progress: $(cat "$out/e")"
+[[ $(head -c 4 "$out/wave.glb") == glTF ]] || fail "animate output is not a GLB"
+ls "$out/frames"/frame_000{0,1,2,3}.ply > /dev/null || fail "frame files"
+cmp -s "$out/frames/frame_0000.ply" "$out/frames/frame_0003.ply" && fail "frames 0 and 3 are the same"
+expect 1 animate "$samples/bunny.ply" --surface "$out/wave.json" -o "$out/wave.drc"
+grep -q "an animation is a GLB" "$out/e" || fail "animate .drc: $(cat "$out/e")"
+expect 1 animate "$samples/bunny.ply" --surface "$out/cylinder.json" -o "$out/x.glb"
+grep -q "an animation file holds" "$out/e" || fail "animate with a surface file: $(cat "$out/e")"
+expect 1 animate "$samples/bunny.ply" --surface "$out/wave.json" -o "$out/x.glb" --compression zip
 
 # 503: a server with one slot, held by a slow flattening; the client retries
 # until the slot frees, then succeeds.
