@@ -75,6 +75,8 @@ int Run(int frames, int repeat) {
 
   std::vector<double> warm_ms, cold_ms, prepare_ms, deform_ms, encode_ms, total_ms;
   std::vector<double> draco_ms, standalone_ms;
+  std::vector<double> warm_distance_ms, warm_solve_ms, cold_distance_ms, cold_solve_ms;
+  int warm_count = 1;  // frames started warm (the last, on a key, starts cold)
   double worst_stress_gap = 0.0;
   int warm_iterations = 0, cold_iterations = 0;
   size_t glb_bytes = 0, glb_plain_bytes = 0, draco_bytes = 0;
@@ -134,13 +136,21 @@ int Run(int frames, int repeat) {
     AnimationGlbOptions plain;
     plain.compression = AnimationCompression::kNone;
     glb_plain_bytes = WriteAnimationGlb(anim, plain)->size();
-    double warm_sum = 0.0;
+    double warm_sum = 0.0, dist_sum = 0.0, solve_sum = 0.0;
+    int warm_frames = 0;
     warm_iterations = 0;
     for (int k = 1; k < frames; ++k) {
+      if (!sheets->frames[k].warm) continue;
+      ++warm_frames;
       warm_sum += sheets->frames[k].quality.total_ms;
+      dist_sum += sheets->frames[k].quality.distance_ms;
+      solve_sum += sheets->frames[k].quality.solve_ms;
       warm_iterations += sheets->frames[k].quality.iterations;
     }
-    warm_ms.push_back(warm_sum / (frames - 1));
+    warm_ms.push_back(warm_sum / warm_frames);
+    warm_distance_ms.push_back(dist_sum / warm_frames);
+    warm_solve_ms.push_back(solve_sum / warm_frames);
+    warm_count = warm_frames;
     (void)flatten_all;
     prepare_ms.push_back(prepare / frames);
     deform_ms.push_back(deform / frames);
@@ -148,7 +158,7 @@ int Run(int frames, int repeat) {
 
     // The peer, in the same run: each frame as a standalone deformation
     // (cold flattening, deformation, Draco), as POST /v1/deform does it.
-    double cold_sum = 0.0, draco_sum = 0.0, standalone_sum = 0.0;
+    double cold_sum = 0.0, draco_sum = 0.0, standalone_sum = 0.0, cd = 0.0, cs = 0.0;
     cold_iterations = 0;
     draco_bytes = 0;
     for (int k = 0; k < frames; ++k) {
@@ -156,7 +166,9 @@ int Run(int frames, int repeat) {
       auto surface = MakeSurface(SurfaceAtFrame(spec, k));
       auto cold = FlattenSurface(**surface, sampling, flatten);
       cold_sum += Ms(s0);
-      cold_iterations += k > 0 ? cold->quality.iterations : 0;
+      cd += cold->quality.distance_ms;
+      cs += cold->quality.solve_ms;
+      if (sheets->frames[k].warm) cold_iterations += cold->quality.iterations;
       const double gap =
           std::abs(cold->quality.stress - sheets->frames[k].quality.stress) / cold->quality.stress;
       worst_stress_gap = std::max(worst_stress_gap, gap);
@@ -169,6 +181,8 @@ int Run(int frames, int repeat) {
       standalone_sum += Ms(s0);
     }
     cold_ms.push_back(cold_sum / frames);
+    cold_distance_ms.push_back(cd / frames);
+    cold_solve_ms.push_back(cs / frames);
     draco_ms.push_back(draco_sum / frames);
     standalone_ms.push_back(standalone_sum / frames);
   }
@@ -176,10 +190,13 @@ int Run(int frames, int repeat) {
   const double per_frame = Median(total_ms) / frames;
   const double standalone = Median(standalone_ms);
   std::printf("\nper frame (ms):\n");
-  std::printf("  flatten, warm-started     %8.3f  (%.1f iterations)\n", warm,
-              static_cast<double>(warm_iterations) / (frames - 1));
-  std::printf("  flatten, cold (peer)      %8.3f  (%.1f iterations)   warm is %.2fx faster\n", cold,
-              static_cast<double>(cold_iterations) / (frames - 1), cold / warm);
+  std::printf("  flatten, warm-started     %8.3f  (%.1f iterations; distances %.3f, solve %.3f)\n",
+              warm, static_cast<double>(warm_iterations) / warm_count, Median(warm_distance_ms),
+              Median(warm_solve_ms));
+  std::printf("  flatten, cold (peer)      %8.3f  (%.1f iterations; distances %.3f, solve %.3f)"
+              "   warm is %.2fx faster\n",
+              cold, static_cast<double>(cold_iterations) / warm_count, Median(cold_distance_ms),
+              Median(cold_solve_ms), cold / warm);
   std::printf("  place + subdivide         %8.3f\n", Median(prepare_ms));
   std::printf("  deform                    %8.3f\n", Median(deform_ms));
   std::printf("  encode (morph targets)    %8.3f\n", Median(encode_ms));

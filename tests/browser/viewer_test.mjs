@@ -215,6 +215,40 @@ try {
     await shot('textured-box');
   }
 
+  // The animation panel: the swimming wave, 12 frames at 12 fps, played by
+  // three.js's AnimationMixer from a meshopt GLB. The canvas changes as it
+  // plays, and the frame shown at time k / fps is the one POST /v1/deform
+  // gives for frame k (to within the positions' quantization).
+  await page.select('#anim-preset', 'swim');
+  await page.$eval('#anim-frames', (e) => { e.value = '12'; });
+  await page.$eval('#anim-fps', (e) => { e.value = '12'; });
+  await page.click('#anim-run');
+  try {
+    await page.waitForFunction(() => ['playing', 'error'].includes(document.body.dataset.animation),
+                               { timeout: 60000 });
+    const animState = await page.evaluate(() => document.body.dataset.animation);
+    check(animState === 'playing', `the animation plays (${animState}; ${await text('#error')})`);
+    const canvas = () => page.evaluate(() => document.querySelector('#view3d canvas').toDataURL());
+    const first = await canvas();
+    await sleep(400);
+    const later = await canvas();
+    check(first !== later, 'the 3D view changes as the animation plays');
+    await shot('animation-playing');
+    for (const k of [0, 5, 11]) {
+      const r = await page.evaluate((f) => window.surfdeformViewer.animation.compareFrame(f), k);
+      const oneHot = r.weights.every((w, j) => Math.abs(w - (j === k ? 1 : 0)) < 1e-6);
+      check(r.worst <= 0.51 * r.step + 1e-6 && oneHot,
+            `frame ${k} as shown matches POST /v1/deform's frame ${k} (${r.worst.toExponential(2)}, ` +
+            `step ${r.step.toExponential(2)}, weight ${r.weights[k]})`);
+    }
+    const paused = await canvas();
+    await sleep(300);
+    check(paused === await canvas(), 'scrubbing pauses the animation');
+    await shot('animation-frame-11');
+  } catch (e) {
+    check(false, `the animation ran: ${e}`);
+  }
+
   // A broken upload through the file input: the server's problem detail
   // appears on the page.
   const broken = path.join(artifacts, 'broken.obj');

@@ -52,6 +52,15 @@ export async function mapOnSurface(id, request) {
 // POST /v1/deform (multipart: mesh + params). Returns the bytes, the stats
 // header and the Server-Timing entries.
 export async function deform(meshBytes, meshName, params, accept) {
+  return post('/v1/deform', meshBytes, meshName, params, accept);
+}
+
+// POST /v1/animate: the same body, a GLB of morph targets back.
+export async function animate(meshBytes, meshName, params) {
+  return post('/v1/animate', meshBytes, meshName, params, 'model/gltf-binary');
+}
+
+async function post(path, meshBytes, meshName, params, accept) {
   const form = new FormData();
   form.append('mesh', new Blob([meshBytes]), meshName);
   form.append('params', JSON.stringify(params));
@@ -59,7 +68,7 @@ export async function deform(meshBytes, meshName, params, accept) {
   // A load balancer routes by it (docker/nginx.conf), so that the replica
   // that already holds this surface serves it.
   if (params.surface_id) headers['X-Surfdeform-Surface-Id'] = params.surface_id;
-  const r = await checked(await fetch('/v1/deform', { method: 'POST', body: form, headers }));
+  const r = await checked(await fetch(path, { method: 'POST', body: form, headers }));
   const stats = JSON.parse(r.headers.get('X-Surfdeform-Stats') || '{}');
   const timing = {};
   for (const part of (r.headers.get('Server-Timing') || '').split(',')) {

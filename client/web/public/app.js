@@ -11,6 +11,7 @@
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 
 import { createSurface, deform, getSurface, mapOnSurface } from './api.js';
+import { AnimationPanel } from './animation_panel.js';
 import { dracoLoader, footprint, readPositions } from './footprint.js';
 import { ModelView } from './model_view.js';
 import { sampleModel, surfacePreset } from './samples.js';
@@ -351,8 +352,17 @@ for (const id of ['up', 'anchor', 'rigid', 'subdivision', 'distortion']) {
 $('download-glb').addEventListener('click', () => download('glb'));
 $('download-drc').addEventListener('click', () => download('drc'));
 
+// The animation panel: the current model, placed as on the sheet (fitted to
+// the animation's first sheet, rotated, with the chosen axes).
+const animationPanel = new AnimationPanel(modelView, () => ({
+  model: state.model,
+  placement: { scale: 'fit', rotation_deg: state.placement.rotation_deg, up: $('up').value,
+               anchor: $('anchor').value },
+}), showError);
+
 // For tests and the curious: the state and the model's share of the 3D canvas.
-window.surfdeformViewer = { state, modelCoverage: () => modelView.modelCoverage(),
+window.surfdeformViewer = { state, animation: animationPanel,
+                            modelCoverage: () => modelView.modelCoverage(),
                             pixelCounts: () => modelView.pixelCounts(),
                             texturedMeshes: () => modelView.texturedMeshes() };
 

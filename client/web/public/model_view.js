@@ -56,9 +56,16 @@ export class ModelView {
     el.addEventListener('pointerup', (e) => this.up(e));
     new ResizeObserver(() => this.resize()).observe(container);
     this.resize();
+    this.mixer = null;  // an animation's AnimationMixer, when one plays
+    this.clock = new THREE.Clock();
+    this.rendered = [];  // the times of the last frames drawn, for the achieved fps
     this.renderer.setAnimationLoop(() => {
+      const dt = this.clock.getDelta();
+      if (this.mixer) this.mixer.update(dt);
       this.controls.update();
       this.renderer.render(this.scene, this.camera);
+      this.rendered.push(performance.now());
+      if (this.rendered.length > 60) this.rendered.shift();
     });
   }
 
@@ -128,9 +135,12 @@ export class ModelView {
 
   // The deformed model (a three.js object from the GLB the server sent);
   // with distortion, coloured by its _DISTORTION attribute.
-  setModel(object, { distortion = false } = {}) {
+  setModel(object, { distortion = false, mixer = null } = {}) {
     if (this.model) this.scene.remove(this.model);
     this.model = object;
+    this.mixer = mixer;  // null stops an animation that was playing
+    // The static surface does not move with an animation: hidden meanwhile.
+    for (const o of [this.surface, this.handles, this.marks]) if (o) o.visible = !mixer;
     const meshes = [];
     object.traverse((o) => { if (o.isMesh) meshes.push(o); });
     const colour = distortion && meshes.every((o) => o.geometry.getAttribute('_distortion'));
@@ -165,6 +175,41 @@ export class ModelView {
       this.frame(object);
       this.framed = true;
     }
+  }
+
+  // Frames drawn per second, over the last second or so.
+  achievedFps() {
+    const t = this.rendered;
+    return t.length > 1 ? ((t.length - 1) * 1000) / (t[t.length - 1] - t[0]) : 0;
+  }
+
+  // The positions the model shows now, in world space: each mesh's base with
+  // its morph targets at their current weights (as the GPU morphs them),
+  // through its world matrix. One flat array over the model's meshes.
+  shownPositions() {
+    const out = [];
+    const v = new THREE.Vector3();
+    this.model?.updateMatrixWorld(true);
+    this.model?.traverse((o) => {
+      if (!o.isMesh) return;
+      const pos = o.geometry.getAttribute('position');
+      const targets = o.geometry.morphAttributes.position || [];
+      const weights = o.morphTargetInfluences || [];
+      const relative = o.geometry.morphTargetsRelative;
+      for (let k = 0; k < pos.count; ++k) {
+        v.fromBufferAttribute(pos, k);
+        const base = v.clone();
+        targets.forEach((t, j) => {
+          const w = weights[j] || 0;
+          if (!w) return;
+          const d = new THREE.Vector3().fromBufferAttribute(t, k);
+          v.addScaledVector(relative ? d : d.sub(base), w);
+        });
+        v.applyMatrix4(o.matrixWorld);
+        out.push(v.x, v.y, v.z);
+      }
+    });
+    return out;
   }
 
   frame(object) {
