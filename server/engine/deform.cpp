@@ -374,61 +374,84 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
   if (so.threads == 0) so.threads = o.threads;
   const InputPositions want =
       model.need_frame ? InputPositions::kNotWanted : InputPositions::kWanted;
-  // Refine for every map in turn: a refinement only adds vertices (after the
-  // ones it was given, in order), so what one frame needed stays for the
-  // others. A pass in which no map adds anything has measured every map on
-  // the final mesh; a third pass is never needed in practice, and the last
-  // one's measurements are what the statistics report.
-  constexpr int kMaxPasses = 3;
+  // Each pass first measures every map on the current mesh, the maps spread
+  // over the threads (one each: a frame's subdivision alone is too small to
+  // share well). If none adds a vertex, every frame meets the tolerance on
+  // this one topology, and the pass's measurements are the statistics. Else
+  // the maps are refined in turn from the first that added any, each on the
+  // mesh the previous one left (a refinement only adds vertices, after the
+  // ones it was given, in order, so what one frame needed stays for the
+  // others), and the next pass measures them all again.
+  constexpr int kMaxPasses = 4;
+  auto budget_left = [&](SubdivisionOptions* options) -> Status {
+    if (subdivision.time_budget_ms <= 0.0) return Status::Ok();
+    options->time_budget_ms = subdivision.time_budget_ms - MsSince(ts);
+    if (options->time_budget_ms > 0.0) return Status::Ok();
+    return Status::DeadlineExceeded(
+        "the subdivision for every frame ran past its time budget of " +
+            std::to_string(static_cast<long long>(subdivision.time_budget_ms)) + " ms",
+        "subdivision", subdivision.time_budget_ms, MsSince(ts));
+  };
+  auto grows = [&model](const SubdivisionResult& r) {
+    return !r.unchanged && r.mesh.positions.size() > model.mesh.positions.size();
+  };
+  auto keep_positions = [&model](size_t k, SubdivisionResult* r) {
+    if (r->input_positions) {
+      model.known[k] = std::move(*r->input_positions);
+      model.known_on_sheet[k] = std::move(r->on_sheet);
+    } else {
+      model.known[k].clear();
+      model.known_on_sheet[k].clear();
+    }
+  };
+  const int n_maps = static_cast<int>(maps.size());
   for (int pass = 0; pass < kMaxPasses; ++pass) {
-    bool changed = false;
-    double max_deviation = 0.0, max_estimate = 0.0;
-    size_t measured = 0;
-    for (size_t k = 0; k < maps.size(); ++k) {
-      if (so.time_budget_ms > 0.0) {
-        so.time_budget_ms = subdivision.time_budget_ms - MsSince(ts);
-        if (so.time_budget_ms <= 0.0) {
-          return Status::DeadlineExceeded(
-              "the subdivision for every frame ran past its time budget of " +
-                  std::to_string(static_cast<long long>(subdivision.time_budget_ms)) + " ms",
-              "subdivision", subdivision.time_budget_ms, MsSince(ts));
-        }
+    SURFDEFORM_RETURN_IF_ERROR(budget_left(&so));
+    SubdivisionOptions one = so;
+    const int threads = std::min(n_maps, ResolveThreads(so.threads));
+    one.threads = threads > 1 ? 1 : so.threads;
+    std::vector<Result<SubdivisionResult>> results(maps.size(), Status::Ok());
+    ParallelChunks(n_maps, threads, [&](int, int begin, int end) {
+      for (int k = begin; k < end; ++k) {
+        results[k] = Subdivide(model.mesh, model.placed, *maps[k], o.outside, one, want);
       }
-      SURFDEFORM_ASSIGN_OR_RETURN(
-          SubdivisionResult refined,
-          Subdivide(model.mesh, model.placed, *maps[k], o.outside, so, want));
-      max_deviation = std::max(max_deviation, refined.stats.max_deviation);
-      max_estimate = std::max(max_estimate, refined.stats.max_estimated_deviation);
-      measured += refined.stats.measured_points;
-      st.epsilon = refined.stats.epsilon;
-      st.tolerance = refined.stats.tolerance;
-      st.edge_points_considered += refined.stats.edge_points_considered;
-      st.edge_points_kept += refined.stats.edge_points_kept;
-      st.face_points_considered += refined.stats.face_points_considered;
-      st.face_points_kept += refined.stats.face_points_kept;
-      st.refinement_points += refined.stats.refinement_points;
-      if (refined.input_positions) {
-        model.known[k] = std::move(*refined.input_positions);
-        model.known_on_sheet[k] = std::move(refined.on_sheet);
-      } else {
-        model.known[k].clear();
-        model.known_on_sheet[k].clear();
-      }
-      // Only new points change the topology for the other frames; a frame
-      // that adds none may still re-triangulate the faces it measured, which
-      // is kept only if another frame adds points anyway (known positions
-      // stay valid: the vertices are the same, in the same order).
-      if (!refined.unchanged && refined.mesh.positions.size() > model.mesh.positions.size()) {
-        changed = true;
-        model.mesh = std::move(refined.mesh);
-        model.placed = std::move(refined.placed);
-      }
+    });
+    int first_growth = -1;
+    st.max_deviation = st.max_estimated_deviation = 0.0;
+    st.measured_points = 0;
+    for (int k = 0; k < n_maps; ++k) {
+      if (!results[k].ok()) return results[k].status();
+      const SubdivisionStats& rs = results[k]->stats;
+      st.max_deviation = std::max(st.max_deviation, rs.max_deviation);
+      st.max_estimated_deviation = std::max(st.max_estimated_deviation, rs.max_estimated_deviation);
+      st.measured_points += rs.measured_points;
+      st.epsilon = rs.epsilon;
+      st.tolerance = rs.tolerance;
+      if (first_growth < 0 && grows(*results[k])) first_growth = k;
+      // A frame that adds no vertex may still re-triangulate faces it
+      // measured; that is kept only if another frame adds points anyway.
+      if (first_growth < 0 || k < first_growth) keep_positions(k, &*results[k]);
     }
     ++model.subdivision_passes;
-    st.max_deviation = max_deviation;
-    st.max_estimated_deviation = max_estimate;
-    st.measured_points = measured;
-    if (!changed) break;
+    if (first_growth < 0) break;
+    for (int k = first_growth; k < n_maps; ++k) {
+      Result<SubdivisionResult> refined = std::move(results[k]);
+      if (k > first_growth) {
+        SURFDEFORM_RETURN_IF_ERROR(budget_left(&so));
+        refined = Subdivide(model.mesh, model.placed, *maps[k], o.outside, so, want);
+        if (!refined.ok()) return refined.status();
+      }
+      st.edge_points_considered += refined->stats.edge_points_considered;
+      st.edge_points_kept += refined->stats.edge_points_kept;
+      st.face_points_considered += refined->stats.face_points_considered;
+      st.face_points_kept += refined->stats.face_points_kept;
+      st.refinement_points += refined->stats.refinement_points;
+      keep_positions(k, &*refined);
+      if (grows(*refined)) {
+        model.mesh = std::move(refined->mesh);
+        model.placed = std::move(refined->placed);
+      }
+    }
   }
   st.vertices_after = model.mesh.positions.size();
   st.triangles_after = model.mesh.triangles.size();

@@ -1,7 +1,8 @@
 // libFuzzer target: request JSON into the request types, as the service
 // reads it (the depth limit first, then the parsers of POST /v1/surfaces,
-// the deformation parameters and POST /v1/surfaces/{id}/map). Whatever is
-// accepted is serialised back. Build with SURFDEFORM_FUZZ=ON and clang (see
+// the deformation parameters, POST /v1/animate and POST /v1/surfaces/{id}/map).
+// Whatever is accepted is serialised back; an accepted animation's first and
+// last frames are interpolated and its content id taken. Build with SURFDEFORM_FUZZ=ON and clang (see
 // tests/fuzz/run.sh).
 #include <cstddef>
 #include <cstdint>
@@ -18,6 +19,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   (void)surfdeform::proto::ParseSurfaceRequest(*json);
   (void)surfdeform::proto::ParseDeformParams(*json);
   (void)surfdeform::proto::ParseMapRequest(*json, surfdeform::proto::MapLimits{});
+  if (auto animate = surfdeform::proto::ParseAnimateParams(*json); animate.ok()) {
+    const surfdeform::AnimationSpec& spec = animate->animation.animation;
+    (void)surfdeform::SurfaceAtFrame(spec, 0);
+    (void)surfdeform::SurfaceAtFrame(spec, spec.frames - 1);
+    (void)surfdeform::proto::AnimationId(animate->animation);
+  }
   // The replies' JSON is dumped with replacement of invalid UTF-8, as ever.
   (void)json->dump(-1, ' ', true, nlohmann::json::error_handler_t::replace);
   return 0;
