@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "engine/parallel.hpp"
 #include "meshio/gltf_model.hpp"
 
 namespace surfdeform {
@@ -282,50 +283,64 @@ std::string Glb(const json& doc, const std::string& bin) {
 // (EXT_meshopt_compression): their data move to buffer 0 compressed, and the
 // views themselves point into buffer 1, a fallback with no data and the
 // uncompressed layout.
-Result<std::string> Compress(const Built& built) {
+Result<std::string> Compress(const Built& built, int threads) {
   const std::string& glb = built.glb;
   const uint32_t json_len = ReadU32(glb, 12);
   json doc = json::parse(glb.substr(20, json_len));
   const size_t bin_at = 20 + json_len + 8;
   const std::string_view bin(glb.data() + bin_at, glb.size() - bin_at);
-  std::string packed;
   json& views = doc["bufferViews"];
-  std::vector<unsigned char> scratch;
-  for (size_t v = 0; v < views.size(); ++v) {
+  const int n = static_cast<int>(views.size());
+  std::vector<std::string_view> data(n);
+  for (int v = 0; v < n; ++v) {
+    data[v] =
+        bin.substr(views[v].value("byteOffset", size_t{0}), views[v]["byteLength"].get<size_t>());
+  }
+  auto codec_of = [&built](int v) {
+    return static_cast<size_t>(v) < built.codecs.size() ? built.codecs[v] : ViewCodec{};
+  };
+  // The views compressed independently (in parallel), then laid out in order.
+  std::vector<std::vector<unsigned char>> encoded(n);
+  std::vector<size_t> counts(n, 0);
+  ParallelChunks(n, threads, [&](int, int begin, int end) {
+    for (int v = begin; v < end; ++v) {
+      const ViewCodec codec = codec_of(v);
+      const size_t length = data[v].size();
+      std::vector<unsigned char>& out = encoded[v];
+      if (codec.mode == ViewCodec::Mode::kTriangles) {
+        const size_t count = counts[v] = length / 4;
+        std::vector<unsigned int> idx(count);
+        std::memcpy(idx.data(), data[v].data(), length);
+        out.resize(meshopt_encodeIndexBufferBound(count, count));
+        out.resize(meshopt_encodeIndexBuffer(out.data(), out.size(), idx.data(), count));
+      } else if (codec.mode == ViewCodec::Mode::kAttributes) {
+        const size_t count = counts[v] = length / static_cast<size_t>(codec.stride);
+        out.resize(meshopt_encodeVertexBufferBound(count, codec.stride));
+        out.resize(meshopt_encodeVertexBuffer(out.data(), out.size(), data[v].data(), count,
+                                              codec.stride));
+      }
+    }
+  });
+  std::string packed;
+  for (int v = 0; v < n; ++v) {
     json& view = views[v];
-    const size_t offset = view.value("byteOffset", size_t{0});
-    const size_t length = view["byteLength"].get<size_t>();
-    const std::string_view data = bin.substr(offset, length);
     while (packed.size() % 4 != 0) packed.push_back('\0');
-    const ViewCodec codec = v < built.codecs.size() ? built.codecs[v] : ViewCodec{};
+    const ViewCodec codec = codec_of(v);
     if (codec.mode == ViewCodec::Mode::kNone) {  // images: as they are, in buffer 0
       view["byteOffset"] = packed.size();
-      packed.append(data);
+      packed.append(data[v]);
       continue;
     }
-    size_t encoded = 0;
-    size_t count = 0;
-    const char* mode = "ATTRIBUTES";
-    if (codec.mode == ViewCodec::Mode::kTriangles) {
-      count = length / 4;
-      std::vector<unsigned int> idx(count);
-      std::memcpy(idx.data(), data.data(), length);
-      scratch.resize(meshopt_encodeIndexBufferBound(count, count));
-      encoded = meshopt_encodeIndexBuffer(scratch.data(), scratch.size(), idx.data(), count);
-      mode = "TRIANGLES";
-    } else {
-      count = length / static_cast<size_t>(codec.stride);
-      scratch.resize(meshopt_encodeVertexBufferBound(count, codec.stride));
-      encoded = meshopt_encodeVertexBuffer(scratch.data(), scratch.size(), data.data(), count,
-                                           codec.stride);
-    }
-    if (encoded == 0) return Status(ErrorCode::kInternal, "meshopt compression failed");
-    view["extensions"]["EXT_meshopt_compression"] = {
-        {"buffer", 0},           {"byteOffset", packed.size()},
-        {"byteLength", encoded}, {"byteStride", codec.stride},
-        {"count", count},        {"mode", mode}};
+    if (encoded[v].empty()) return Status(ErrorCode::kInternal, "meshopt compression failed");
+    const char* mode = codec.mode == ViewCodec::Mode::kTriangles ? "TRIANGLES" : "ATTRIBUTES";
+    view["extensions"]["EXT_meshopt_compression"] = {{"buffer", 0},
+                                                     {"byteOffset", packed.size()},
+                                                     {"byteLength", encoded[v].size()},
+                                                     {"byteStride", codec.stride},
+                                                     {"count", counts[v]},
+                                                     {"mode", mode}};
     view["buffer"] = 1;
-    packed.append(reinterpret_cast<const char*>(scratch.data()), encoded);
+    packed.append(reinterpret_cast<const char*>(encoded[v].data()), encoded[v].size());
   }
   while (packed.size() % 4 != 0) packed.push_back('\0');
   doc["buffers"] =
@@ -363,7 +378,7 @@ Result<std::string> WriteAnimationGlb(const MorphAnimation& a, const AnimationGl
   }
   SURFDEFORM_ASSIGN_OR_RETURN(Built built, BuildModel(a, o));
   if (o.compression == AnimationCompression::kNone) return std::move(built.glb);
-  return Compress(built);
+  return Compress(built, ResolveThreads(o.threads));
 }
 
 }  // namespace surfdeform

@@ -56,6 +56,7 @@ struct MorphAnimation {
 struct AnimationGlbOptions {
   AnimationCompression compression = AnimationCompression::kMeshopt;
   ExportOptions look;  // materials (names, or the input's glTF look)
+  int threads = 0;     // for compressing the buffer views; 0 = one per core
 };
 
 // Errors: kInvalidArgument for frames that do not match the base or values

@@ -436,19 +436,23 @@ struct Service::Impl {
     return found;
   }
 
+  // The grid and the frame count against this server's limits.
+  Status CheckFrames(const proto::AnimationRequest& request) const {
+    SURFDEFORM_RETURN_IF_ERROR(CheckGrid(request.sampling));
+    const int frames = request.animation.frames;
+    const int limit = options.limits.max_animation_frames;
+    if (frames <= limit) return Status::Ok();
+    return Status::LimitExceeded("this server animates at most " + std::to_string(limit) +
+                                     " frames, asked for " + std::to_string(frames),
+                                 "animation.frames", limit, frames);
+  }
+
   // The sheets of an animation, from the cache or flattened now (within the
   // caller's slot: single-flight, so concurrent requests for one animation
   // share one flattening).
   Result<std::shared_ptr<const CachedAnimation>> FlattenedAnimation(
       const proto::AnimationRequest& request, const RequestClock& clock, int threads, bool* hit) {
-    SURFDEFORM_RETURN_IF_ERROR(CheckGrid(request.sampling));
-    const int frames = request.animation.frames;
-    const int limit = options.limits.max_animation_frames;
-    if (frames > limit) {
-      return Status::LimitExceeded("this server animates at most " + std::to_string(limit) +
-                                       " frames, asked for " + std::to_string(frames),
-                                   "animation.frames", limit, frames);
-    }
+    SURFDEFORM_RETURN_IF_ERROR(CheckFrames(request));
     const std::string id = proto::AnimationId(request);
     return animations.GetOrCompute(
         id,
@@ -758,6 +762,7 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
   SURFDEFORM_ASSIGN_OR_RETURN(
       auto parsed, proto::ParseRequestJson(request.params, limits.max_json_depth, "params"));
   SURFDEFORM_ASSIGN_OR_RETURN(auto params, proto::ParseAnimateParams(parsed));
+  SURFDEFORM_RETURN_IF_ERROR(impl_->CheckFrames(params.animation));
   if (!request.accept.empty() && request.accept.find("*/*") == std::string::npos &&
       request.accept.find("model/gltf-binary") == std::string::npos &&
       request.accept.find("model/*") == std::string::npos) {
@@ -773,12 +778,10 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
   const double parse_ms = MsSince(t0);
   SURFDEFORM_RETURN_IF_ERROR(clock.Check("parsing"));
   const PlacementOptions placement = Impl::PlacementFor(params.placement, imported);
-  SURFDEFORM_ASSIGN_OR_RETURN(
-      Impl::AnimatedModel a, impl_->PrepareAnimated(params.animation, std::move(imported.mesh),
-                                                    placement, params.subdivision, clock, threads));
-  const size_t frames = a.maps.size();
-  const size_t vertices = a.model.mesh.positions.size();
-  if (frames * vertices > limits.max_animation_frame_vertices) {
+  // Checked before any work on the input's count, and again after the
+  // subdivision on the output's.
+  auto check_frame_vertices = [&limits](size_t frames, size_t vertices) -> Status {
+    if (frames * vertices <= limits.max_animation_frame_vertices) return Status::Ok();
     return Status::LimitExceeded(
         std::to_string(frames) + " frames of " + std::to_string(vertices) +
             " vertices are more than this server animates in one request (" +
@@ -786,7 +789,15 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
             " frame vertices); ask for fewer frames or a smaller model",
         "animation.frames", static_cast<double>(limits.max_animation_frame_vertices),
         static_cast<double>(frames * vertices));
-  }
+  };
+  SURFDEFORM_RETURN_IF_ERROR(check_frame_vertices(
+      static_cast<size_t>(params.animation.animation.frames), imported.mesh.positions.size()));
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      Impl::AnimatedModel a, impl_->PrepareAnimated(params.animation, std::move(imported.mesh),
+                                                    placement, params.subdivision, clock, threads));
+  const size_t frames = a.maps.size();
+  const size_t vertices = a.model.mesh.positions.size();
+  SURFDEFORM_RETURN_IF_ERROR(check_frame_vertices(frames, vertices));
 
   const auto t2 = Clock::now();
   MorphAnimation anim;
@@ -824,6 +835,7 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
   glb.compression = params.output.compression.value_or(AnimationCompression::kMeshopt);
   glb.look.materials = imported.materials;
   glb.look.look = imported.look;
+  glb.threads = threads;
   SURFDEFORM_ASSIGN_OR_RETURN(std::string bytes, WriteAnimationGlb(anim, glb));
   if (bytes.size() > limits.max_animation_bytes) {
     return Status::LimitExceeded("the animation's GLB would be " + std::to_string(bytes.size()) +

@@ -52,6 +52,9 @@ single = json.loads(json.dumps(common))
 single["animation"]["keyframes"] = single["animation"]["keyframes"][:1]
 json.dump(single, open(sys.argv[2] + "/single.json", "w"))
 json.dump(dict(common, frame=5), open(sys.argv[2] + "/frame-past.json", "w"))
+heavy = json.loads(json.dumps(common))
+heavy["animation"]["frames"] = 300  # 300 x 37,706 bunny vertices: past 8 M
+json.dump(heavy, open(sys.argv[2] + "/too-heavy.json", "w"))
 json.dump(dict(common, output={"format": "drc"}), open(sys.argv[2] + "/animate-drc.json", "w"))
 PY
 
@@ -110,6 +113,8 @@ expect() {  # STATUS FIELD PARAMS_FILE [PATH]
 expect 422 animation.keyframes[1].surface.degree_u "$out/bad-degree.json"
 expect 413 animation.frames "$out/too-many.json"
 grep -q '"limit":600' "$out/problem.json" || fail "the frame limit is not stated"
+expect 413 animation.frames "$out/too-heavy.json"
+grep -q '"limit":8000000' "$out/problem.json" || fail "the frame-vertex limit is not stated"
 expect 422 animation.keyframes "$out/single.json"
 expect 422 frame "$out/frame-past.json" /v1/deform
 expect 422 output.format "$out/animate-drc.json"

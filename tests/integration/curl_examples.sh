@@ -161,6 +161,19 @@ status=$(curl -sS -o "$out/problem.json" -w '%{http_code}' -F mesh=@"$data/bunny
 [[ $status == 422 ]] || fail "zero radius gave $status"
 grep -q '"field":"surface.radius"' "$out/problem.json" || fail "problem field"
 
+# The README's animation: the bunny swimming along the wave, one GLB.
+curl -sS -f -o "$out/bunny-swims.glb" -F mesh=@"$data/bunny.ply" \
+     -F 'params={"animation":{"keyframes":[{"time":0,"surface":{"kind":"wave","length":4,"width":1.5,"amplitude":0.25,"wavelength":2}}],"frames":60,"fps":30},"placement":{"scale":"fit"}}' \
+     "$base/v1/animate"
+python3 - "$out/bunny-swims.glb" << 'PY' || fail "the README's animation"
+import json, struct, sys
+glb = open(sys.argv[1], "rb").read()
+doc = json.loads(glb[20:20 + struct.unpack_from("<I", glb, 12)[0]])
+assert len(doc["meshes"][0]["primitives"][0]["targets"]) == 60
+assert "EXT_meshopt_compression" in doc["extensionsRequired"]
+assert doc["animations"][0]["channels"][0]["target"]["path"] == "weights"
+PY
+
 # The contract: the served openapi.yaml is the committed one, every path in it
 # is routed (never 404), and its request examples are accepted.
 curl -sS -f -o "$out/openapi.yaml" "$base/openapi.yaml"
