@@ -176,17 +176,16 @@ TEST(Animation, TheEndFramesEqualDeformationsOnTheStaticKeys) {
   SubdivisionOptions off;
   off.mode = SubdivisionMode::kOff;
   const Animated a = Animate(spec, 16, f, plate, placement, off);
-  const Mesh& frame_first = Frame(a, 0, placement);
-  const Mesh& frame_last = Frame(a, 5, placement);
+  const Mesh frame_first = Frame(a, 0, placement);
+  const Mesh frame_last = Frame(a, 5, placement);
   double apart = 0.0;
   for (const auto& [k, spec_k] :
        {std::pair{0, SurfaceSpec(first)}, std::pair{5, SurfaceSpec(last)}}) {
-    const testing::Target t = [&] {
-      testing::Target target;
-      target.surface = testing::MakeValid(spec_k);
-      target.sheet = *FlattenSurface(*target.surface, {16, 16}, f);
-      return target;
-    }();
+    testing::Target t;
+    t.surface = testing::MakeValid(spec_k);
+    auto sheet = FlattenSurface(*t.surface, {16, 16}, f);
+    ASSERT_TRUE(sheet.ok()) << sheet.status().ToString();
+    t.sheet = std::move(*sheet);
     auto alone = DeformMesh(*t.surface, t.sheet, plate, placement);
     ASSERT_TRUE(alone.ok()) << alone.status().ToString();
     const Mesh& frame = k == 0 ? frame_first : frame_last;
