@@ -193,10 +193,11 @@ int Run(int frames, int repeat) {
   std::printf("  flatten, warm-started     %8.3f  (%.1f iterations; distances %.3f, solve %.3f)\n",
               warm, static_cast<double>(warm_iterations) / warm_count, Median(warm_distance_ms),
               Median(warm_solve_ms));
-  std::printf("  flatten, cold (peer)      %8.3f  (%.1f iterations; distances %.3f, solve %.3f)"
-              "   warm is %.2fx faster\n",
-              cold, static_cast<double>(cold_iterations) / warm_count, Median(cold_distance_ms),
-              Median(cold_solve_ms), cold / warm);
+  std::printf(
+      "  flatten, cold (peer)      %8.3f  (%.1f iterations; distances %.3f, solve %.3f)"
+      "   warm is %.2fx faster\n",
+      cold, static_cast<double>(cold_iterations) / warm_count, Median(cold_distance_ms),
+      Median(cold_solve_ms), cold / warm);
   std::printf("  place + subdivide         %8.3f\n", Median(prepare_ms));
   std::printf("  deform                    %8.3f\n", Median(deform_ms));
   std::printf("  encode (morph targets)    %8.3f\n", Median(encode_ms));
