@@ -2,8 +2,8 @@
 // reads it (the depth limit first, then the parsers of POST /v1/surfaces,
 // the deformation parameters, POST /v1/animate and POST /v1/surfaces/{id}/map).
 // Whatever is accepted is serialised back; an accepted animation's first and
-// last frames are interpolated and its content id taken. Build with SURFDEFORM_FUZZ=ON and clang (see
-// tests/fuzz/run.sh).
+// last frames are interpolated and its content id taken. Build with SURFDEFORM_FUZZ=ON and clang
+// (see tests/fuzz/run.sh).
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
