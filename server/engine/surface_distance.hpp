@@ -43,8 +43,11 @@ struct DistanceOptions {
   int lattice_factor = 0;  // lattice points per grid cell side; 0 = automatic (4, or 2 above 64)
   int relax_steps = 2;     // Gauss-Newton steps per path; 0 = straight segments only
   int threads = 0;         // worker threads; 0 = one per core. Results do not depend on it.
-  // Past it, the work stops between rows of pairs with kDeadlineExceeded.
-  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  // A time budget, in ms from `started` (0 = none): past it the work stops
+  // between rows of pairs with kDeadlineExceeded, the budget and the time
+  // spent since `started` attached.
+  double time_budget_ms = 0.0;
+  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
 };
 
 // One pair of samples (i < j in index order) with its surface distance.
