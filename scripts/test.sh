@@ -42,7 +42,7 @@ ctest --test-dir build-san --output-on-failure -j "$jobs" -L unit
 # test that talked to it fails).
 stage "integration, CLI and failover tests against the sanitized server"
 ctest --test-dir build-san --output-on-failure -j "$jobs" \
-  -R '^(Server|SlowClients|Faults|FaultPoints|Disconnects|BoundedMemory)|CurlExamples|CliAgainst'
+  -R '^(Server|SlowClients|SlowReaders|Faults|FaultPoints|Disconnects|BoundedMemory)|CurlExamples|CliAgainst'
 # Sanitized replicas are some ten times slower: a request nginx retries on a
 # survivor waits for a slot longer than the 5 s default.
 SURFDEFORM_QUEUE_TIMEOUT_MS=60000 ctest --test-dir build-san --output-on-failure \
@@ -71,7 +71,7 @@ stage "concurrency tests under ThreadSanitizer"
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/tsan_suppressions.txt"
 setarch "$(uname -m)" -R build-tsan/tests/surfdeform_concurrency_tests --gtest_brief=1
 setarch "$(uname -m)" -R ctest --test-dir build-tsan --output-on-failure -j "$jobs" \
-  -R '^(ServerConcurrency|ServerShutdown|ServerTest|SlowClients|Disconnects|Faults)\.'
+  -R '^(ServerConcurrency|ServerShutdown|ServerTest|SlowClients|SlowReaders|Disconnects|Faults)\.'
 unset TSAN_OPTIONS
 
 stage "all tests (release)"

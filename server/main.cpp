@@ -149,6 +149,12 @@ int main(int argc, char** argv) {
       ->envname("SURFDEFORM_TRANSFER_GRACE")
       ->check(CLI::Range(0, 3600))
       ->capture_default_str();
+  app.add_option("--send-buffer", http_options.send_buffer_bytes,
+                 "Kernel send buffer of each connection, bytes (0: the kernel's autotuning); "
+                 "responses larger than it hold a worker until read or cut at the minimum rate")
+      ->envname("SURFDEFORM_SEND_BUFFER")
+      ->check(CLI::Range(0, 1 << 30))
+      ->capture_default_str();
   app.add_option("--keep-alive-timeout", http_options.keep_alive_timeout_s,
                  "Idle keep-alive connections are closed after this many seconds")
       ->envname("SURFDEFORM_KEEP_ALIVE_TIMEOUT")

@@ -245,6 +245,14 @@ void ConnectionGate::shutdown() {
   admitted_.clear();
 }
 
+void ConnectionGate::Admit(int fd) {
+  if (options_.send_buffer_bytes > 0) {
+    setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &options_.send_buffer_bytes,
+               sizeof options_.send_buffer_bytes);
+  }
+  Wait(fd, options_.max_requests_per_connection, false);
+}
+
 void ConnectionGate::Wait(int fd, int requests_left, bool kept_alive) {
   bool refuse = false;
   {
@@ -439,6 +447,12 @@ void ConnectionGate::CheckDeadlines(Clock::time_point now) {
         break;
     }
     if (counter == nullptr) continue;
+    // An abortive close once the worker lets go (as nginx's
+    // reset_timedout_connection): what is still queued for a slow reader is
+    // dropped with an RST and its kernel memory freed, rather than trickled
+    // out to the client after the cut.
+    const linger abort{1, 0};
+    setsockopt(s->fd, SOL_SOCKET, SO_LINGER, &abort, sizeof abort);
     ::shutdown(s->fd, SHUT_RDWR);  // the worker's blocked recv or send returns
     s->shut = true;
     std::lock_guard stats_lock(mutex_);

@@ -56,6 +56,7 @@ struct GateOptions {
   int max_requests_per_connection = 100;  // keep-alive
   std::chrono::seconds read_timeout{10};  // per recv() and send(), on a worker
   std::chrono::seconds write_timeout{10};
+  int send_buffer_bytes = 0;  // SO_SNDBUF of accepted sockets; 0 = the kernel's autotuning
 };
 
 // Where a request on a worker is, for the watchdog. Called on the worker
@@ -88,7 +89,7 @@ class ConnectionGate : public httplib::TaskQueue {
   void shutdown() override;
 
   // Takes an accepted socket into the gate (from the accept loop's task).
-  void Admit(int fd) { Wait(fd, options_.max_requests_per_connection, false); }
+  void Admit(int fd);
   ConnectionStats stats() const;
 
   struct Served;  // a connection on a worker

@@ -689,6 +689,7 @@ HttpServer::HttpServer(Service& service, HttpOptions options)
   gate.max_requests_per_connection = std::max(1, s->options.keep_alive_max_requests);
   gate.read_timeout = std::chrono::seconds(s->options.read_timeout_s);
   gate.write_timeout = std::chrono::seconds(s->options.write_timeout_s);
+  gate.send_buffer_bytes = std::max(0, s->options.send_buffer_bytes);
   s->server.UseGate(gate);
   server.set_payload_max_length(service.limits().max_body_bytes);
   // Without it, a small response waits for the client's delayed ACK (Nagle),

@@ -33,6 +33,12 @@ struct HttpOptions {
   int head_timeout_ms = 10000;
   int min_transfer_bytes_per_s = 16 * 1024;
   int transfer_grace_s = 10;
+  // SO_SNDBUF of each accepted connection, bytes; 0 = the kernel's
+  // autotuning (up to net.ipv4.tcp_wmem's maximum, some 4 MB a connection).
+  // A response that fits is handed to the kernel and frees its worker at
+  // once, however slowly the client reads; a larger one holds the worker
+  // until it is read or cut at the minimum rate.
+  int send_buffer_bytes = 0;
   LogLevel log_level = LogLevel::kInfo;
   // The web viewer's folder (client/web): public/ is served at /, samples/ at
   // /samples/ and node_modules/three at /vendor/three/. Empty or missing: / is

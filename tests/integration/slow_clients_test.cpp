@@ -1,14 +1,17 @@
 // Slow clients against the real server, with no proxy in front
 // (docs/RELIABILITY.md, items 8 and 30): heads trickled a line at a time,
-// bodies trickled a few bytes at a time, and idle keep-alive connections,
-// each on twice the worker count. The server closes them by its own
-// deadlines, and /healthz and a real request keep answering meanwhile.
+// bodies trickled a few bytes at a time, idle keep-alive connections, and
+// readers of large responses that read a few bytes at a time, each on twice
+// the worker count. The server closes them by its own deadlines, and
+// /healthz and a real request keep answering meanwhile.
 #include <gtest/gtest.h>
 #include <httplib.h>
+#include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <string>
@@ -57,16 +60,46 @@ void Trickle(int port, const std::string& first, const std::string& piece,
   close(fd);
 }
 
-// `count` slow clients at once, each as Trickle.
+// A slow reader: a receive buffer of 4 KB (set before connecting, so the
+// window stays small), `request` sent at once, then `piece` bytes read every
+// `every` until the server closes the connection (or `give_up`).
+void SlowRead(int port, const std::string& request, size_t piece, std::chrono::milliseconds every,
+              std::chrono::milliseconds give_up, SlowClient* out) {
+  const auto start = Clock::now();
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  if (fd < 0) return;
+  const int small = 4096;
+  setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<uint16_t>(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0 ||
+      !SendAll(fd, request)) {
+    close(fd);
+    return;
+  }
+  std::vector<char> buf(piece);
+  while (Clock::now() - start < give_up) {
+    std::this_thread::sleep_for(every);
+    const ssize_t n = recv(fd, buf.data(), buf.size(), MSG_DONTWAIT);
+    if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK)) {
+      out->closed = true;
+      out->closed_after = Clock::now() - start;
+      break;
+    }
+    if (n > 0) out->received.append(buf.data(), static_cast<size_t>(n));
+  }
+  close(fd);
+}
+
+// `count` slow clients at once, each running `client` (Trickle or SlowRead).
 struct SlowCrowd {
   std::vector<SlowClient> clients;
   std::vector<std::thread> threads;
-  SlowCrowd(int count, int port, const std::string& first, const std::string& piece,
-            std::chrono::milliseconds every, std::chrono::milliseconds give_up)
-      : clients(static_cast<size_t>(count)) {
-    for (SlowClient& c : clients) {
-      threads.emplace_back(Trickle, port, first, piece, every, give_up, &c);
-    }
+  template <typename Client, typename... Args>
+  SlowCrowd(int count, Client client, const Args&... args) : clients(static_cast<size_t>(count)) {
+    for (SlowClient& c : clients) threads.emplace_back(client, args..., &c);
     std::this_thread::sleep_for(300ms);  // every slow connection is open
   }
   const std::vector<SlowClient>& Join() {
@@ -74,6 +107,38 @@ struct SlowCrowd {
     return clients;
   }
 };
+
+// While slow connections run, /healthz and a real request must each answer
+// within `bound`, several times over.
+void ExpectServingOn(int port, std::chrono::milliseconds bound) {
+  for (int round = 0; round < 4; ++round) {
+    httplib::Client c("127.0.0.1", port);
+    c.set_connection_timeout(5, 0);
+    c.set_read_timeout(5, 0);
+    auto t0 = Clock::now();
+    auto health = c.Get("/healthz");
+    EXPECT_TRUE(health && health->status == 200) << "round " << round;
+    EXPECT_LT(Clock::now() - t0, bound) << "/healthz, round " << round;
+    t0 = Clock::now();
+    auto created = c.Post("/v1/surfaces",
+                          R"({"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":)" +
+                              std::to_string(60 + round) + R"(},"sampling":{"nu":8,"nv":8}})",
+                          "application/json");
+    EXPECT_TRUE(created && (created->status == 201 || created->status == 200)) << "round " << round;
+    EXPECT_LT(Clock::now() - t0, bound) << "POST /v1/surfaces, round " << round;
+    std::this_thread::sleep_for(200ms);
+  }
+}
+
+// A counter of /metrics: surfdeform_connections_closed_total{reason=...}.
+double ClosedConnections(int port, const std::string& reason) {
+  httplib::Client c("127.0.0.1", port);
+  auto r = c.Get("/metrics");
+  if (!r) return -1;
+  const std::string key = "surfdeform_connections_closed_total{reason=\"" + reason + "\"} ";
+  const size_t at = r->body.find(key);
+  return at == std::string::npos ? -1 : std::atof(r->body.c_str() + at + key.size());
+}
 
 class SlowClients : public ::testing::Test {
  protected:
@@ -90,38 +155,8 @@ class SlowClients : public ::testing::Test {
   }
   int port() const { return server_->port(); }
 
-  // While `clients` slow connections run, /healthz and a real request must
-  // each answer within `bound`, several times over.
-  void ExpectServing(std::chrono::milliseconds bound) {
-    for (int round = 0; round < 4; ++round) {
-      httplib::Client c("127.0.0.1", port());
-      c.set_connection_timeout(5, 0);
-      c.set_read_timeout(5, 0);
-      auto t0 = Clock::now();
-      auto health = c.Get("/healthz");
-      EXPECT_TRUE(health && health->status == 200) << "round " << round;
-      EXPECT_LT(Clock::now() - t0, bound) << "/healthz, round " << round;
-      t0 = Clock::now();
-      auto created = c.Post("/v1/surfaces",
-                            R"({"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":)" +
-                                std::to_string(60 + round) + R"(},"sampling":{"nu":8,"nv":8}})",
-                            "application/json");
-      EXPECT_TRUE(created && (created->status == 201 || created->status == 200))
-          << "round " << round;
-      EXPECT_LT(Clock::now() - t0, bound) << "POST /v1/surfaces, round " << round;
-      std::this_thread::sleep_for(200ms);
-    }
-  }
-
-  // A counter of /metrics: surfdeform_connections_closed_total{reason=...}.
-  double Closed(const std::string& reason) {
-    httplib::Client c("127.0.0.1", port());
-    auto r = c.Get("/metrics");
-    if (!r) return -1;
-    const std::string key = "surfdeform_connections_closed_total{reason=\"" + reason + "\"} ";
-    const size_t at = r->body.find(key);
-    return at == std::string::npos ? -1 : std::atof(r->body.c_str() + at + key.size());
-  }
+  void ExpectServing(std::chrono::milliseconds bound) { ExpectServingOn(port(), bound); }
+  double Closed(const std::string& reason) { return ClosedConnections(port(), reason); }
 
   static ServerProcess* server_;
 };
@@ -130,8 +165,8 @@ ServerProcess* SlowClients::server_ = nullptr;
 TEST_F(SlowClients, TrickledHeadsNeverHoldAWorkerAndGet408) {
   const double before = Closed("head_timeout");
   constexpr int kCount = 2 * kWorkers * 4;  // well past twice the workers
-  SlowCrowd crowd(kCount, port(), "GET /healthz HTTP/1.1\r\nHost: x\r\n", "X-Slow: 1\r\n", 200ms,
-                  10000ms);
+  SlowCrowd crowd(kCount, Trickle, port(), "GET /healthz HTTP/1.1\r\nHost: x\r\n", "X-Slow: 1\r\n",
+                  200ms, 10000ms);
   ExpectServing(1000ms);
   for (const SlowClient& c : crowd.Join()) {
     EXPECT_TRUE(c.closed) << "a trickling head was never cut off";
@@ -148,7 +183,7 @@ TEST_F(SlowClients, BodiesTrickledBeforeTheirFirstWindowNeverHoldAWorker) {
   const std::string head =
       "POST /v1/surfaces HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
       "Content-Length: 1000000\r\n\r\n";
-  SlowCrowd crowd(kCount, port(), head + "{", "  ", 100ms, 10000ms);
+  SlowCrowd crowd(kCount, Trickle, port(), head + "{", "  ", 100ms, 10000ms);
   ExpectServing(1000ms);
   for (const SlowClient& c : crowd.Join()) {
     EXPECT_TRUE(c.closed);
@@ -167,8 +202,8 @@ TEST_F(SlowClients, BodiesThatSlowDownOnAWorkerAreCutOffAtTheMinimumRate) {
   // 20 KiB at once (past the gate's window), then 100 bytes a tick. Each
   // holds a worker until its pace falls under 64 KiB/s past the 1 s grace
   // (20 KiB: at 1.3 s); twice the workers, so two rounds of them.
-  SlowCrowd crowd(kCount, port(), head + std::string(20 * 1024, 'x'), std::string(100, 'x'), 100ms,
-                  15000ms);
+  SlowCrowd crowd(kCount, Trickle, port(), head + std::string(20 * 1024, 'x'),
+                  std::string(100, 'x'), 100ms, 15000ms);
   ExpectServing(4000ms);
   for (const SlowClient& c : crowd.Join()) {
     EXPECT_TRUE(c.closed) << "a trickling body was never cut off";
@@ -226,6 +261,44 @@ TEST_F(SlowClients, AKeptAliveConnectionThatTricklesItsNextHeadIsClosed) {
   // Its budget: the keep-alive wait plus the head timeout.
   EXPECT_LT(Clock::now() - start, 3s + kHeadTimeout + 1500ms);
   EXPECT_EQ(received.rfind("HTTP/1.1 408", 0), 0u) << received.substr(0, 80);
+}
+
+// Slow readers: twice the workers each ask for a response larger than the
+// kernel buffers between them and the server (the 1.4 MB sample; the
+// server's send buffer at 64 KB, the client's receive window at 4 KB), then
+// read 1 KB every 100 ms. Each holds a worker while the worker's send
+// blocks, until the watchdog's minimum rate cuts it: 1 MiB/s past a 1 s
+// grace here, so the whole response is due within about 2.4 s. (With the
+// kernel's autotuned send buffer, some 4 MB on loopback, the sample would
+// fit, and its worker would be free at once.)
+TEST(SlowReaders, ResponsesReadSlowerThanTheMinimumRateAreCutOff) {
+  ServerProcess server({"--log-level", "error", "--http-threads", std::to_string(kWorkers),
+                        "--transfer-grace", "1", "--min-transfer-rate", "1048576", "--send-buffer",
+                        "65536"});
+  ASSERT_GT(server.port(), 0) << "the server did not start";
+  const int port = server.port();
+  httplib::Client c("127.0.0.1", port);
+  auto sample = c.Get("/samples/bunny.ply");
+  ASSERT_TRUE(sample && sample->status == 200);
+  const size_t size = sample->body.size();
+  ASSERT_GT(size, 1000000u);
+  const auto due = 1000ms + std::chrono::milliseconds(size * 1000 / 1048576);
+
+  const double before = ClosedConnections(port, "slow_response");
+  constexpr int kCount = 2 * kWorkers;
+  SlowCrowd crowd(kCount, SlowRead, port, "GET /samples/bunny.ply HTTP/1.1\r\nHost: x\r\n\r\n",
+                  size_t{1024}, 100ms, 20000ms);
+  // Two rounds of readers hold the workers, each for about `due`.
+  ExpectServingOn(port, 2 * due + 1000ms);
+  for (const SlowClient& r : crowd.Join()) {
+    EXPECT_EQ(r.received.rfind("HTTP/1.1 200", 0), 0u) << r.received.substr(0, 80);
+    EXPECT_TRUE(r.closed) << "a slow reader was never cut off";
+    EXPECT_LT(r.received.size(), size) << "a slow reader got the whole response";
+    EXPECT_LT(r.closed_after, 2 * due + 2000ms);
+  }
+  // Each was cut while its worker was still sending: proof that the
+  // response outgrew the buffers and held a worker.
+  EXPECT_GE(ClosedConnections(port, "slow_response") - before, kCount);
 }
 
 }  // namespace
