@@ -36,8 +36,9 @@ struct RequestContext {
   Clock::time_point start;
   std::string id;
   bool cache_hit = false;
-  bool finished = false;  // logged and counted
-  size_t bytes_in = 0;    // a body read by its handler (not into req.body)
+  bool finished = false;   // logged and counted
+  size_t bytes_in = 0;     // a body read by its handler (not into req.body)
+  size_t body_length = 0;  // its Content-Length, as the framing checks parsed it
 };
 thread_local RequestContext t_context;
 
@@ -264,8 +265,11 @@ struct HttpServer::Impl {
     t_context = RequestContext{};
     t_context.active = true;
     t_context.start = Clock::now();
-    connection_phase::HeadIn(static_cast<size_t>(
-        std::strtoull(req.get_header_value("Content-Length").c_str(), nullptr, 10)));
+    // Content-Length is parsed once, by the framing checks; the watchdog and
+    // the body readers use what they found.
+    const std::optional<Rejection> rejection =
+        CheckFraming(req, service.limits().max_body_bytes, &t_context.body_length);
+    connection_phase::HeadIn(t_context.body_length);
     // The test build's fault points (base/fault_points.hpp); a no-op in production.
     faults::Disarm();
     if (req.has_header("X-Surfdeform-Fault")) {
@@ -281,7 +285,7 @@ struct HttpServer::Impl {
     // const where httplib made it; only its handler interface is.
     const_cast<httplib::Request&>(req).ranges.clear();
 
-    if (auto rejection = CheckFraming(req, service.limits().max_body_bytes)) {
+    if (rejection) {
       metrics.Rejected(std::to_string(rejection->http_status));
       // The body was not read, so the connection cannot carry another
       // request: httplib 0.11.4 decides keep-alive before routing, so the
@@ -466,10 +470,7 @@ struct HttpServer::Impl {
             return true;
           });
     } else {
-      body.raw.reserve(
-          std::min<size_t>(service.limits().max_body_bytes,
-                           static_cast<size_t>(std::strtoull(
-                               req.get_header_value("Content-Length").c_str(), nullptr, 10))));
+      body.raw.reserve(std::min(service.limits().max_body_bytes, t_context.body_length));
       read = reader([&](const char* data, size_t n) {
         t_context.bytes_in += n;
         connection_phase::BodyProgress(t_context.bytes_in);

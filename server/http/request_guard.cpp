@@ -11,7 +11,9 @@ Rejection Reject(int http_status, ErrorCode code, std::string message, std::stri
 
 }  // namespace
 
-std::optional<Rejection> CheckFraming(const httplib::Request& req, size_t max_body_bytes) {
+std::optional<Rejection> CheckFraming(const httplib::Request& req, size_t max_body_bytes,
+                                      size_t* body_length) {
+  *body_length = 0;
   if (req.headers.size() > kMaxHeaderCount) {
     Rejection r{431, Status::LimitExceeded(
                          "the request has " + std::to_string(req.headers.size()) +
@@ -55,6 +57,7 @@ std::optional<Rejection> CheckFraming(const httplib::Request& req, size_t max_bo
                   "Content-Length must be a non-negative decimal number", "Content-Length");
   }
   const unsigned long long length = std::stoull(text);
+  *body_length = static_cast<size_t>(length);
   if (length > max_body_bytes) {
     return Rejection{413,
                      Status::LimitExceeded("the request body is " + text + " bytes; the limit is " +

@@ -25,7 +25,9 @@ inline constexpr size_t kMaxHeaderCount = 100;
 // than identity (415); several Content-Length headers, or one that is not a
 // plain decimal number (400); a POST, PUT or PATCH without Content-Length
 // (411); a Content-Length over `max_body_bytes` (413, with the limit and the
-// actual value).
-std::optional<Rejection> CheckFraming(const httplib::Request& request, size_t max_body_bytes);
+// actual value). `body_length` receives the declared length (0 without one;
+// the declared value too when it is over the limit).
+std::optional<Rejection> CheckFraming(const httplib::Request& request, size_t max_body_bytes,
+                                      size_t* body_length);
 
 }  // namespace surfdeform::http
