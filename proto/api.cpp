@@ -10,10 +10,6 @@ namespace {
 
 using nlohmann::json;
 
-std::string KindName(SurfaceKind kind) {
-  return std::string(NameOf<SurfaceKind>(kSurfaceKinds, kind));
-}
-
 Status ReadFrame(JsonObject& o, Frame* frame) {
   const json* v = o.Find("frame");
   if (v == nullptr) return Status::Ok();

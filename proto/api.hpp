@@ -25,29 +25,10 @@
 
 namespace surfdeform::proto {
 
-// The surface kinds of the API (`surface.kind`).
-enum class SurfaceKind {
-  kBezier,
-  kBSpline,
-  kNurbs,
-  kCylinder,
-  kCone,
-  kSphere,
-  kTorus,
-  kWave,
-  kGrid
-};
-inline constexpr EnumEntry<SurfaceKind> kSurfaceKinds[] = {
-    {SurfaceKind::kBezier, "bezier", "tensor-product Bezier patch of any degree"},
-    {SurfaceKind::kBSpline, "bspline", "clamped B-spline"},
-    {SurfaceKind::kNurbs, "nurbs", "clamped B-spline with weights"},
-    {SurfaceKind::kCylinder, "cylinder", "cylinder patch (u: angle, v: height)"},
-    {SurfaceKind::kCone, "cone", "truncated cone patch"},
-    {SurfaceKind::kSphere, "sphere", "sphere patch (u: longitude, v: latitude)"},
-    {SurfaceKind::kTorus, "torus", "torus patch (v around the tube)"},
-    {SurfaceKind::kWave, "wave", "travelling wave sheet, with a time"},
-    {SurfaceKind::kGrid, "grid", "a grid of points, interpolated smoothly"},
-};
+// The surface kinds of the API (`surface.kind`): the engine's table
+// (engine/surface_spec.hpp).
+using ::surfdeform::kSurfaceKinds;
+using ::surfdeform::SurfaceKind;
 
 // POST /v1/surfaces, and the surface part of POST /v1/deform.
 struct SurfaceRequest {

@@ -123,19 +123,12 @@ std::string NumberField(const SurfaceSpec& spec, size_t index) {
   return field;
 }
 
-const char* KindOf(const SurfaceSpec& spec) {
-  static constexpr const char* kNames[] = {"bezier", "bspline", "cylinder", "cone",
-                                           "sphere", "torus",   "wave",     "grid"};
-  if (const auto* b = std::get_if<BSplineSpec>(&spec); b != nullptr && b->rational) return "nurbs";
-  return kNames[spec.index()];
-}
-
 // `key`'s shape against the first key's: the integers and the list sizes.
 Status SameShape(const SurfaceSpec& first, const SurfaceSpec& key) {
-  if (first.index() != key.index() ||
-      std::string_view(KindOf(first)) != std::string_view(KindOf(key))) {
-    return InvalidArgument(std::string("is \"") + KindOf(key) + "\" but keyframe 0 is \"" +
-                               KindOf(first) + "\": keyframes are surfaces of one kind",
+  if (KindOf(first) != KindOf(key)) {
+    return InvalidArgument(std::string("is \"") + std::string(KindName(KindOf(key))) +
+                               "\" but keyframe 0 is \"" + std::string(KindName(KindOf(first))) +
+                               "\": keyframes are surfaces of one kind",
                            "kind");
   }
   auto differ = [](const std::string& field, long long a, long long b) {
@@ -222,7 +215,8 @@ Status ValidateAnimation(const AnimationSpec& spec, int max_frames) {
   if (spec.keyframes.size() == 1 && !std::holds_alternative<WaveSpec>(spec.keyframes[0].surface)) {
     return InvalidArgument(
         std::string("a single keyframe must be a wave (whose time advances); a \"") +
-            KindOf(spec.keyframes[0].surface) + "\" needs a second keyframe to move",
+            std::string(KindName(KindOf(spec.keyframes[0].surface))) +
+            "\" needs a second keyframe to move",
         "keyframes");
   }
   const SurfaceSpec& first = spec.keyframes[0].surface;

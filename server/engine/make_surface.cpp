@@ -1,8 +1,10 @@
 // Validation of surface specs and dispatch to the surface builders.
 #include <Eigen/Geometry>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 #include <string>
+#include <variant>
 
 #include "engine/analytic_surfaces.hpp"
 #include "engine/bspline_basis.hpp"
@@ -318,6 +320,17 @@ Result<std::unique_ptr<Surface>> Build(const WaveSpec& s) {
 }
 
 }  // namespace
+
+SurfaceKind KindOf(const SurfaceSpec& spec) {
+  static constexpr SurfaceKind kByIndex[] = {
+      SurfaceKind::kBezier, SurfaceKind::kBSpline, SurfaceKind::kCylinder, SurfaceKind::kCone,
+      SurfaceKind::kSphere, SurfaceKind::kTorus,   SurfaceKind::kWave,     SurfaceKind::kGrid};
+  static_assert(std::size(kByIndex) == std::variant_size_v<SurfaceSpec>);
+  if (const auto* b = std::get_if<BSplineSpec>(&spec); b != nullptr && b->rational) {
+    return SurfaceKind::kNurbs;
+  }
+  return kByIndex[spec.index()];
+}
 
 Result<std::unique_ptr<Surface>> MakeSurface(const SurfaceSpec& spec) {
   return std::visit([](const auto& s) { return Build(s); }, spec);

@@ -7,6 +7,7 @@
 #include <variant>
 #include <vector>
 
+#include "base/enum_table.hpp"
 #include "base/status.hpp"
 #include "engine/geometry_types.hpp"
 #include "engine/surface.hpp"
@@ -115,6 +116,36 @@ struct GridSpec {
 
 using SurfaceSpec = std::variant<BezierSpec, BSplineSpec, CylinderSpec, ConeSpec, SphereSpec,
                                  TorusSpec, WaveSpec, GridSpec>;
+
+// The kinds of surface, by their names in the API (`surface.kind`): one per
+// spec, but for BSplineSpec, which is "nurbs" when rational.
+enum class SurfaceKind {
+  kBezier,
+  kBSpline,
+  kNurbs,
+  kCylinder,
+  kCone,
+  kSphere,
+  kTorus,
+  kWave,
+  kGrid
+};
+inline constexpr EnumEntry<SurfaceKind> kSurfaceKinds[] = {
+    {SurfaceKind::kBezier, "bezier", "tensor-product Bezier patch of any degree"},
+    {SurfaceKind::kBSpline, "bspline", "clamped B-spline"},
+    {SurfaceKind::kNurbs, "nurbs", "clamped B-spline with weights"},
+    {SurfaceKind::kCylinder, "cylinder", "cylinder patch (u: angle, v: height)"},
+    {SurfaceKind::kCone, "cone", "truncated cone patch"},
+    {SurfaceKind::kSphere, "sphere", "sphere patch (u: longitude, v: latitude)"},
+    {SurfaceKind::kTorus, "torus", "torus patch (v around the tube)"},
+    {SurfaceKind::kWave, "wave", "travelling wave sheet, with a time"},
+    {SurfaceKind::kGrid, "grid", "a grid of points, interpolated smoothly"},
+};
+
+SurfaceKind KindOf(const SurfaceSpec& spec);
+inline std::string_view KindName(SurfaceKind kind) {
+  return NameOf<SurfaceKind>(kSurfaceKinds, kind);
+}
 
 // Validates the spec and builds the surface. Errors: kInvalidArgument for bad
 // numbers and counts, kDegenerate for a surface that cannot have a normal

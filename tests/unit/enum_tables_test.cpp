@@ -50,6 +50,24 @@ TEST(EnumTables, TheNameFunctionsReadTheTables) {
   for (const auto& e : kErrorCodes) EXPECT_EQ(ErrorCodeName(e.value), e.name);
 }
 
+// The engine's KindOf (animation keys) names each spec as the API writes it
+// (the canonical JSON's "kind"), and every kind of the table is met.
+TEST(EnumTables, KindOfNamesEachSpecAsTheApiDoes) {
+  BSplineSpec rational;
+  rational.rational = true;
+  const SurfaceSpec specs[] = {BezierSpec{}, BSplineSpec{}, rational,   CylinderSpec{}, ConeSpec{},
+                               SphereSpec{}, TorusSpec{},   WaveSpec{}, GridSpec{}};
+  std::set<SurfaceKind> seen;
+  for (const SurfaceSpec& spec : specs) {
+    proto::SurfaceRequest request;
+    request.surface = spec;
+    const std::string api = proto::CanonicalJson(request)["surface"]["kind"];
+    EXPECT_EQ(KindName(KindOf(spec)), api);
+    seen.insert(KindOf(spec));
+  }
+  EXPECT_EQ(seen.size(), std::size(proto::kSurfaceKinds));
+}
+
 TEST(EnumTables, ChoiceParsesByTheTableAndListsItsNamesOnError) {
   const nlohmann::json j = {{"up", "-y"}, {"bad", "sideways"}};
   auto o = proto::JsonObject::Open(j, "placement");
