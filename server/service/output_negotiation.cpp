@@ -28,12 +28,10 @@ std::optional<proto::OutputFormat> FormatOfMediaType(const std::string& type) {
   return std::nullopt;
 }
 
-}  // namespace
-
-Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat> requested,
-                                               std::string_view accept) {
-  if (requested) return *requested;
-  if (Trim(accept).empty()) return proto::OutputFormat::kDrc;
+// The media types of an Accept header in order, lower case, without those
+// refused by q=0: f(type) until it returns true. True when one did.
+template <typename F>
+bool FirstAccepted(std::string_view accept, F&& f) {
   std::string_view rest = accept;
   while (!rest.empty()) {
     const size_t comma = rest.find(',');
@@ -50,14 +48,42 @@ Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat
         refused = value.find_first_not_of("0.") == std::string::npos;  // q=0, q=0.0, q=0.000
       }
     }
-    if (refused) continue;
-    if (auto format = FormatOfMediaType(type)) return *format;
+    if (!refused && f(type)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat> requested,
+                                               std::string_view accept) {
+  if (requested) return *requested;
+  if (Trim(accept).empty()) return proto::OutputFormat::kDrc;
+  std::optional<proto::OutputFormat> chosen;
+  if (FirstAccepted(accept, [&](const std::string& type) {
+        chosen = FormatOfMediaType(type);
+        return chosen.has_value();
+      })) {
+    return *chosen;
   }
   return Status(ErrorCode::kNotAcceptable,
                 "the Accept header names no format this server writes; accept "
                 "application/octet-stream (Draco), model/gltf-binary, model/obj or "
                 "application/x-ply, or set output.format in the parameters",
                 "Accept");
+}
+
+Status AcceptGlbOnly(std::string_view accept) {
+  if (Trim(accept).empty()) return Status::Ok();
+  if (FirstAccepted(accept, [](const std::string& type) {
+        return type == "model/gltf-binary" || type == "model/*" || type == "*/*";
+      })) {
+    return Status::Ok();
+  }
+  return Status(
+      ErrorCode::kNotAcceptable,
+      "this answer is a GLB (model/gltf-binary); the Accept header asks for " + std::string(accept),
+      "Accept");
 }
 
 }  // namespace surfdeform

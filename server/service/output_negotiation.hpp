@@ -18,4 +18,9 @@ namespace surfdeform {
 Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat> requested,
                                                std::string_view accept);
 
+// For answers that are only ever a GLB (POST /v1/animate): Ok when the
+// Accept header is empty or accepts model/gltf-binary, model/* or */* (not
+// with q=0); else kNotAcceptable naming the header.
+Status AcceptGlbOnly(std::string_view accept);
+
 }  // namespace surfdeform

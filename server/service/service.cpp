@@ -763,14 +763,7 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
       auto parsed, proto::ParseRequestJson(request.params, limits.max_json_depth, "params"));
   SURFDEFORM_ASSIGN_OR_RETURN(auto params, proto::ParseAnimateParams(parsed));
   SURFDEFORM_RETURN_IF_ERROR(impl_->CheckFrames(params.animation));
-  if (!request.accept.empty() && request.accept.find("*/*") == std::string::npos &&
-      request.accept.find("model/gltf-binary") == std::string::npos &&
-      request.accept.find("model/*") == std::string::npos) {
-    return Status(
-        ErrorCode::kNotAcceptable,
-        "an animation is a GLB (model/gltf-binary); the Accept header asks for " + request.accept,
-        "Accept");
-  }
+  SURFDEFORM_RETURN_IF_ERROR(AcceptGlbOnly(request.accept));
   if (request.mesh.empty()) {
     return Status(ErrorCode::kMalformed, "the request carries no mesh", "mesh");
   }

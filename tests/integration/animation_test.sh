@@ -103,10 +103,10 @@ assert "TEXCOORD_0" in prim["attributes"]
 PY
 
 # What a user gets wrong.
-expect() {  # STATUS FIELD PARAMS_FILE [PATH]
+expect() {  # STATUS FIELD PARAMS_FILE [PATH [ACCEPT]]
   local status
   status=$(curl -sS -o "$out/problem.json" -w '%{http_code}' -F mesh=@"$data/bunny.ply" \
-    -F "params=<$3" "$base${4:-/v1/animate}")
+    -H "Accept: ${5:-*/*}" -F "params=<$3" "$base${4:-/v1/animate}")
   [[ $status == "$1" ]] || fail "$3 gave $status: $(cat "$out/problem.json")"
   grep -qF "\"field\":\"$2\"" "$out/problem.json" || fail "$3: field: $(cat "$out/problem.json")"
 }
@@ -118,6 +118,9 @@ grep -q '"limit":8000000' "$out/problem.json" || fail "the frame-vertex limit is
 expect 422 animation.keyframes "$out/single.json"
 expect 422 frame "$out/frame-past.json" /v1/deform
 expect 422 output.format "$out/animate-drc.json"
+# An animation is only ever a GLB: an Accept header that refuses it is 406.
+expect 406 Accept "$out/animate.json" /v1/animate application/octet-stream
+expect 406 Accept "$out/animate.json" /v1/animate "model/gltf-binary;q=0, application/x-ply"
 
 kill -TERM "$server_pid"
 wait "$server_pid" || fail "the server did not exit 0 on SIGTERM"

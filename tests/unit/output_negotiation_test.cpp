@@ -36,5 +36,18 @@ TEST(OutputNegotiation, ParametersWinAndUnknownTypesAreRefused) {
   EXPECT_FALSE(r.ok());
 }
 
+TEST(OutputNegotiation, GlbOnlyAnswersReadTheSameHeader) {
+  for (const char* ok : {"", "*/*", "model/gltf-binary", "MODEL/*;q=0.5",
+                         "application/json;q=0.9, model/gltf-binary"}) {
+    EXPECT_TRUE(AcceptGlbOnly(ok).ok()) << ok;
+  }
+  for (const char* refused : {"application/octet-stream", "model/gltf-binary;q=0",
+                              "model/gltf-binary;q=0.0, text/plain", "application/x-ply"}) {
+    const Status s = AcceptGlbOnly(refused);
+    EXPECT_EQ(s.code(), ErrorCode::kNotAcceptable) << refused;
+    EXPECT_EQ(s.field(), "Accept");
+  }
+}
+
 }  // namespace
 }  // namespace surfdeform
