@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "server_process.hpp"
+#include "shared_server.hpp"
 
 namespace surfdeform::testing {
 namespace {
@@ -90,25 +91,19 @@ int OpenDescriptors(pid_t pid) {
   return count;
 }
 
-class Faults : public ::testing::Test {
+class Faults : public SharedServerTest<Faults> {
+ public:
+  static std::string Binary() { return FaultServerBinary(); }
+  static std::vector<std::string> Args() { return {"--log-level", "error"}; }
+
  protected:
-  static void SetUpTestSuite() {
-    server_ = new ServerProcess(FaultServerBinary(), {"--log-level", "error"});
-    ASSERT_GT(server_->port(), 0) << "the fault-point server did not start";
-  }
-  static void TearDownTestSuite() {
-    delete server_;
-    server_ = nullptr;
-  }
   httplib::Client Client() const {
     httplib::Client c("127.0.0.1", server_->port());
     c.set_read_timeout(30, 0);
     c.set_keep_alive(true);
     return c;
   }
-  static ServerProcess* server_;
 };
-ServerProcess* Faults::server_ = nullptr;
 
 TEST_F(Faults, AHandlerThatThrowsIsAnOpaque500AndTheConnectionGoesOn) {
   auto c = Client();

@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "server_process.hpp"
+#include "shared_server.hpp"
 
 namespace surfdeform::testing {
 namespace {
@@ -113,27 +114,21 @@ int CountResponses(const std::string& bytes) {
   return count;
 }
 
-class ServerTest : public ::testing::Test {
+class ServerTest : public SharedServerTest<ServerTest> {
+ public:
+  static std::vector<std::string> Args() {
+    return {"--log-level",           "warn", "--max-body-mib",    "4",
+            "--max-grid-side",       "64",   "--max-vertices",    "100",
+            "--max-output-vertices", "5000", "--allowed-origins", "https://viewer.example"};
+  }
+
  protected:
-  static void SetUpTestSuite() {
-    server_ = new ServerProcess({"--log-level", "warn", "--max-body-mib", "4", "--max-grid-side",
-                                 "64", "--max-vertices", "100", "--max-output-vertices", "5000",
-                                 "--allowed-origins", "https://viewer.example"});
-    ASSERT_GT(server_->port(), 0) << "the server did not start";
-  }
-  static void TearDownTestSuite() {
-    delete server_;
-    server_ = nullptr;
-  }
   httplib::Client Client() const {
-    httplib::Client c("127.0.0.1", server_->port());
+    httplib::Client c("127.0.0.1", port());
     c.set_read_timeout(30, 0);
     return c;
   }
-  int port() const { return server_->port(); }
-  static ServerProcess* server_;
 };
-ServerProcess* ServerTest::server_ = nullptr;
 
 TEST_F(ServerTest, HealthReadinessInfoContractAndIndex) {
   auto c = Client();

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "server_process.hpp"
+#include "shared_server.hpp"
 
 namespace surfdeform::testing {
 namespace {
@@ -140,27 +141,21 @@ double ClosedConnections(int port, const std::string& reason) {
   return at == std::string::npos ? -1 : std::atof(r->body.c_str() + at + key.size());
 }
 
-class SlowClients : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    server_ = new ServerProcess({"--log-level", "error", "--http-threads", std::to_string(kWorkers),
-                                 "--head-timeout-ms", std::to_string(kHeadTimeout.count()),
-                                 "--transfer-grace", "1", "--min-transfer-rate", "65536",
-                                 "--keep-alive-timeout", "3"});
-    ASSERT_GT(server_->port(), 0) << "the server did not start";
+class SlowClients : public SharedServerTest<SlowClients> {
+ public:
+  static std::vector<std::string> Args() {
+    return {"--log-level",          "error",
+            "--http-threads",       std::to_string(kWorkers),
+            "--head-timeout-ms",    std::to_string(kHeadTimeout.count()),
+            "--transfer-grace",     "1",
+            "--min-transfer-rate",  "65536",
+            "--keep-alive-timeout", "3"};
   }
-  static void TearDownTestSuite() {
-    delete server_;
-    server_ = nullptr;
-  }
-  int port() const { return server_->port(); }
 
+ protected:
   void ExpectServing(std::chrono::milliseconds bound) { ExpectServingOn(port(), bound); }
   double Closed(const std::string& reason) { return ClosedConnections(port(), reason); }
-
-  static ServerProcess* server_;
 };
-ServerProcess* SlowClients::server_ = nullptr;
 
 TEST_F(SlowClients, TrickledHeadsNeverHoldAWorkerAndGet408) {
   const double before = Closed("head_timeout");
