@@ -250,7 +250,19 @@ double FrameTime(const AnimationSpec& spec, int frame) {
   return t0 + (t1 - t0) * frame / (spec.frames - 1);
 }
 
-SurfaceSpec SurfaceAtFrame(const AnimationSpec& spec, int frame) {
+namespace {
+
+// Every key's numbers (NumbersOf), once per animation.
+std::vector<std::vector<double>> KeyNumbers(const AnimationSpec& spec) {
+  std::vector<std::vector<double>> out;
+  out.reserve(spec.keyframes.size());
+  for (const Keyframe& k : spec.keyframes) out.push_back(NumbersOf(k.surface));
+  return out;
+}
+
+// SurfaceAtFrame with the keys' numbers given.
+SurfaceSpec SurfaceAt(const AnimationSpec& spec, const std::vector<std::vector<double>>& numbers,
+                      int frame) {
   const auto& keys = spec.keyframes;
   const double t = FrameTime(spec, frame);
   if (keys.size() == 1) {
@@ -262,8 +274,8 @@ SurfaceSpec SurfaceAtFrame(const AnimationSpec& spec, int frame) {
   size_t k = 0;
   while (k + 2 < keys.size() && t >= keys[k + 1].time) ++k;
   const double t0 = keys[k].time, t1 = keys[k + 1].time;
-  const std::vector<double> p0 = NumbersOf(keys[k].surface);
-  const std::vector<double> p1 = NumbersOf(keys[k + 1].surface);
+  const std::vector<double>& p0 = numbers[k];
+  const std::vector<double>& p1 = numbers[k + 1];
   std::vector<double> out(p0.size());
   if (t == t0 || t == t1) {  // exactly a key: its numbers, bit for bit
     out = t == t0 ? p0 : p1;
@@ -273,8 +285,8 @@ SurfaceSpec SurfaceAtFrame(const AnimationSpec& spec, int frame) {
   } else {
     // Catmull-Rom slopes: centred differences over the neighbouring keys,
     // one-sided at the ends.
-    const std::vector<double> before = k > 0 ? NumbersOf(keys[k - 1].surface) : p0;
-    const std::vector<double> after = k + 2 < keys.size() ? NumbersOf(keys[k + 2].surface) : p1;
+    const std::vector<double>& before = k > 0 ? numbers[k - 1] : p0;
+    const std::vector<double>& after = k + 2 < keys.size() ? numbers[k + 2] : p1;
     const double tb = k > 0 ? keys[k - 1].time : t0;
     const double ta = k + 2 < keys.size() ? keys[k + 2].time : t1;
     for (size_t n = 0; n < out.size(); ++n) {
@@ -288,6 +300,12 @@ SurfaceSpec SurfaceAtFrame(const AnimationSpec& spec, int frame) {
   return s;
 }
 
+}  // namespace
+
+SurfaceSpec SurfaceAtFrame(const AnimationSpec& spec, int frame) {
+  return SurfaceAt(spec, KeyNumbers(spec), frame);
+}
+
 Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const SamplingOptions& sampling,
                                         const FlattenOptions& options,
                                         const FrameProgress& progress) {
@@ -297,10 +315,11 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
   out.surfaces.reserve(spec.frames);
   out.sheets.reserve(spec.frames);
   Flattener flattener(options);
+  const std::vector<std::vector<double>> numbers = KeyNumbers(spec);
   for (int k = 0; k < spec.frames; ++k) {
     const std::string which =
         "frame " + std::to_string(k) + " (time " + std::to_string(FrameTime(spec, k)) + "): ";
-    auto surface = MakeSurface(SurfaceAtFrame(spec, k));
+    auto surface = MakeSurface(SurfaceAt(spec, numbers, k));
     if (!surface.ok()) {
       const Status& s = surface.status();
       return Status(s.code(), which + s.message(), s.field());
