@@ -87,11 +87,7 @@ Flattener& Flattener::operator=(Flattener&&) noexcept = default;
 Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,
                                      const FlatSheet* warm_start) {
   const auto t0 = Clock::now();
-  const internal::Deadline deadline =
-      options_.time_budget_ms > 0.0
-          ? t0 + std::chrono::duration_cast<Clock::duration>(
-                     std::chrono::duration<double, std::milli>(options_.time_budget_ms))
-          : internal::kNoDeadline;
+  const internal::Deadline deadline = DeadlineAfter(t0, options_.time_budget_ms);
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
   SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
   const int nu = grid.nu, nv = grid.nv;

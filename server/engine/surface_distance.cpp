@@ -1,5 +1,6 @@
 #include "engine/surface_distance.hpp"
 
+#include "engine/elapsed.hpp"
 #include "engine/parallel.hpp"
 
 #include <Eigen/Dense>
@@ -218,12 +219,7 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
   }
   if (nu < 2 || nv < 2) return InvalidArgument("the grid needs at least 2 x 2 samples");
   const int r = options.range;
-  using Clock = std::chrono::steady_clock;
-  const Clock::time_point deadline =
-      options.time_budget_ms > 0.0
-          ? options.started + std::chrono::duration_cast<Clock::duration>(
-                                  std::chrono::duration<double, std::milli>(options.time_budget_ms))
-          : Clock::time_point::max();
+  const auto deadline = DeadlineAfter(options.started, options.time_budget_ms);
   int f = options.lattice_factor;
   if (f <= 0) f = std::max(nu, nv) <= 64 ? 4 : 2;
   // Small grids are not worth a thread.
@@ -284,7 +280,7 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
     std::vector<Vec2>& step = steps[slot];
     std::vector<PathPoint>& trial = trials[slot];
     for (int ri = r0; ri < r1; ++ri) {
-      if (Clock::now() > deadline) {
+      if (std::chrono::steady_clock::now() > deadline) {
         out_of_time[slot] = 1;
         break;
       }
@@ -354,13 +350,11 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
   }
   for (char late : out_of_time) {
     if (late) {
-      const double spent =
-          std::chrono::duration<double, std::milli>(Clock::now() - options.started).count();
       return Status::DeadlineExceeded(
           "the surface distances were not measured within the time budget of " +
               std::to_string(static_cast<long long>(options.time_budget_ms)) +
               " ms; use a coarser grid or a smaller range",
-          "flatten", options.time_budget_ms, spent);
+          "flatten", options.time_budget_ms, MsSince(options.started));
     }
   }
   long long first_failure = -1;

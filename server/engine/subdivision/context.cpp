@@ -28,10 +28,7 @@ Context::Context(const Mesh& mesh_in, const std::vector<Vec3>& placed_in, const 
 
 Budget::Budget(const SubdivisionOptions& o)
     : budget_ms_(o.time_budget_ms), max_vertices_(o.max_vertices) {
-  if (o.time_budget_ms > 0.0) {
-    deadline_ = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                             std::chrono::duration<double, std::milli>(o.time_budget_ms));
-  }
+  deadline_ = DeadlineAfter(start_, o.time_budget_ms);
 }
 
 Status Budget::TimeUp() const {
