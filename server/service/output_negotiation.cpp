@@ -75,8 +75,9 @@ Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat
 
 Status AcceptGlbOnly(std::string_view accept) {
   if (Trim(accept).empty()) return Status::Ok();
+  // What ChooseOutputFormat reads as a GLB, and */* (which it gives Draco).
   if (FirstAccepted(accept, [](const std::string& type) {
-        return type == "model/gltf-binary" || type == "model/*" || type == "*/*";
+        return type == "*/*" || FormatOfMediaType(type) == proto::OutputFormat::kGlb;
       })) {
     return Status::Ok();
   }
