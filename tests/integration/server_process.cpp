@@ -89,9 +89,12 @@ bool SendAll(int fd, const std::string& bytes) {
   return true;
 }
 
-int ConnectLoopback(int port) {
+int ConnectLoopback(int port, int receive_buffer) {
   const int fd = socket(AF_INET, SOCK_STREAM, 0);
   if (fd < 0) return -1;
+  if (receive_buffer > 0) {
+    setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
+  }
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
   addr.sin_port = htons(static_cast<uint16_t>(port));

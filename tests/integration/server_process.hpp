@@ -36,8 +36,9 @@ class ServerProcess {
   std::string log_;
 };
 
-// A TCP connection to 127.0.0.1:port, or -1.
-int ConnectLoopback(int port);
+// A TCP connection to 127.0.0.1:port, or -1. A `receive_buffer` (bytes) is
+// set before connecting, so that the advertised window stays that small.
+int ConnectLoopback(int port, int receive_buffer = 0);
 // Sends all of `bytes` (MSG_NOSIGNAL); false once the peer stops taking them.
 bool SendAll(int fd, const std::string& bytes);
 

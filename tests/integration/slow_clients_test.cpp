@@ -6,7 +6,6 @@
 // /healthz and a real request keep answering meanwhile.
 #include <gtest/gtest.h>
 #include <httplib.h>
-#include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -67,16 +66,9 @@ void Trickle(int port, const std::string& first, const std::string& piece,
 void SlowRead(int port, const std::string& request, size_t piece, std::chrono::milliseconds every,
               std::chrono::milliseconds give_up, SlowClient* out) {
   const auto start = Clock::now();
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  const int fd = ConnectLoopback(port, 4096);
   if (fd < 0) return;
-  const int small = 4096;
-  setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0 ||
-      !SendAll(fd, request)) {
+  if (!SendAll(fd, request)) {
     close(fd);
     return;
   }
