@@ -61,21 +61,12 @@ void ExpectOpaque500(const httplib::Result& r, const std::string& what) {
   }
 }
 
-// A gauge or counter of /metrics (the first sample of `name`).
-double Metric(int port, const std::string& name) {
-  httplib::Client c("127.0.0.1", port);
-  auto r = c.Get("/metrics");
-  if (!r) return -1;
-  const size_t at = r->body.find("\n" + name + " ");
-  return at == std::string::npos ? -1 : std::atof(r->body.c_str() + at + name.size() + 2);
-}
-
 // `name` once it reads `want`, or what it reads after 2 s.
 double SettledMetric(int port, const std::string& name, double want) {
-  double v = Metric(port, name);
+  double v = ScrapeMetric(port, name);
   for (int k = 0; k < 40 && v != want; ++k) {
     std::this_thread::sleep_for(50ms);
-    v = Metric(port, name);
+    v = ScrapeMetric(port, name);
   }
   return v;
 }
@@ -210,8 +201,8 @@ TEST(Disconnects, MidUploadAndMidDownloadLeakNoDescriptorAndNoRequestInFlight) {
   for (int k = 0; k < 100; ++k) {
     std::this_thread::sleep_for(100ms);
     after = OpenDescriptors(server.pid());
-    in_flight = Metric(port, "surfdeform_http_requests_in_flight");
-    served = Metric(port, "surfdeform_connections_served");
+    in_flight = ScrapeMetric(port, "surfdeform_http_requests_in_flight");
+    served = ScrapeMetric(port, "surfdeform_connections_served");
     if (after <= before && in_flight == 1 && served == 1) break;
   }
   EXPECT_LE(after, before) << "descriptors leaked";

@@ -1,5 +1,7 @@
 #include "server_process.hpp"
 
+#include <httplib.h>
+
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <signal.h>
@@ -104,6 +106,18 @@ int ConnectLoopback(int port, int receive_buffer) {
     return -1;
   }
   return fd;
+}
+
+double MetricValue(const std::string& text, const std::string& series) {
+  const size_t at = text.find("\n" + series + " ");
+  if (at == std::string::npos) return -1;
+  return std::atof(text.c_str() + at + series.size() + 2);
+}
+
+double ScrapeMetric(int port, const std::string& series) {
+  httplib::Client c("127.0.0.1", port);
+  auto r = c.Get("/metrics");
+  return r ? MetricValue(r->body, series) : -1;
 }
 
 }  // namespace surfdeform::testing

@@ -42,6 +42,13 @@ int ConnectLoopback(int port, int receive_buffer = 0);
 // Sends all of `bytes` (MSG_NOSIGNAL); false once the peer stops taking them.
 bool SendAll(int fd, const std::string& bytes);
 
+// A sample of /metrics text: `series` is a name, with its labels where it
+// has them (`surfdeform_connections_closed_total{reason="idle"}`); -1 when
+// absent.
+double MetricValue(const std::string& text, const std::string& series);
+// The same, read from the server's /metrics (-1 when it does not answer).
+double ScrapeMetric(int port, const std::string& series);
+
 // The server binary, and the one with fault points (set by CMake).
 const char* ServerBinary();
 const char* FaultServerBinary();

@@ -610,12 +610,6 @@ TEST_F(ServerTest, MetricsCountRequestsAndTheCache) {
   }
 }
 
-double MetricValue(const std::string& text, const std::string& name) {
-  const size_t at = text.find("\n" + name + " ");
-  if (at == std::string::npos) return -1;
-  return std::atof(text.c_str() + at + name.size() + 2);
-}
-
 // Checklist 21: 50 identical concurrent requests on a cold cache flatten once
 // and get identical bytes and ETags.
 TEST(ServerConcurrency, IdenticalRequestsOnAColdCacheFlattenOnce) {

@@ -125,12 +125,7 @@ void ExpectServingOn(int port, std::chrono::milliseconds bound) {
 
 // A counter of /metrics: surfdeform_connections_closed_total{reason=...}.
 double ClosedConnections(int port, const std::string& reason) {
-  httplib::Client c("127.0.0.1", port);
-  auto r = c.Get("/metrics");
-  if (!r) return -1;
-  const std::string key = "surfdeform_connections_closed_total{reason=\"" + reason + "\"} ";
-  const size_t at = r->body.find(key);
-  return at == std::string::npos ? -1 : std::atof(r->body.c_str() + at + key.size());
+  return ScrapeMetric(port, "surfdeform_connections_closed_total{reason=\"" + reason + "\"}");
 }
 
 class SlowClients : public SharedServerTest<SlowClients> {
