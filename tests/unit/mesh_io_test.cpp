@@ -806,6 +806,18 @@ TEST(HostileInput, TinyStlAndOffClaims) {
   EXPECT_NE(off.status().message().find("claims"), std::string::npos) << off.status().message();
 }
 
+// Found by the import fuzzer (CI, AVX2 build): a coloured OFF refused after
+// its colours were sized. The fuzzer, built without AVX2 while the library
+// had it, freed them with the wrong operator delete; the refusal itself must
+// name the vertex and its line.
+TEST(HostileInput, ColouredOffWithABadVertexIsRefusedByLine) {
+  auto r = ImportMesh("CNOFF\n2 1 0\n0 0 0 0 0 1 1 1 1 1\nx\n");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(r.status().message().find("line 4"), std::string::npos) << r.status().message();
+  EXPECT_NE(r.status().message().find("bad vertex 1"), std::string::npos) << r.status().message();
+}
+
 // Found by the import fuzzer: an element of no properties and 10^14
 // records held the reader in its record loop for good.
 TEST(HostileInput, PlyElementWithoutPropertiesIsRefusedAtOnce) {
