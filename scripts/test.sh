@@ -26,9 +26,12 @@ cmake --build build -j "$jobs"
 
 # One clang build for the sanitizers and the fuzzers (docs/RELIABILITY.md,
 # "Sanitizers"): clang-14 compiles this code under ASan + UBSan some three
-# times faster than GCC 12 does.
+# times faster than GCC 12 does. Line tables only, for them and for the
+# ThreadSanitizer build: reports still name file and line, and the builds
+# compile some 15% faster than with full debug information.
+san_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG")
 stage "sanitizer build (clang-14; address, undefined, libFuzzer): tests, server, CLI, fuzzers"
-CC=clang-14 CXX=clang++-14 cmake -S . -B build-san -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+CC=clang-14 CXX=clang++-14 cmake -S . -B build-san -G Ninja "${san_flags[@]}" \
   -DSURFDEFORM_WERROR=ON -DSURFDEFORM_SANITIZE=ON -DSURFDEFORM_FUZZ=ON \
   -DSURFDEFORM_BUILD_TESTS=ON -DSURFDEFORM_BUILD_BENCH=OFF > /dev/null
 cmake --build build-san -j "$jobs" --target surfdeform_unit_tests surfdeform-server \
@@ -62,7 +65,7 @@ grep -E "^== fuzzing|stat::number_of_executed_units" build-fuzz.log
 # randomization off (setarch -R): clang 14's TSan needs its fixed memory
 # layout, which kernels with more mmap randomization bits break.
 stage "ThreadSanitizer build (clang-14): the concurrent parts and the server"
-CC=clang-14 CXX=clang++-14 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+CC=clang-14 CXX=clang++-14 cmake -S . -B build-tsan -G Ninja "${san_flags[@]}" \
   -DSURFDEFORM_WERROR=ON -DSURFDEFORM_TSAN=ON -DSURFDEFORM_BUILD_TESTS=ON \
   -DSURFDEFORM_BUILD_BENCH=OFF > /dev/null
 cmake --build build-tsan -j "$jobs" --target surfdeform_concurrency_tests surfdeform-server \
