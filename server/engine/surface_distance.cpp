@@ -268,20 +268,31 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
     }
   }
   out.edges.resize(total);
-  std::vector<int> relaxed(threads, 0);
-  std::vector<int> direct_count(threads, 0);
-  std::vector<long long> failed(threads, -1);  // first failing edge index per chunk
-  std::vector<char> out_of_time(threads, 0);
-  std::vector<std::vector<PathPoint>> paths(threads);
-  std::vector<std::vector<Vec2>> steps(threads);
-  std::vector<std::vector<PathPoint>> trials(threads);
-  ParallelChunks(static_cast<int>(rows.size()), threads, [&](int slot, int r0, int r1) {
-    std::vector<PathPoint>& path = paths[slot];
-    std::vector<Vec2>& step = steps[slot];
-    std::vector<PathPoint>& trial = trials[slot];
-    for (int ri = r0; ri < r1; ++ri) {
+  // Each chunk's own state, a cache line apart: the counters and the
+  // vectors' ends change at every pair, and two threads writing one line
+  // made two threads slower than one (measured: 4.1 against 3.5 ms, Figure
+  // 10 at 16x16).
+  struct alignas(64) ChunkState {
+    int relaxed = 0;
+    int direct = 0;
+    long long failed = -1;  // first failing edge index
+    bool out_of_time = false;
+    std::vector<PathPoint> path, trial;
+    std::vector<Vec2> step;
+  };
+  std::vector<ChunkState> chunks(threads);
+  // Rows are dealt round-robin: the offsets come in order of length, and
+  // longer ones bend more often (relaxed paths), so contiguous chunks left
+  // one thread with most of the work.
+  const int row_count = static_cast<int>(rows.size());
+  ParallelChunks(threads, threads, [&](int slot, int, int) {
+    ChunkState& state = chunks[slot];
+    std::vector<PathPoint>& path = state.path;
+    std::vector<Vec2>& step = state.step;
+    std::vector<PathPoint>& trial = state.trial;
+    for (int ri = slot; ri < row_count; ri += threads) {
       if (std::chrono::steady_clock::now() > deadline) {
-        out_of_time[slot] = 1;
+        state.out_of_time = true;
         break;
       }
       const auto [di, dj, j, first] = rows[ri];
@@ -301,9 +312,9 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
         e.ring = ring;
         if (turn < kDirectMaxTurn) {
           e.d = direct;
-          ++direct_count[slot];
+          ++state.direct;
           if (!std::isfinite(e.d) || !(e.d > 0.0)) {
-            if (failed[slot] < 0) failed[slot] = static_cast<long long>(slot_edge);
+            if (state.failed < 0) state.failed = static_cast<long long>(slot_edge);
           }
           continue;
         }
@@ -336,30 +347,28 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
           was_relaxed = true;
         }
         const double length = PathLength(path);
-        relaxed[slot] += was_relaxed ? 1 : 0;
+        state.relaxed += was_relaxed ? 1 : 0;
         e.d = length;
-        if ((!std::isfinite(e.d) || !(e.d > 0.0)) && failed[slot] < 0) {
-          failed[slot] = static_cast<long long>(slot_edge);
+        if ((!std::isfinite(e.d) || !(e.d > 0.0)) && state.failed < 0) {
+          state.failed = static_cast<long long>(slot_edge);
         }
       }
     }
   });
-  for (int t = 0; t < threads; ++t) {
-    out.relaxed_paths += relaxed[t];
-    out.direct_pairs += direct_count[t];
-  }
-  for (char late : out_of_time) {
-    if (late) {
-      return Status::DeadlineExceeded(
-          "the surface distances were not measured within the time budget of " +
-              std::to_string(static_cast<long long>(options.time_budget_ms)) +
-              " ms; use a coarser grid or a smaller range",
-          "flatten", options.time_budget_ms, MsSince(options.started));
-    }
-  }
+  bool late = false;
   long long first_failure = -1;
-  for (long long fe : failed) {
-    if (fe >= 0 && (first_failure < 0 || fe < first_failure)) first_failure = fe;
+  for (const ChunkState& c : chunks) {
+    out.relaxed_paths += c.relaxed;
+    out.direct_pairs += c.direct;
+    late = late || c.out_of_time;
+    if (c.failed >= 0 && (first_failure < 0 || c.failed < first_failure)) first_failure = c.failed;
+  }
+  if (late) {
+    return Status::DeadlineExceeded(
+        "the surface distances were not measured within the time budget of " +
+            std::to_string(static_cast<long long>(options.time_budget_ms)) +
+            " ms; use a coarser grid or a smaller range",
+        "flatten", options.time_budget_ms, MsSince(options.started));
   }
   if (first_failure >= 0) {
     const GridEdge& e = out.edges[first_failure];
