@@ -53,6 +53,9 @@ ScreenResult Screen(const Context& ctx, const LocatedVertices& located,
     int hint = -1;
     std::vector<GridCrossing> crossings;
     std::vector<int> scratch;
+    // Kept in locals, written once: the per-chunk slots share a cache line.
+    double chunk_worst = 0.0, chunk_measured_worst = 0.0;
+    size_t chunk_measured = 0;
     for (int fi = begin; fi < end && pass.load(std::memory_order_relaxed); ++fi) {
       const auto& t = ctx.mesh.triangles[fi];
       const std::array<VertexId, 3> tri = {VertexId(t[0]), VertexId(t[1]), VertexId(t[2])};
@@ -69,7 +72,7 @@ ScreenResult Screen(const Context& ctx, const LocatedVertices& located,
       }
       const double estimate = EstimateOf(terms, std::sqrt(x.longest2), x.dh, x.h);
       if (ctx.Skippable(estimate)) {
-        worst[chunk] = std::max(worst[chunk], estimate);
+        chunk_worst = std::max(chunk_worst, estimate);
         continue;
       }
       Vec3 f[3];
@@ -78,13 +81,16 @@ ScreenResult Screen(const Context& ctx, const LocatedVertices& located,
                                         : located.deformed[tri[k]];
       }
       const FaceDeviation d = MeasureFace(ctx, tri, f, &crossings, &scratch, &hint);
-      measured[chunk] += d.measured;
+      chunk_measured += d.measured;
       if (d.edges > kEdgeShare * ctx.tolerance || d.centroid > kFaceShare * ctx.tolerance) {
         pass = false;
         break;
       }
-      measured_worst[chunk] = std::max({measured_worst[chunk], d.edges, d.centroid});
+      chunk_measured_worst = std::max({chunk_measured_worst, d.edges, d.centroid});
     }
+    worst[chunk] = chunk_worst;
+    measured_worst[chunk] = chunk_measured_worst;
+    measured[chunk] = chunk_measured;
   });
   if (!pass) return result;
   result.pass = true;
