@@ -21,6 +21,7 @@
 #include "meshio/animation_glb.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
+#include "service/allocator_tuning.hpp"
 #include "support/surface_file.hpp"
 
 namespace surfdeform {
@@ -225,5 +226,7 @@ int main(int argc, char** argv) {
   app.add_option("--frames", frames, "frames")->check(CLI::Range(2, 10000));
   app.add_option("--repeat", repeat, "runs (medians)")->check(CLI::Range(1, 100));
   CLI11_PARSE(app, argc, argv);
+  // As surfdeform-server runs (both the animation and the standalone peer).
+  surfdeform::TuneAllocatorForServing();
   return surfdeform::Run(frames, repeat);
 }

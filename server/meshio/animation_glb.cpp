@@ -83,9 +83,17 @@ Status AsTheCodecDecodes(std::vector<uint32_t>* idx) {
   return Status::Ok();
 }
 
-// The uncompressed GLB, and how each of its buffer views would be compressed.
+uint32_t ReadU32(const std::string& s, size_t at) {
+  uint32_t v = 0;
+  std::memcpy(&v, s.data() + at, 4);
+  return v;
+}
+
+// The uncompressed GLB as its JSON document and binary buffer, and how each
+// of its buffer views would be compressed.
 struct Built {
-  std::string glb;
+  json doc;
+  std::vector<unsigned char> bin;
   std::vector<ViewCodec> codecs;  // per buffer view
 };
 
@@ -97,6 +105,11 @@ Result<Built> BuildModel(const MorphAnimation& a, const AnimationGlbOptions& o) 
   m.asset.version = "2.0";
   m.asset.generator = "surfdeform";
   m.buffers.resize(1);
+  // Room for every view at once (the frames' dominate), so that the buffer
+  // is not copied as it grows.
+  const size_t per_vertex = 8 + (a.normals.empty() ? 0 : 12);
+  m.buffers[0].data.reserve(frames * n * per_vertex + n * 64 + base.triangles.size() * 12 +
+                            frames * (frames + 8) + 4096);
   std::vector<ViewCodec> codecs;
   auto view = [&](const void* data, size_t bytes, int target, ViewCodec codec) {
     const int v = AddView(&m, data, bytes, target);
@@ -112,7 +125,7 @@ Result<Built> BuildModel(const MorphAnimation& a, const AnimationGlbOptions& o) 
 
   // Positions: frame 0 quantized, and each frame's integer change.
   const Quantizer quant = MakeQuantizer(a);
-  std::vector<std::array<int16_t, 4>> q0(n), qk(n);
+  std::vector<std::array<int16_t, 4>> q0(n);
   for (size_t v = 0; v < n; ++v) q0[v] = quant(a.positions[0][v]);
   std::map<std::string, int> attrs;
   attrs["POSITION"] = AddAccessor(
@@ -136,8 +149,45 @@ Result<Built> BuildModel(const MorphAnimation& a, const AnimationGlbOptions& o) 
   if (!base.uv1.empty()) floats("TEXCOORD_1", Floats(base.uv1, 2), TINYGLTF_TYPE_VEC2, 2);
   if (!base.colors.empty()) floats("COLOR_0", Floats(base.colors, 4), TINYGLTF_TYPE_VEC4, 4);
 
+  // Frames 1.. : their views laid out first, in order, then filled in
+  // parallel (quantized position changes, rounded normal changes, and the
+  // ranges of the positions), then their accessors, in the same order as
+  // the views.
+  struct FrameViews {
+    int positions = -1, normals = -1;
+    std::vector<double> lo, hi;
+  };
+  std::vector<FrameViews> fv(frames);
+  for (size_t k = 1; k < frames; ++k) {
+    fv[k].positions = view(nullptr, n * 8, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr8);
+    if (with_normals) fv[k].normals = view(nullptr, n * 12, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr12);
+  }
+  unsigned char* const bytes = m.buffers[0].data.data();
+  auto at = [&](int v) { return bytes + m.bufferViews[v].byteOffset; };
+  ParallelChunks(static_cast<int>(frames) - 1, ResolveThreads(o.threads),
+                 [&](int, int begin, int end) {
+                   std::vector<std::array<int16_t, 4>> qk(n);
+                   std::vector<float> dn(with_normals ? 3 * n : 0);
+                   for (int k = begin + 1; k < end + 1; ++k) {
+                     for (size_t v = 0; v < n; ++v) {
+                       const auto q = quant(a.positions[k][v]);
+                       for (int c = 0; c < 3; ++c) qk[v][c] = static_cast<int16_t>(q[c] - q0[v][c]);
+                       qk[v][3] = 0;
+                     }
+                     std::memcpy(at(fv[k].positions), qk.data(), n * 8);
+                     fv[k].lo = MinMax(qk, false);
+                     fv[k].hi = MinMax(qk, true);
+                     if (!with_normals) continue;
+                     for (size_t v = 0; v < n; ++v) {
+                       for (int c = 0; c < 3; ++c) {
+                         const float d = a.normals[k][v][c] - a.normals[0][v][c];
+                         dn[3 * v + c] = std::round(d * 4096.0f) / 4096.0f;
+                       }
+                     }
+                     std::memcpy(at(fv[k].normals), dn.data(), n * 12);
+                   }
+                 });
   std::vector<std::map<std::string, int>> targets(frames);
-  std::vector<float> dn(3 * n);
   for (size_t k = 0; k < frames; ++k) {
     if (k == 0) {  // no change: zeros, with no buffer view
       targets[0]["POSITION"] = AddAccessor(&m, -1, TINYGLTF_COMPONENT_TYPE_SHORT,
@@ -149,25 +199,12 @@ Result<Built> BuildModel(const MorphAnimation& a, const AnimationGlbOptions& o) 
       }
       continue;
     }
-    for (size_t v = 0; v < n; ++v) {
-      const auto q = quant(a.positions[k][v]);
-      for (int c = 0; c < 3; ++c) qk[v][c] = static_cast<int16_t>(q[c] - q0[v][c]);
-      qk[v][3] = 0;
-    }
-    const int pv = view(qk.data(), qk.size() * 8, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr8);
-    targets[k]["POSITION"] = AddAccessor(&m, pv, TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3,
-                                         n, MinMax(qk, false), MinMax(qk, true));
+    targets[k]["POSITION"] = AddAccessor(&m, fv[k].positions, TINYGLTF_COMPONENT_TYPE_SHORT,
+                                         TINYGLTF_TYPE_VEC3, n, fv[k].lo, fv[k].hi);
     m.accessors[targets[k]["POSITION"]].normalized = true;
     if (with_normals) {
-      for (size_t v = 0; v < n; ++v) {
-        for (int c = 0; c < 3; ++c) {
-          const float d = a.normals[k][v][c] - a.normals[0][v][c];
-          dn[3 * v + c] = std::round(d * 4096.0f) / 4096.0f;
-        }
-      }
       targets[k]["NORMAL"] =
-          AddAccessor(&m, view(dn.data(), dn.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr12),
-                      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n);
+          AddAccessor(&m, fv[k].normals, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n);
     }
   }
 
@@ -246,24 +283,29 @@ Result<Built> BuildModel(const MorphAnimation& a, const AnimationGlbOptions& o) 
   m.extensionsUsed.push_back("KHR_mesh_quantization");
   m.extensionsRequired.push_back("KHR_mesh_quantization");
   m.buffers[0].data.resize((m.buffers[0].data.size() + 3) / 4 * 4, 0);
+  // tinygltf writes the document; the binary buffer (tens of MB for a long
+  // animation) stays out of its stream, which would copy it three times.
+  Built built;
+  built.bin = std::move(m.buffers[0].data);
+  m.buffers[0].data.clear();
   tinygltf::TinyGLTF writer;
   std::ostringstream out;
   if (!writer.WriteGltfSceneToStream(&m, out, false, true)) {
     return Status(ErrorCode::kInternal, "GLB writing failed");
   }
+  const std::string glb = out.str();
+  if (glb.size() < 20) return Status(ErrorCode::kInternal, "GLB writing failed");
+  built.doc = json::parse(glb.substr(20, ReadU32(glb, 12)), nullptr, false);
+  if (built.doc.is_discarded()) return Status(ErrorCode::kInternal, "GLB writing failed");
+  built.doc["buffers"] = json::array({{{"byteLength", built.bin.size()}}});
   codecs.resize(m.bufferViews.size());
-  return Built{out.str(), std::move(codecs)};
-}
-
-uint32_t ReadU32(const std::string& s, size_t at) {
-  uint32_t v = 0;
-  std::memcpy(&v, s.data() + at, 4);
-  return v;
+  built.codecs = std::move(codecs);
+  return built;
 }
 
 void AppendU32(std::string* s, uint32_t v) { s->append(reinterpret_cast<const char*>(&v), 4); }
 
-std::string Glb(const json& doc, const std::string& bin) {
+std::string Glb(const json& doc, std::string_view bin) {
   std::string text = doc.dump();
   while (text.size() % 4 != 0) text.push_back(' ');
   std::string out;
@@ -283,12 +325,9 @@ std::string Glb(const json& doc, const std::string& bin) {
 // (EXT_meshopt_compression): their data move to buffer 0 compressed, and the
 // views themselves point into buffer 1, a fallback with no data and the
 // uncompressed layout.
-Result<std::string> Compress(const Built& built, int threads) {
-  const std::string& glb = built.glb;
-  const uint32_t json_len = ReadU32(glb, 12);
-  json doc = json::parse(glb.substr(20, json_len));
-  const size_t bin_at = 20 + json_len + 8;
-  const std::string_view bin(glb.data() + bin_at, glb.size() - bin_at);
+Result<std::string> Compress(Built built, int threads) {
+  json& doc = built.doc;
+  const std::string_view bin(reinterpret_cast<const char*>(built.bin.data()), built.bin.size());
   json& views = doc["bufferViews"];
   const int n = static_cast<int>(views.size());
   std::vector<std::string_view> data(n);
@@ -377,8 +416,11 @@ Result<std::string> WriteAnimationGlb(const MorphAnimation& a, const AnimationGl
     return InvalidArgument("malformed mesh: " + problem, "mesh");
   }
   SURFDEFORM_ASSIGN_OR_RETURN(Built built, BuildModel(a, o));
-  if (o.compression == AnimationCompression::kNone) return std::move(built.glb);
-  return Compress(built, ResolveThreads(o.threads));
+  if (o.compression == AnimationCompression::kNone) {
+    return Glb(built.doc,
+               std::string_view(reinterpret_cast<const char*>(built.bin.data()), built.bin.size()));
+  }
+  return Compress(std::move(built), ResolveThreads(o.threads));
 }
 
 }  // namespace surfdeform

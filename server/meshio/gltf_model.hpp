@@ -12,7 +12,8 @@
 namespace surfdeform::meshio {
 
 // Appends raw data to buffer 0 as a new buffer view (4-byte aligned); returns
-// its index. target: TINYGLTF_TARGET_* or 0.
+// its index. target: TINYGLTF_TARGET_* or 0. With data null, the view holds
+// `bytes` zeros for the caller to fill.
 int AddView(tinygltf::Model* m, const void* data, size_t bytes, int target);
 
 // Values as a flat float array of `comps` components each.

@@ -20,8 +20,12 @@ int AddView(tinygltf::Model* m, const void* data, size_t bytes, int target) {
   view.byteOffset = buf.size();
   view.byteLength = bytes;
   view.target = target;
-  const auto* p = static_cast<const unsigned char*>(data);
-  buf.insert(buf.end(), p, p + bytes);
+  if (data == nullptr) {
+    buf.resize(buf.size() + bytes);  // zeros, for the caller to fill
+  } else {
+    const auto* p = static_cast<const unsigned char*>(data);
+    buf.insert(buf.end(), p, p + bytes);
+  }
   m->bufferViews.push_back(view);
   return static_cast<int>(m->bufferViews.size()) - 1;
 }
