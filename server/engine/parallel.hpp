@@ -22,6 +22,24 @@ namespace parallel_detail {
 // serially almost every time (bench/fork_join_bench; BENCHMARKS.md). No-op where affinity cannot be
 // set, or when there are fewer CPUs than helpers plus the caller.
 void StartOffCallerCpu(std::thread& helper, int index);
+
+// The calling thread's chunk runs two frames down, below a 256-byte pad, so
+// that the body's temporaries do not share cache lines with the caller's
+// locals. Bodies capture by reference, and the helpers read those locals
+// (flags, sizes, matrices) throughout: where the caller's chunk was inlined
+// beside them, its writes made every such read a miss (false sharing;
+// LocateVertices on two threads took 2.7x the CPU of one, see BENCHMARKS.md).
+template <typename Body>
+[[gnu::noinline]] void CallBody(const Body& body, int chunk, int begin, int end) {
+  body(chunk, begin, end);
+}
+template <typename Body>
+[[gnu::noinline]] void RunBelowPad(const Body& body, int chunk, int begin, int end) {
+  volatile char pad[256];
+  pad[0] = 0;
+  CallBody(body, chunk, begin, end);
+  pad[255] = pad[0];
+}
 }  // namespace parallel_detail
 
 // Runs body(chunk, begin, end) over [0, count) split into at most `threads`
@@ -39,7 +57,12 @@ void ParallelChunks(int count, int threads, const Body& body) {
     parallel_detail::StartOffCallerCpu(pool.back(), t);
   }
   const int last = threads - 1;
-  body(last, static_cast<int>(static_cast<long long>(count) * last / threads), count);
+  const int first = static_cast<int>(static_cast<long long>(count) * last / threads);
+  if (threads == 1) {
+    body(last, first, count);
+  } else {
+    parallel_detail::RunBelowPad(body, last, first, count);
+  }
   for (std::thread& th : pool) th.join();
 }
 
