@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "engine/elapsed.hpp"
+#include "engine/parallel.hpp"
 
 namespace surfdeform {
 namespace {
@@ -314,51 +315,78 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
   AnimatedSheets out;
   out.surfaces.reserve(spec.frames);
   out.sheets.reserve(spec.frames);
-  Flattener flattener(options);
+  auto framed = [&spec](int k, const Status& s) {
+    return "frame " + std::to_string(k) + " (time " + std::to_string(FrameTime(spec, k)) +
+           "): " + s.message();
+  };
   const std::vector<std::vector<double>> numbers = KeyNumbers(spec);
   for (int k = 0; k < spec.frames; ++k) {
-    const std::string which =
-        "frame " + std::to_string(k) + " (time " + std::to_string(FrameTime(spec, k)) + "): ";
     auto surface = MakeSurface(SurfaceAt(spec, numbers, k));
     if (!surface.ok()) {
       const Status& s = surface.status();
-      return Status(s.code(), which + s.message(), s.field());
+      return Status(s.code(), framed(k, s), s.field());
     }
-    // What is left of the budget goes to this frame.
-    if (options.time_budget_ms > 0.0) {
-      const double left = options.time_budget_ms - MsSince(t0);
-      if (left <= 0.0) {
-        return Status::DeadlineExceeded(
-            "the animation's flattening ran past its time budget of " +
-                std::to_string(static_cast<long long>(options.time_budget_ms)) + " ms after " +
-                std::to_string(k) + " of " + std::to_string(spec.frames) + " frames",
-            "animation", options.time_budget_ms, MsSince(t0));
-      }
-      FlattenOptions o = flattener.options();
-      o.time_budget_ms = left;
-      flattener.set_options(o);
-    }
-    // A frame on a key starts cold, as the key alone would: its sheet is
-    // then bit for bit the static surface's (deformations of the keys match
-    // POST /v1/deform on them exactly).
-    const FlatSheet* warm = k > 0 && !OnKey(spec, k) ? &out.sheets.back() : nullptr;
-    auto sheet = flattener.Flatten(**surface, sampling, warm);
-    if (!sheet.ok()) {
-      const Status& s = sheet.status();
-      Status framed(s.code(), which + s.message(), s.field());
-      return s.code() == ErrorCode::kDeadlineExceeded
-                 ? Status::DeadlineExceeded(which + s.message(), "animation",
-                                            options.time_budget_ms, MsSince(t0))
-                 : framed;
-    }
-    FrameFlattening f;
-    f.time = FrameTime(spec, k);
-    f.warm = warm != nullptr;
-    f.quality = sheet->quality;
-    out.frames.push_back(f);
-    out.sheets.push_back(std::move(*sheet));
     out.surfaces.push_back(std::move(*surface));
-    if (progress) progress(k, spec.frames);
+  }
+  // What is left of the budget, for the next step; an error once it is spent.
+  auto budget_left = [&](int done, FlattenOptions* o) -> Status {
+    if (options.time_budget_ms <= 0.0) return Status::Ok();
+    o->time_budget_ms = options.time_budget_ms - MsSince(t0);
+    if (o->time_budget_ms > 0.0) return Status::Ok();
+    return Status::DeadlineExceeded(
+        "the animation's flattening ran past its time budget of " +
+            std::to_string(static_cast<long long>(options.time_budget_ms)) + " ms after " +
+            std::to_string(done) + " of " + std::to_string(spec.frames) + " frames",
+        "animation", options.time_budget_ms, MsSince(t0));
+  };
+  auto as_frame_error = [&](int k, const Status& s) {
+    return s.code() == ErrorCode::kDeadlineExceeded
+               ? Status::DeadlineExceeded(framed(k, s), "animation", options.time_budget_ms,
+                                          MsSince(t0))
+               : Status(s.code(), framed(k, s), s.field());
+  };
+  // The frames' distances do not depend on one another: a batch of frames,
+  // one per worker thread, is measured at once (one thread each: a frame's
+  // pairs alone scale poorly over threads), then the batch is solved in
+  // order, each frame warm-started from the one before. At most one batch of
+  // distances is held.
+  const int workers = std::min(ResolveThreads(options.threads), spec.frames);
+  Flattener flattener(options);
+  for (int k0 = 0; k0 < spec.frames; k0 += workers) {
+    const int k1 = std::min(spec.frames, k0 + workers);
+    FlattenOptions o = options;
+    SURFDEFORM_RETURN_IF_ERROR(budget_left(k0, &o));
+    std::vector<Result<SurfaceDistances>> distances(k1 - k0, Status::Ok());
+    ParallelChunks(k1 - k0, workers, [&](int, int begin, int end) {
+      for (int i = begin; i < end; ++i) {
+        distances[i] =
+            FlattenDistances(*out.surfaces[k0 + i], sampling, o, workers > 1 ? 1 : options.threads);
+      }
+    });
+    const double batch_ms = MsSince(t0) - out.total_ms;
+    for (int k = k0; k < k1; ++k) {
+      Result<SurfaceDistances>& d = distances[k - k0];
+      if (!d.ok()) return as_frame_error(k, d.status());
+      SURFDEFORM_RETURN_IF_ERROR(budget_left(k, &o));
+      flattener.set_options(o);
+      // A frame on a key starts cold, as the key alone would: its sheet is
+      // then bit for bit the static surface's (deformations of the keys
+      // match POST /v1/deform on them exactly).
+      const FlatSheet* warm = k > 0 && !OnKey(spec, k) ? &out.sheets.back() : nullptr;
+      auto sheet = flattener.Flatten(*out.surfaces[k], sampling, warm, std::move(*d));
+      if (!sheet.ok()) return as_frame_error(k, sheet.status());
+      FrameFlattening f;
+      f.time = FrameTime(spec, k);
+      f.warm = warm != nullptr;
+      f.quality = sheet->quality;
+      // The batch's distances took this long for all of its frames at once.
+      f.quality.distance_ms = batch_ms / (k1 - k0);
+      f.quality.total_ms += f.quality.distance_ms;
+      out.frames.push_back(f);
+      out.sheets.push_back(std::move(*sheet));
+      if (progress) progress(k, spec.frames);
+    }
+    out.total_ms = MsSince(t0);
   }
   out.total_ms = MsSince(t0);
   return out;

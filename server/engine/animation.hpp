@@ -11,8 +11,10 @@
 // time then advances by 1 / fps per frame. Frames are sampled evenly over the
 // key times: frame k of n at t_first + k (t_last - t_first) / (n - 1).
 //
-// Flattening the sequence (FlattenAnimation): one Flattener for all frames,
-// so the factored Laplacian is shared; each frame starts from the previous
+// Flattening the sequence (FlattenAnimation): the frames' surface distances
+// do not depend on one another, so they are measured a batch of frames at a
+// time, one frame per worker thread; then one Flattener solves the batch in
+// order, so the factored Laplacian is shared; each frame starts from the previous
 // frame's sheet (warm start), except frames that land exactly on a key, which
 // start as the key alone would, so that their sheets are bit for bit the
 // static surface's (and so are deformations through them). Every

@@ -84,27 +84,64 @@ Flattener::~Flattener() = default;
 Flattener::Flattener(Flattener&&) noexcept = default;
 Flattener& Flattener::operator=(Flattener&&) noexcept = default;
 
+namespace {
+
+DistanceOptions DistanceOptionsFor(const FlattenOptions& o, Clock::time_point started) {
+  DistanceOptions d;
+  d.range = std::max(o.range, 3);
+  d.lattice_factor = o.lattice_factor;
+  d.relax_steps = o.relax_steps;
+  d.threads = o.threads;
+  d.time_budget_ms = o.time_budget_ms;
+  d.started = started;
+  return d;
+}
+
+}  // namespace
+
+Result<SurfaceDistances> FlattenDistances(const Surface& surface, const SamplingOptions& sampling,
+                                          const FlattenOptions& options, int threads) {
+  SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options));
+  // The samples first, as Flatten does: a degenerate one is reported as such.
+  SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
+  DistanceOptions dopt = DistanceOptionsFor(options, Clock::now());
+  if (threads > 0) dopt.threads = threads;
+  return ComputeSurfaceDistances(surface, grid.nu, grid.nv, dopt);
+}
+
 Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,
                                      const FlatSheet* warm_start) {
   const auto t0 = Clock::now();
-  const internal::Deadline deadline = DeadlineAfter(t0, options_.time_budget_ms);
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
   SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
-  const int nu = grid.nu, nv = grid.nv;
-  const int n = nu * nv;
-
   // Distances over the solve's range and over r = 3 for the quality measures.
   const auto td = Clock::now();
-  DistanceOptions dopt;
-  dopt.range = std::max(options_.range, 3);
-  dopt.lattice_factor = options_.lattice_factor;
-  dopt.relax_steps = options_.relax_steps;
-  dopt.threads = options_.threads;
-  dopt.time_budget_ms = options_.time_budget_ms;
-  dopt.started = t0;
-  SURFDEFORM_ASSIGN_OR_RETURN(auto dist, ComputeSurfaceDistances(surface, nu, nv, dopt));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto dist, ComputeSurfaceDistances(surface, grid.nu, grid.nv,
+                                                                 DistanceOptionsFor(options_, t0)));
+  const double distance_ms = MsSince(td);
+  return Solve(surface, std::move(grid), warm_start, std::move(dist), distance_ms, t0);
+}
+
+Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,
+                                     const FlatSheet* warm_start, SurfaceDistances distances) {
+  const auto t0 = Clock::now();
+  SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
+  if (distances.nu != grid.nu || distances.nv != grid.nv ||
+      distances.range != std::max(options_.range, 3)) {
+    return InvalidArgument("the distances were measured for another grid or range");
+  }
+  return Solve(surface, std::move(grid), warm_start, std::move(distances), 0.0, t0);
+}
+
+Result<FlatSheet> Flattener::Solve(const Surface& surface, SampledGrid grid,
+                                   const FlatSheet* warm_start, SurfaceDistances dist,
+                                   double distance_ms, std::chrono::steady_clock::time_point t0) {
+  const internal::Deadline deadline = DeadlineAfter(t0, options_.time_budget_ms);
+  const int nu = grid.nu, nv = grid.nv;
+  const int n = nu * nv;
   FlatSheet sheet;
-  sheet.quality.distance_ms = MsSince(td);
+  sheet.quality.distance_ms = distance_ms;
 
   const auto ts = Clock::now();
   std::vector<Vec2> x;

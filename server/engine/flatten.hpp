@@ -30,6 +30,7 @@
 // such a result is an error (kNotConverged) that says how many cells folded.
 #pragma once
 
+#include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,6 +40,7 @@
 #include "engine/geometry_types.hpp"
 #include "engine/sample_grid.hpp"
 #include "engine/surface.hpp"
+#include "engine/surface_distance.hpp"
 
 namespace surfdeform {
 
@@ -108,6 +110,11 @@ class Flattener {
   // same grid size, is the starting layout (e.g. the previous animation frame).
   Result<FlatSheet> Flatten(const Surface& surface, const SamplingOptions& sampling,
                             const FlatSheet* warm_start = nullptr);
+  // The same with the surface distances measured already (FlattenDistances
+  // with these options; an animation measures its frames' in parallel).
+  // quality.distance_ms is then theirs.
+  Result<FlatSheet> Flatten(const Surface& surface, const SamplingOptions& sampling,
+                            const FlatSheet* warm_start, SurfaceDistances distances);
 
   const FlattenOptions& options() const { return options_; }
   // New options for the next solves (an animation's time budget, frame by
@@ -115,10 +122,20 @@ class Flattener {
   void set_options(const FlattenOptions& options) { options_ = options; }
 
  private:
+  Result<FlatSheet> Solve(const Surface& surface, SampledGrid grid, const FlatSheet* warm_start,
+                          SurfaceDistances dist, double distance_ms,
+                          std::chrono::steady_clock::time_point t0);
+
   struct Cache;
   FlattenOptions options_;
   std::unique_ptr<Cache> cache_;
 };
+
+// The surface distances a flattening with these options measures (over the
+// solve's range and at least r = 3, for the quality measures), on `threads`
+// threads (0: options.threads).
+Result<SurfaceDistances> FlattenDistances(const Surface& surface, const SamplingOptions& sampling,
+                                          const FlattenOptions& options, int threads = 0);
 
 // One-shot convenience: a fresh Flattener per call.
 Result<FlatSheet> FlattenSurface(const Surface& surface, const SamplingOptions& sampling,

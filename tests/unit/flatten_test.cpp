@@ -191,6 +191,26 @@ TEST(Flatten, FlattenerGivesTheSameSheetsAsOneShotCalls) {
   }
 }
 
+TEST(Flatten, DistancesMeasuredAheadGiveTheSameSheet) {
+  // An animation measures its frames' distances in parallel, then solves.
+  auto s = Make(testing::LoadBezierFile(testing::DataPath("figure10.json")));
+  FlattenOptions o;
+  o.range = 2;  // the distances are still measured to r = 3, for the quality
+  Flattener flattener(o);
+  auto distances = FlattenDistances(*s, {12, 12}, o, 1);
+  ASSERT_TRUE(distances.ok());
+  EXPECT_EQ(distances->range, 3);
+  auto ahead = flattener.Flatten(*s, {12, 12}, nullptr, *distances);
+  auto inside = flattener.Flatten(*s, {12, 12});
+  ASSERT_TRUE(ahead.ok() && inside.ok());
+  EXPECT_EQ(ahead->flat, inside->flat);
+  EXPECT_EQ(ahead->quality.stress, inside->quality.stress);
+  // Distances of another grid are refused, not misread.
+  auto other = flattener.Flatten(*s, {13, 12}, nullptr, *distances);
+  ASSERT_FALSE(other.ok());
+  EXPECT_EQ(other.status().code(), ErrorCode::kInvalidArgument);
+}
+
 TEST(Flatten, PaperMethodFollowsTheSameObjective) {
   auto s = Make(WaveSpec{2.0, 1.0, 0.1, 2.0, 1.0, 0.0, {}});
   FlattenOptions paper;
