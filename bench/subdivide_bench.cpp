@@ -6,11 +6,13 @@
 // at 28 points per output triangle against the exact deformation); adaptive
 // asked for that same deviation: vertices, time, deviation and the ratios;
 // and adaptive at its default (automatic tolerance).
+#include <sys/resource.h>
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "engine/deform.hpp"
@@ -57,6 +59,14 @@ Run Measure(const testing::Target& t, const Mesh& mesh, const PlacementOptions& 
   const testing::Refined refined = testing::Refine(t, mesh, o, s);
   run.deviation = testing::DenseDeviation(t, refined, o.outside);
   return run;
+}
+
+// This process's CPU time (all threads), ms.
+double CpuMs() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 +
+         static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
 }
 
 }  // namespace
@@ -116,6 +126,32 @@ int main(int argc, char** argv) {
     std::printf(
         "  adaptive, default  %8zu v %8zu t  %8.2f | %7.2f ms  deviation %.3g (tolerance %.3g)\n",
         d.vertices, d.triangles, d.ms, d.subdivide_ms, d.deviation, d.tolerance);
+  }
+
+  // The threads' cost: the bunny's default subdivision (the screen alone: it
+  // needs no vertex) on one thread and on two, wall and process CPU time. On
+  // a 2-core machine two threads should halve the wall time at the same CPU.
+  const Case& bunny_case = cases[std::size(cases) - 1];
+  std::printf("\nbunny's default subdivision by threads (median of %d; wall | CPU ms)\n", repeat);
+  for (int threads : {1, 2}) {
+    SubdivisionOptions s;
+    s.threads = threads;
+    PlacementOptions placement = o;
+    placement.threads = threads;
+    std::vector<double> wall, cpu;
+    for (int k = 0; k < repeat; ++k) {
+      const double c0 = CpuMs();
+      const auto t0 = Clock::now();
+      auto r = DeformMesh(*bunny_case.target.surface, bunny_case.target.sheet,
+                          Mesh(bunny_case.mesh), placement, s);
+      wall.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      cpu.push_back(CpuMs() - c0);
+      if (!r.ok()) return 1;
+    }
+    std::sort(wall.begin(), wall.end());
+    std::sort(cpu.begin(), cpu.end());
+    std::printf("  %d thread%s %8.2f | %7.2f\n", threads, threads > 1 ? "s" : " ",
+                wall[wall.size() / 2], cpu[cpu.size() / 2]);
   }
   return 0;
 }
