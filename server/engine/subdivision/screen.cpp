@@ -49,44 +49,52 @@ ScreenResult Screen(const Context& ctx, const LocatedVertices& located,
   std::atomic<bool> pass{true};
   std::vector<double> worst(ctx.threads, 0.0), measured_worst(ctx.threads, 0.0);
   std::vector<size_t> measured(ctx.threads, 0);
-  ParallelChunks(count, ctx.threads, [&](int chunk, int begin, int end) {
+  // Blocks of faces dealt round-robin: the faces that need measuring
+  // cluster where the surface bends, which contiguous halves split unevenly.
+  constexpr int kBlock = 2048;
+  const int blocks = (count + kBlock - 1) / kBlock;
+  const int threads = std::max(1, std::min(ctx.threads, blocks));
+  ParallelChunks(threads, threads, [&](int chunk, int, int) {
     int hint = -1;
     std::vector<GridCrossing> crossings;
     std::vector<int> scratch;
     // Kept in locals, written once: the per-chunk slots share a cache line.
     double chunk_worst = 0.0, chunk_measured_worst = 0.0;
     size_t chunk_measured = 0;
-    for (int fi = begin; fi < end && pass.load(std::memory_order_relaxed); ++fi) {
-      const auto& t = ctx.mesh.triangles[fi];
-      const std::array<VertexId, 3> tri = {VertexId(t[0]), VertexId(t[1]), VertexId(t[2])};
-      CellTerms terms;
-      if (!estimates.Terms(located.cell[tri[0]], located.cell[tri[1]], located.cell[tri[2]],
-                           &terms)) {
-        pass = false;
-        break;
+    for (int b = chunk; b < blocks && pass.load(std::memory_order_relaxed); b += threads) {
+      for (int fi = b * kBlock;
+           fi < std::min(count, (b + 1) * kBlock) && pass.load(std::memory_order_relaxed); ++fi) {
+        const auto& t = ctx.mesh.triangles[fi];
+        const std::array<VertexId, 3> tri = {VertexId(t[0]), VertexId(t[1]), VertexId(t[2])};
+        CellTerms terms;
+        if (!estimates.Terms(located.cell[tri[0]], located.cell[tri[1]], located.cell[tri[2]],
+                             &terms)) {
+          pass = false;
+          break;
+        }
+        const FaceExtent x = ExtentOf(ctx, tri);
+        if (x.longest2 > terms.min_side * terms.min_side) {
+          pass = false;
+          break;
+        }
+        const double estimate = EstimateOf(terms, std::sqrt(x.longest2), x.dh, x.h);
+        if (ctx.Skippable(estimate)) {
+          chunk_worst = std::max(chunk_worst, estimate);
+          continue;
+        }
+        Vec3 f[3];
+        for (int k = 0; k < 3; ++k) {
+          f[k] = located.deformed.empty() ? ctx.Deformed(ctx.Placed(tri[k]), &hint)
+                                          : located.deformed[tri[k]];
+        }
+        const FaceDeviation d = MeasureFace(ctx, tri, f, &crossings, &scratch, &hint);
+        chunk_measured += d.measured;
+        if (d.edges > kEdgeShare * ctx.tolerance || d.centroid > kFaceShare * ctx.tolerance) {
+          pass = false;
+          break;
+        }
+        chunk_measured_worst = std::max({chunk_measured_worst, d.edges, d.centroid});
       }
-      const FaceExtent x = ExtentOf(ctx, tri);
-      if (x.longest2 > terms.min_side * terms.min_side) {
-        pass = false;
-        break;
-      }
-      const double estimate = EstimateOf(terms, std::sqrt(x.longest2), x.dh, x.h);
-      if (ctx.Skippable(estimate)) {
-        chunk_worst = std::max(chunk_worst, estimate);
-        continue;
-      }
-      Vec3 f[3];
-      for (int k = 0; k < 3; ++k) {
-        f[k] = located.deformed.empty() ? ctx.Deformed(ctx.Placed(tri[k]), &hint)
-                                        : located.deformed[tri[k]];
-      }
-      const FaceDeviation d = MeasureFace(ctx, tri, f, &crossings, &scratch, &hint);
-      chunk_measured += d.measured;
-      if (d.edges > kEdgeShare * ctx.tolerance || d.centroid > kFaceShare * ctx.tolerance) {
-        pass = false;
-        break;
-      }
-      chunk_measured_worst = std::max({chunk_measured_worst, d.edges, d.centroid});
     }
     worst[chunk] = chunk_worst;
     measured_worst[chunk] = chunk_measured_worst;
@@ -94,7 +102,7 @@ ScreenResult Screen(const Context& ctx, const LocatedVertices& located,
   });
   if (!pass) return result;
   result.pass = true;
-  for (int c = 0; c < ctx.threads; ++c) {
+  for (int c = 0; c < threads; ++c) {
     result.max_estimate = std::max(result.max_estimate, worst[c]);
     result.max_deviation = std::max(result.max_deviation, measured_worst[c]);
     result.measured_points += measured[c];
