@@ -410,10 +410,13 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
     SubdivisionOptions one = so;
     const int threads = std::min(n_maps, ResolveThreads(so.threads));
     one.threads = threads > 1 ? 1 : so.threads;
+    // The faces' extents on the sheet are those of the placed model, the same
+    // for every map: measured once per pass.
+    const std::vector<FaceExtent> extents = FaceExtents(model.mesh, model.placed);
     std::vector<Result<SubdivisionResult>> results(maps.size(), Status::Ok());
     ParallelChunks(n_maps, threads, [&](int, int begin, int end) {
       for (int k = begin; k < end; ++k) {
-        results[k] = Subdivide(model.mesh, model.placed, *maps[k], o.outside, one, want);
+        results[k] = Subdivide(model.mesh, model.placed, *maps[k], o.outside, one, want, extents);
       }
     });
     int first_growth = -1;

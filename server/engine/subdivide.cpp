@@ -111,7 +111,8 @@ Status ValidateSubdivision(const SubdivisionOptions& o) {
 
 Result<SubdivisionResult> Subdivide(const Mesh& mesh, const std::vector<Vec3>& placed,
                                     const SheetMap& map, OutsideMode outside,
-                                    const SubdivisionOptions& options, InputPositions want) {
+                                    const SubdivisionOptions& options, InputPositions want,
+                                    std::span<const FaceExtent> extents) {
   SURFDEFORM_RETURN_IF_ERROR(ValidateSubdivision(options));
   if (placed.size() != mesh.positions.size()) {
     return InvalidArgument("one placed position per vertex is needed", "mesh");
@@ -123,7 +124,9 @@ Result<SubdivisionResult> Subdivide(const Mesh& mesh, const std::vector<Vec3>& p
     r.stats.triangles_before = r.stats.triangles_after = mesh.triangles.size();
     return r;
   }
-  return Run(Context(mesh, placed, map, outside, options), want);
+  Context ctx(mesh, placed, map, outside, options);
+  if (extents.size() == mesh.triangles.size()) ctx.extents = extents;
+  return Run(ctx, want);
 }
 
 }  // namespace surfdeform

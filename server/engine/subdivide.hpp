@@ -64,6 +64,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "base/enum_table.hpp"
@@ -143,15 +144,28 @@ struct SubdivisionResult {
 
 Status ValidateSubdivision(const SubdivisionOptions& options);
 
+// A face's extent on the sheet, which its curvature estimate needs: its
+// longest side in placed coordinates, squared, and the spread and the largest
+// magnitude of its corners' heights. It depends on the placed model only, not
+// on the sheet: a model laid on many sheets (the frames of an animation)
+// measures it once (FaceExtents) for all of them.
+struct FaceExtent {
+  double longest2, dh, h;
+};
+std::vector<FaceExtent> FaceExtents(const Mesh& mesh, const std::vector<Vec3>& placed);
+
 // Refines `mesh` (model coordinates; `placed` holds each vertex's placed
 // coordinates, an affine image of the model) for deformation through `map`.
 // `outside` is the placement's mode: points of new vertices that fall outside
 // the sheet follow it (kError: extrapolated, since the vertices themselves
 // were checked). Errors: kLimitExceeded with the limit and the size reached
 // when the output would exceed max_vertices or max_triangles.
+// `extents`, when given, is FaceExtents(mesh, placed) (one per triangle), so
+// that it is not measured again.
 Result<SubdivisionResult> Subdivide(const Mesh& mesh, const std::vector<Vec3>& placed,
                                     const SheetMap& map, OutsideMode outside,
                                     const SubdivisionOptions& options,
-                                    InputPositions want = InputPositions::kNotWanted);
+                                    InputPositions want = InputPositions::kNotWanted,
+                                    std::span<const FaceExtent> extents = {});
 
 }  // namespace surfdeform

@@ -236,6 +236,34 @@ TEST(Subdivide, TheSameOutputWhateverTheThreadCount) {
   EXPECT_EQ(one.model.triangles, three.model.triangles);
 }
 
+TEST(Subdivide, FaceExtentsMeasuredAheadChangeNothing) {
+  // An animation measures the placed model's face extents once for all its
+  // frames. Both a model the screen passes (a fine sphere) and one it
+  // refines (a coarse one) give the same output with them as without.
+  const Target t = Figure(10, 16);
+  const SheetMap map{*t.surface, t.sheet};
+  const std::pair<Mesh, double> cases[] = {{testing::UvSphere(1.0, 96, 48), 1e-2},
+                                           {testing::UvSphere(0.3, 12, 8), 1e-3}};
+  for (const auto& [m, tolerance] : cases) {
+    auto pl = ComputePlacement(map.locator(), t.sheet, m.positions, Fit());
+    ASSERT_TRUE(pl.ok());
+    std::vector<Vec3> placed;
+    for (const Vec3& p : m.positions) placed.push_back(pl->Apply(p));
+    const std::vector<FaceExtent> extents = FaceExtents(m, placed);
+    ASSERT_EQ(extents.size(), m.triangles.size());
+    const SubdivisionOptions s = Adaptive(tolerance);
+    auto without = Subdivide(m, placed, map, OutsideMode::kError, s, InputPositions::kWanted);
+    auto with = Subdivide(m, placed, map, OutsideMode::kError, s, InputPositions::kWanted, extents);
+    ASSERT_TRUE(without.ok() && with.ok());
+    EXPECT_EQ(without->unchanged, with->unchanged);
+    EXPECT_EQ(without->unchanged, tolerance == 1e-2) << "the fine sphere passes the screen";
+    EXPECT_EQ(without->mesh.positions, with->mesh.positions);
+    EXPECT_EQ(without->mesh.triangles, with->mesh.triangles);
+    EXPECT_EQ(without->stats.max_estimated_deviation, with->stats.max_estimated_deviation);
+    EXPECT_EQ(without->stats.measured_points, with->stats.measured_points);
+  }
+}
+
 // The thin plate fitted on Figure 10 (16 x 16), placed: the limit tests'
 // input.
 class SubdivideLimits : public ::testing::Test {

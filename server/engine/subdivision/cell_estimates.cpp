@@ -64,14 +64,16 @@ double EstimateOf(const CellTerms& t, double length, double dh, double h) {
                 t.kink * length / 4.0);
 }
 
-FaceExtent ExtentOf(const Context& ctx, const std::array<VertexId, 3>& corners) {
-  const Vec3 &p0 = ctx.Placed(corners[0]), &p1 = ctx.Placed(corners[1]),
-             &p2 = ctx.Placed(corners[2]);
+FaceExtent ExtentOfCorners(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
   const double h_lo = std::min({p0.z(), p1.z(), p2.z()});
   const double h_hi = std::max({p0.z(), p1.z(), p2.z()});
   return {std::max({(p1 - p0).head<2>().squaredNorm(), (p2 - p1).head<2>().squaredNorm(),
                     (p0 - p2).head<2>().squaredNorm()}),
           h_hi - h_lo, std::max(std::abs(h_lo), std::abs(h_hi))};
+}
+
+FaceExtent ExtentOf(const Context& ctx, const std::array<VertexId, 3>& corners) {
+  return ExtentOfCorners(ctx.Placed(corners[0]), ctx.Placed(corners[1]), ctx.Placed(corners[2]));
 }
 
 CellEstimates::CellEstimates(const Context& ctx, const IdVector<VertexId, int>& vertex_cell)
@@ -172,3 +174,16 @@ bool CellEstimates::Terms(int a, int b, int c, CellTerms* terms) const {
 }
 
 }  // namespace surfdeform::subdivision
+
+namespace surfdeform {
+
+std::vector<FaceExtent> FaceExtents(const Mesh& mesh, const std::vector<Vec3>& placed) {
+  std::vector<FaceExtent> out;
+  out.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    out.push_back(subdivision::ExtentOfCorners(placed[t[0]], placed[t[1]], placed[t[2]]));
+  }
+  return out;
+}
+
+}  // namespace surfdeform

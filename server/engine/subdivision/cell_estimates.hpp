@@ -33,11 +33,9 @@ struct CellTerms {
 // largest magnitude.
 double EstimateOf(const CellTerms& terms, double length, double dh, double h);
 
-// A face's extent for its estimate: its longest side on the sheet, squared,
-// and the spread and the largest magnitude of its corners' heights.
-struct FaceExtent {
-  double longest2, dh, h;
-};
+// A face's extent for its estimate (FaceExtent in subdivide.hpp), from its
+// corners' placed coordinates.
+FaceExtent ExtentOfCorners(const Vec3& p0, const Vec3& p1, const Vec3& p2);
 FaceExtent ExtentOf(const Context& ctx, const std::array<VertexId, 3>& corners);
 
 class CellEstimates {

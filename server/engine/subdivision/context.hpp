@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "base/status.hpp"
@@ -53,6 +54,9 @@ struct Context {
   double tolerance;     // as resolved (0: none)
   bool refine;          // measure and refine to the tolerance
   double sheet_diagonal;
+  // FaceExtents(mesh, placed) when the caller measured it already (one per
+  // triangle), else empty.
+  std::span<const FaceExtent> extents;
 
   const Vec3& Placed(VertexId v) const { return placed[v.value()]; }
   // The placed point at t from a to b, and at barycentric (l1, l2) of corners

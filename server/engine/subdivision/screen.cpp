@@ -47,6 +47,7 @@ ScreenResult Screen(const Context& ctx, const LocatedVertices& located,
   if (ctx.uniform || !ctx.refine) return result;
   const int count = static_cast<int>(ctx.mesh.triangles.size());
   std::atomic<bool> pass{true};
+  const bool have_extents = ctx.extents.size() == static_cast<size_t>(count);
   std::vector<double> worst(ctx.threads, 0.0), measured_worst(ctx.threads, 0.0);
   std::vector<size_t> measured(ctx.threads, 0);
   // Blocks of faces dealt round-robin: the faces that need measuring
@@ -72,7 +73,7 @@ ScreenResult Screen(const Context& ctx, const LocatedVertices& located,
           pass = false;
           break;
         }
-        const FaceExtent x = ExtentOf(ctx, tri);
+        const FaceExtent x = have_extents ? ctx.extents[fi] : ExtentOf(ctx, tri);
         if (x.longest2 > terms.min_side * terms.min_side) {
           pass = false;
           break;
