@@ -166,6 +166,7 @@ Result<Built> BuildModel(const MorphAnimation& a, const AnimationGlbOptions& o) 
   auto at = [&](int v) { return bytes + m.bufferViews[v].byteOffset; };
   ParallelChunks(static_cast<int>(frames) - 1, ResolveThreads(o.threads),
                  [&](int, int begin, int end) {
+                   if (n == 0) return;  // no data to copy (memcpy from null is undefined)
                    std::vector<std::array<int16_t, 4>> qk(n);
                    std::vector<float> dn(with_normals ? 3 * n : 0);
                    for (int k = begin + 1; k < end + 1; ++k) {
