@@ -95,6 +95,9 @@ struct Built {
   json doc;
   std::vector<unsigned char> bin;
   std::vector<ViewCodec> codecs;  // per buffer view
+  std::string_view bin_view() const {
+    return {reinterpret_cast<const char*>(bin.data()), bin.size()};
+  }
 };
 
 Result<Built> BuildModel(const MorphAnimation& a, const AnimationGlbOptions& o) {
@@ -164,30 +167,31 @@ Result<Built> BuildModel(const MorphAnimation& a, const AnimationGlbOptions& o) 
   }
   unsigned char* const bytes = m.buffers[0].data.data();
   auto at = [&](int v) { return bytes + m.bufferViews[v].byteOffset; };
-  ParallelChunks(static_cast<int>(frames) - 1, ResolveThreads(o.threads),
-                 [&](int, int begin, int end) {
-                   if (n == 0) return;  // no data to copy (memcpy from null is undefined)
-                   std::vector<std::array<int16_t, 4>> qk(n);
-                   std::vector<float> dn(with_normals ? 3 * n : 0);
-                   for (int k = begin + 1; k < end + 1; ++k) {
-                     for (size_t v = 0; v < n; ++v) {
-                       const auto q = quant(a.positions[k][v]);
-                       for (int c = 0; c < 3; ++c) qk[v][c] = static_cast<int16_t>(q[c] - q0[v][c]);
-                       qk[v][3] = 0;
-                     }
-                     std::memcpy(at(fv[k].positions), qk.data(), n * 8);
-                     fv[k].lo = MinMax(qk, false);
-                     fv[k].hi = MinMax(qk, true);
-                     if (!with_normals) continue;
-                     for (size_t v = 0; v < n; ++v) {
-                       for (int c = 0; c < 3; ++c) {
-                         const float d = a.normals[k][v][c] - a.normals[0][v][c];
-                         dn[3 * v + c] = std::round(d * 4096.0f) / 4096.0f;
-                       }
-                     }
-                     std::memcpy(at(fv[k].normals), dn.data(), n * 12);
-                   }
-                 });
+  // Frames begin..end - 1 (1-based: frame 0 has no view).
+  auto fill = [&](int, int begin, int end) {
+    if (n == 0) return;  // no data to copy (memcpy from null is undefined)
+    std::vector<std::array<int16_t, 4>> qk(n);
+    std::vector<float> dn(with_normals ? 3 * n : 0);
+    for (int k = begin + 1; k < end + 1; ++k) {
+      for (size_t v = 0; v < n; ++v) {
+        const auto q = quant(a.positions[k][v]);
+        for (int c = 0; c < 3; ++c) qk[v][c] = static_cast<int16_t>(q[c] - q0[v][c]);
+        qk[v][3] = 0;
+      }
+      std::memcpy(at(fv[k].positions), qk.data(), n * 8);
+      fv[k].lo = MinMax(qk, false);
+      fv[k].hi = MinMax(qk, true);
+      if (!with_normals) continue;
+      for (size_t v = 0; v < n; ++v) {
+        for (int c = 0; c < 3; ++c) {
+          const float d = a.normals[k][v][c] - a.normals[0][v][c];
+          dn[3 * v + c] = std::round(d * 4096.0f) / 4096.0f;
+        }
+      }
+      std::memcpy(at(fv[k].normals), dn.data(), n * 12);
+    }
+  };
+  ParallelChunks(static_cast<int>(frames) - 1, ResolveThreads(o.threads), fill);
   std::vector<std::map<std::string, int>> targets(frames);
   for (size_t k = 0; k < frames; ++k) {
     if (k == 0) {  // no change: zeros, with no buffer view
@@ -328,7 +332,7 @@ std::string Glb(const json& doc, std::string_view bin) {
 // uncompressed layout.
 Result<std::string> Compress(Built built, int threads) {
   json& doc = built.doc;
-  const std::string_view bin(reinterpret_cast<const char*>(built.bin.data()), built.bin.size());
+  const std::string_view bin = built.bin_view();
   json& views = doc["bufferViews"];
   const int n = static_cast<int>(views.size());
   std::vector<std::string_view> data(n);
@@ -418,8 +422,7 @@ Result<std::string> WriteAnimationGlb(const MorphAnimation& a, const AnimationGl
   }
   SURFDEFORM_ASSIGN_OR_RETURN(Built built, BuildModel(a, o));
   if (o.compression == AnimationCompression::kNone) {
-    return Glb(built.doc,
-               std::string_view(reinterpret_cast<const char*>(built.bin.data()), built.bin.size()));
+    return Glb(built.doc, built.bin_view());
   }
   return Compress(std::move(built), ResolveThreads(o.threads));
 }
