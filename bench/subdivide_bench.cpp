@@ -128,9 +128,10 @@ int main(int argc, char** argv) {
         d.vertices, d.triangles, d.ms, d.subdivide_ms, d.deviation, d.tolerance);
   }
 
-  // The threads' cost: the bunny's default subdivision (the screen alone: it
-  // needs no vertex) on one thread and on two, wall and process CPU time. On
-  // a 2-core machine two threads should halve the wall time at the same CPU.
+  // The threads' cost: the whole DeformMesh of the bunny with the default
+  // subdivision (placement, the screen, which adds no vertex, and the map) on
+  // one thread and on two, wall and process CPU time. On a 2-core machine two
+  // threads should halve the wall time at the same CPU.
   const Case& bunny_case = cases[std::size(cases) - 1];
   std::printf("\nbunny's default subdivision by threads (median of %d; wall | CPU ms)\n", repeat);
   for (int threads : {1, 2}) {
