@@ -5,47 +5,6 @@
 #include <limits>
 
 namespace surfdeform {
-namespace {
-
-// Solves p = a + s e + t f + s t g for (s, t), the inverse of the bilinear map
-// of the quad a (0,0), b (1,0), c (1,1), d (0,1): eliminating s leaves
-// k2 t^2 + k1 t + k0 = 0. Returns false when no root lies in the cell (with a
-// relative tolerance).
-bool InverseBilinear(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d,
-                     double* s_out, double* t_out) {
-  const Vec2 e = b - a, f = d - a, g = a - b + c - d, h = p - a;
-  const double k2 = Cross2(g, f);
-  const double k1 = Cross2(e, f) + Cross2(h, g);
-  const double k0 = Cross2(h, e);
-  constexpr double kTol = 1e-9;
-  const double scale = std::abs(Cross2(e, f)) + std::abs(Cross2(c - b, c - d));
-  auto s_of = [&](double t) {
-    const Vec2 den = e + g * t;
-    const Vec2 num = h - f * t;
-    return std::abs(den.x()) >= std::abs(den.y()) ? num.x() / den.x() : num.y() / den.y();
-  };
-  auto accept = [&](double t) {
-    if (!(t >= -kTol && t <= 1.0 + kTol)) return false;
-    const double s = s_of(t);
-    if (!(s >= -kTol && s <= 1.0 + kTol)) return false;
-    *s_out = std::clamp(s, 0.0, 1.0);
-    *t_out = std::clamp(t, 0.0, 1.0);
-    return true;
-  };
-  if (std::abs(k2) <= 1e-12 * scale) {  // a parallelogram: linear
-    if (k1 == 0.0) return false;
-    return accept(-k0 / k1);
-  }
-  const double disc = k1 * k1 - 4.0 * k0 * k2;
-  if (disc < 0.0) return false;
-  // The numerically stable pair of roots.
-  const double q = -0.5 * (k1 + std::copysign(std::sqrt(disc), k1));
-  const double t1 = q / k2;
-  const double t2 = q != 0.0 ? k0 / q : t1;
-  return accept(t1) || accept(t2);
-}
-
-}  // namespace
 
 FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv), flat_(sheet.flat) {
   for (const Vec2& p : flat_) bounds_.extend(p);
@@ -64,14 +23,26 @@ FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv),
   const int cells = (nu_ - 1) * (nv_ - 1);
   const Vec2 size = bounds_.sizes().cwiseMax(1e-300);
   std::vector<Eigen::AlignedBox2d> cell_boxes(cells);
-  cell_bounds_.resize(cells);
+  cells_.resize(cells);
   for (int j = 0; j + 1 < nv_; ++j) {
     for (int i = 0; i + 1 < nu_; ++i) {
       Eigen::AlignedBox2d& box = cell_boxes[i + (nu_ - 1) * j];
-      box.extend(Corner(i, j)).extend(Corner(i + 1, j));
-      box.extend(Corner(i + 1, j + 1)).extend(Corner(i, j + 1));
+      const Vec2 &a = Corner(i, j), &b = Corner(i + 1, j);
+      const Vec2 &c = Corner(i + 1, j + 1), &d = Corner(i, j + 1);
+      box.extend(a).extend(b).extend(c).extend(d);
       const Vec2 pad = Vec2::Constant(1e-9 * box.diagonal().norm());
-      cell_bounds_[i + (nu_ - 1) * j] = Eigen::AlignedBox2d(box.min() - pad, box.max() + pad);
+      Cell& cell = cells_[i + (nu_ - 1) * j];
+      cell.bounds = Eigen::AlignedBox2d(box.min() - pad, box.max() + pad);
+      cell.a = a;
+      cell.e = b - a;
+      cell.f = d - a;
+      cell.g = a - b + c - d;
+      cell.k2 = Cross2(cell.g, cell.f);
+      cell.k1 = Cross2(cell.e, cell.f);
+      const double scale = std::abs(Cross2(cell.e, cell.f)) + std::abs(Cross2(c - b, c - d));
+      cell.parallelogram = std::abs(cell.k2) <= 1e-12 * scale;
+      cell.i = i;
+      cell.j = j;
     }
   }
   // About four buckets per cell, buckets roughly square: few candidates each.
@@ -116,15 +87,47 @@ void FlatLocator::Bucket(const std::vector<Eigen::AlignedBox2d>& boxes, std::vec
   }
 }
 
-bool FlatLocator::TryCell(int cell, const Vec2& p, SheetLocation* out) const {
-  if (!cell_bounds_[cell].contains(p)) return false;
-  const int i = cell % (nu_ - 1), j = cell / (nu_ - 1);
-  double s, t;
-  if (!InverseBilinear(p, Corner(i, j), Corner(i + 1, j), Corner(i + 1, j + 1), Corner(i, j + 1),
-                       &s, &t)) {
-    return false;
+// Solves p = a + s e + t f + s t g for (s, t), the inverse of the bilinear map
+// of the quad a (0,0), b (1,0), c (1,1), d (0,1): eliminating s leaves
+// k2 t^2 + k1 t + k0 = 0. Returns false when no root lies in the cell (with a
+// relative tolerance).
+bool FlatLocator::Cell::Inverse(const Vec2& p, double* s_out, double* t_out) const {
+  const Vec2 h = p - a;
+  const double k1_p = k1 + Cross2(h, g);
+  const double k0 = Cross2(h, e);
+  constexpr double kTol = 1e-9;
+  auto s_of = [&](double t) {
+    const Vec2 den = e + g * t;
+    const Vec2 num = h - f * t;
+    return std::abs(den.x()) >= std::abs(den.y()) ? num.x() / den.x() : num.y() / den.y();
+  };
+  auto accept = [&](double t) {
+    if (!(t >= -kTol && t <= 1.0 + kTol)) return false;
+    const double s = s_of(t);
+    if (!(s >= -kTol && s <= 1.0 + kTol)) return false;
+    *s_out = std::clamp(s, 0.0, 1.0);
+    *t_out = std::clamp(t, 0.0, 1.0);
+    return true;
+  };
+  if (parallelogram) {  // linear
+    if (k1_p == 0.0) return false;
+    return accept(-k0 / k1_p);
   }
-  *out = {i, j, s, t};
+  const double disc = k1_p * k1_p - 4.0 * k0 * k2;
+  if (disc < 0.0) return false;
+  // The numerically stable pair of roots.
+  const double q = -0.5 * (k1_p + std::copysign(std::sqrt(disc), k1_p));
+  const double t1 = q / k2;
+  if (accept(t1)) return true;
+  return accept(q != 0.0 ? k0 / q : t1);
+}
+
+bool FlatLocator::TryCell(int cell, const Vec2& p, SheetLocation* out) const {
+  const Cell& c = cells_[cell];
+  if (!c.bounds.contains(p)) return false;
+  double s, t;
+  if (!c.Inverse(p, &s, &t)) return false;
+  *out = {c.i, c.j, s, t};
   return true;
 }
 

@@ -100,8 +100,19 @@ class FlatLocator {
   void Bucket(const std::vector<Eigen::AlignedBox2d>& boxes, std::vector<int>* start,
               std::vector<int>* items) const;
 
-  std::vector<Eigen::AlignedBox2d> cell_bounds_;  // per cell, slightly enlarged
-  int bx_ = 1, by_ = 1;                           // buckets along x and y
+  // A cell a (0,0), b (1,0), c (1,1), d (0,1): its bounds (slightly
+  // enlarged) and what inverting its bilinear map a + s e + t f + s t g needs.
+  struct Cell {
+    Eigen::AlignedBox2d bounds;
+    Vec2 a, e, f, g;             // e = b - a, f = d - a, g = a - b + c - d
+    double k2 = 0.0;             // k2 t^2 + k1 t + k0 = 0 in t: k2 = g x f,
+    double k1 = 0.0;             // k1 = e x f + (p - a) x g (the first term here)
+    bool parallelogram = false;  // k2 negligible: the equation is linear
+    int i = 0, j = 0;            // its place in the grid
+    bool Inverse(const Vec2& p, double* s, double* t) const;
+  };
+  std::vector<Cell> cells_;
+  int bx_ = 1, by_ = 1;  // buckets along x and y
   Vec2 bucket_size_ = Vec2::Ones();
   std::vector<int> bucket_start_;  // CSR: cells of bucket b are
   std::vector<int> bucket_cells_;  // bucket_cells_[bucket_start_[b] .. bucket_start_[b+1])
