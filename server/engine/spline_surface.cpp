@@ -1,13 +1,77 @@
 #include "engine/spline_surface.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <span>
 #include <utility>
 
 #include "engine/bspline_basis.hpp"
 
 namespace surfdeform {
 namespace {
+
+// Four values at once: one AVX2 vector (two SSE2 vectors without AVX).
+using Lanes = Eigen::Array4d;
+
+// The cubic Bernstein polynomials and their derivatives up to kOrder at four
+// parameters t (the formulas of BernsteinDerivatives).
+template <int kOrder>
+void CubicBernstein(const Lanes& t, Lanes b[3][4]) {
+  const Lanes s = 1.0 - t;
+  b[0][0] = s * s * s;
+  b[0][1] = 3.0 * t * s * s;
+  b[0][2] = 3.0 * t * t * s;
+  b[0][3] = t * t * t;
+  if constexpr (kOrder >= 1) {
+    b[1][0] = -3.0 * s * s;
+    b[1][1] = 3.0 * s * (s - 2.0 * t);
+    b[1][2] = 3.0 * t * (2.0 * s - t);
+    b[1][3] = 3.0 * t * t;
+  }
+  if constexpr (kOrder >= 2) {
+    b[2][0] = 6.0 * s;
+    b[2][1] = 6.0 * (t - 2.0 * s);
+    b[2][2] = 6.0 * (s - 2.0 * t);
+    b[2][3] = 6.0 * t;
+  }
+}
+
+// A bicubic Bezier patch (4 x 4 control points, u fastest) and its
+// derivatives up to kOrder at four parameter points, lane by lane:
+// d[0] = S, d[1] = Su, d[2] = Sv, d[3] = Suu, d[4] = Suv, d[5] = Svv, each
+// by coordinate (unset beyond kOrder). The sums of CombineBicubic, lane by
+// lane: the same values to rounding (FMA contraction may differ).
+template <int kOrder>
+void BicubicBezier4(const Vec3* cp, const Lanes& u, const Lanes& v, Lanes d[6][3]) {
+  Lanes nu[3][4], nv[3][4];
+  CubicBernstein<kOrder>(u, nu);
+  CubicBernstein<kOrder>(v, nv);
+  constexpr int kOutputs = kOrder == 0 ? 1 : kOrder == 1 ? 3 : 6;
+  for (int o = 0; o < kOutputs; ++o)
+    for (int c = 0; c < 3; ++c) d[o][c].setZero();
+  for (int j = 0; j < 4; ++j) {
+    const Vec3* row = cp + 4 * j;
+    for (int c = 0; c < 3; ++c) {
+      const Lanes r0 =
+          nu[0][0] * row[0][c] + nu[0][1] * row[1][c] + nu[0][2] * row[2][c] + nu[0][3] * row[3][c];
+      d[0][c] += nv[0][j] * r0;
+      if constexpr (kOrder >= 1) {
+        const Lanes r1 = nu[1][0] * row[0][c] + nu[1][1] * row[1][c] + nu[1][2] * row[2][c] +
+                         nu[1][3] * row[3][c];
+        d[1][c] += nv[0][j] * r1;
+        d[2][c] += nv[1][j] * r0;
+        if constexpr (kOrder >= 2) {
+          const Lanes r2 = nu[2][0] * row[0][c] + nu[2][1] * row[1][c] + nu[2][2] * row[2][c] +
+                           nu[2][3] * row[3][c];
+          d[3][c] += nv[0][j] * r2;
+          d[4][c] += nv[1][j] * r1;
+          d[5][c] += nv[2][j] * r0;
+        }
+      }
+    }
+  }
+}
 
 template <typename V>
 struct Derivs {
@@ -23,6 +87,8 @@ class SplineSurface final : public Surface {
     v0_ = d_.knots_v[d_.degree_v];
     dv_ = d_.knots_v[d_.count_v] - v0_;
     rational_ = !d_.weights.empty();
+    bicubic_bezier_ =
+        !rational_ && d_.degree_u == 3 && d_.degree_v == 3 && d_.count_u == 4 && d_.count_v == 4;
     points_ = d_.control_points;
     homogeneous_.resize(d_.control_points.size());
     for (size_t i = 0; i < d_.control_points.size(); ++i) {
@@ -77,7 +143,55 @@ class SplineSurface final : public Surface {
     return s;
   }
 
+  void EvaluateMany(std::span<const Vec2> uv, int order,
+                    std::span<SurfacePoint> out) const override {
+    if (!bicubic_bezier_) {
+      Surface::EvaluateMany(uv, order, out);
+      return;
+    }
+    const size_t n = uv.size();
+    for (size_t k = 0; k < n; k += 4) {
+      const size_t lanes = std::min<size_t>(4, n - k);
+      Lanes u, v;
+      for (size_t l = 0; l < 4; ++l) {  // a short tail repeats its last point
+        const Vec2& p = uv[k + std::min(l, lanes - 1)];
+        u[l] = p.x();
+        v[l] = p.y();
+      }
+      Lanes d[6][3];
+      EvaluateBicubicBezier(u, v, order, d);
+      for (size_t l = 0; l < lanes; ++l) out[k + l] = PointOf(d, static_cast<int>(l), order);
+    }
+  }
+
  private:
+  void EvaluateBicubicBezier(const Lanes& u, const Lanes& v, int order, Lanes d[6][3]) const {
+    if (order == 0) {
+      BicubicBezier4<0>(points_.data(), u, v, d);
+    } else if (order == 1) {
+      BicubicBezier4<1>(points_.data(), u, v, d);
+    } else {
+      BicubicBezier4<2>(points_.data(), u, v, d);
+    }
+  }
+
+  // Lane `l` of BicubicBezier4's output.
+  static SurfacePoint PointOf(const Lanes d[6][3], int l, int order) {
+    SurfacePoint s;
+    auto at = [&](int o) { return Vec3(d[o][0][l], d[o][1][l], d[o][2][l]); };
+    s.p = at(0);
+    if (order >= 1) {
+      s.su = at(1);
+      s.sv = at(2);
+    }
+    if (order >= 2) {
+      s.suu = at(3);
+      s.suv = at(4);
+      s.svv = at(5);
+    }
+    return s;
+  }
+
   // Tensor-product sums of the control values with the basis functions (and
   // their derivatives) of the spans starting at control indices (i0, j0).
   template <typename V>
@@ -155,6 +269,7 @@ class SplineSurface final : public Surface {
   std::vector<Vec3> points_;
   std::vector<Eigen::Vector4d> homogeneous_;
   bool rational_ = false;
+  bool bicubic_bezier_ = false;  // one span each way, degree 3 x 3, no weights
   double u0_ = 0, du_ = 1, v0_ = 0, dv_ = 1;
 };
 

@@ -11,6 +11,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "base/status.hpp"
@@ -38,6 +39,13 @@ class Surface {
 
   // order: 0 = position only, 1 = and first derivatives, 2 = and second derivatives.
   virtual SurfacePoint Evaluate(double u, double v, int order) const = 0;
+
+  // Evaluate at many points: out[k] = Evaluate(uv[k], order), to rounding
+  // (out.size() == uv.size()). Kinds that can evaluate several points at
+  // once (the bicubic Bezier patch: four to a vector) override it; the
+  // per-vertex map goes through here. Deterministic: a point's result does
+  // not depend on its neighbours in `uv`.
+  virtual void EvaluateMany(std::span<const Vec2> uv, int order, std::span<SurfacePoint> out) const;
 
   // The kind as named in the API: "bezier", "cylinder", ...
   virtual const char* Kind() const = 0;

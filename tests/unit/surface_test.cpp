@@ -1,10 +1,13 @@
 // Every surface kind: exact derivatives, orientation, and exact representations.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <ostream>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "engine/surface_spec.hpp"
 #include "support/surface_file.hpp"
@@ -91,6 +94,46 @@ TEST_P(EveryKind, ContinuesSmoothlyPastTheBorder) {
     const double h = 1e-4 * (u == 0.0 ? -1 : 1);
     const Vec3 out = s->Evaluate(u + h, 0.5, 0).p;
     EXPECT_LT((out - (in.p + h * in.su)).norm(), 1e-6 * (1 + in.su.norm()));
+  }
+}
+
+// The batched evaluation (four points to a vector on the bicubic Bezier
+// patch) against one point at a time: the same values to rounding, every
+// derivative up to the order asked for and zeros past it; each point's
+// result independent of the points beside it in the batch; lower orders
+// report the same values.
+TEST_P(EveryKind, EvaluateManyMatchesEvaluate) {
+  auto s = Make(GetParam().spec);
+  std::vector<Vec2> uv;  // 11 points: two full vectors and a tail of three
+  for (int k = 0; k < 11; ++k) uv.emplace_back(-0.05 + 0.11 * k, 1.04 - 0.097 * k);
+  auto fields = [](const SurfacePoint& p) {
+    return std::array<Vec3, 6>{p.p, p.su, p.sv, p.suu, p.suv, p.svv};
+  };
+  std::vector<SurfacePoint> highest(uv.size());
+  s->EvaluateMany(uv, 2, highest);
+  for (int order = 0; order <= 2; ++order) {
+    std::vector<SurfacePoint> many(uv.size());
+    s->EvaluateMany(uv, order, many);
+    for (size_t k = 0; k < uv.size(); ++k) {
+      const SurfacePoint one = s->Evaluate(uv[k].x(), uv[k].y(), order);
+      const auto want = fields(one), got = fields(many[k]);
+      const double scale = 1.0 + one.p.norm() + one.su.norm() + one.sv.norm() + one.suu.norm() +
+                           one.suv.norm() + one.svv.norm();
+      for (int f = 0; f < 6; ++f) {
+        EXPECT_LT((got[f] - want[f]).norm(), 1e-13 * scale)
+            << "order " << order << ", point " << k << ", field " << f;
+        if (f > (order == 0 ? 0 : order == 1 ? 2 : 5)) {
+          EXPECT_EQ(got[f], Vec3::Zero());
+        }
+      }
+      SurfacePoint alone;
+      s->EvaluateMany(std::span(&uv[k], 1), order, std::span(&alone, 1));
+      EXPECT_EQ(fields(alone), got) << "order " << order << ", point " << k;
+      EXPECT_EQ(many[k].p, highest[k].p);
+      if (order >= 1) {
+        EXPECT_EQ(many[k].su, highest[k].su);
+      }
+    }
   }
 }
 
