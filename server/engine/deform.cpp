@@ -7,6 +7,7 @@
 #include "engine/elapsed.hpp"
 #include "engine/parallel.hpp"
 #include "engine/sheet_map.hpp"
+#include "engine/surface_batch.hpp"
 
 namespace surfdeform {
 namespace {
@@ -151,6 +152,8 @@ void CarryFrame(const Mesh& in, const Mat3& jac, const Mat3& linear, const Mat3&
 
 // The deformation, vertex by vertex, of `r.source` into `out` (which may be
 // the same mesh: each vertex reads only its own input before writing).
+// Vertices are located one by one and evaluated in blocks
+// (Surface::EvaluateMany: four at a time on the bicubic Bezier patch).
 MapTally MapVertices(const SheetMap& map, const Placement& pl, const Refined& r, size_t n_input,
                      const PlacementOptions& o, bool need_frame, Mesh* out) {
   const Mesh& in = *r.source;
@@ -161,15 +164,33 @@ MapTally MapVertices(const SheetMap& map, const Placement& pl, const Refined& r,
   std::vector<MapTally> tally(threads);
   ParallelChunks(static_cast<int>(n), threads, [&](int chunk, int begin, int end) {
     MapTally& t = tally[chunk];
+    auto note_bad = [&t](long long k) {
+      if (t.bad < 0 || k < t.bad) t.bad = k;
+    };
+    SurfaceBatch batch(map.surface(), need_frame ? 2 : 1);
+    SheetParameters params[SurfaceBatch::kSize];  // by slot, when carrying a frame
+    auto finish = [&](int slot, int k, const SurfacePoint& s, double h) {
+      if (!need_frame) {
+        out->positions[k] = OffsetAlongNormal(s, h);
+      } else {
+        Vec3 nrm;
+        const Mat3 jac = DeformJacobian(s, params[slot], h, &nrm);  // d(position)/d(a, b, h)
+        out->positions[k] = s.p + h * nrm;
+        CarryFrame(in, jac, linear, normal_linear, k, out);
+      }
+      const bool finite = out->positions[k].allFinite() &&
+                          (in.normals.empty() || out->normals[k].allFinite()) &&
+                          (in.tangents.empty() || out->tangents[k].allFinite());
+      if (!finite) note_bad(k);
+    };
     int hint = -1;  // the previous vertex's cell
     for (int k = begin; k < end; ++k) {
       if (static_cast<size_t>(k) < r.known.size() && r.known_on_sheet[k]) {
         out->positions[k] = r.known[k];  // on the sheet, deformed by the subdivision already
-        if (!r.known[k].allFinite() && t.bad < 0) t.bad = k;
+        if (!r.known[k].allFinite()) note_bad(k);
         continue;
       }
       const Vec3 abh = r.placed.empty() ? pl.Apply(in.positions[k]) : r.placed[k];
-      const double h = abh.z();
       // Vertices added by the subdivision inside faces whose corners are on
       // the sheet continue its map past a concave border.
       const bool added = static_cast<size_t>(k) >= n_input;
@@ -181,20 +202,11 @@ MapTally MapVertices(const SheetMap& map, const Placement& pl, const Refined& r,
         t.worst = std::max(t.worst, p.outside_distance);
       }
       if (p.outside && mode == OutsideMode::kError) continue;
-      const SurfacePoint s = map.surface().Evaluate(p.uv.x(), p.uv.y(), need_frame ? 2 : 1);
-      if (!need_frame) {
-        out->positions[k] = OffsetAlongNormal(s, h);
-      } else {
-        Vec3 nrm;
-        const Mat3 jac = DeformJacobian(s, p, h, &nrm);  // d(position)/d(a, b, h)
-        out->positions[k] = s.p + h * nrm;
-        CarryFrame(in, jac, linear, normal_linear, k, out);
-      }
-      const bool finite = out->positions[k].allFinite() &&
-                          (in.normals.empty() || out->normals[k].allFinite()) &&
-                          (in.tangents.empty() || out->tangents[k].allFinite());
-      if (!finite && t.bad < 0) t.bad = k;
+      const int slot = batch.Add(k, p.uv, abh.z());
+      if (need_frame) params[slot] = p;
+      if (batch.full()) batch.Drain(finish);
     }
+    batch.Drain(finish);
   });
   MapTally total;
   for (const MapTally& t : tally) {

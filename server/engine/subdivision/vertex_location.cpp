@@ -1,6 +1,7 @@
 #include "engine/subdivision/vertex_location.hpp"
 
 #include "engine/parallel.hpp"
+#include "engine/surface_batch.hpp"
 
 namespace surfdeform::subdivision {
 
@@ -18,6 +19,10 @@ Result<LocatedVertices> LocateVertices(const Context& ctx, bool positions) {
   std::vector<double> worst(ctx.threads, 0.0);
   const bool exact = ctx.map.sheet().method == "exact";
   ParallelChunks(static_cast<int>(n), ctx.threads, [&](int chunk, int begin, int end) {
+    SurfaceBatch batch(ctx.map.surface(), 1);  // the on-sheet vertices' positions
+    auto finish = [&](int, int k, const SurfacePoint& s, double h) {
+      out.deformed[VertexId(k)] = OffsetAlongNormal(s, h);
+    };
     int hint = -1;
     for (int k = begin; k < end; ++k) {
       const VertexId v(k);
@@ -34,8 +39,8 @@ Result<LocatedVertices> LocateVertices(const Context& ctx, bool positions) {
       } else if (p.outside) {
         out.deformed[v] = ctx.Deformed(abh, &hint);
       } else {
-        out.deformed[v] =
-            OffsetAlongNormal(ctx.map.surface().Evaluate(p.uv.x(), p.uv.y(), 1), abh.z());
+        batch.Add(k, p.uv, abh.z());
+        if (batch.full()) batch.Drain(finish);
       }
       int cell = p.cell;
       if (exact) {  // the closed-form inverse located nothing: find the cell
@@ -44,6 +49,7 @@ Result<LocatedVertices> LocateVertices(const Context& ctx, bool positions) {
       }
       out.cell[v] = cell;
     }
+    batch.Drain(finish);
   });
   for (int c = 0; c < ctx.threads; ++c) {
     out.outside += outside[c];
@@ -60,16 +66,22 @@ void CompleteDeformed(const Context& ctx, LocatedVertices* located) {
   const size_t n = ctx.mesh.positions.size();
   located->deformed.resize(n);
   ParallelChunks(static_cast<int>(n), ctx.threads, [&](int, int begin, int end) {
+    SurfaceBatch batch(ctx.map.surface(), 1);  // the on-sheet vertices
+    auto finish = [&](int, int k, const SurfacePoint& s, double h) {
+      located->deformed[VertexId(k)] = OffsetAlongNormal(s, h);
+    };
     int hint = -1;
     for (int k = begin; k < end; ++k) {
       const VertexId v(k);
       const Vec3& abh = ctx.Placed(v);
-      const Vec2& uv = located->uv[v];
-      located->deformed[v] =
-          located->on_sheet[v]
-              ? OffsetAlongNormal(ctx.map.surface().Evaluate(uv.x(), uv.y(), 1), abh.z())
-              : ctx.Deformed(abh, &hint);
+      if (!located->on_sheet[v]) {
+        located->deformed[v] = ctx.Deformed(abh, &hint);
+        continue;
+      }
+      batch.Add(k, located->uv[v], abh.z());
+      if (batch.full()) batch.Drain(finish);
     }
+    batch.Drain(finish);
   });
 }
 
