@@ -57,25 +57,6 @@ double SideKink(const Context& ctx, const CellGrid::Side& side, double h_lo, dou
 
 }  // namespace
 
-double EstimateOf(const CellTerms& t, double length, double dh, double h) {
-  const double k = t.curvature;
-  const double second = k * (1.0 + std::abs(h) * k) + 2.0 * t.twist;
-  return 2.0 * ((second * length * length + 2.0 * k * length * std::abs(dh)) / 8.0 +
-                t.kink * length / 4.0);
-}
-
-FaceExtent ExtentOfCorners(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
-  const double h_lo = std::min({p0.z(), p1.z(), p2.z()});
-  const double h_hi = std::max({p0.z(), p1.z(), p2.z()});
-  return {std::max({(p1 - p0).head<2>().squaredNorm(), (p2 - p1).head<2>().squaredNorm(),
-                    (p0 - p2).head<2>().squaredNorm()}),
-          h_hi - h_lo, std::max(std::abs(h_lo), std::abs(h_hi))};
-}
-
-FaceExtent ExtentOf(const Context& ctx, const std::array<VertexId, 3>& corners) {
-  return ExtentOfCorners(ctx.Placed(corners[0]), ctx.Placed(corners[1]), ctx.Placed(corners[2]));
-}
-
 CellEstimates::CellEstimates(const Context& ctx, const IdVector<VertexId, int>& vertex_cell)
     : grid_(ctx.grid) {
   cells_.assign(grid_.cell_count(), {});

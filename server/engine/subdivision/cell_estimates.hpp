@@ -9,7 +9,9 @@
 // across grid lines). Computed only for the cells near the model's vertices.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "engine/subdivision/context.hpp"
 
@@ -30,13 +32,27 @@ struct CellTerms {
 // a straight piece of size l then strays (F'' l^2) / 8, plus j l / 4 for a
 // kink j of the map where it crosses from one cell to the next. `length` is
 // the piece's size on the sheet, `dh` the spread of its heights, `h` their
-// largest magnitude.
-double EstimateOf(const CellTerms& terms, double length, double dh, double h);
+// largest magnitude. Inline, as the two below: the screen calls them for
+// every face of the model.
+inline double EstimateOf(const CellTerms& t, double length, double dh, double h) {
+  const double k = t.curvature;
+  const double second = k * (1.0 + std::abs(h) * k) + 2.0 * t.twist;
+  return 2.0 * ((second * length * length + 2.0 * k * length * std::abs(dh)) / 8.0 +
+                t.kink * length / 4.0);
+}
 
 // A face's extent for its estimate (FaceExtent in subdivide.hpp), from its
 // corners' placed coordinates.
-FaceExtent ExtentOfCorners(const Vec3& p0, const Vec3& p1, const Vec3& p2);
-FaceExtent ExtentOf(const Context& ctx, const std::array<VertexId, 3>& corners);
+inline FaceExtent ExtentOfCorners(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+  const double h_lo = std::min({p0.z(), p1.z(), p2.z()});
+  const double h_hi = std::max({p0.z(), p1.z(), p2.z()});
+  return {std::max({(p1 - p0).head<2>().squaredNorm(), (p2 - p1).head<2>().squaredNorm(),
+                    (p0 - p2).head<2>().squaredNorm()}),
+          h_hi - h_lo, std::max(std::abs(h_lo), std::abs(h_hi))};
+}
+inline FaceExtent ExtentOf(const Context& ctx, const std::array<VertexId, 3>& corners) {
+  return ExtentOfCorners(ctx.Placed(corners[0]), ctx.Placed(corners[1]), ctx.Placed(corners[2]));
+}
 
 class CellEstimates {
  public:
