@@ -6,6 +6,14 @@
 // (mesh arrays, Draco's encoder state): with these settings Draco's encoding
 // inside the service is as fast as in a fresh process (bench/service_bench;
 // the figures are in BENCHMARKS.md).
+//
+// glibc also gives threads their own arenas, up to eight per core. The
+// connection gate hands each request to any of the worker threads (32 by
+// default), so a request often ran in an arena that had not yet served a
+// large one and paid its page faults again (a bunny's Draco encode 34 ms
+// against 20 ms in a warm arena, for the first ~20 requests after start),
+// and each of up to 16 arenas could keep `trim` bytes mapped. One arena per
+// core keeps the arenas warm and bounds what they keep.
 // The cost is resident memory: up to `trim` bytes of freed heap per arena
 // stay mapped between requests.
 #pragma once
@@ -14,7 +22,9 @@
 
 namespace surfdeform {
 
-// mmap only blocks of 32 MiB and more; trim the heap only past 256 MiB free.
-void TuneAllocatorForServing(size_t mmap_threshold = 32u << 20, size_t trim = 256u << 20);
+// mmap only blocks of 32 MiB and more; trim the heap only past 256 MiB free;
+// at most `arenas` malloc arenas (0: one per core).
+void TuneAllocatorForServing(size_t mmap_threshold = 32u << 20, size_t trim = 256u << 20,
+                             int arenas = 0);
 
 }  // namespace surfdeform
