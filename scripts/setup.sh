@@ -17,6 +17,7 @@ packages=(
   libcpp-httplib-dev       # the HTTP server (and the client in integration tests)
   libssl-dev               # SHA-256 for surface ids and ETags (OpenSSL)
   libhiredis-dev           # the optional shared surface tier (--redis)
+  libxxhash-dev            # XXH3 digests of models: the service's placement memo
   curl python3 python3-yaml  # the README's curl examples and the contract check, run as a test
   assimp-testmodels        # real glTF, OBJ, PLY, STL, OFF files (and broken ones) for tests
   clang-14 libclang-rt-14-dev  # libFuzzer for the mesh import fuzzer (tests/fuzz)

@@ -300,8 +300,13 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
   const auto t0 = std::chrono::steady_clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidateInput(sheet, mesh, o, subdivision));
   const SheetMap map(surface, sheet);
-  SURFDEFORM_ASSIGN_OR_RETURN(const Placement pl,
-                              ComputePlacement(map.locator(), sheet, mesh.positions, o));
+  if (extras.placement != nullptr) {
+    result->placement = *extras.placement;
+  } else {
+    SURFDEFORM_ASSIGN_OR_RETURN(result->placement,
+                                ComputePlacement(map.locator(), sheet, mesh.positions, o));
+  }
+  const Placement& pl = result->placement;
   // The subdivision keeps which attributes there are, so this holds for the
   // refined mesh too.
   const bool need_frame = !mesh.normals.empty() || !mesh.tangents.empty();

@@ -63,11 +63,17 @@ struct DeformExtras {
   // (triangles, texture coordinates, colours, groups) from the model, as an
   // animation's frames do (DeformPrepared).
   bool geometry_only = false;
+  // When set, the placement to use instead of computing it: one computed
+  // before (DeformResult::placement) for the same positions, sheet and
+  // placement options, which give the same placement every time. The
+  // service keeps them for models that come back (service/placement_memo).
+  const Placement* placement = nullptr;
 };
 
 struct DeformResult {
   Mesh mesh;
   DeformStats stats;
+  Placement placement;  // the one used (DeformMesh only)
 };
 
 // Deforms without subdivision. Errors: kInvalidArgument for bad options or

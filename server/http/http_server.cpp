@@ -627,7 +627,8 @@ struct HttpServer::Impl {
   }
   void MetricsText(const httplib::Request&, httplib::Response& res) {
     res.set_content(metrics.Render(service.cache_stats(), service.shared_tier_stats(),
-                                   service.admission_stats(), server.connection_stats()),
+                                   service.admission_stats(), server.connection_stats(),
+                                   service.placement_memo_stats()),
                     "text/plain; version=0.0.4");
   }
   void OpenApi(const httplib::Request&, httplib::Response& res) {

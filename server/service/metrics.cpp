@@ -36,8 +36,8 @@ void Metrics::Rejected(const std::string& reason) {
 }
 
 std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shared,
-                            const AdmissionStats& admission,
-                            const ConnectionStats& connections) const {
+                            const AdmissionStats& admission, const ConnectionStats& connections,
+                            const PlacementMemoStats& placements) const {
   std::string out;
   auto line = [&out](const std::string& text) { out += text + "\n"; };
   std::lock_guard lock(mutex_);
@@ -146,6 +146,16 @@ std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shar
     line(std::string("surfdeform_connections_closed_total{reason=\"") + reason + "\"} " +
          std::to_string(value));
   }
+  line(
+      "# HELP surfdeform_placement_memo_lookups_total Placements looked up by model, surface and "
+      "options: reused (hit) or computed (miss).");
+  line("# TYPE surfdeform_placement_memo_lookups_total counter");
+  line("surfdeform_placement_memo_lookups_total{result=\"hit\"} " +
+       std::to_string(placements.hits));
+  line("surfdeform_placement_memo_lookups_total{result=\"miss\"} " +
+       std::to_string(placements.misses));
+  plain("surfdeform_placement_memo_entries", "gauge", "Placements the memo holds.",
+        std::to_string(placements.entries));
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   const double cpu = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +

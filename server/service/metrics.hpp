@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "service/admission.hpp"
+#include "service/placement_memo_stats.hpp"
 #include "service/shared_tier.hpp"
 #include "service/single_flight_cache.hpp"
 
@@ -46,8 +47,8 @@ class Metrics {
   // The whole exposition, cache counters (both levels) included.
   // And the process's CPU time, for CPU per request under load.
   std::string Render(const CacheStats& cache, const SharedTierStats& shared = {},
-                     const AdmissionStats& admission = {},
-                     const ConnectionStats& connections = {}) const;
+                     const AdmissionStats& admission = {}, const ConnectionStats& connections = {},
+                     const PlacementMemoStats& placements = {}) const;
 
  private:
   struct Histogram {

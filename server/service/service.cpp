@@ -24,6 +24,7 @@
 #include "service/admission.hpp"
 #include "service/flat_sheet_svg.hpp"
 #include "service/output_negotiation.hpp"
+#include "service/placement_memo.hpp"
 #include "service/sheet_codec.hpp"
 
 namespace surfdeform {
@@ -134,7 +135,7 @@ ImportLimits ImportLimitsOf(const ServiceLimits& limits) {
 // The X-Surfdeform-Stats of a deformation.
 json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, bool hit,
                        proto::OutputFormat format, const ImportedMesh& imported,
-                       const DeformStats& st) {
+                       const DeformStats& st, bool placement_reused = false) {
   json j = {{"surface_id", id},
             {"cached", hit},
             {"format", proto::OutputFormatName(format)},
@@ -145,6 +146,7 @@ json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, boo
             {"placement", proto::DeformStatsJson(st)},
             {"quality", proto::QualityJson(quality)},
             {"warnings", imported.warnings}};
+  j["placement"]["reused"] = placement_reused;  // from the memo: the same model came before
   if (st.rigid.mode != RigidMode::kNone) {
     json each = json::array();
     for (size_t k = 0; k < st.rigid.each.size() && k < 1000; ++k) {
@@ -181,6 +183,8 @@ Status CheckDistortionFormat(const proto::OutputOptions& o, proto::OutputFormat 
 // the points resampled polylines may have in all.
 constexpr proto::MapLimits kMapLimits;
 constexpr size_t kMaxMapOutputPoints = 1'000'000;
+// Placements the memo keeps (~250 bytes each with their index).
+constexpr size_t kPlacementMemoEntries = 1024;
 
 std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
 
@@ -563,6 +567,8 @@ struct Service::Impl {
   SingleFlightCache<CachedSurface> cache;
   SingleFlightCache<CachedAnimation> animations;
   Admission admission;
+  // Placements of models that come back, by surface, options and positions.
+  PlacementMemo placements{kPlacementMemoEntries};
 };
 
 Service::Service(ServiceOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
@@ -570,6 +576,7 @@ Service::~Service() = default;
 
 const ServiceLimits& Service::limits() const { return impl_->options.limits; }
 CacheStats Service::cache_stats() const { return impl_->cache.stats(); }
+PlacementMemoStats Service::placement_memo_stats() const { return impl_->placements.stats(); }
 AdmissionStats Service::admission_stats() const { return impl_->admission.stats(); }
 bool Service::Saturated() const { return impl_->admission.Full(); }
 int Service::RetryAfterSeconds() const { return impl_->admission.RetryAfterSeconds(); }
@@ -737,20 +744,25 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   subdivision.time_budget_ms = clock.BudgetFor(limits.request_time_budget_ms);
   DeformExtras extras;
   extras.distortion = params.output.distortion;
+  const PlacementMemo::Key placed_key =
+      impl_->placements.KeyOf(entry->id, placement, imported.mesh.positions);
+  const std::optional<Placement> known = impl_->placements.Find(placed_key);
+  if (known) extras.placement = &*known;
   auto deformed = DeformMesh(*entry->surface, entry->sheet, std::move(imported.mesh), placement,
                              subdivision, extras);
   if (!deformed.ok()) return WithinBudget(clock, "subdivision", deformed.status());
+  if (!known) impl_->placements.Store(placed_key, deformed->placement);
   const double subdivide_ms = deformed->stats.subdivide_ms;
   const double deform_ms = MsSince(t2) - subdivide_ms;
   SURFDEFORM_RETURN_IF_ERROR(clock.Check("deformation"));
 
-  return MeshReply(
-      deformed->mesh, params.output, format, imported, hit,
-      {{"parse", parse_ms},
-       {"flatten", flatten_ms},
-       {"deform", deform_ms},
-       {"subdivide", subdivide_ms}},
-      DeformStatsHeader(entry->id, entry->sheet.quality, hit, format, imported, deformed->stats));
+  return MeshReply(deformed->mesh, params.output, format, imported, hit,
+                   {{"parse", parse_ms},
+                    {"flatten", flatten_ms},
+                    {"deform", deform_ms},
+                    {"subdivide", subdivide_ms}},
+                   DeformStatsHeader(entry->id, entry->sheet.quality, hit, format, imported,
+                                     deformed->stats, known.has_value()));
 }
 
 Result<Reply> Service::Animate(const DeformRequest& request) {

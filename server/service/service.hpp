@@ -14,6 +14,7 @@
 
 #include "base/status.hpp"
 #include "service/admission.hpp"
+#include "service/placement_memo_stats.hpp"
 #include "service/shared_tier.hpp"
 #include "service/single_flight_cache.hpp"
 
@@ -94,6 +95,7 @@ class Service {
 
   std::string InfoJson() const;  // GET /v1/info
   CacheStats cache_stats() const;
+  PlacementMemoStats placement_memo_stats() const;
   SharedTierStats shared_tier_stats() const;  // enabled = false without one
   AdmissionStats admission_stats() const;
   // Every slot busy and the queue full: a new request would be refused now

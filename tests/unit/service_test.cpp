@@ -109,6 +109,55 @@ TEST(Service, DeformsInlineAndById) {
   EXPECT_EQ(glb->body.substr(0, 4), "glTF");
 }
 
+// A model that comes back reuses its placement (the fit), and only the same
+// model on the same surface with the same placement options does; the bytes
+// are those of a service that computed it afresh.
+TEST(Service, ReusesThePlacementOfAModelThatComesBack) {
+  Service service({});
+  const std::string plate = PlateObj();
+  const auto created = service.CreateSurface(kCylinder);
+  ASSERT_TRUE(created.ok());
+  const std::string id = json::parse(created->body).at("id");
+  auto deform = [&](Service& s, const std::string& mesh, const std::string& placement,
+                    const std::string& format) {
+    auto r = s.Deform({mesh,
+                       R"({"surface_id":")" + id + R"(","placement":)" + placement +
+                           R"(,"output":{"format":")" + format + R"("}})",
+                       ""});
+    EXPECT_TRUE(r.ok()) << r.status().ToString();
+    return r;
+  };
+  auto reused = [](const Result<Reply>& r) {
+    return json::parse(r->stats_json).at("placement").at("reused").get<bool>();
+  };
+  const std::string fit = R"({"scale":"fit"})";
+  auto first = deform(service, plate, fit, "obj");
+  EXPECT_FALSE(reused(first));
+  auto again = deform(service, plate, fit, "obj");
+  EXPECT_TRUE(reused(again));
+  EXPECT_EQ(again->body, first->body);
+  // Another output format: the same placement.
+  auto as_ply = deform(service, plate, fit, "ply");
+  EXPECT_TRUE(reused(as_ply));
+  Service fresh({});
+  ASSERT_TRUE(fresh.CreateSurface(kCylinder).ok());
+  auto computed = deform(fresh, plate, fit, "ply");
+  EXPECT_FALSE(reused(computed));
+  EXPECT_EQ(as_ply->body, computed->body);
+
+  // Other options, or a model with one vertex moved: placed afresh.
+  EXPECT_FALSE(reused(deform(service, plate, R"({"scale":"fit","rotation_deg":30})", "obj")));
+  Mesh moved = testing::ThinPlate(1.0, 0.5, 0.05);
+  moved.positions[0].x() -= 0.125;
+  auto moved_obj = ExportMesh(moved, MeshFormat::kObj);
+  ASSERT_TRUE(moved_obj.ok());
+  EXPECT_FALSE(reused(deform(service, *moved_obj, fit, "obj")));
+  const PlacementMemoStats stats = service.placement_memo_stats();
+  EXPECT_EQ(stats.hits, 2u);
+  EXPECT_EQ(stats.misses, 3u);
+  EXPECT_EQ(stats.entries, 3u);
+}
+
 // placement.up "auto" (the API's default): a Y-up glTF figure stands up on a
 // plane, the same figure as OBJ lies as +Z would have it, a plate thin in X
 // stands on its thin axis; explicit axes are kept. The stats say which.

@@ -1,0 +1,86 @@
+#include "service/placement_memo.hpp"
+
+#include <xxhash.h>
+
+#include <random>
+
+namespace surfdeform {
+namespace {
+
+uint64_t RandomSeed() {
+  std::random_device device;
+  return (static_cast<uint64_t>(device()) << 32) ^ device();
+}
+
+// Feeds one field of the options to the digest (each field on its own: a
+// struct's padding bytes are not part of its value).
+template <typename T>
+void Feed(XXH3_state_t* state, const T& value) {
+  XXH3_128bits_update(state, &value, sizeof value);
+}
+
+}  // namespace
+
+PlacementMemo::PlacementMemo(size_t capacity) : capacity_(capacity), seed_(RandomSeed()) {}
+
+PlacementMemo::Key PlacementMemo::KeyOf(std::string_view surface_id, const PlacementOptions& o,
+                                        const std::vector<Vec3>& positions) const {
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_128bits_reset_withSeed(state, seed_);
+  Feed(state, surface_id.size());
+  XXH3_128bits_update(state, surface_id.data(), surface_id.size());
+  Feed(state, o.up);
+  Feed(state, o.y_up_input);
+  Feed(state, o.rigid);
+  Feed(state, o.anchor);
+  Feed(state, o.anchor_value);
+  Feed(state, o.center_mode);
+  Feed(state, o.center.x());
+  Feed(state, o.center.y());
+  Feed(state, o.rotation_deg);
+  Feed(state, o.scale);
+  Feed(state, o.fit);
+  Feed(state, o.fit_margin);
+  Feed(state, o.outside);
+  Feed(state, positions.size());
+  static_assert(sizeof(Vec3) == 3 * sizeof(double), "positions are packed triples");
+  XXH3_128bits_update(state, positions.data(), positions.size() * sizeof(Vec3));
+  const XXH128_hash_t digest = XXH3_128bits_digest(state);
+  XXH3_freeState(state);
+  return {digest.low64, digest.high64};
+}
+
+std::optional<Placement> PlacementMemo::Find(const Key& key) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto at = index_.find(key);
+  if (at == index_.end()) {
+    ++misses_;
+    return std::nullopt;
+  }
+  ++hits_;
+  entries_.splice(entries_.begin(), entries_, at->second);
+  return at->second->second;
+}
+
+void PlacementMemo::Store(const Key& key, const Placement& placement) {
+  if (capacity_ == 0) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto at = index_.find(key);
+  if (at != index_.end()) {  // stored meanwhile by a request for the same model
+    entries_.splice(entries_.begin(), entries_, at->second);
+    return;
+  }
+  entries_.emplace_front(key, placement);
+  index_.emplace(key, entries_.begin());
+  while (entries_.size() > capacity_) {
+    index_.erase(entries_.back().first);
+    entries_.pop_back();
+  }
+}
+
+PlacementMemoStats PlacementMemo::stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return {hits_, misses_, entries_.size(), capacity_};
+}
+
+}  // namespace surfdeform
