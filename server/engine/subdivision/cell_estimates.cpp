@@ -16,11 +16,17 @@ void AddOnce(std::vector<char>& flags, std::vector<int>& list, int index) {
   }
 }
 
-// The cells within one cell of a vertex's, each once, by index.
+// The cells within one cell of a vertex's, each once, by index: the cells
+// that hold a vertex are marked first (one pass over the vertices), then
+// grown by their neighbours (one pass over the cells).
 std::vector<int> NeededCells(const CellGrid& grid, const IdVector<VertexId, int>& vertex_cell) {
-  std::vector<char> seen(grid.cell_count(), 0);
+  std::vector<char> holds(grid.cell_count(), 0);
   for (int c : vertex_cell) {
-    if (c < 0) continue;
+    if (c >= 0) holds[c] = 1;
+  }
+  std::vector<char> seen(grid.cell_count(), 0);
+  for (int c = 0; c < static_cast<int>(holds.size()); ++c) {
+    if (!holds[c]) continue;
     const GridIndex at = grid.CellAt(c);
     for (int dj = -1; dj <= 1; ++dj)
       for (int di = -1; di <= 1; ++di) {
