@@ -146,11 +146,7 @@ CellTerms CellEstimates::BlockTerms(int i0, int j0, int i1, int j1) const {
   return t;
 }
 
-bool CellEstimates::Terms(int a, int b, int c, CellTerms* terms) const {
-  if (a == b && b == c && a >= 0) {  // inside one cell: most faces of a fine model
-    *terms = cells_[a];
-    return true;
-  }
+bool CellEstimates::BlockTermsOf(int a, int b, int c, CellTerms* terms) const {
   if (a < 0 || b < 0 || c < 0) return false;
   const GridIndex pa = grid_.CellAt(a), pb = grid_.CellAt(b), pc = grid_.CellAt(c);
   const int i0 = std::min({pa.i, pb.i, pc.i}), i1 = std::max({pa.i, pb.i, pc.i});

@@ -62,7 +62,15 @@ class CellEstimates {
 
   // The terms of the cell or 2 x 2 block a piece with corners in cells a, b,
   // c lies in; false when they are not within one block (or off the sheet).
-  bool Terms(int a, int b, int c, CellTerms* terms) const;
+  // Inline for its common case, all three in one cell (most faces of a fine
+  // model): the screen asks for every face.
+  bool Terms(int a, int b, int c, CellTerms* terms) const {
+    if (a == b && b == c && a >= 0) {
+      *terms = cells_[a];
+      return true;
+    }
+    return BlockTermsOf(a, b, c, terms);
+  }
 
   const CellTerms& cell(int c) const { return cells_[c]; }
   // The kink across side `side` (CellGrid's numbering); 0 where not computed
@@ -71,6 +79,8 @@ class CellEstimates {
 
  private:
   CellTerms BlockTerms(int i0, int j0, int i1, int j1) const;
+  // Terms when a, b and c are not all one cell.
+  bool BlockTermsOf(int a, int b, int c, CellTerms* terms) const;
 
   CellGrid grid_;
   std::vector<CellTerms> cells_;
