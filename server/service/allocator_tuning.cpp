@@ -2,16 +2,14 @@
 
 #include <malloc.h>
 
-#include <algorithm>
-#include <thread>
+#include "engine/parallel.hpp"
 
 namespace surfdeform {
 
 void TuneAllocatorForServing(size_t mmap_threshold, size_t trim, int arenas) {
   mallopt(M_MMAP_THRESHOLD, static_cast<int>(mmap_threshold));
   mallopt(M_TRIM_THRESHOLD, static_cast<int>(trim));
-  if (arenas <= 0) arenas = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  mallopt(M_ARENA_MAX, arenas);
+  mallopt(M_ARENA_MAX, ResolveThreads(arenas));  // 0: one per core, as the service counts them
 }
 
 }  // namespace surfdeform
