@@ -11,10 +11,14 @@
 // time then advances by 1 / fps per frame. Frames are sampled evenly over the
 // key times: frame k of n at t_first + k (t_last - t_first) / (n - 1).
 //
-// Flattening the sequence (FlattenAnimation): the frames' surface distances
-// do not depend on one another, so they are measured a batch of frames at a
-// time, one frame per worker thread; then one Flattener solves the batch in
-// order, so the factored Laplacian is shared; each frame starts from the previous
+// Flattening the sequence (FlattenAnimation): the surface distances of every
+// kPathAnchorEvery-th frame (an anchor) are measured afresh, and those of the
+// frames between two anchors along the blend of the paths the anchors
+// followed (the geodesics move smoothly with the surface; no relaxation is
+// needed). The frames' distances do not depend on one another's sheets, so
+// they are measured a batch of frames at a time, one frame per worker thread;
+// then one Flattener solves the batch in order, so the factored Laplacian is
+// shared; each frame starts from the previous
 // frame's sheet (warm start), except frames that land exactly on a key, which
 // start as the key alone would, so that their sheets are bit for bit the
 // static surface's (and so are deformations through them). Every
@@ -73,9 +77,15 @@ SurfaceSpec SurfaceAtFrame(const AnimationSpec& spec, int frame);
 // What one frame's flattening did.
 struct FrameFlattening {
   double time = 0.0;
-  bool warm = false;  // started from the previous frame's sheet
+  bool warm = false;     // started from the previous frame's sheet
+  int reused_paths = 0;  // distances measured along the anchors' paths (0 on an anchor)
   FlattenQuality quality;
 };
+
+// Every this many frames (and on the last frame and the keys), a frame's
+// distances are measured afresh: an anchor. The frames between are measured
+// along the blend of the two anchors' paths.
+inline constexpr int kPathAnchorEvery = 8;
 
 struct AnimatedSheets {
   std::vector<std::unique_ptr<const Surface>> surfaces;  // per frame

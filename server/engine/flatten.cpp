@@ -100,13 +100,29 @@ DistanceOptions DistanceOptionsFor(const FlattenOptions& o, Clock::time_point st
 }  // namespace
 
 Result<SurfaceDistances> FlattenDistances(const Surface& surface, const SamplingOptions& sampling,
-                                          const FlattenOptions& options, int threads) {
+                                          const FlattenOptions& options, int threads,
+                                          DistancePaths* paths) {
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options));
   // The samples first, as Flatten does: a degenerate one is reported as such.
   SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
   DistanceOptions dopt = DistanceOptionsFor(options, Clock::now());
   if (threads > 0) dopt.threads = threads;
-  return ComputeSurfaceDistances(surface, grid.nu, grid.nv, dopt);
+  return ComputeSurfaceDistances(surface, grid.nu, grid.nv, dopt, paths);
+}
+
+Result<SurfaceDistances> FlattenDistancesBetween(const Surface& surface,
+                                                 const SamplingOptions& sampling,
+                                                 const FlattenOptions& options,
+                                                 std::span<const PathBlend> blends, int threads) {
+  SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
+  if (blends.empty() || blends[0].empty() || grid.nu != blends[0][0].paths->nu ||
+      grid.nv != blends[0][0].paths->nv) {
+    return InvalidArgument("the paths were followed on another grid");
+  }
+  DistanceOptions dopt = DistanceOptionsFor(options, Clock::now());
+  if (threads > 0) dopt.threads = threads;
+  return RemeasureSurfaceDistances(surface, blends, dopt);
 }
 
 Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,

@@ -133,9 +133,19 @@ class Flattener {
 
 // The surface distances a flattening with these options measures (over the
 // solve's range and at least r = 3, for the quality measures), on `threads`
-// threads (0: options.threads).
+// threads (0: options.threads); the paths followed go to `paths` if given.
 Result<SurfaceDistances> FlattenDistances(const Surface& surface, const SamplingOptions& sampling,
-                                          const FlattenOptions& options, int threads = 0);
+                                          const FlattenOptions& options, int threads = 0,
+                                          DistancePaths* paths = nullptr);
+
+// The same measured along a blend of the paths that such measurements of
+// nearby surfaces followed (RemeasureSurfaceDistances): a frame of an
+// animation between frames measured afresh.
+Result<SurfaceDistances> FlattenDistancesBetween(const Surface& surface,
+                                                 const SamplingOptions& sampling,
+                                                 const FlattenOptions& options,
+                                                 std::span<const PathBlend> blends,
+                                                 int threads = 0);
 
 // One-shot convenience: a fresh Flattener per call.
 Result<FlatSheet> FlattenSurface(const Surface& surface, const SamplingOptions& sampling,

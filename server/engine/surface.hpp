@@ -31,7 +31,12 @@ struct SurfacePoint {
 };
 
 // Unit normal Su x Sv / |Su x Sv|; zero where the normal vanishes.
-Vec3 UnitNormal(const SurfacePoint& s);
+inline Vec3 UnitNormal(const SurfacePoint& s) {
+  const Vec3 n = s.su.cross(s.sv);
+  const double len = n.norm();
+  if (!(len > 0.0)) return Vec3::Zero();
+  return n / len;
+}
 
 class Surface {
  public:

@@ -31,6 +31,7 @@
 #pragma once
 
 #include <chrono>
+#include <span>
 #include <vector>
 
 #include "base/status.hpp"
@@ -67,12 +68,49 @@ struct SurfaceDistances {
   std::vector<GridEdge> edges;  // grouped by offset; every pair once
   int direct_pairs = 0;         // pairs measured directly (step 0)
   int relaxed_paths = 0;        // pairs whose path was relaxed off the straight segment
+  int reused_paths = 0;         // pairs measured along another measurement's path (Remeasure...)
   // Area on the surface of each grid cell (i, j), index i + (nu - 1) * j, by the
   // trapezoidal rule over the lattice.
   std::vector<double> cell_areas;
 };
 
+// The paths a measurement followed: for each edge (in the order of
+// SurfaceDistances::edges) measured along a path, the parameters of the
+// path's interior points, to measure a nearby surface along them again.
+struct DistancePaths {
+  int nu = 0;
+  int nv = 0;
+  int range = 0;
+  int lattice_factor = 0;
+  std::vector<char> followed;  // per edge: 1 if measured along a path
+  std::vector<Vec2> q;         // per edge, lattice_factor - 1 interior points
+};
+
+// Measures the distances; fills `paths`, when given, with the paths followed.
 Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu, int nv,
-                                                 const DistanceOptions& options);
+                                                 const DistanceOptions& options,
+                                                 DistancePaths* paths = nullptr);
+
+// Measures `surface` along the paths that a measurement of a nearby surface
+// followed (an earlier frame of an animation, with the same parameterisation):
+// each pair that the other measured along a path, and that still turns too
+// much to be measured directly, is measured along the same parameter path on
+// this surface, without relaxing it again. That is the length of a real path
+// on this surface, so still never below the geodesic distance; and since the
+// relaxed path was nearly a geodesic, its length differs from a path relaxed
+// afresh at second order only in how far the geodesic moved. Other pairs are
+// measured as ComputeSurfaceDistances measures them. Costs one first-order
+// evaluation per interior path point, instead of a relaxation per pair.
+// The parameters of the paths followed are blended as sum_i weight_i q_i (the
+// weights add up to 1: e.g. 1 - s and s between two frames). Each pair is
+// measured along the first of the blends whose paths all followed it.
+struct WeightedPaths {
+  const DistancePaths* paths = nullptr;
+  double weight = 0.0;
+};
+using PathBlend = std::span<const WeightedPaths>;
+Result<SurfaceDistances> RemeasureSurfaceDistances(const Surface& surface,
+                                                   std::span<const PathBlend> blends,
+                                                   const DistanceOptions& options);
 
 }  // namespace surfdeform

@@ -134,6 +134,28 @@ TEST(Animation, WarmStartsSaveIterationsAtTheSameStress) {
   EXPECT_LT(warm, cold);
 }
 
+// Frames between anchors are measured along the anchors' paths (no
+// relaxation), and flatten to the stress of the frame alone all the same.
+TEST(Animation, FramesBetweenAnchorsReuseTheirPathsAtTheSameStress) {
+  AnimationSpec spec = Pair(Figure10(0.5), Figure10(1.0), 2 * kPathAnchorEvery + 3);
+  auto sheets = FlattenAnimation(spec, {16, 16}, FlattenOptions{});
+  ASSERT_TRUE(sheets.ok()) << sheets.status().ToString();
+  for (int k = 0; k < spec.frames; ++k) {
+    const bool anchor = k % kPathAnchorEvery == 0 || k == spec.frames - 1;
+    if (anchor) {
+      EXPECT_EQ(sheets->frames[k].reused_paths, 0) << k;
+    } else {
+      EXPECT_GT(sheets->frames[k].reused_paths, 1000) << k;
+    }
+    auto surface = MakeSurface(SurfaceAtFrame(spec, k));
+    auto alone = FlattenSurface(**surface, {16, 16}, {});
+    ASSERT_TRUE(alone.ok());
+    EXPECT_NEAR(sheets->frames[k].quality.stress, alone->quality.stress,
+                1e-6 * alone->quality.stress)
+        << k;
+  }
+}
+
 // The model placed once on the first sheet and mapped through every frame.
 struct Animated {
   AnimatedSheets sheets;
