@@ -858,6 +858,7 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
   for (const FrameFlattening& f : sheets.frames) {
     per_frame.push_back({{"time", f.time},
                          {"warm", f.warm},
+                         {"paths_reused", f.reused_paths},
                          {"stress", f.quality.stress},
                          {"iterations", f.quality.iterations},
                          {"folded_cells", f.quality.folded_cells},

@@ -62,6 +62,10 @@ curl -sS -f -o "$out/anim.glb" -D "$out/anim-headers.txt" -F mesh=@"$data/bunny.
   -F "params=<$out/animate.json" "$base/v1/animate"
 grep -qi '^content-type: model/gltf-binary' "$out/anim-headers.txt" || fail "content type"
 grep -qi '^x-surfdeform-stats: .*"frames":5' "$out/anim-headers.txt" || fail "stats: frames"
+# Five frames have two anchors (0 and 4): too few to interpolate paths through.
+grep -qi '^x-surfdeform-stats: .*"paths_reused":0,' "$out/anim-headers.txt" ||
+  fail "stats: paths_reused"
+if grep -qi '"paths_reused":[1-9]' "$out/anim-headers.txt"; then fail "paths reused with 2 anchors"; fi
 grep -qi '^x-surfdeform-stats: .*"cached":false' "$out/anim-headers.txt" || fail "first request cached?"
 # The twin: the same sheets, from the cache.
 curl -sS -f -o "$out/anim-plain.glb" -D "$out/plain-headers.txt" -F mesh=@"$data/bunny.ply" \
