@@ -156,6 +156,28 @@ TEST(Animation, FramesBetweenAnchorsReuseTheirPathsAtTheSameStress) {
   }
 }
 
+// Which frames are anchors, and so every sheet, depends on the spec alone:
+// one thread (measuring and solving in turn) and three (measuring the next
+// batch while this one is solved) give the same sheets, bit for bit.
+TEST(Animation, SheetsDoNotDependOnTheThreadCount) {
+  AnimationSpec spec = Pair(Figure10(0.5), Figure10(1.0), 3 * kPathAnchorEvery + 2);
+  FlattenOptions one, three;
+  one.threads = 1;
+  three.threads = 3;
+  auto a = FlattenAnimation(spec, {12, 12}, one);
+  auto b = FlattenAnimation(spec, {12, 12}, three);
+  ASSERT_TRUE(a.ok() && b.ok());
+  ASSERT_EQ(a->sheets.size(), b->sheets.size());
+  for (size_t k = 0; k < a->sheets.size(); ++k) {
+    EXPECT_EQ(a->frames[k].reused_paths, b->frames[k].reused_paths) << k;
+    EXPECT_EQ(a->frames[k].quality.iterations, b->frames[k].quality.iterations) << k;
+    ASSERT_EQ(a->sheets[k].flat.size(), b->sheets[k].flat.size());
+    for (size_t i = 0; i < a->sheets[k].flat.size(); ++i) {
+      EXPECT_EQ(a->sheets[k].flat[i], b->sheets[k].flat[i]) << k << " " << i;
+    }
+  }
+}
+
 // The model placed once on the first sheet and mapped through every frame.
 struct Animated {
   AnimatedSheets sheets;
