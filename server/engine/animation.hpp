@@ -18,9 +18,9 @@
 // needed). The frames' distances do not depend on one another's sheets, so
 // they are measured a batch of frames at a time, one frame per worker thread,
 // the next batch while one Flattener solves this one in order (the factored
-// Laplacian is shared). Each frame starts from the previous two frames'
-// sheets carried on, 2 X[k-1] - X[k-2] (warm start; from the first frame's
-// sheet alone for the second), except frames that land exactly on a key, which
+// Laplacian is shared). Each frame starts from the previous frames' sheets
+// carried on, 3 X[k-1] - 3 X[k-2] + X[k-3] (warm start; fewer sheets on the
+// second and third frames), except frames that land exactly on a key, which
 // start as the key alone would, so that their sheets are bit for bit the
 // static surface's (and so are deformations through them). Every
 // sheet is in the canonical frame of flatten.hpp (sample (0, 0) at the

@@ -188,6 +188,9 @@ double PathLength(const Vec3* p, const Vec3* n, int m) {
 // (DirectLength); measured on a cone, its error stays below 0.01 turn^4, so
 // ~1e-8 relative here.
 constexpr double kDirectMaxTurn = 0.03;
+// Pairs whose chord turned by this much on every surface a remeasurement
+// follows the paths of are measured along the path without a direct look.
+constexpr float kClearTurn = 2.0f * static_cast<float>(kDirectMaxTurn);
 
 // The length of the normal section through a and b (the surface's
 // intersection with the plane through the chord and the normal at a, nearly
@@ -314,6 +317,7 @@ struct alignas(64) ChunkState {
   std::vector<SurfacePoint> evaluated;
   std::vector<Vec2> blended;
   std::vector<Vec3> points, normals;  // a path's, for PathLength
+  double turn = 0.0;                  // the last pair's chord turn (DirectLength)
 };
 
 // The length of a path from `start` to `finish` through the surface at
@@ -344,6 +348,7 @@ bool MeasuredDirectly(const PathPoint& start, const PathPoint& finish, ChunkStat
                       double* d) {
   double turn = 0.0;
   *d = DirectLength(start, finish, &turn);
+  state.turn = turn;
   if (!(turn < kDirectMaxTurn)) return false;
   ++state.direct;
   return true;
@@ -555,6 +560,7 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
     paths->range = options.range;
     paths->lattice_factor = f;
     paths->followed.assign(total, 0);
+    paths->turn.assign(total, 0.0f);
     paths->q.resize(total * (f - 1));
   }
   auto measure = [&](int i, int j, int di, int dj, size_t edge, ChunkState& state) {
@@ -562,7 +568,10 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
     Vec2* record = paths != nullptr ? paths->q.data() + edge * (f - 1) : nullptr;
     const double d =
         MeasurePair(surface, lattice, i, j, di, dj, options.relax_steps, state, record, &followed);
-    if (paths != nullptr) paths->followed[edge] = followed ? 1 : 0;
+    if (paths != nullptr) {
+      paths->followed[edge] = followed ? 1 : 0;
+      paths->turn[edge] = static_cast<float>(state.turn);
+    }
     return d;
   };
   return MeasureAllPairs(nu, nv, threads, lattice, options, measure);
@@ -609,8 +618,12 @@ Result<SurfaceDistances> RemeasureSurfaceDistances(const Surface& surface,
     }
     const PathPoint& start = lattice.Sample(i, j);
     const PathPoint& finish = lattice.Sample(i + di, j + dj);
+    // Where every path's chord turned by twice the direct measurement's
+    // limit, this one does not come under it: no need to look.
+    bool turned = true;
+    for (const WeightedPaths& w : *blend) turned = turned && w.paths->turn[edge] >= kClearTurn;
     double direct = 0.0;
-    if (MeasuredDirectly(start, finish, state, &direct)) return direct;
+    if (!turned && MeasuredDirectly(start, finish, state, &direct)) return direct;
     const size_t m = static_cast<size_t>(f - 1);
     state.blended.resize(m);
     for (size_t k = 0; k < m; ++k) {

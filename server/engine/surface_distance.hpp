@@ -83,6 +83,7 @@ struct DistancePaths {
   int range = 0;
   int lattice_factor = 0;
   std::vector<char> followed;  // per edge: 1 if measured along a path
+  std::vector<float> turn;     // per edge: how far its chord turned (radians)
   std::vector<Vec2> q;         // per edge, lattice_factor - 1 interior points
 };
 
@@ -94,7 +95,8 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
 // Measures `surface` along the paths that a measurement of a nearby surface
 // followed (an earlier frame of an animation, with the same parameterisation):
 // each pair that the other measured along a path, and that still turns too
-// much to be measured directly, is measured along the same parameter path on
+// much to be measured directly (not looked at where every path's chord turned
+// by twice that), is measured along the same parameter path on
 // this surface, without relaxing it again. That is the length of a real path
 // on this surface, so still never below the geodesic distance; and since the
 // relaxed path was nearly a geodesic, its length differs from a path relaxed
