@@ -9,6 +9,7 @@
 // process was left behind: after a short grace for processes already on
 // their way out, each is named on stderr, killed, and the test fails.
 #include <dirent.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -18,13 +19,36 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
 namespace {
+
+// The whole of a /proc file, or "" when it cannot be read. With read(2)
+// rather than a stream: a process that exits between readdir and the read
+// makes read fail with ESRCH, which std::filebuf turns into an exception that
+// istreambuf_iterator lets through (it aborted a passing test in CI).
+std::string ReadProcFile(const std::string& path) {
+  std::string text;
+  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return text;
+  char buffer[4096];
+  for (;;) {
+    const ssize_t got = read(fd, buffer, sizeof buffer);
+    if (got > 0) {
+      text.append(buffer, static_cast<size_t>(got));
+    } else if (got < 0 && errno == EINTR) {
+      continue;
+    } else {
+      if (got < 0) text.clear();
+      break;
+    }
+  }
+  close(fd);
+  return text;
+}
 
 // The processes whose parent is this one (from /proc/PID/stat: "pid (comm) state ppid").
 std::vector<pid_t> Children() {
@@ -35,8 +59,7 @@ std::vector<pid_t> Children() {
   while (dirent* e = readdir(proc)) {
     const pid_t pid = static_cast<pid_t>(std::atoi(e->d_name));
     if (pid <= 0) continue;
-    std::ifstream stat("/proc/" + std::string(e->d_name) + "/stat");
-    std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+    const std::string text = ReadProcFile("/proc/" + std::string(e->d_name) + "/stat");
     const size_t close = text.rfind(')');
     if (close == std::string::npos) continue;
     std::istringstream rest(text.substr(close + 1));
@@ -50,8 +73,7 @@ std::vector<pid_t> Children() {
 }
 
 std::string CommandLine(pid_t pid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/cmdline");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text = ReadProcFile("/proc/" + std::to_string(pid) + "/cmdline");
   for (char& c : text) {
     if (c == '\0') c = ' ';
   }
