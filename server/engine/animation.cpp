@@ -361,7 +361,7 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
   const int workers = std::min(ResolveThreads(options.threads), spec.frames);
   const int frame_threads = workers > 1 ? 1 : options.threads;
   Flattener flattener(options);
-  auto solve = [&](int k, Result<SurfaceDistances>& d, double distance_ms) -> Status {
+  auto solve = [&](int k, Result<MeasuredGrid>& d, double distance_ms) -> Status {
     if (!d.ok()) return as_frame_error(k, d.status());
     FlattenOptions o = options;
     SURFDEFORM_RETURN_IF_ERROR(budget_left(k, &o));
@@ -394,13 +394,14 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
         warm = &carried;
       }
     }
-    auto sheet = flattener.Flatten(*out.surfaces[k], sampling, warm, std::move(*d));
+    const int reused = d->distances.reused_paths;
+    auto sheet = flattener.Flatten(*out.surfaces[k], warm, std::move(*d));
     if (!sheet.ok()) return as_frame_error(k, sheet.status());
     FrameFlattening f;
     f.time = FrameTime(spec, k);
     f.warm = warm != nullptr;
     f.quality = sheet->quality;
-    f.reused_paths = d->reused_paths;
+    f.reused_paths = reused;
     // The batch's distances took this long for all of its frames at once.
     f.quality.distance_ms = distance_ms;
     f.quality.total_ms += f.quality.distance_ms;
@@ -410,20 +411,21 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
     return Status::Ok();
   };
   // The anchors' paths and distances, measured ahead of the frames between
-  // them; each is dropped once no frame left needs it. `anchor_ok` is
+  // them; each is dropped once no frame left needs it. `anchor_state` is
   // written only by whoever measures (the solve moves distances out).
   const int anchor_count = static_cast<int>(anchors.size());
   std::vector<DistancePaths> paths(anchor_count);
-  std::vector<Result<SurfaceDistances>> anchor_distances(anchor_count, Status::Ok());
-  std::vector<char> measured(anchor_count, 0), anchor_ok(anchor_count, 0);
+  std::vector<Result<MeasuredGrid>> anchor_distances(anchor_count, Status::Ok());
+  enum class AnchorState : char { kPending, kMeasured, kFailed };
+  std::vector<AnchorState> anchor_state(anchor_count, AnchorState::kPending);
+  auto anchor_ok = [&](int i) { return anchor_state[i] == AnchorState::kMeasured; };
   auto measure_anchors = [&](int begin, int end, int threads, const FlattenOptions& o) {
     ParallelChunks(end - begin, threads, [&](int, int b, int e) {
       for (int i = begin + b; i < begin + e; ++i) {
         anchor_distances[i] =
             FlattenDistances(*out.surfaces[anchors[i]], sampling, o,
                              threads > 1 ? frame_threads : options.threads, &paths[i]);
-        anchor_ok[i] = anchor_distances[i].ok() ? 1 : 0;
-        measured[i] = 1;
+        anchor_state[i] = anchor_distances[i].ok() ? AnchorState::kMeasured : AnchorState::kFailed;
       }
     });
   };
@@ -441,7 +443,7 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
   struct Batch {
     int s0 = 0, s1 = 0;  // its segments
     std::vector<Between> between;
-    std::vector<Result<SurfaceDistances>> d;  // of `between`
+    std::vector<Result<MeasuredGrid>> d;  // of `between`
     Status status;
     double distance_ms = 0.0;  // per frame
   };
@@ -456,7 +458,7 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
     // The anchors up to one past the batch (its cubic blends reach it).
     const int need = std::min(anchor_count, s1 + 2);
     int from = s0 + 1;
-    while (from < need && measured[from]) ++from;
+    while (from < need && anchor_state[from] != AnchorState::kPending) ++from;
     measure_anchors(from, need, workers, o);
     for (int s = s0; s < s1; ++s) {
       for (int k = anchors[s] + 1; k < anchors[s + 1]; ++k) batch->between.push_back({k, s});
@@ -471,9 +473,9 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
         // two on either side. At least three anchors: with a straight line
         // through two, Figure 10 bending over 8 frames flattened to a stress
         // up to 1.2e-5 off the frames' own; such a frame is measured afresh.
-        const int lo = s > 0 && anchor_ok[s - 1] ? s - 1 : s;
-        const int hi = s + 2 < anchor_count && anchor_ok[s + 2] ? s + 2 : s + 1;
-        if (!anchor_ok[s] || !anchor_ok[s + 1] || hi - lo < 2) {
+        const int lo = s > 0 && anchor_ok(s - 1) ? s - 1 : s;
+        const int hi = s + 2 < anchor_count && anchor_ok(s + 2) ? s + 2 : s + 1;
+        if (!anchor_ok(s) || !anchor_ok(s + 1) || hi - lo < 2) {
           batch->d[i] = FlattenDistances(*out.surfaces[k], sampling, o, frame_threads);
           continue;
         }

@@ -99,30 +99,35 @@ DistanceOptions DistanceOptionsFor(const FlattenOptions& o, Clock::time_point st
 
 }  // namespace
 
-Result<SurfaceDistances> FlattenDistances(const Surface& surface, const SamplingOptions& sampling,
-                                          const FlattenOptions& options, int threads,
-                                          DistancePaths* paths) {
+Result<MeasuredGrid> FlattenDistances(const Surface& surface, const SamplingOptions& sampling,
+                                      const FlattenOptions& options, int threads,
+                                      DistancePaths* paths) {
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options));
   // The samples first, as Flatten does: a degenerate one is reported as such.
-  SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
+  MeasuredGrid out;
+  SURFDEFORM_ASSIGN_OR_RETURN(out.grid, SampleSurface(surface, sampling));
   DistanceOptions dopt = DistanceOptionsFor(options, Clock::now());
   if (threads > 0) dopt.threads = threads;
-  return ComputeSurfaceDistances(surface, grid.nu, grid.nv, dopt, paths);
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      out.distances, ComputeSurfaceDistances(surface, out.grid.nu, out.grid.nv, dopt, paths));
+  return out;
 }
 
-Result<SurfaceDistances> FlattenDistancesBetween(const Surface& surface,
-                                                 const SamplingOptions& sampling,
-                                                 const FlattenOptions& options,
-                                                 std::span<const PathBlend> blends, int threads) {
+Result<MeasuredGrid> FlattenDistancesBetween(const Surface& surface,
+                                             const SamplingOptions& sampling,
+                                             const FlattenOptions& options,
+                                             std::span<const PathBlend> blends, int threads) {
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options));
-  SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
-  if (blends.empty() || blends[0].empty() || grid.nu != blends[0][0].paths->nu ||
-      grid.nv != blends[0][0].paths->nv) {
+  MeasuredGrid out;
+  SURFDEFORM_ASSIGN_OR_RETURN(out.grid, SampleSurface(surface, sampling));
+  if (blends.empty() || blends[0].empty() || out.grid.nu != blends[0][0].paths->nu ||
+      out.grid.nv != blends[0][0].paths->nv) {
     return InvalidArgument("the paths were followed on another grid");
   }
   DistanceOptions dopt = DistanceOptionsFor(options, Clock::now());
   if (threads > 0) dopt.threads = threads;
-  return RemeasureSurfaceDistances(surface, blends, dopt);
+  SURFDEFORM_ASSIGN_OR_RETURN(out.distances, RemeasureSurfaceDistances(surface, blends, dopt));
+  return out;
 }
 
 Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,
@@ -138,16 +143,17 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
   return Solve(surface, std::move(grid), warm_start, std::move(dist), distance_ms, t0);
 }
 
-Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,
-                                     const FlatSheet* warm_start, SurfaceDistances distances) {
+Result<FlatSheet> Flattener::Flatten(const Surface& surface, const FlatSheet* warm_start,
+                                     MeasuredGrid measured) {
   const auto t0 = Clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
-  SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
-  if (distances.nu != grid.nu || distances.nv != grid.nv ||
-      distances.range != std::max(options_.range, 3)) {
+  const SurfaceDistances& d = measured.distances;
+  if (d.nu != measured.grid.nu || d.nv != measured.grid.nv ||
+      d.range != std::max(options_.range, 3)) {
     return InvalidArgument("the distances were measured for another grid or range");
   }
-  return Solve(surface, std::move(grid), warm_start, std::move(distances), 0.0, t0);
+  return Solve(surface, std::move(measured.grid), warm_start, std::move(measured.distances), 0.0,
+               t0);
 }
 
 Result<FlatSheet> Flattener::Solve(const Surface& surface, SampledGrid grid,

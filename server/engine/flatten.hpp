@@ -96,6 +96,13 @@ struct FlatSheet {
   FlattenQuality quality;
 };
 
+// A surface's samples and the distances between them: what a flattening
+// measures before it solves.
+struct MeasuredGrid {
+  SampledGrid grid;
+  SurfaceDistances distances;
+};
+
 // Keeps what can be reused between solves on the same grid size and range (the
 // factored Laplacian) so that the frames of an animation, or many surfaces with
 // the same sampling, pay for it once. Not thread-safe: one per thread.
@@ -110,11 +117,11 @@ class Flattener {
   // same grid size, is the starting layout (e.g. the previous animation frame).
   Result<FlatSheet> Flatten(const Surface& surface, const SamplingOptions& sampling,
                             const FlatSheet* warm_start = nullptr);
-  // The same with the surface distances measured already (FlattenDistances
-  // with these options; an animation measures its frames' in parallel).
-  // quality.distance_ms is then theirs.
-  Result<FlatSheet> Flatten(const Surface& surface, const SamplingOptions& sampling,
-                            const FlatSheet* warm_start, SurfaceDistances distances);
+  // The same with the samples and their distances measured already
+  // (FlattenDistances with these options; an animation measures its frames'
+  // in parallel). quality.distance_ms is then theirs.
+  Result<FlatSheet> Flatten(const Surface& surface, const FlatSheet* warm_start,
+                            MeasuredGrid measured);
 
   const FlattenOptions& options() const { return options_; }
   // New options for the next solves (an animation's time budget, frame by
@@ -131,21 +138,21 @@ class Flattener {
   std::unique_ptr<Cache> cache_;
 };
 
-// The surface distances a flattening with these options measures (over the
-// solve's range and at least r = 3, for the quality measures), on `threads`
-// threads (0: options.threads); the paths followed go to `paths` if given.
-Result<SurfaceDistances> FlattenDistances(const Surface& surface, const SamplingOptions& sampling,
-                                          const FlattenOptions& options, int threads = 0,
-                                          DistancePaths* paths = nullptr);
+// The samples and surface distances a flattening with these options measures
+// (over the solve's range and at least r = 3, for the quality measures), on
+// `threads` threads (0: options.threads); the paths followed go to `paths` if
+// given.
+Result<MeasuredGrid> FlattenDistances(const Surface& surface, const SamplingOptions& sampling,
+                                      const FlattenOptions& options, int threads = 0,
+                                      DistancePaths* paths = nullptr);
 
 // The same measured along a blend of the paths that such measurements of
 // nearby surfaces followed (RemeasureSurfaceDistances): a frame of an
 // animation between frames measured afresh.
-Result<SurfaceDistances> FlattenDistancesBetween(const Surface& surface,
-                                                 const SamplingOptions& sampling,
-                                                 const FlattenOptions& options,
-                                                 std::span<const PathBlend> blends,
-                                                 int threads = 0);
+Result<MeasuredGrid> FlattenDistancesBetween(const Surface& surface,
+                                             const SamplingOptions& sampling,
+                                             const FlattenOptions& options,
+                                             std::span<const PathBlend> blends, int threads = 0);
 
 // One-shot convenience: a fresh Flattener per call.
 Result<FlatSheet> FlattenSurface(const Surface& surface, const SamplingOptions& sampling,

@@ -40,24 +40,6 @@ PathPoint MakePathPoint(const SurfacePoint& s, const Vec2& q, int base) {
   return pp;
 }
 
-// The path point at parameters q near lattice point `l`: by the second-order
-// Taylor expansion there when q is within a quarter lattice step (error
-// O(|q - q_l|^3), far below the distances' accuracy), else evaluated.
-PathPoint MovedPathPoint(const Surface& surface, const LatticePoint& l, int base, const Vec2& q,
-                         double hu, double hv) {
-  const Vec2 d = q - l.first.q;
-  if (std::abs(d.x()) > 0.25 * hu || std::abs(d.y()) > 0.25 * hv) {
-    return MakePathPoint(surface.Evaluate(q.x(), q.y(), 1), q, base);
-  }
-  SurfacePoint s;
-  const Vec3 su = l.first.j.col(0), sv = l.first.j.col(1);
-  s.su = su + l.suu * d.x() + l.suv * d.y();
-  s.sv = sv + l.suv * d.x() + l.svv * d.y();
-  s.p = l.first.p + su * d.x() + sv * d.y() +
-        0.5 * (l.suu * (d.x() * d.x()) + 2.0 * l.suv * (d.x() * d.y()) + l.svv * (d.y() * d.y()));
-  return MakePathPoint(s, q, base);
-}
-
 // For a unit tangent at cosine c = cos(alpha) off the chord: alpha / sin(alpha),
 // and x = sin(alpha)^2. Small angles (the common case) by the asin series
 // (relative error 1e-7 at 0.3 rad), with no root; others by atan2.
@@ -190,7 +172,7 @@ double PathLength(const Vec3* p, const Vec3* n, int m) {
 constexpr double kDirectMaxTurn = 0.03;
 // Pairs whose chord turned by this much on every surface a remeasurement
 // follows the paths of are measured along the path without a direct look.
-constexpr float kClearTurn = 2.0f * static_cast<float>(kDirectMaxTurn);
+constexpr double kClearTurn = 2.0 * kDirectMaxTurn;
 
 // The length of the normal section through a and b (the surface's
 // intersection with the plane through the chord and the normal at a, nearly
@@ -272,6 +254,24 @@ struct Lattice {
   // Grid sample (i, j).
   const PathPoint& Sample(int i, int j) const { return At(f * i, f * j).first; }
 };
+
+// The path point at parameters q near lattice point `base`: by the
+// second-order Taylor expansion there when q is within a quarter lattice step
+// (error O(|q - q_l|^3), far below the distances' accuracy), else evaluated.
+PathPoint MovedPathPoint(const Surface& surface, const Lattice& lattice, int base, const Vec2& q) {
+  const LatticePoint& l = lattice.points[base];
+  const Vec2 d = q - l.first.q;
+  if (std::abs(d.x()) > 0.25 * lattice.hu || std::abs(d.y()) > 0.25 * lattice.hv) {
+    return MakePathPoint(surface.Evaluate(q.x(), q.y(), 1), q, base);
+  }
+  SurfacePoint s;
+  const Vec3 su = l.first.j.col(0), sv = l.first.j.col(1);
+  s.su = su + l.suu * d.x() + l.suv * d.y();
+  s.sv = sv + l.suv * d.x() + l.svv * d.y();
+  s.p = l.first.p + su * d.x() + sv * d.y() +
+        0.5 * (l.suu * (d.x() * d.x()) + 2.0 * l.suv * (d.x() * d.y()) + l.svv * (d.y() * d.y()));
+  return MakePathPoint(s, q, base);
+}
 
 Lattice BuildLattice(const Surface& surface, int nu, int nv, int f, int threads) {
   Lattice l;
@@ -356,15 +356,15 @@ bool MeasuredDirectly(const PathPoint& start, const PathPoint& finish, ChunkStat
 
 // Measures the pair from sample (i, j) to (i + di, j + dj) as described in
 // the header: directly where the chord turns little, else along a path from
-// the straight segment, relaxed. When a path is followed, *followed is set and
-// the parameters of its f - 1 interior points go to `record` (if given).
+// the straight segment, relaxed. The chord's turn goes to state.turn; when a
+// path is followed, the parameters of its f - 1 interior points go to
+// `record` (if given).
 double MeasurePair(const Surface& surface, const Lattice& lattice, int i, int j, int di, int dj,
-                   int relax_steps, ChunkState& state, Vec2* record, bool* followed) {
+                   int relax_steps, ChunkState& state, Vec2* record) {
   const int f = lattice.f;
   const PathPoint& start = lattice.Sample(i, j);
   const PathPoint& finish = lattice.Sample(i + di, j + dj);
   double direct = 0.0;
-  *followed = false;
   if (MeasuredDirectly(start, finish, state, &direct)) return direct;
   // A path of f sub-segments of (di, dj) / f cells: each ends on a lattice point.
   std::vector<PathPoint>& path = state.path;
@@ -383,8 +383,7 @@ double MeasurePair(const Surface& surface, const Lattice& lattice, int i, int j,
     state.trial = path;
     for (size_t k = 0; k < state.step.size(); ++k) {
       const PathPoint& from = path[k + 1];
-      state.trial[k + 1] = MovedPathPoint(surface, lattice.points[from.base], from.base,
-                                          from.q + state.step[k], lattice.hu, lattice.hv);
+      state.trial[k + 1] = MovedPathPoint(surface, lattice, from.base, from.q + state.step[k]);
     }
     const double trial_energy = PathEnergy(state.trial);
     if (!(trial_energy < energy)) break;  // also rejects NaN
@@ -393,7 +392,6 @@ double MeasurePair(const Surface& surface, const Lattice& lattice, int i, int j,
     was_relaxed = true;
   }
   state.relaxed += was_relaxed ? 1 : 0;
-  *followed = true;
   if (record != nullptr) {
     for (int k = 1; k < f; ++k) record[k - 1] = path[k].q;
   }
@@ -544,6 +542,8 @@ int DistanceThreads(int nu, int nv, const DistanceOptions& options) {
 
 }  // namespace
 
+bool DistancePaths::Followed(size_t edge) const { return !(turn[edge] < kDirectMaxTurn); }
+
 Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu, int nv,
                                                  const DistanceOptions& options,
                                                  DistancePaths* paths) {
@@ -559,19 +559,14 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
     paths->nv = nv;
     paths->range = options.range;
     paths->lattice_factor = f;
-    paths->followed.assign(total, 0);
-    paths->turn.assign(total, 0.0f);
+    paths->turn.assign(total, 0.0);
     paths->q.resize(total * (f - 1));
   }
   auto measure = [&](int i, int j, int di, int dj, size_t edge, ChunkState& state) {
-    bool followed = false;
     Vec2* record = paths != nullptr ? paths->q.data() + edge * (f - 1) : nullptr;
     const double d =
-        MeasurePair(surface, lattice, i, j, di, dj, options.relax_steps, state, record, &followed);
-    if (paths != nullptr) {
-      paths->followed[edge] = followed ? 1 : 0;
-      paths->turn[edge] = static_cast<float>(state.turn);
-    }
+        MeasurePair(surface, lattice, i, j, di, dj, options.relax_steps, state, record);
+    if (paths != nullptr) paths->turn[edge] = state.turn;
     return d;
   };
   return MeasureAllPairs(nu, nv, threads, lattice, options, measure);
@@ -602,19 +597,17 @@ Result<SurfaceDistances> RemeasureSurfaceDistances(const Surface& surface,
   const int threads = DistanceThreads(nu, nv, options);
   const Lattice lattice = BuildLattice(surface, nu, nv, f, threads);
   auto measure = [&](int i, int j, int di, int dj, size_t edge, ChunkState& state) {
-    bool followed = false;
     const PathBlend* blend = nullptr;  // the first whose paths all followed this pair
     for (const PathBlend& b : blends) {
       bool all = true;
-      for (const WeightedPaths& w : b) all = all && w.paths->followed[edge];
+      for (const WeightedPaths& w : b) all = all && w.paths->Followed(edge);
       if (all) {
         blend = &b;
         break;
       }
     }
     if (blend == nullptr) {
-      return MeasurePair(surface, lattice, i, j, di, dj, options.relax_steps, state, nullptr,
-                         &followed);
+      return MeasurePair(surface, lattice, i, j, di, dj, options.relax_steps, state, nullptr);
     }
     const PathPoint& start = lattice.Sample(i, j);
     const PathPoint& finish = lattice.Sample(i + di, j + dj);

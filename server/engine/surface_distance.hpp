@@ -82,9 +82,12 @@ struct DistancePaths {
   int nv = 0;
   int range = 0;
   int lattice_factor = 0;
-  std::vector<char> followed;  // per edge: 1 if measured along a path
-  std::vector<float> turn;     // per edge: how far its chord turned (radians)
-  std::vector<Vec2> q;         // per edge, lattice_factor - 1 interior points
+  std::vector<double> turn;  // per edge: how far its chord turned (radians)
+  std::vector<Vec2> q;       // per edge, lattice_factor - 1 interior points
+
+  // Whether the edge was measured along a path (its chord turned too much to
+  // be measured directly); its q hold the path only then.
+  bool Followed(size_t edge) const;
 };
 
 // Measures the distances; fills `paths`, when given, with the paths followed.

@@ -197,18 +197,27 @@ TEST(Flatten, DistancesMeasuredAheadGiveTheSameSheet) {
   FlattenOptions o;
   o.range = 2;  // the distances are still measured to r = 3, for the quality
   Flattener flattener(o);
-  auto distances = FlattenDistances(*s, {12, 12}, o, 1);
-  ASSERT_TRUE(distances.ok());
-  EXPECT_EQ(distances->range, 3);
-  auto ahead = flattener.Flatten(*s, {12, 12}, nullptr, *distances);
+  auto measured = FlattenDistances(*s, {12, 12}, o, 1);
+  ASSERT_TRUE(measured.ok());
+  EXPECT_EQ(measured->distances.range, 3);
+  EXPECT_EQ(measured->grid.nu, 12);
+  auto ahead = flattener.Flatten(*s, nullptr, *measured);
   auto inside = flattener.Flatten(*s, {12, 12});
   ASSERT_TRUE(ahead.ok() && inside.ok());
   EXPECT_EQ(ahead->flat, inside->flat);
   EXPECT_EQ(ahead->quality.stress, inside->quality.stress);
-  // Distances of another grid are refused, not misread.
-  auto other = flattener.Flatten(*s, {13, 12}, nullptr, *distances);
+  // Distances of another grid or range are refused, not misread.
+  MeasuredGrid other_grid = *measured;
+  other_grid.grid = SampleSurface(*s, {13, 12}).value();
+  auto other = flattener.Flatten(*s, nullptr, other_grid);
   ASSERT_FALSE(other.ok());
   EXPECT_EQ(other.status().code(), ErrorCode::kInvalidArgument);
+  FlattenOptions wider = o;
+  wider.range = 4;
+  Flattener wide(wider);
+  auto short_range = wide.Flatten(*s, nullptr, *measured);
+  ASSERT_FALSE(short_range.ok());
+  EXPECT_EQ(short_range.status().code(), ErrorCode::kInvalidArgument);
 }
 
 TEST(Flatten, PaperMethodFollowsTheSameObjective) {
