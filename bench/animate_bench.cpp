@@ -193,8 +193,8 @@ int Run(int frames, int repeat) {
   const double standalone = Median(standalone_ms);
   std::printf("\nper frame (ms):\n");
   std::printf(
-      "  flatten, warm-started     %8.3f  (wall per frame; %.1f iterations; distances %.3f, "
-      "solve %.3f)\n",
+      "  flatten, warm-started     %8.3f  (wall per frame; %.1f iterations; distances %.3f "
+      "on one thread, solve %.3f)\n",
       warm, static_cast<double>(warm_iterations) / warm_count, Median(warm_distance_ms),
       Median(warm_solve_ms));
   std::printf(

@@ -60,7 +60,8 @@ FUZZ_BUILD_DIR=build-san FUZZ_RUNS=${FUZZ_RUNS:-30000} tests/fuzz/run.sh > build
 grep -E "^== fuzzing|stat::number_of_executed_units" build-fuzz.log
 
 # ThreadSanitizer on the concurrent parts: the single-flight cache and its
-# hammer test, admission, the breaker, the service, the shared tier, and the
+# hammer test, admission, the breaker, the service, the shared tier, the
+# animation's flattening, and the
 # server's concurrency, shutdown, metrics, slow-client and fault tests. Address
 # randomization off (setarch -R): clang 14's TSan needs its fixed memory
 # layout, which kernels with more mmap randomization bits break.

@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <type_traits>
@@ -348,12 +350,12 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
   // (FlattenDistancesBetween: no relaxation, about 40% of the work). On
   // Figure 10 bending (animate_bench) the sheets' stress stays within 6e-7
   // of the frames flattened alone (the bound is 1e-6); anchors 16
-  // frames apart would not keep that. The frames' distances do not depend on one another's
-  // sheets, so a batch is measured at once, one frame per worker thread (the
-  // new anchors, then the frames between them), and then solved in order by
-  // one Flattener (the factored Laplacian is shared), each frame warm-started
-  // from the previous frame's sheet. Which frames are anchors depends on the
-  // spec alone, so a frame's sheet does not depend on the thread count.
+  // frames apart would not keep that. The frames' distances do not depend on
+  // one another's sheets, so they are measured ahead, a frame per thread at a
+  // time, and solved in order by one Flattener (the factored Laplacian is
+  // shared), each frame warm-started from the previous frames' sheets. Which
+  // frames are anchors depends on the spec alone, so a frame's sheet does not
+  // depend on the thread count.
   std::vector<int> anchors;
   for (int k = 0; k < spec.frames; ++k) {
     if (k % kPathAnchorEvery == 0 || k == spec.frames - 1 || OnKey(spec, k)) anchors.push_back(k);
@@ -402,7 +404,7 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
     f.warm = warm != nullptr;
     f.quality = sheet->quality;
     f.reused_paths = reused;
-    // The batch's distances took this long for all of its frames at once.
+    // Measured ahead, on whichever thread took the frame.
     f.quality.distance_ms = distance_ms;
     f.quality.total_ms += f.quality.distance_ms;
     out.frames.push_back(f);
@@ -410,123 +412,174 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
     if (progress) progress(k, spec.frames);
     return Status::Ok();
   };
-  // The anchors' paths and distances, measured ahead of the frames between
-  // them; each is dropped once no frame left needs it. `anchor_state` is
-  // written only by whoever measures (the solve moves distances out).
+  // Measuring, as tasks in the order the solves need them: a frame's
+  // distances (an anchor's with its paths, or a frame between along the
+  // blend of the anchors around it). Anchors run three segments ahead of the
+  // frames between that blend them, so that those rarely wait. `workers - 1`
+  // threads take tasks in order; the calling thread solves frame after frame
+  // and, while the next frame's distances are not ready, takes tasks too, so
+  // no core idles while measuring is left (batches that met at a join kept
+  // two cores 1.55 busy on average).
   const int anchor_count = static_cast<int>(anchors.size());
-  std::vector<DistancePaths> paths(anchor_count);
-  std::vector<Result<MeasuredGrid>> anchor_distances(anchor_count, Status::Ok());
-  enum class AnchorState : char { kPending, kMeasured, kFailed };
-  std::vector<AnchorState> anchor_state(anchor_count, AnchorState::kPending);
-  auto anchor_ok = [&](int i) { return anchor_state[i] == AnchorState::kMeasured; };
-  auto measure_anchors = [&](int begin, int end, int threads, const FlattenOptions& o) {
-    ParallelChunks(end - begin, threads, [&](int, int b, int e) {
-      for (int i = begin + b; i < begin + e; ++i) {
-        anchor_distances[i] =
-            FlattenDistances(*out.surfaces[anchors[i]], sampling, o,
-                             threads > 1 ? frame_threads : options.threads, &paths[i]);
-        anchor_state[i] = anchor_distances[i].ok() ? AnchorState::kMeasured : AnchorState::kFailed;
-      }
-    });
-  };
-  // The first anchor alone, on every thread.
-  measure_anchors(0, 1, 1, options);
-  SURFDEFORM_RETURN_IF_ERROR(solve(0, anchor_distances[0], MsSince(t0)));
-  // Then a batch of `workers` segments (anchor to anchor) at a time: the
-  // next batch's distances are measured while this one is solved (the
-  // solves are sequential, the distances are not).
   const int segments = anchor_count - 1;
-  struct Between {
+  struct Task {
     int frame;
-    int segment;
+    int anchor;   // its index in `anchors`, or -1 for a frame between
+    int segment;  // a frame between's: from anchors[segment] to the next
   };
-  struct Batch {
-    int s0 = 0, s1 = 0;  // its segments
-    std::vector<Between> between;
-    std::vector<Result<MeasuredGrid>> d;  // of `between`
-    Status status;
-    double distance_ms = 0.0;  // per frame
-  };
-  auto measure_batch = [&](int s0, Batch* batch) {
-    const auto start = Clock::now();
-    const int s1 = std::min(segments, s0 + workers);
-    batch->s0 = s0;
-    batch->s1 = s1;
-    FlattenOptions o = options;
-    batch->status = budget_left(anchors[s0] + 1, &o);
-    if (!batch->status.ok()) return;
-    // The anchors up to one past the batch (its cubic blends reach it).
-    const int need = std::min(anchor_count, s1 + 2);
-    int from = s0 + 1;
-    while (from < need && anchor_state[from] != AnchorState::kPending) ++from;
-    measure_anchors(from, need, workers, o);
-    for (int s = s0; s < s1; ++s) {
-      for (int k = anchors[s] + 1; k < anchors[s + 1]; ++k) batch->between.push_back({k, s});
+  std::vector<Task> tasks;
+  tasks.reserve(spec.frames);
+  int queued_anchors = 0;
+  auto queue_anchors_to = [&](int last) {
+    for (; queued_anchors <= std::min(last, anchor_count - 1); ++queued_anchors) {
+      tasks.push_back({anchors[queued_anchors], queued_anchors, -1});
     }
-    batch->d.assign(batch->between.size(), Status::Ok());
-    ParallelChunks(static_cast<int>(batch->between.size()), workers, [&](int, int b, int e) {
-      for (int i = b; i < e; ++i) {
-        const auto [k, s] = batch->between[i];
-        // The paths' parameters interpolated (Lagrange) through the anchors
-        // around the frame, up to two on each side: where every one of
-        // those measured the pair along a path; else linearly between the
-        // two on either side. At least three anchors: with a straight line
-        // through two, Figure 10 bending over 8 frames flattened to a stress
-        // up to 1.2e-5 off the frames' own; such a frame is measured afresh.
-        const int lo = s > 0 && anchor_ok(s - 1) ? s - 1 : s;
-        const int hi = s + 2 < anchor_count && anchor_ok(s + 2) ? s + 2 : s + 1;
-        if (!anchor_ok(s) || !anchor_ok(s + 1) || hi - lo < 2) {
-          batch->d[i] = FlattenDistances(*out.surfaces[k], sampling, o, frame_threads);
-          continue;
+  };
+  for (int s = 0; s < segments; ++s) {
+    queue_anchors_to(s + 3);
+    for (int k = anchors[s] + 1; k < anchors[s + 1]; ++k) tasks.push_back({k, -1, s});
+  }
+  queue_anchors_to(anchor_count - 1);
+
+  enum class AnchorState : char { kPending, kMeasured, kFailed };
+  std::vector<DistancePaths> paths(anchor_count);  // dropped once no frame left needs them
+  std::vector<AnchorState> anchor_state(anchor_count, AnchorState::kPending);
+  std::vector<Result<MeasuredGrid>> measured(spec.frames, Status::Ok());
+  std::vector<double> measure_ms(spec.frames, 0.0);
+  std::vector<char> ready(spec.frames, 0);
+  // Guards the task cursor, anchor_state, ready, `solved` and `stop`; a
+  // slot of `measured` and `paths` belongs to the task that fills it until
+  // it is marked ready (or measured) under the lock.
+  std::mutex mu;
+  std::condition_variable changed;
+  size_t next_task = 0;
+  int solved = 0;
+  bool stop = false;
+  // Measurers stay this many frames ahead of the solves at most (memory):
+  // room for the anchors three segments ahead and a segment per thread.
+  const int lookahead = (4 + workers) * kPathAnchorEvery;
+
+  // The frame between's blends: the paths' parameters interpolated
+  // (Lagrange) through the anchors around the frame, up to two on each side,
+  // where every one of those measured the pair along a path; else linearly
+  // between the two on either side. At least three anchors: with a straight
+  // line through two, Figure 10 bending over 8 frames flattened to a stress
+  // up to 1.2e-5 off the frames' own; such a frame is measured afresh.
+  auto measure_between = [&](int k, int s, const FlattenOptions& o) -> Result<MeasuredGrid> {
+    auto anchor_ok = [&](int i) { return anchor_state[i] == AnchorState::kMeasured; };
+    {
+      // Anchors come earlier in the task order: whoever took them is
+      // measuring them now.
+      std::unique_lock lock(mu);
+      changed.wait(lock, [&] {
+        if (stop) return true;
+        for (int a = std::max(0, s - 1); a <= std::min(anchor_count - 1, s + 2); ++a) {
+          if (anchor_state[a] == AnchorState::kPending) return false;
         }
-        WeightedPaths around[4];
-        int n = 0;
-        for (int m = lo; m <= hi; ++m) {
-          double w = 1.0;
-          for (int j = lo; j <= hi; ++j) {
-            if (j != m) w *= static_cast<double>(k - anchors[j]) / (anchors[m] - anchors[j]);
-          }
-          around[n++] = {&paths[m], w};
-        }
-        const double t = static_cast<double>(k - anchors[s]) / (anchors[s + 1] - anchors[s]);
-        const WeightedPaths linear[] = {{&paths[s], 1.0 - t}, {&paths[s + 1], t}};
-        const PathBlend blends[] = {PathBlend(around, n), PathBlend(linear)};
-        batch->d[i] = FlattenDistancesBetween(*out.surfaces[k], sampling, o, blends, frame_threads);
+        return true;
+      });
+      // Nothing reads the result once the solves have stopped.
+      if (stop) return Status(ErrorCode::kInternal, "the animation's flattening stopped");
+    }
+    const int lo = s > 0 && anchor_ok(s - 1) ? s - 1 : s;
+    const int hi = s + 2 < anchor_count && anchor_ok(s + 2) ? s + 2 : s + 1;
+    if (!anchor_ok(s) || !anchor_ok(s + 1) || hi - lo < 2) {
+      return FlattenDistances(*out.surfaces[k], sampling, o, frame_threads);
+    }
+    WeightedPaths around[4];
+    int n = 0;
+    for (int m = lo; m <= hi; ++m) {
+      double w = 1.0;
+      for (int j = lo; j <= hi; ++j) {
+        if (j != m) w *= static_cast<double>(k - anchors[j]) / (anchors[m] - anchors[j]);
+      }
+      around[n++] = {&paths[m], w};
+    }
+    const double t = static_cast<double>(k - anchors[s]) / (anchors[s + 1] - anchors[s]);
+    const WeightedPaths linear[] = {{&paths[s], 1.0 - t}, {&paths[s + 1], t}};
+    const PathBlend blends[] = {PathBlend(around, n), PathBlend(linear)};
+    return FlattenDistancesBetween(*out.surfaces[k], sampling, o, blends, frame_threads);
+  };
+  // Runs one task (the lock not held) and publishes its result.
+  auto run = [&](const Task& task) {
+    const auto started = Clock::now();
+    FlattenOptions o = options;
+    const Status budget = budget_left(task.frame, &o);
+    Result<MeasuredGrid> r = !budget.ok() ? Result<MeasuredGrid>(budget)
+                             : task.anchor >= 0
+                                 ? FlattenDistances(*out.surfaces[task.frame], sampling, o,
+                                                    frame_threads, &paths[task.anchor])
+                                 : measure_between(task.frame, task.segment, o);
+    const double ms = MsSince(started);
+    std::lock_guard lock(mu);
+    if (task.anchor >= 0) {
+      anchor_state[task.anchor] = r.ok() ? AnchorState::kMeasured : AnchorState::kFailed;
+    }
+    measured[task.frame] = std::move(r);
+    measure_ms[task.frame] = ms;
+    ready[task.frame] = 1;
+    changed.notify_all();
+  };
+  // The next task for a measurer (none once all are taken or on stop).
+  auto take = [&](std::unique_lock<std::mutex>& lock, bool solver) -> const Task* {
+    if (!solver) {
+      changed.wait(lock, [&] {
+        return stop || next_task >= tasks.size() || tasks[next_task].frame <= solved + lookahead;
+      });
+    }
+    if (stop || next_task >= tasks.size()) return nullptr;
+    return &tasks[next_task++];
+  };
+  // The measurers, stopped and joined however the solves end.
+  struct Measurers {
+    std::mutex& mu;
+    std::condition_variable& changed;
+    bool& stop;
+    std::vector<std::thread> threads;
+    ~Measurers() {
+      {
+        std::lock_guard lock(mu);
+        stop = true;
+      }
+      changed.notify_all();
+      for (std::thread& t : threads) t.join();
+    }
+  } measurers{mu, changed, stop, {}};
+  for (int w = 0; w + 1 < workers; ++w) {
+    measurers.threads.emplace_back([&] {
+      for (;;) {
+        std::unique_lock lock(mu);
+        const Task* task = take(lock, false);
+        if (task == nullptr) return;
+        lock.unlock();
+        run(*task);
       }
     });
-    batch->distance_ms =
-        MsSince(start) / static_cast<double>(anchors[s1] - anchors[s0]);  // frames in the batch
-  };
-  auto solve_batch = [&](Batch& batch) -> Status {
-    SURFDEFORM_RETURN_IF_ERROR(batch.status);
-    size_t next = 0;
-    for (int s = batch.s0; s < batch.s1; ++s) {
-      for (; next < batch.between.size() && batch.between[next].segment == s; ++next) {
-        SURFDEFORM_RETURN_IF_ERROR(
-            solve(batch.between[next].frame, batch.d[next], batch.distance_ms));
+    parallel_detail::StartOffCallerCpu(measurers.threads.back(), w);
+  }
+  // The solves, in order; between them this thread measures as well.
+  for (int k = 0; k < spec.frames; ++k) {
+    std::unique_lock lock(mu);
+    while (!ready[k]) {
+      const Task* task = take(lock, true);
+      if (task == nullptr) {
+        changed.wait(lock, [&] { return ready[k] != 0; });
+        break;
       }
-      SURFDEFORM_RETURN_IF_ERROR(solve(anchors[s + 1], anchor_distances[s + 1], batch.distance_ms));
+      lock.unlock();
+      run(*task);
+      lock.lock();
     }
-    return Status::Ok();
-  };
-  if (segments > 0) {
-    Batch current;
-    measure_batch(0, &current);
-    while (true) {
-      Batch next;
-      std::thread ahead;
-      // On one thread (asked for, or the only core), in turn.
-      const bool overlap = workers > 1 && current.s1 < segments;
-      if (overlap) ahead = std::thread([&] { measure_batch(current.s1, &next); });
-      const Status solved = solve_batch(current);
-      if (ahead.joinable()) ahead.join();
-      if (solved.ok() && !overlap && current.s1 < segments) measure_batch(current.s1, &next);
-      SURFDEFORM_RETURN_IF_ERROR(solved);
-      if (current.s1 >= segments) break;
-      // Anchors before the next batch's first but one are no longer needed.
-      for (int i = std::max(0, current.s0 - 1); i < current.s1 - 1; ++i) paths[i] = DistancePaths{};
-      current = std::move(next);
+    lock.unlock();
+    SURFDEFORM_RETURN_IF_ERROR(solve(k, measured[k], measure_ms[k]));
+    lock.lock();
+    solved = k + 1;
+    // Anchor a serves the frames between of segments a - 2 to a + 1: all
+    // measured once frame anchors[a + 2] is solved.
+    for (int a = 0; a + 2 < anchor_count; ++a) {
+      if (anchors[a + 2] == k) paths[a] = DistancePaths{};
     }
+    changed.notify_all();
   }
   out.total_ms = MsSince(t0);
   return out;

@@ -16,9 +16,10 @@
 // frames between two anchors along the blend of the paths the anchors
 // followed (the geodesics move smoothly with the surface; no relaxation is
 // needed). The frames' distances do not depend on one another's sheets, so
-// they are measured a batch of frames at a time, one frame per worker thread,
-// the next batch while one Flattener solves this one in order (the factored
-// Laplacian is shared). Each frame starts from the previous frames' sheets
+// worker threads measure them ahead, a frame each at a time, while the
+// calling thread solves the frames in order with one Flattener (the factored
+// Laplacian is shared) and measures too whenever the next frame's distances
+// are not ready. Each frame starts from the previous frames' sheets
 // carried on, 3 X[k-1] - 3 X[k-2] + X[k-3] (warm start; fewer sheets on the
 // second and third frames), except frames that land exactly on a key, which
 // start as the key alone would, so that their sheets are bit for bit the

@@ -157,8 +157,9 @@ TEST(Animation, FramesBetweenAnchorsReuseTheirPathsAtTheSameStress) {
 }
 
 // Which frames are anchors, and so every sheet, depends on the spec alone:
-// one thread (measuring and solving in turn) and three (measuring the next
-// batch while this one is solved) give the same sheets, bit for bit.
+// one thread (measuring and solving in turn) and three (two measuring ahead
+// while the third solves, measuring too when it would wait) give the same
+// sheets, bit for bit.
 TEST(Animation, SheetsDoNotDependOnTheThreadCount) {
   AnimationSpec spec = Pair(Figure10(0.5), Figure10(1.0), 3 * kPathAnchorEvery + 2);
   FlattenOptions one, three;
@@ -175,6 +176,40 @@ TEST(Animation, SheetsDoNotDependOnTheThreadCount) {
     for (size_t i = 0; i < a->sheets[k].flat.size(); ++i) {
       EXPECT_EQ(a->sheets[k].flat[i], b->sheets[k].flat[i]) << k << " " << i;
     }
+  }
+}
+
+// A frame that cannot be flattened ends the sequence with its own error,
+// whichever thread measured it, and the threads still measuring ahead stop.
+TEST(Animation, AFrameThatFailsStopsTheSequenceWithItsError) {
+  // A flat patch mirrored across the x axis: halfway, every control point is
+  // on the axis, and the surface collapses onto it (no normal anywhere).
+  BezierSpec start = Figure10(0.0), mirrored = Figure10(0.0);
+  for (Vec3& p : mirrored.control_points) p.y() = -p.y();
+  AnimationSpec spec = Pair(start, mirrored, 2 * kPathAnchorEvery + 3);
+  spec.interpolation = Interpolation::kLinear;
+  const int halfway = spec.frames / 2;
+  ASSERT_NE(halfway % kPathAnchorEvery, 0);  // a frame between anchors
+  for (int threads : {1, 3}) {
+    FlattenOptions o;
+    o.threads = threads;
+    auto sheets = FlattenAnimation(spec, {12, 12}, o);
+    ASSERT_FALSE(sheets.ok()) << threads;
+    EXPECT_EQ(sheets.status().code(), ErrorCode::kDegenerate) << sheets.status().ToString();
+    EXPECT_EQ(sheets.status().message().rfind("frame " + std::to_string(halfway) + " ", 0), 0u)
+        << sheets.status().ToString();
+  }
+}
+
+TEST(Animation, ATimeBudgetStopsTheSequence) {
+  AnimationSpec spec = Pair(Figure10(0.5), Figure10(1.0), 6 * kPathAnchorEvery);
+  for (int threads : {1, 3}) {
+    FlattenOptions o;
+    o.threads = threads;
+    o.time_budget_ms = 2.0;
+    auto sheets = FlattenAnimation(spec, {24, 24}, o);
+    ASSERT_FALSE(sheets.ok()) << threads;
+    EXPECT_EQ(sheets.status().code(), ErrorCode::kDeadlineExceeded) << sheets.status().ToString();
   }
 }
 
