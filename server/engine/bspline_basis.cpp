@@ -88,23 +88,8 @@ void BernsteinDerivatives(int degree, double t, int max_order,
                           double ders[3][kMaxSplineDegree + 1]) {
   const int p = degree;
   const double s = 1.0 - t;
-  if (p == 3) {  // the common bicubic patch, spelled out
-    ders[0][0] = s * s * s;
-    ders[0][1] = 3.0 * t * s * s;
-    ders[0][2] = 3.0 * t * t * s;
-    ders[0][3] = t * t * t;
-    if (max_order >= 1) {
-      ders[1][0] = -3.0 * s * s;
-      ders[1][1] = 3.0 * s * (s - 2.0 * t);
-      ders[1][2] = 3.0 * t * (2.0 * s - t);
-      ders[1][3] = 3.0 * t * t;
-    }
-    if (max_order >= 2) {
-      ders[2][0] = 6.0 * s;
-      ders[2][1] = 6.0 * (t - 2.0 * s);
-      ders[2][2] = 6.0 * (s - 2.0 * t);
-      ders[2][3] = 6.0 * t;
-    }
+  if (p == 3) {  // the common bicubic patch
+    CubicBernsteinDerivatives(t, max_order, ders);
     return;
   }
   // b: Bernstein polynomials of degree k, raised in place; lo and mid keep the

@@ -39,7 +39,7 @@ FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv),
       cell.g = a - b + c - d;
       cell.k2 = Cross2(cell.g, cell.f);
       cell.k1 = Cross2(cell.e, cell.f);
-      const double scale = std::abs(Cross2(cell.e, cell.f)) + std::abs(Cross2(c - b, c - d));
+      const double scale = std::abs(cell.k1) + std::abs(Cross2(c - b, c - d));
       cell.parallelogram = std::abs(cell.k2) <= 1e-12 * scale;
       cell.i = i;
       cell.j = j;

@@ -14,29 +14,6 @@ namespace {
 // Four values at once: one AVX2 vector (two SSE2 vectors without AVX).
 using Lanes = Eigen::Array4d;
 
-// The cubic Bernstein polynomials and their derivatives up to kOrder at four
-// parameters t (the formulas of BernsteinDerivatives).
-template <int kOrder>
-void CubicBernstein(const Lanes& t, Lanes b[3][4]) {
-  const Lanes s = 1.0 - t;
-  b[0][0] = s * s * s;
-  b[0][1] = 3.0 * t * s * s;
-  b[0][2] = 3.0 * t * t * s;
-  b[0][3] = t * t * t;
-  if constexpr (kOrder >= 1) {
-    b[1][0] = -3.0 * s * s;
-    b[1][1] = 3.0 * s * (s - 2.0 * t);
-    b[1][2] = 3.0 * t * (2.0 * s - t);
-    b[1][3] = 3.0 * t * t;
-  }
-  if constexpr (kOrder >= 2) {
-    b[2][0] = 6.0 * s;
-    b[2][1] = 6.0 * (t - 2.0 * s);
-    b[2][2] = 6.0 * (s - 2.0 * t);
-    b[2][3] = 6.0 * t;
-  }
-}
-
 // A bicubic Bezier patch (4 x 4 control points, u fastest) and its
 // derivatives up to kOrder at four parameter points, lane by lane:
 // d[0] = S, d[1] = Su, d[2] = Sv, d[3] = Suu, d[4] = Suv, d[5] = Svv, each
@@ -45,8 +22,8 @@ void CubicBernstein(const Lanes& t, Lanes b[3][4]) {
 template <int kOrder>
 void BicubicBezier4(const Vec3* cp, const Lanes& u, const Lanes& v, Lanes d[6][3]) {
   Lanes nu[3][4], nv[3][4];
-  CubicBernstein<kOrder>(u, nu);
-  CubicBernstein<kOrder>(v, nv);
+  CubicBernsteinDerivatives(u, kOrder, nu);
+  CubicBernsteinDerivatives(v, kOrder, nv);
   constexpr int kOutputs = kOrder == 0 ? 1 : kOrder == 1 ? 3 : 6;
   for (int o = 0; o < kOutputs; ++o)
     for (int c = 0; c < 3; ++c) d[o][c].setZero();

@@ -4,6 +4,17 @@
 #include "engine/surface_batch.hpp"
 
 namespace surfdeform::subdivision {
+namespace {
+
+// SurfaceBatch's finish for both passes: the on-sheet vertex k at its height
+// along the normal.
+auto WriteDeformed(IdVector<VertexId, Vec3>& deformed) {
+  return [&deformed](int, int k, const SurfacePoint& s, double h) {
+    deformed[VertexId(k)] = OffsetAlongNormal(s, h);
+  };
+}
+
+}  // namespace
 
 Result<LocatedVertices> LocateVertices(const Context& ctx, bool positions) {
   const size_t n = ctx.mesh.positions.size();
@@ -20,9 +31,7 @@ Result<LocatedVertices> LocateVertices(const Context& ctx, bool positions) {
   const bool exact = ctx.map.sheet().method == "exact";
   ParallelChunks(static_cast<int>(n), ctx.threads, [&](int chunk, int begin, int end) {
     SurfaceBatch batch(ctx.map.surface(), 1);  // the on-sheet vertices' positions
-    auto finish = [&](int, int k, const SurfacePoint& s, double h) {
-      out.deformed[VertexId(k)] = OffsetAlongNormal(s, h);
-    };
+    const auto finish = WriteDeformed(out.deformed);
     int hint = -1;
     for (int k = begin; k < end; ++k) {
       const VertexId v(k);
@@ -67,9 +76,7 @@ void CompleteDeformed(const Context& ctx, LocatedVertices* located) {
   located->deformed.resize(n);
   ParallelChunks(static_cast<int>(n), ctx.threads, [&](int, int begin, int end) {
     SurfaceBatch batch(ctx.map.surface(), 1);  // the on-sheet vertices
-    auto finish = [&](int, int k, const SurfacePoint& s, double h) {
-      located->deformed[VertexId(k)] = OffsetAlongNormal(s, h);
-    };
+    const auto finish = WriteDeformed(located->deformed);
     int hint = -1;
     for (int k = begin; k < end; ++k) {
       const VertexId v(k);
