@@ -572,13 +572,14 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
     }
     lock.unlock();
     SURFDEFORM_RETURN_IF_ERROR(solve(k, measured[k], measure_ms[k]));
-    lock.lock();
-    solved = k + 1;
     // Anchor a serves the frames between of segments a - 2 to a + 1: all
-    // measured once frame anchors[a + 2] is solved.
+    // measured once frame anchors[a + 2] is solved, so no task reads its
+    // paths any more (freed outside the lock).
     for (int a = 0; a + 2 < anchor_count; ++a) {
       if (anchors[a + 2] == k) paths[a] = DistancePaths{};
     }
+    lock.lock();
+    solved = k + 1;
     changed.notify_all();
   }
   out.total_ms = MsSince(t0);

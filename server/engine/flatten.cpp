@@ -86,12 +86,14 @@ Flattener& Flattener::operator=(Flattener&&) noexcept = default;
 
 namespace {
 
-DistanceOptions DistanceOptionsFor(const FlattenOptions& o, Clock::time_point started) {
+// `threads` > 0 overrides o.threads.
+DistanceOptions DistanceOptionsFor(const FlattenOptions& o, Clock::time_point started,
+                                   int threads = 0) {
   DistanceOptions d;
   d.range = std::max(o.range, 3);
   d.lattice_factor = o.lattice_factor;
   d.relax_steps = o.relax_steps;
-  d.threads = o.threads;
+  d.threads = threads > 0 ? threads : o.threads;
   d.time_budget_ms = o.time_budget_ms;
   d.started = started;
   return d;
@@ -106,8 +108,7 @@ Result<MeasuredGrid> FlattenDistances(const Surface& surface, const SamplingOpti
   // The samples first, as Flatten does: a degenerate one is reported as such.
   MeasuredGrid out;
   SURFDEFORM_ASSIGN_OR_RETURN(out.grid, SampleSurface(surface, sampling));
-  DistanceOptions dopt = DistanceOptionsFor(options, Clock::now());
-  if (threads > 0) dopt.threads = threads;
+  const DistanceOptions dopt = DistanceOptionsFor(options, Clock::now(), threads);
   SURFDEFORM_ASSIGN_OR_RETURN(
       out.distances, ComputeSurfaceDistances(surface, out.grid.nu, out.grid.nv, dopt, paths));
   return out;
@@ -124,8 +125,7 @@ Result<MeasuredGrid> FlattenDistancesBetween(const Surface& surface,
       out.grid.nv != blends[0][0].paths->nv) {
     return InvalidArgument("the paths were followed on another grid");
   }
-  DistanceOptions dopt = DistanceOptionsFor(options, Clock::now());
-  if (threads > 0) dopt.threads = threads;
+  const DistanceOptions dopt = DistanceOptionsFor(options, Clock::now(), threads);
   SURFDEFORM_ASSIGN_OR_RETURN(out.distances, RemeasureSurfaceDistances(surface, blends, dopt));
   return out;
 }
