@@ -3,6 +3,7 @@
 #include <httplib.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -694,6 +695,15 @@ HttpServer::HttpServer(Service& service, HttpOptions options)
   gate.send_buffer_bytes = std::max(0, s->options.send_buffer_bytes);
   s->server.UseGate(gate);
   server.set_payload_max_length(service.limits().max_body_bytes);
+  // httplib's default sets SO_REUSEPORT on the listening socket: a second
+  // server started on a port already served would bind without error, and
+  // the kernel would then split connections between the two (with a surface
+  // id minted by one unknown to the other). SO_REUSEADDR alone still lets a
+  // restart bind while the last run's connections are in TIME_WAIT.
+  server.set_socket_options([](socket_t sock) {
+    const int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+  });
   // Without it, a small response waits for the client's delayed ACK (Nagle),
   // tens of milliseconds per request on loopback (bench/service_bench).
   server.set_tcp_nodelay(true);
@@ -720,6 +730,7 @@ HttpServer::~HttpServer() = default;
 bool HttpServer::Bind() {
   Impl& s = *impl_;
   bool ok;
+  errno = 0;
   if (s.options.port == 0) {
     s.bound_port = s.server.bind_to_any_port(s.options.host);
     ok = s.bound_port > 0;
@@ -727,9 +738,12 @@ bool HttpServer::Bind() {
     ok = s.server.bind_to_port(s.options.host, s.options.port);
     s.bound_port = s.options.port;
   }
+  const int bind_errno = errno;
   if (ok) s.server.WidenBacklog(SOMAXCONN);
   if (!ok) {
-    std::cerr << "surfdeform: cannot listen on " << s.options.host << ":" << s.options.port << "\n";
+    std::cerr << "surfdeform: cannot listen on " << s.options.host << ":" << s.options.port;
+    if (bind_errno != 0) std::cerr << ": " << std::strerror(bind_errno);
+    std::cerr << "\n";
   }
   return ok;
 }

@@ -8,11 +8,13 @@
 #include <netinet/in.h>
 #include <signal.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -828,6 +830,25 @@ TEST(ServerLimits, ARequestPastItsTimeBudgetStopsWith413) {
   auto h = c.Get("/healthz");
   ASSERT_TRUE(h);
   EXPECT_EQ(h->status, 200);
+}
+
+// A second server on a port that one already serves must fail to start.
+// httplib's default socket options (SO_REUSEPORT) let it bind, and the
+// kernel then split connections between the two processes.
+TEST(ServerStartup, ASecondServerOnAPortInUseFailsToStart) {
+  ServerProcess first({"--log-level", "warn"});
+  ASSERT_GT(first.port(), 0);
+  // `timeout` ends a second server that did bind: exit 124.
+  const std::string command = "timeout 20 " + std::string(ServerBinary()) +
+                              " --host 127.0.0.1 --log-level warn --port " +
+                              std::to_string(first.port()) + " 2> /dev/null";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  httplib::Client c("127.0.0.1", first.port());
+  auto r = c.Get("/healthz");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
 }
 
 // Checklist 24: SIGTERM under load: readiness goes false, requests in flight
