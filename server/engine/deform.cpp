@@ -46,6 +46,7 @@ struct Refined {
   std::span<const char> known_on_sheet;
   std::vector<Vec3> owned_placed, owned_known;
   std::vector<char> owned_on_sheet;
+  bool located = false;  // the subdivision located the input vertices
   void Own() {
     placed = owned_placed;
     known = owned_known;
@@ -69,7 +70,7 @@ std::vector<Vec3> PlaceAll(const Placement& pl, const Mesh& mesh, int threads_op
 // asked for only when the map will not recompute them (no frame to carry).
 Result<Refined> Refine(const SheetMap& map, const Placement& pl, const Mesh& mesh,
                        const PlacementOptions& o, const SubdivisionOptions* subdivision,
-                       bool need_frame, DeformResult* result) {
+                       bool need_frame, const FootprintUse& footprint, DeformResult* result) {
   Refined r;
   r.source = &mesh;
   if (subdivision == nullptr || subdivision->mode == SubdivisionMode::kOff ||
@@ -83,8 +84,10 @@ Result<Refined> Refine(const SheetMap& map, const Placement& pl, const Mesh& mes
   SubdivisionOptions so = *subdivision;
   if (so.threads == 0) so.threads = o.threads;
   const InputPositions want = need_frame ? InputPositions::kNotWanted : InputPositions::kWanted;
-  SURFDEFORM_ASSIGN_OR_RETURN(SubdivisionResult refined,
-                              Subdivide(mesh, r.owned_placed, map, o.outside, so, want));
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      SubdivisionResult refined,
+      Subdivide(mesh, r.owned_placed, map, o.outside, so, want, {}, footprint));
+  r.located = true;
   result->stats.subdivision = refined.stats;
   if (refined.input_positions) {
     r.owned_known = std::move(*refined.input_positions);
@@ -155,7 +158,8 @@ void CarryFrame(const Mesh& in, const Mat3& jac, const Mat3& linear, const Mat3&
 // Vertices are located one by one and evaluated in blocks
 // (Surface::EvaluateMany: four at a time on the bicubic Bezier patch).
 MapTally MapVertices(const SheetMap& map, const Placement& pl, const Refined& r, size_t n_input,
-                     const PlacementOptions& o, bool need_frame, Mesh* out) {
+                     const PlacementOptions& o, bool need_frame, const FootprintUse& footprint,
+                     Mesh* out) {
   const Mesh& in = *r.source;
   const size_t n = in.positions.size();
   const Mat3 linear = pl.Linear();
@@ -196,7 +200,9 @@ MapTally MapVertices(const SheetMap& map, const Placement& pl, const Refined& r,
       const bool added = static_cast<size_t>(k) >= n_input;
       const OutsideMode mode =
           added && o.outside == OutsideMode::kError ? OutsideMode::kExtrapolate : o.outside;
-      const SheetParameters p = map.Parameters(abh.head<2>(), mode, need_frame, &hint);
+      const SheetParameters p =
+          added ? map.Parameters(abh.head<2>(), mode, need_frame, &hint)
+                : footprint.Parameters(map, k, abh.head<2>(), mode, need_frame, &hint);
       if (p.outside && !added) {
         ++t.outside;
         t.worst = std::max(t.worst, p.outside_distance);
@@ -312,12 +318,24 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
   const bool need_frame = !mesh.normals.empty() || !mesh.tangents.empty();
   const size_t n_input = mesh.positions.size();
   if (o.rigid != RigidMode::kNone) return DeformRigidly(map, pl, mesh, o, extras, result);
+  // The footprint: given, or recorded by whichever pass locates first (the
+  // map then reads what the subdivision recorded).
+  FootprintUse footprint;
+  if (extras.footprint != nullptr && extras.footprint->location.size() == n_input) {
+    footprint.known = extras.footprint;
+  } else if (extras.record_footprint && map.cell_wise()) {
+    SheetLocation unlocated;
+    unlocated.i = -1;
+    result->footprint.location.assign(n_input, unlocated);
+    footprint.record = &result->footprint;
+  }
   SURFDEFORM_ASSIGN_OR_RETURN(const Refined r,
-                              Refine(map, pl, mesh, o, subdivision, need_frame, result));
+                              Refine(map, pl, mesh, o, subdivision, need_frame, footprint, result));
+  if (r.located && footprint.record != nullptr) footprint = {footprint.record, nullptr};
   PrepareOutput(*r.source, &result->mesh);
   // Before the map, which may overwrite the source's positions (in place).
   if (extras.distortion) MapDistortion(map, pl, r, o, &result->mesh);
-  const MapTally t = MapVertices(map, pl, r, n_input, o, need_frame, &result->mesh);
+  const MapTally t = MapVertices(map, pl, r, n_input, o, need_frame, footprint, &result->mesh);
   SURFDEFORM_RETURN_IF_ERROR(Report(t, *r.source, n_input, pl, o, &result->stats));
   if (extras.distortion) result->stats.distortion = SummarizeDistortion(result->mesh);
   result->stats.time_ms = MsSince(t0);
@@ -500,7 +518,7 @@ Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& mo
   PrepareOutput(model.mesh, &result.mesh, extras.geometry_only);
   if (extras.distortion) MapDistortion(map, pl, r, o, &result.mesh);
   const MapTally t =
-      MapVertices(map, pl, r, model.input_vertices, o, model.need_frame, &result.mesh);
+      MapVertices(map, pl, r, model.input_vertices, o, model.need_frame, {}, &result.mesh);
   result.stats.subdivision = model.subdivision;
   result.stats.subdivide_ms = model.subdivide_ms;
   SURFDEFORM_RETURN_IF_ERROR(Report(t, model.mesh, model.input_vertices, pl, o, &result.stats));

@@ -35,6 +35,7 @@
 #include "engine/mesh.hpp"
 #include "engine/placement.hpp"
 #include "engine/rigid_parts.hpp"
+#include "engine/sheet_footprint.hpp"
 #include "engine/subdivide.hpp"
 #include "engine/surface.hpp"
 
@@ -68,12 +69,21 @@ struct DeformExtras {
   // placement options, which give the same placement every time. The
   // service keeps them for models that come back (service/placement_memo).
   const Placement* placement = nullptr;
+  // When set, where the input vertices lie on the sheet: the footprint an
+  // earlier deformation recorded (DeformResult::footprint) for the same
+  // positions, sheet and placement. Ignored when its size is not the
+  // input's vertex count.
+  const SheetFootprint* footprint = nullptr;
+  // Record the footprint in DeformResult::footprint (when none is given;
+  // none is recorded on sheets unrolled in closed form, which locate no cell).
+  bool record_footprint = false;
 };
 
 struct DeformResult {
   Mesh mesh;
   DeformStats stats;
-  Placement placement;  // the one used (DeformMesh only)
+  Placement placement;       // the one used (DeformMesh only)
+  SheetFootprint footprint;  // with DeformExtras::record_footprint (DeformMesh only)
 };
 
 // Deforms without subdivision. Errors: kInvalidArgument for bad options or

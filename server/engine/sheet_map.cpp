@@ -48,12 +48,23 @@ SheetParameters SheetMap::Parameters(const Vec2& ab, OutsideMode outside, bool w
       loc.t += d.y();
     }
   }
-  if (!r.outside) r.cell = locator_.CellIndex(loc);
+  if (!r.outside) return ParametersAt(loc, want_jacobian);
   r.uv = locator_.Parameters(loc);
-  if (want_jacobian) {
-    r.duv = locator_.ParameterScale().asDiagonal() * locator_.FlatJacobian(loc).inverse();
-  }
+  if (want_jacobian) r.duv = ParameterJacobian(loc);
   return r;
+}
+
+SheetParameters SheetMap::ParametersAt(const SheetLocation& location, bool want_jacobian) const {
+  SheetParameters r;
+  r.cell = locator_.CellIndex(location);
+  r.location = location;
+  r.uv = locator_.Parameters(location);
+  if (want_jacobian) r.duv = ParameterJacobian(location);
+  return r;
+}
+
+Eigen::Matrix2d SheetMap::ParameterJacobian(const SheetLocation& l) const {
+  return locator_.ParameterScale().asDiagonal() * locator_.FlatJacobian(l).inverse();
 }
 
 Vec2 SheetMap::SheetPoint(const Vec2& uv) const {

@@ -32,7 +32,8 @@ struct SheetParameters {
   Eigen::Matrix2d duv = Eigen::Matrix2d::Zero();  // d(u, v)/d(a, b), when asked for
   bool outside = false;                           // (a, b) is not on the sheet
   double outside_distance = 0.0;                  // then: its distance from the sheet
-  int cell = -1;  // the sheet cell that holds (a, b) (cell-wise maps only; else -1)
+  int cell = -1;           // the sheet cell that holds (a, b) (cell-wise maps only; else -1)
+  SheetLocation location;  // where in that cell (meaningful where cell >= 0)
 };
 
 // kOutsideSheet: `count` of `n` vertices fall outside the sheet, the farthest
@@ -52,6 +53,9 @@ class SheetMap {
   // first (the previous point's), updated; may be null.
   SheetParameters Parameters(const Vec2& ab, OutsideMode outside, bool want_jacobian,
                              int* hint) const;
+  // The same for a point found on the sheet before, at `location` (the
+  // `location` of a result with cell >= 0): the same bits, without the search.
+  SheetParameters ParametersAt(const SheetLocation& location, bool want_jacobian) const;
 
   // The flat point of surface parameters (u, v): the inverse of Parameters
   // (the cell's bilinear map; the closed-form unrolling for exact kinds).
@@ -67,11 +71,17 @@ class SheetMap {
   void SurfaceAndNormal(const Vec2& ab, OutsideMode outside, int* hint, Vec3* point,
                         Vec3* normal) const;
 
+  // Parameters are found by locating the point's cell (else the map inverts
+  // a closed-form unrolling, and there is no cell to keep).
+  bool cell_wise() const { return !exact_; }
   const FlatLocator& locator() const { return locator_; }
   const FlatSheet& sheet() const { return sheet_; }
   const Surface& surface() const { return surface_; }
 
  private:
+  // d(u, v)/d(a, b) in the cell of `l`.
+  Eigen::Matrix2d ParameterJacobian(const SheetLocation& l) const;
+
   const Surface& surface_;
   const FlatSheet& sheet_;
   FlatLocator locator_;

@@ -112,7 +112,8 @@ Status ValidateSubdivision(const SubdivisionOptions& o) {
 Result<SubdivisionResult> Subdivide(const Mesh& mesh, const std::vector<Vec3>& placed,
                                     const SheetMap& map, OutsideMode outside,
                                     const SubdivisionOptions& options, InputPositions want,
-                                    std::span<const FaceExtent> extents) {
+                                    std::span<const FaceExtent> extents,
+                                    const FootprintUse& footprint) {
   SURFDEFORM_RETURN_IF_ERROR(ValidateSubdivision(options));
   if (placed.size() != mesh.positions.size()) {
     return InvalidArgument("one placed position per vertex is needed", "mesh");
@@ -126,6 +127,7 @@ Result<SubdivisionResult> Subdivide(const Mesh& mesh, const std::vector<Vec3>& p
   }
   Context ctx(mesh, placed, map, outside, options);
   if (extents.size() == mesh.triangles.size()) ctx.extents = extents;
+  ctx.footprint = footprint;
   return Run(ctx, want);
 }
 

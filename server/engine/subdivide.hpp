@@ -70,6 +70,7 @@
 #include "base/enum_table.hpp"
 #include "base/status.hpp"
 #include "engine/mesh.hpp"
+#include "engine/sheet_footprint.hpp"
 #include "engine/sheet_map.hpp"
 
 namespace surfdeform {
@@ -161,11 +162,13 @@ std::vector<FaceExtent> FaceExtents(const Mesh& mesh, const std::vector<Vec3>& p
 // were checked). Errors: kLimitExceeded with the limit and the size reached
 // when the output would exceed max_vertices or max_triangles.
 // `extents`, when given, is FaceExtents(mesh, placed) (one per triangle), so
-// that it is not measured again.
+// that it is not measured again. `footprint` says where the input vertices
+// lie on the sheet, or records it (sheet_footprint.hpp).
 Result<SubdivisionResult> Subdivide(const Mesh& mesh, const std::vector<Vec3>& placed,
                                     const SheetMap& map, OutsideMode outside,
                                     const SubdivisionOptions& options,
                                     InputPositions want = InputPositions::kNotWanted,
-                                    std::span<const FaceExtent> extents = {});
+                                    std::span<const FaceExtent> extents = {},
+                                    const FootprintUse& footprint = {});
 
 }  // namespace surfdeform

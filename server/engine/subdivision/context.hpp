@@ -57,6 +57,8 @@ struct Context {
   // FaceExtents(mesh, placed) when the caller measured it already (one per
   // triangle), else empty.
   std::span<const FaceExtent> extents;
+  // Where the input vertices lie on the sheet, if known; or to record.
+  FootprintUse footprint;
 
   const Vec3& Placed(VertexId v) const { return placed[v.value()]; }
   // The placed point at t from a to b, and at barycentric (l1, l2) of corners

@@ -36,8 +36,8 @@ Result<LocatedVertices> LocateVertices(const Context& ctx, bool positions) {
     for (int k = begin; k < end; ++k) {
       const VertexId v(k);
       const Vec3& abh = ctx.Placed(v);
-      const SheetParameters p =
-          ctx.map.Parameters(abh.head<2>(), OutsideMode::kError, false, &hint);
+      const SheetParameters p = ctx.footprint.Parameters(
+          ctx.map, static_cast<size_t>(k), abh.head<2>(), OutsideMode::kError, false, &hint);
       out.on_sheet[v] = !p.outside;
       if (p.outside) {
         ++outside[chunk];
