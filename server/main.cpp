@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   double drain_seconds = 0.0;
   size_t cache_mib = limits.cache_bytes >> 20;
   size_t body_mib = limits.max_body_bytes >> 20;
+  size_t footprint_mib = limits.footprint_memo_bytes >> 20;
 
   CLI::App app{
       "surfdeform-server: deforms 3D meshes along parametric surfaces over HTTP.\n"
@@ -58,6 +59,12 @@ int main(int argc, char** argv) {
   app.add_option("--cache-mib", cache_mib, "Byte budget of the flattened-surface cache, MiB")
       ->envname("SURFDEFORM_CACHE_MIB")
       ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  app.add_option("--footprint-memo-mib", footprint_mib,
+                 "Byte budget for where the vertices of models that come back lie on their "
+                 "sheets (24 bytes a vertex), MiB; 0: none kept")
+      ->envname("SURFDEFORM_FOOTPRINT_MEMO_MIB")
+      ->check(CLI::Range(0, 1 << 20))
       ->capture_default_str();
   app.add_option("--max-body-mib", body_mib, "Largest request body, MiB")
       ->envname("SURFDEFORM_MAX_BODY_MIB")
@@ -194,6 +201,7 @@ int main(int argc, char** argv) {
   surfdeform::TuneAllocatorForServing();
   limits.cache_bytes = cache_mib << 20;
   limits.max_body_bytes = body_mib << 20;
+  limits.footprint_memo_bytes = footprint_mib << 20;
   http_options.log_level = ParseLogLevel(log_level);
 
   // Signals go to one waiting thread only (blocked everywhere else, inherited

@@ -156,6 +156,12 @@ std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shar
        std::to_string(placements.misses));
   plain("surfdeform_placement_memo_entries", "gauge", "Placements the memo holds.",
         std::to_string(placements.entries));
+  plain("surfdeform_placement_memo_footprints", "gauge",
+        "Of those, how many keep where the model's vertices lie on the sheet.",
+        std::to_string(placements.footprints));
+  plain("surfdeform_placement_memo_footprint_bytes", "gauge",
+        "Bytes of those footprints (at most --footprint-memo-mib).",
+        std::to_string(placements.footprint_bytes));
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   const double cpu = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +

@@ -2,6 +2,7 @@
 
 #include <xxhash.h>
 
+#include <iterator>
 #include <random>
 
 namespace surfdeform {
@@ -21,7 +22,8 @@ void Feed(XXH3_state_t* state, const T& value) {
 
 }  // namespace
 
-PlacementMemo::PlacementMemo(size_t capacity) : capacity_(capacity), seed_(RandomSeed()) {}
+PlacementMemo::PlacementMemo(size_t capacity, size_t footprint_bytes)
+    : capacity_(capacity), footprint_budget_(footprint_bytes), seed_(RandomSeed()) {}
 
 PlacementMemo::Key PlacementMemo::KeyOf(std::string_view surface_id, const PlacementOptions& o,
                                         const std::vector<Vec3>& positions) const {
@@ -50,7 +52,7 @@ PlacementMemo::Key PlacementMemo::KeyOf(std::string_view surface_id, const Place
   return {digest.low64, digest.high64};
 }
 
-std::optional<Placement> PlacementMemo::Find(const Key& key) {
+std::optional<PlacementMemo::Entry> PlacementMemo::Find(const Key& key) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto at = index_.find(key);
   if (at == index_.end()) {
@@ -62,25 +64,52 @@ std::optional<Placement> PlacementMemo::Find(const Key& key) {
   return at->second->second;
 }
 
-void PlacementMemo::Store(const Key& key, const Placement& placement) {
+void PlacementMemo::Store(const Key& key, const Placement& placement,
+                          std::shared_ptr<const SheetFootprint> footprint) {
   if (capacity_ == 0) return;
+  if (footprint != nullptr && footprint->bytes() > footprint_budget_ / 4) footprint = nullptr;
   std::lock_guard<std::mutex> lock(mutex_);
   const auto at = index_.find(key);
-  if (at != index_.end()) {  // stored meanwhile by a request for the same model
+  if (at != index_.end()) {  // stored meanwhile, or before without its footprint
     entries_.splice(entries_.begin(), entries_, at->second);
+    Entry& entry = at->second->second;
+    if (entry.footprint == nullptr && footprint != nullptr) {
+      footprint_bytes_ += footprint->bytes();
+      entry.footprint = std::move(footprint);
+      KeepWithinBudget();
+    }
     return;
   }
-  entries_.emplace_front(key, placement);
+  if (footprint != nullptr) footprint_bytes_ += footprint->bytes();
+  entries_.emplace_front(key, Entry{placement, std::move(footprint)});
   index_.emplace(key, entries_.begin());
   while (entries_.size() > capacity_) {
+    Forget(std::prev(entries_.end()));
     index_.erase(entries_.back().first);
     entries_.pop_back();
+  }
+  KeepWithinBudget();
+}
+
+void PlacementMemo::Forget(Entries::iterator at) {
+  std::shared_ptr<const SheetFootprint>& footprint = at->second.footprint;
+  if (footprint == nullptr) return;
+  footprint_bytes_ -= footprint->bytes();
+  footprint.reset();  // a request that holds it keeps it alive
+}
+
+void PlacementMemo::KeepWithinBudget() {
+  for (auto it = entries_.end(); footprint_bytes_ > footprint_budget_ && it != entries_.begin();) {
+    Forget(--it);
   }
 }
 
 PlacementMemoStats PlacementMemo::stats() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return {hits_, misses_, entries_.size(), capacity_};
+  size_t footprints = 0;
+  for (const auto& [key, entry] : entries_) footprints += entry.footprint != nullptr;
+  return {hits_,      misses_,          entries_.size(),  capacity_,
+          footprints, footprint_bytes_, footprint_budget_};
 }
 
 }  // namespace surfdeform

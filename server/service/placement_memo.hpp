@@ -1,15 +1,19 @@
-// Placements of models that come back. The placement (with fit: a convex
-// hull of the footprint and a bisection of the scale against the sheet's
-// boundary) depends only on the model's positions, the sheet and the
-// placement options, and costs ~0.6 ms of a bunny request's CPU. Load tests
+// Placements of models that come back, and where their vertices lie on the
+// sheet. The placement (with fit: a convex hull of the footprint and a
+// bisection of the scale against the sheet's boundary) depends only on the
+// model's positions, the sheet and the placement options, and costs ~0.6 ms
+// of a bunny request's CPU; so does the footprint (engine/sheet_footprint.hpp:
+// each vertex's cell and place in it, ~1.5 ms of the bunny's map). Load tests
 // send one model again and again; a viewer sends the same model while its
-// user tries other subdivisions, formats or distortion maps. The memo keys a
-// placement by a digest of all three and keeps the most recent ones.
+// user tries other subdivisions, formats or distortion maps. The memo keys
+// both by a digest of all three and keeps the most recent ones: placements
+// by count, footprints (24 bytes a vertex) within a byte budget.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <list>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string_view>
@@ -19,6 +23,7 @@
 
 #include "engine/geometry_types.hpp"
 #include "engine/placement.hpp"
+#include "engine/sheet_footprint.hpp"
 #include "service/placement_memo_stats.hpp"
 
 namespace surfdeform {
@@ -32,18 +37,32 @@ class PlacementMemo {
     bool operator==(const Key&) const = default;
   };
 
-  explicit PlacementMemo(size_t capacity);
+  // What the memo holds for a key: the placement, and the footprint while
+  // the byte budget keeps it (else null).
+  struct Entry {
+    Placement placement;
+    std::shared_ptr<const SheetFootprint> footprint;
+  };
+
+  // At most `capacity` placements, and footprints of at most
+  // `footprint_bytes` together (one larger than a quarter of that is not
+  // kept: a huge model would evict every other).
+  explicit PlacementMemo(size_t capacity, size_t footprint_bytes = 0);
 
   // The key of `positions` placed on the surface `surface_id` (which names
   // its sheet) with `options` (all fields but the thread count).
   Key KeyOf(std::string_view surface_id, const PlacementOptions& options,
             const std::vector<Vec3>& positions) const;
 
-  // The placement stored under `key`, if any (counted as a hit or a miss;
-  // a hit becomes the most recent entry).
-  std::optional<Placement> Find(const Key& key);
-  // Stores a placement, dropping the least recently used past the capacity.
-  void Store(const Key& key, const Placement& placement);
+  // The entry stored under `key`, if any (counted as a hit or a miss; a hit
+  // becomes the most recent entry).
+  std::optional<Entry> Find(const Key& key);
+  // Stores a placement and its footprint (may be null), dropping the least
+  // recently used entries past the capacity, and the least recently used
+  // footprints past the byte budget. A key stored already keeps its
+  // placement, and gains the footprint if it had none.
+  void Store(const Key& key, const Placement& placement,
+             std::shared_ptr<const SheetFootprint> footprint = nullptr);
 
   PlacementMemoStats stats() const;
 
@@ -51,13 +70,18 @@ class PlacementMemo {
   struct KeyHash {
     size_t operator()(const Key& k) const { return static_cast<size_t>(k.low); }
   };
-  using Entries = std::list<std::pair<Key, Placement>>;
+  using Entries = std::list<std::pair<Key, Entry>>;
+
+  void Forget(Entries::iterator at);  // drops an entry's footprint (under the lock)
+  void KeepWithinBudget();            // under the lock
 
   const size_t capacity_;
+  const size_t footprint_budget_;
   const uint64_t seed_;
   mutable std::mutex mutex_;
   Entries entries_;  // most recent first
   std::unordered_map<Key, Entries::iterator, KeyHash> index_;
+  size_t footprint_bytes_ = 0;  // of the entries' footprints
   uint64_t hits_ = 0, misses_ = 0;
 };
 

@@ -13,6 +13,9 @@ struct PlacementMemoStats {
   uint64_t misses = 0;
   size_t entries = 0;
   size_t capacity = 0;
+  size_t footprints = 0;       // entries that hold their footprint
+  size_t footprint_bytes = 0;  // of those footprints
+  size_t footprint_budget = 0;
 };
 
 }  // namespace surfdeform

@@ -567,8 +567,9 @@ struct Service::Impl {
   SingleFlightCache<CachedSurface> cache;
   SingleFlightCache<CachedAnimation> animations;
   Admission admission;
-  // Placements of models that come back, by surface, options and positions.
-  PlacementMemo placements{kPlacementMemoEntries};
+  // Placements and footprints of models that come back, by surface, options
+  // and positions.
+  PlacementMemo placements{kPlacementMemoEntries, options.limits.footprint_memo_bytes};
 };
 
 Service::Service(ServiceOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
@@ -746,12 +747,23 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   extras.distortion = params.output.distortion;
   const PlacementMemo::Key placed_key =
       impl_->placements.KeyOf(entry->id, placement, imported.mesh.positions);
-  const std::optional<Placement> known = impl_->placements.Find(placed_key);
-  if (known) extras.placement = &*known;
+  const std::optional<PlacementMemo::Entry> known = impl_->placements.Find(placed_key);
+  if (known) extras.placement = &known->placement;
+  if (known && known->footprint) {
+    extras.footprint = known->footprint.get();
+  } else {
+    extras.record_footprint = true;
+  }
   auto deformed = DeformMesh(*entry->surface, entry->sheet, std::move(imported.mesh), placement,
                              subdivision, extras);
   if (!deformed.ok()) return WithinBudget(clock, "subdivision", deformed.status());
-  if (!known) impl_->placements.Store(placed_key, deformed->placement);
+  if (!known || !known->footprint) {
+    std::shared_ptr<const SheetFootprint> footprint;
+    if (!deformed->footprint.location.empty()) {
+      footprint = std::make_shared<const SheetFootprint>(std::move(deformed->footprint));
+    }
+    impl_->placements.Store(placed_key, deformed->placement, std::move(footprint));
+  }
   const double subdivide_ms = deformed->stats.subdivide_ms;
   const double deform_ms = MsSince(t2) - subdivide_ms;
   SURFDEFORM_RETURN_IF_ERROR(clock.Check("deformation"));

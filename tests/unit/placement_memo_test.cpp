@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <vector>
 
 namespace surfdeform {
@@ -66,13 +67,13 @@ TEST(PlacementMemo, FindsWhatWasStoredAndDropsTheLeastRecentlyUsed) {
   memo.Store(a, WithScale(1.5));
   memo.Store(b, WithScale(2.5));
   ASSERT_TRUE(memo.Find(a).has_value());  // a becomes the most recent
-  EXPECT_EQ(memo.Find(a)->scale, 1.5);
+  EXPECT_EQ(memo.Find(a)->placement.scale, 1.5);
   memo.Store(c, WithScale(3.5));  // drops b, the least recently used
   EXPECT_FALSE(memo.Find(b).has_value());
   ASSERT_TRUE(memo.Find(c).has_value());
-  EXPECT_EQ(memo.Find(c)->scale, 3.5);
+  EXPECT_EQ(memo.Find(c)->placement.scale, 3.5);
   memo.Store(c, WithScale(9.0));  // stored again by a concurrent request: kept as it was
-  EXPECT_EQ(memo.Find(c)->scale, 3.5);
+  EXPECT_EQ(memo.Find(c)->placement.scale, 3.5);
 
   const PlacementMemoStats stats = memo.stats();
   EXPECT_EQ(stats.entries, 2u);
@@ -87,6 +88,65 @@ TEST(PlacementMemo, ZeroCapacityStoresNothing) {
   memo.Store(a, WithScale(2.0));
   EXPECT_FALSE(memo.Find(a).has_value());
   EXPECT_EQ(memo.stats().entries, 0u);
+}
+
+std::shared_ptr<const SheetFootprint> FootprintOf(size_t vertices) {
+  auto f = std::make_shared<SheetFootprint>();
+  f->location.resize(vertices);
+  return f;
+}
+
+// Footprints are kept within the byte budget, the least recently used
+// dropped first (their placements stay); one larger than a quarter of the
+// budget is not kept; an entry stored without one gains it later.
+TEST(PlacementMemo, FootprintsStayWithinTheByteBudget) {
+  constexpr size_t kBytes = 100 * sizeof(SheetLocation);
+  PlacementMemo memo(8, 4 * kBytes);
+  const PlacementOptions o;
+  std::vector<PlacementMemo::Key> keys;
+  for (const char* id : {"a", "b", "c", "d", "e"}) keys.push_back(memo.KeyOf(id, o, Square()));
+  for (int k = 0; k < 4; ++k) memo.Store(keys[k], WithScale(k), FootprintOf(100));
+  EXPECT_EQ(memo.stats().footprints, 4u);
+  EXPECT_EQ(memo.stats().footprint_bytes, 4 * kBytes);
+  ASSERT_TRUE(memo.Find(keys[0]).has_value());          // a becomes the most recent
+  memo.Store(keys[4], WithScale(4), FootprintOf(100));  // drops b's footprint
+  EXPECT_EQ(memo.stats().footprint_bytes, 4 * kBytes);
+  const auto b = memo.Find(keys[1]);
+  ASSERT_TRUE(b.has_value());
+  EXPECT_EQ(b->placement.scale, 1.0);
+  EXPECT_EQ(b->footprint, nullptr);
+  for (int k : {0, 2, 3, 4}) {
+    const auto e = memo.Find(keys[k]);
+    ASSERT_TRUE(e.has_value());
+    ASSERT_NE(e->footprint, nullptr) << k;
+    EXPECT_EQ(e->footprint->location.size(), 100u);
+  }
+
+  PlacementMemo small(8, 4 * kBytes);
+  small.Store(keys[0], WithScale(1), FootprintOf(101));  // over a quarter: not kept
+  EXPECT_EQ(small.Find(keys[0])->footprint, nullptr);
+  small.Store(keys[0], WithScale(9), FootprintOf(50));  // gained; the placement stays
+  const auto a = small.Find(keys[0]);
+  ASSERT_NE(a->footprint, nullptr);
+  EXPECT_EQ(a->placement.scale, 1.0);
+  EXPECT_EQ(small.stats().footprint_bytes, 50 * sizeof(SheetLocation));
+
+  PlacementMemo none(8);  // no budget: placements only
+  none.Store(keys[0], WithScale(1), FootprintOf(1));
+  EXPECT_EQ(none.Find(keys[0])->footprint, nullptr);
+  EXPECT_EQ(none.stats().footprint_bytes, 0u);
+}
+
+// Entries dropped past the capacity give their footprint's bytes back.
+TEST(PlacementMemo, DroppedEntriesReleaseTheirFootprints) {
+  PlacementMemo memo(2, 1 << 20);
+  const PlacementOptions o;
+  for (const char* id : {"a", "b", "c"}) {
+    memo.Store(memo.KeyOf(id, o, Square()), WithScale(1), FootprintOf(10));
+  }
+  EXPECT_EQ(memo.stats().entries, 2u);
+  EXPECT_EQ(memo.stats().footprints, 2u);
+  EXPECT_EQ(memo.stats().footprint_bytes, 20 * sizeof(SheetLocation));
 }
 
 }  // namespace

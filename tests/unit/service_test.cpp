@@ -158,6 +158,59 @@ TEST(Service, ReusesThePlacementOfAModelThatComesBack) {
   EXPECT_EQ(stats.entries, 3u);
 }
 
+// A model that comes back also reuses where its vertices lie on the sheet
+// (the footprint), with and without subdivision, with and without normals:
+// the bytes are those of a service that located them afresh. A service
+// without a footprint budget keeps none.
+TEST(Service, ReusesWhereTheVerticesOfAModelThatComesBackLie) {
+  // A saddle (a sheet of cells: the cylinder above unrolls in closed form).
+  const std::string saddle =
+      R"({"surface":{"kind":"bezier","degree_u":2,"degree_v":2,"control_points":)"
+      R"([[0,0,0],[2,0,1],[4,0,0],[0,2,1],[2,2,0],[4,2,1],[0,4,0],[2,4,1],[4,4,0]]},)"
+      R"("sampling":{"nu":12,"nv":12}})";
+  const Mesh grid = testing::FlatGrid(-1, -1, 2, 2, 24, 24, 0.1);
+  Mesh bare = grid;
+  bare.normals.clear();
+  bare.tangents.clear();
+  auto obj = [](const Mesh& m) {
+    auto bytes = ExportMesh(m, MeshFormat::kObj);
+    EXPECT_TRUE(bytes.ok());
+    return bytes.ok() ? *bytes : std::string();
+  };
+  ServiceOptions no_budget;
+  no_budget.limits.footprint_memo_bytes = 0;
+  Service service({}), fresh({}), without(no_budget);
+  std::string id;
+  for (Service* s : {&service, &fresh, &without}) {
+    auto created = s->CreateSurface(saddle);
+    ASSERT_TRUE(created.ok()) << created.status().ToString();
+    id = created->surface_id;
+  }
+  auto deform = [&](Service& s, const std::string& mesh, const char* subdivision) {
+    auto r = s.Deform({mesh,
+                       R"({"surface_id":")" + id +
+                           R"(","placement":{"scale":"fit"},"subdivision":{"mode":")" +
+                           subdivision + R"("},"output":{"format":"ply"}})",
+                       ""});
+    EXPECT_TRUE(r.ok()) << r.status().ToString();
+    return r.ok() ? r->body : std::string();
+  };
+  // The two models share their positions, so they share one entry.
+  for (const std::string& mesh : {obj(grid), obj(bare)}) {
+    for (const char* subdivision : {"off", "adaptive", "uniform"}) {
+      const std::string first = deform(service, mesh, subdivision);
+      EXPECT_EQ(service.placement_memo_stats().footprints, 1u);
+      EXPECT_EQ(deform(service, mesh, subdivision), first) << subdivision;
+      EXPECT_EQ(deform(fresh, mesh, subdivision), first) << subdivision;
+      EXPECT_EQ(deform(without, mesh, subdivision), first) << subdivision;
+    }
+  }
+  const PlacementMemoStats stats = service.placement_memo_stats();
+  EXPECT_EQ(stats.entries, 1u);
+  EXPECT_EQ(stats.footprint_bytes, 625 * sizeof(SheetLocation));
+  EXPECT_EQ(without.placement_memo_stats().footprints, 0u);
+}
+
 // placement.up "auto" (the API's default): a Y-up glTF figure stands up on a
 // plane, the same figure as OBJ lies as +Z would have it, a plate thin in X
 // stands on its thin axis; explicit axes are kept. The stats say which.
