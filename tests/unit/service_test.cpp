@@ -211,6 +211,37 @@ TEST(Service, ReusesWhereTheVerticesOfAModelThatComesBackLie) {
   EXPECT_EQ(without.placement_memo_stats().footprints, 0u);
 }
 
+// Requests for one model at once: the first to finish stores the footprint,
+// the others store theirs or find it; every response is the same.
+TEST(Service, ConcurrentRequestsForOneModelShareItsFootprint) {
+  Service service({});
+  auto created =
+      service.CreateSurface(R"({"surface":{"kind":"wave"},"sampling":{"nu":12,"nv":12}})");
+  ASSERT_TRUE(created.ok()) << created.status().ToString();
+  auto mesh = ExportMesh(testing::FlatGrid(-1, -0.5, 2, 1, 30, 15, 0.05), MeshFormat::kPly);
+  ASSERT_TRUE(mesh.ok());
+  const std::string params = R"({"surface_id":")" + created->surface_id +
+                             R"(","placement":{"scale":"fit"},"output":{"format":"ply"}})";
+  constexpr int kThreads = 4, kEach = 3;
+  std::vector<std::string> bodies(kThreads * kEach);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      for (int k = 0; k < kEach; ++k) {
+        auto r = service.Deform({*mesh, params, ""});
+        if (r.ok()) bodies[t * kEach + k] = r->body;
+      }
+    });
+  }
+  for (auto& t : threads) t.join();
+  ASSERT_FALSE(bodies[0].empty());
+  for (const std::string& b : bodies) EXPECT_EQ(b, bodies[0]);
+  const PlacementMemoStats stats = service.placement_memo_stats();
+  EXPECT_EQ(stats.entries, 1u);
+  EXPECT_EQ(stats.footprints, 1u);
+  EXPECT_EQ(stats.hits + stats.misses, static_cast<uint64_t>(kThreads * kEach));
+}
+
 // placement.up "auto" (the API's default): a Y-up glTF figure stands up on a
 // plane, the same figure as OBJ lies as +Z would have it, a plate thin in X
 // stands on its thin axis; explicit axes are kept. The stats say which.
