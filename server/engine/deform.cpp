@@ -70,11 +70,18 @@ std::vector<Vec3> PlaceAll(const Placement& pl, const Mesh& mesh, int threads_op
 // asked for only when the map will not recompute them (no frame to carry).
 Result<Refined> Refine(const SheetMap& map, const Placement& pl, const Mesh& mesh,
                        const PlacementOptions& o, const SubdivisionOptions* subdivision,
-                       bool need_frame, const FootprintUse& footprint, DeformResult* result) {
+                       bool need_frame, const FootprintUse& footprint,
+                       const SubdivisionStats* unrefined, DeformResult* result) {
   Refined r;
   r.source = &mesh;
   if (subdivision == nullptr || subdivision->mode == SubdivisionMode::kOff ||
       mesh.triangles.empty()) {
+    return r;
+  }
+  if (unrefined != nullptr) {  // known to add nothing: mapped as without it
+    result->stats.subdivision = *unrefined;
+    result->stats.subdivision.time_ms = 0.0;
+    result->unrefined = true;
     return r;
   }
   const auto ts = std::chrono::steady_clock::now();
@@ -94,6 +101,7 @@ Result<Refined> Refine(const SheetMap& map, const Placement& pl, const Mesh& mes
     r.owned_on_sheet = std::move(refined.on_sheet);
   }
   if (refined.unchanged) {
+    result->unrefined = true;
     if (&result->mesh != &mesh) result->mesh = Mesh{};  // as without subdivision
   } else {
     result->mesh = std::move(refined.mesh);
@@ -329,8 +337,8 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
     result->footprint.location.assign(n_input, unlocated);
     footprint.record = &result->footprint;
   }
-  SURFDEFORM_ASSIGN_OR_RETURN(const Refined r,
-                              Refine(map, pl, mesh, o, subdivision, need_frame, footprint, result));
+  SURFDEFORM_ASSIGN_OR_RETURN(const Refined r, Refine(map, pl, mesh, o, subdivision, need_frame,
+                                                      footprint, extras.unrefined, result));
   if (r.located && footprint.record != nullptr) footprint = {footprint.record, nullptr};
   PrepareOutput(*r.source, &result->mesh);
   // Before the map, which may overwrite the source's positions (in place).

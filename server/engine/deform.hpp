@@ -77,6 +77,12 @@ struct DeformExtras {
   // Record the footprint in DeformResult::footprint (when none is given;
   // none is recorded on sheets unrolled in closed form, which locate no cell).
   bool record_footprint = false;
+  // When set, a subdivision of the same mesh (positions and triangles) with
+  // the same placement, sheet and subdivision options (but the thread count
+  // and the time budget) added nothing, and these were its statistics
+  // (DeformResult::unrefined): it is not run again. The output is the same
+  // bits, since a mesh the subdivision leaves is mapped as without it.
+  const SubdivisionStats* unrefined = nullptr;
 };
 
 struct DeformResult {
@@ -84,6 +90,9 @@ struct DeformResult {
   DeformStats stats;
   Placement placement;       // the one used (DeformMesh only)
   SheetFootprint footprint;  // with DeformExtras::record_footprint (DeformMesh only)
+  // A subdivision was asked for and added nothing (or, with
+  // DeformExtras::unrefined, was known to): stats.subdivision says why.
+  bool unrefined = false;
 };
 
 // Deforms without subdivision. Errors: kInvalidArgument for bad options or
