@@ -162,6 +162,9 @@ std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shar
   plain("surfdeform_placement_memo_footprint_bytes", "gauge",
         "Bytes of those footprints (at most --footprint-memo-mib).",
         std::to_string(placements.footprint_bytes));
+  plain("surfdeform_placement_memo_subdivisions_skipped_total", "counter",
+        "Subdivisions not run: they added nothing to the same model with the same options before.",
+        std::to_string(placements.subdivisions_skipped));
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   const double cpu = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +

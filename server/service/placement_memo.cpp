@@ -52,6 +52,23 @@ PlacementMemo::Key PlacementMemo::KeyOf(std::string_view surface_id, const Place
   return {digest.low64, digest.high64};
 }
 
+PlacementMemo::Key PlacementMemo::SubdivisionKeyOf(
+    const SubdivisionOptions& o, const std::vector<std::array<uint32_t, 3>>& triangles) const {
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_128bits_reset_withSeed(state, seed_);
+  Feed(state, o.mode);
+  Feed(state, o.epsilon);
+  Feed(state, o.tolerance);
+  Feed(state, o.max_vertices);
+  Feed(state, o.max_triangles);
+  Feed(state, triangles.size());
+  static_assert(sizeof(triangles[0]) == 3 * sizeof(uint32_t), "triangles are packed triples");
+  XXH3_128bits_update(state, triangles.data(), triangles.size() * sizeof(triangles[0]));
+  const XXH128_hash_t digest = XXH3_128bits_digest(state);
+  XXH3_freeState(state);
+  return {digest.low64, digest.high64};
+}
+
 std::optional<PlacementMemo::Entry> PlacementMemo::Find(const Key& key) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto at = index_.find(key);
@@ -81,7 +98,7 @@ void PlacementMemo::Store(const Key& key, const Placement& placement,
     return;
   }
   if (footprint != nullptr) footprint_bytes_ += footprint->bytes();
-  entries_.emplace_front(key, Entry{placement, std::move(footprint)});
+  entries_.emplace_front(key, Entry{placement, std::move(footprint), std::nullopt});
   index_.emplace(key, entries_.begin());
   while (entries_.size() > capacity_) {
     Forget(std::prev(entries_.end()));
@@ -89,6 +106,20 @@ void PlacementMemo::Store(const Key& key, const Placement& placement,
     entries_.pop_back();
   }
   KeepWithinBudget();
+}
+
+void PlacementMemo::NoteUnrefined(const Key& key, const Key& subdivision,
+                                  const SubdivisionStats& stats) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto at = index_.find(key);
+  if (at != index_.end()) at->second->second.unrefined = Unrefined{subdivision, stats};
+}
+
+const SubdivisionStats* PlacementMemo::UnrefinedVerdict(const Entry& entry,
+                                                        const Key& subdivision) {
+  if (!entry.unrefined || !(entry.unrefined->subdivision == subdivision)) return nullptr;
+  subdivisions_skipped_.fetch_add(1, std::memory_order_relaxed);
+  return &entry.unrefined->stats;
 }
 
 void PlacementMemo::Forget(Entries::iterator at) {
@@ -108,8 +139,8 @@ PlacementMemoStats PlacementMemo::stats() const {
   std::lock_guard<std::mutex> lock(mutex_);
   size_t footprints = 0;
   for (const auto& [key, entry] : entries_) footprints += entry.footprint != nullptr;
-  return {hits_,      misses_,          entries_.size(),  capacity_,
-          footprints, footprint_bytes_, footprint_budget_};
+  return {hits_,      misses_,          entries_.size(),   capacity_,
+          footprints, footprint_bytes_, footprint_budget_, subdivisions_skipped_.load()};
 }
 
 }  // namespace surfdeform

@@ -8,8 +8,14 @@
 // user tries other subdivisions, formats or distortion maps. The memo keys
 // both by a digest of all three and keeps the most recent ones: placements
 // by count, footprints (24 bytes a vertex) within a byte budget.
+// An entry also keeps the verdict of the last adaptive subdivision that added
+// nothing to its model (the bunny on a gentle surface: ~2.5 ms of screening
+// its faces), keyed by the subdivision's options and the model's triangles:
+// the same request again maps the model as it is.
 #pragma once
 
+#include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <list>
@@ -24,6 +30,7 @@
 #include "engine/geometry_types.hpp"
 #include "engine/placement.hpp"
 #include "engine/sheet_footprint.hpp"
+#include "engine/subdivide.hpp"
 #include "service/placement_memo_stats.hpp"
 
 namespace surfdeform {
@@ -37,11 +44,19 @@ class PlacementMemo {
     bool operator==(const Key&) const = default;
   };
 
-  // What the memo holds for a key: the placement, and the footprint while
-  // the byte budget keeps it (else null).
+  // A subdivision that added nothing: the key of its options and the
+  // model's triangles (SubdivisionKeyOf), and its statistics.
+  struct Unrefined {
+    Key subdivision;
+    SubdivisionStats stats;
+  };
+
+  // What the memo holds for a key: the placement, the footprint while the
+  // byte budget keeps it (else null), and the last unrefined verdict.
   struct Entry {
     Placement placement;
     std::shared_ptr<const SheetFootprint> footprint;
+    std::optional<Unrefined> unrefined;
   };
 
   // At most `capacity` placements, and footprints of at most
@@ -54,6 +69,12 @@ class PlacementMemo {
   Key KeyOf(std::string_view surface_id, const PlacementOptions& options,
             const std::vector<Vec3>& positions) const;
 
+  // The key of a subdivision of a model with `triangles` (to go with the
+  // placement's key): every field of `options` but the thread count and the
+  // time budget, which do not change what it adds.
+  Key SubdivisionKeyOf(const SubdivisionOptions& options,
+                       const std::vector<std::array<uint32_t, 3>>& triangles) const;
+
   // The entry stored under `key`, if any (counted as a hit or a miss; a hit
   // becomes the most recent entry).
   std::optional<Entry> Find(const Key& key);
@@ -63,6 +84,14 @@ class PlacementMemo {
   // placement, and gains the footprint if it had none.
   void Store(const Key& key, const Placement& placement,
              std::shared_ptr<const SheetFootprint> footprint = nullptr);
+
+  // Notes that the subdivision `subdivision` of the model under `key` added
+  // nothing, with these statistics (replacing an earlier verdict). Nothing
+  // happens if the key is not stored.
+  void NoteUnrefined(const Key& key, const Key& subdivision, const SubdivisionStats& stats);
+  // The statistics of `entry`'s verdict if it is for `subdivision` (then
+  // counted as a subdivision skipped), else null.
+  const SubdivisionStats* UnrefinedVerdict(const Entry& entry, const Key& subdivision);
 
   PlacementMemoStats stats() const;
 
@@ -83,6 +112,7 @@ class PlacementMemo {
   std::unordered_map<Key, Entries::iterator, KeyHash> index_;
   size_t footprint_bytes_ = 0;  // of the entries' footprints
   uint64_t hits_ = 0, misses_ = 0;
+  std::atomic<uint64_t> subdivisions_skipped_{0};
 };
 
 }  // namespace surfdeform

@@ -16,6 +16,7 @@ struct PlacementMemoStats {
   size_t footprints = 0;       // entries that hold their footprint
   size_t footprint_bytes = 0;  // of those footprints
   size_t footprint_budget = 0;
+  uint64_t subdivisions_skipped = 0;  // known to add nothing to the same model
 };
 
 }  // namespace surfdeform

@@ -135,7 +135,8 @@ ImportLimits ImportLimitsOf(const ServiceLimits& limits) {
 // The X-Surfdeform-Stats of a deformation.
 json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, bool hit,
                        proto::OutputFormat format, const ImportedMesh& imported,
-                       const DeformStats& st, bool placement_reused = false) {
+                       const DeformStats& st, bool placement_reused = false,
+                       bool subdivision_reused = false) {
   json j = {{"surface_id", id},
             {"cached", hit},
             {"format", proto::OutputFormatName(format)},
@@ -147,6 +148,8 @@ json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, boo
             {"quality", proto::QualityJson(quality)},
             {"warnings", imported.warnings}};
   j["placement"]["reused"] = placement_reused;  // from the memo: the same model came before
+  // Not run: it added nothing to the same model with the same options before.
+  j["subdivision"]["reused"] = subdivision_reused;
   if (st.rigid.mode != RigidMode::kNone) {
     json each = json::array();
     for (size_t k = 0; k < st.rigid.each.size() && k < 1000; ++k) {
@@ -754,6 +757,11 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   } else {
     extras.record_footprint = true;
   }
+  std::optional<PlacementMemo::Key> subdivision_key;
+  if (subdivision.mode != SubdivisionMode::kOff) {
+    subdivision_key = impl_->placements.SubdivisionKeyOf(subdivision, imported.mesh.triangles);
+    if (known) extras.unrefined = impl_->placements.UnrefinedVerdict(*known, *subdivision_key);
+  }
   auto deformed = DeformMesh(*entry->surface, entry->sheet, std::move(imported.mesh), placement,
                              subdivision, extras);
   if (!deformed.ok()) return WithinBudget(clock, "subdivision", deformed.status());
@@ -763,6 +771,10 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
       footprint = std::make_shared<const SheetFootprint>(std::move(deformed->footprint));
     }
     impl_->placements.Store(placed_key, deformed->placement, std::move(footprint));
+  }
+  const bool subdivision_skipped = extras.unrefined != nullptr;
+  if (deformed->unrefined && !subdivision_skipped && subdivision_key) {
+    impl_->placements.NoteUnrefined(placed_key, *subdivision_key, deformed->stats.subdivision);
   }
   const double subdivide_ms = deformed->stats.subdivide_ms;
   const double deform_ms = MsSince(t2) - subdivide_ms;
@@ -774,7 +786,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
                     {"deform", deform_ms},
                     {"subdivide", subdivide_ms}},
                    DeformStatsHeader(entry->id, entry->sheet.quality, hit, format, imported,
-                                     deformed->stats, known.has_value()));
+                                     deformed->stats, known.has_value(), subdivision_skipped));
 }
 
 Result<Reply> Service::Animate(const DeformRequest& request) {

@@ -1,9 +1,11 @@
 // The service's memo of placements: keys that tell models, surfaces and
-// options apart, and a bounded least-recently-used store.
+// options apart, and a bounded least-recently-used store, with the verdicts
+// of subdivisions that added nothing.
 #include "service/placement_memo.hpp"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -80,6 +82,66 @@ TEST(PlacementMemo, FindsWhatWasStoredAndDropsTheLeastRecentlyUsed) {
   EXPECT_EQ(stats.capacity, 2u);
   EXPECT_EQ(stats.hits, 5u);
   EXPECT_EQ(stats.misses, 2u);
+}
+
+// A subdivision's key tells options (but the thread count and the time
+// budget) and triangles apart.
+TEST(PlacementMemo, SubdivisionKeysTellOptionsAndTrianglesApart) {
+  const PlacementMemo memo(8);
+  const std::vector<std::array<uint32_t, 3>> triangles = {{0, 1, 2}, {0, 2, 3}};
+  const SubdivisionOptions o{.mode = SubdivisionMode::kAdaptive};
+  const auto key = memo.SubdivisionKeyOf(o, triangles);
+  SubdivisionOptions same = o;
+  same.threads = 3;
+  same.time_budget_ms = 250;
+  EXPECT_EQ(memo.SubdivisionKeyOf(same, triangles), key);
+  for (auto change : std::vector<void (*)(SubdivisionOptions*)>{
+           [](SubdivisionOptions* s) { s->mode = SubdivisionMode::kUniform; },
+           [](SubdivisionOptions* s) { s->epsilon = 0.5; },
+           [](SubdivisionOptions* s) { s->tolerance = 1e-4; },
+           [](SubdivisionOptions* s) { s->max_vertices = 10; },
+           [](SubdivisionOptions* s) { s->max_triangles = 10; }}) {
+    SubdivisionOptions other = o;
+    change(&other);
+    EXPECT_NE(memo.SubdivisionKeyOf(other, triangles), key);
+  }
+  auto other = triangles;
+  other[1] = {0, 3, 2};
+  EXPECT_NE(memo.SubdivisionKeyOf(o, other), key);
+  other.pop_back();
+  EXPECT_NE(memo.SubdivisionKeyOf(o, other), key);
+  EXPECT_NE(PlacementMemo(8).SubdivisionKeyOf(o, triangles), key);  // seeded per memo
+}
+
+// An entry keeps the last verdict noted for it; it is given for its key
+// only, and counted when given.
+TEST(PlacementMemo, KeepsTheLastUnrefinedVerdictOfAnEntry) {
+  PlacementMemo memo(8);
+  const auto a = memo.KeyOf("a", PlacementOptions{}, Square());
+  const std::vector<std::array<uint32_t, 3>> triangles = {{0, 1, 2}, {0, 2, 3}};
+  const auto adaptive = memo.SubdivisionKeyOf({.mode = SubdivisionMode::kAdaptive}, triangles);
+  const auto uniform = memo.SubdivisionKeyOf({.mode = SubdivisionMode::kUniform}, triangles);
+  SubdivisionStats stats;
+  stats.measured_points = 17;
+  memo.NoteUnrefined(a, adaptive, stats);  // not stored yet: nothing
+  memo.Store(a, WithScale(1.0));
+  EXPECT_FALSE(memo.Find(a)->unrefined.has_value());
+  memo.NoteUnrefined(a, adaptive, stats);
+  const auto found = memo.Find(a);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_EQ(memo.UnrefinedVerdict(*found, uniform), nullptr);
+  const SubdivisionStats* verdict = memo.UnrefinedVerdict(*found, adaptive);
+  ASSERT_NE(verdict, nullptr);
+  EXPECT_EQ(verdict->measured_points, 17u);
+  EXPECT_EQ(memo.stats().subdivisions_skipped, 1u);
+
+  stats.measured_points = 5;
+  memo.NoteUnrefined(a, uniform, stats);
+  const auto replaced = memo.Find(a);
+  EXPECT_EQ(memo.UnrefinedVerdict(*replaced, adaptive), nullptr);
+  ASSERT_NE(memo.UnrefinedVerdict(*replaced, uniform), nullptr);
+  EXPECT_EQ(memo.UnrefinedVerdict(*replaced, uniform)->measured_points, 5u);
+  EXPECT_EQ(memo.stats().subdivisions_skipped, 3u);
 }
 
 TEST(PlacementMemo, ZeroCapacityStoresNothing) {

@@ -211,6 +211,75 @@ TEST(Service, ReusesWhereTheVerticesOfAModelThatComesBackLie) {
   EXPECT_EQ(without.placement_memo_stats().footprints, 0u);
 }
 
+// An adaptive subdivision that added nothing to a model is not run when the
+// same model comes back with the same subdivision options: the bytes are
+// those of a service that ran it. Other options, other triangles (the same
+// positions) or a subdivision that refined run it.
+TEST(Service, SkipsASubdivisionThatAddedNothingToAModelThatComesBack) {
+  const std::string saddle =
+      R"({"surface":{"kind":"bezier","degree_u":2,"degree_v":2,"control_points":)"
+      R"([[0,0,0],[2,0,1],[4,0,0],[0,2,1],[2,2,0],[4,2,1],[0,4,0],[2,4,1],[4,4,0]]},)"
+      R"("sampling":{"nu":12,"nv":12}})";
+  Service service({}), fresh({});
+  std::string id;
+  for (Service* s : {&service, &fresh}) {
+    auto created = s->CreateSurface(saddle);
+    ASSERT_TRUE(created.ok()) << created.status().ToString();
+    id = created->surface_id;
+  }
+  auto obj = [](const Mesh& m) {
+    auto bytes = ExportMesh(m, MeshFormat::kObj);
+    EXPECT_TRUE(bytes.ok());
+    return bytes.ok() ? *bytes : std::string();
+  };
+  struct Deformed {
+    std::string body;
+    json subdivision;
+  };
+  auto deform = [&](Service& s, const std::string& mesh, const std::string& subdivision) {
+    auto r =
+        s.Deform({mesh,
+                  R"({"surface_id":")" + id + R"(","placement":{"scale":"fit"},"subdivision":)" +
+                      subdivision + R"(,"output":{"format":"ply"}})",
+                  ""});
+    EXPECT_TRUE(r.ok()) << r.status().ToString();
+    if (!r.ok()) return Deformed{};
+    return Deformed{r->body, json::parse(r->stats_json).at("subdivision")};
+  };
+  const Mesh fine = testing::FlatGrid(-1, -1, 2, 2, 80, 80, 0.02);
+  const std::string adaptive = R"({"mode":"adaptive"})";
+  const Deformed first = deform(service, obj(fine), adaptive);
+  ASSERT_EQ(first.subdivision.at("vertices_added"), 0) << "the test needs a model left as it is";
+  EXPECT_FALSE(first.subdivision.at("reused").get<bool>());
+  EXPECT_GT(first.subdivision.at("max_estimated_deviation").get<double>(), 0.0);
+
+  const Deformed again = deform(service, obj(fine), adaptive);
+  EXPECT_TRUE(again.subdivision.at("reused").get<bool>());
+  EXPECT_EQ(again.body, first.body);
+  EXPECT_EQ(again.subdivision.at("max_estimated_deviation"),
+            first.subdivision.at("max_estimated_deviation"));
+  EXPECT_EQ(deform(fresh, obj(fine), adaptive).body, first.body);
+  EXPECT_EQ(service.placement_memo_stats().subdivisions_skipped, 1u);
+
+  // A tolerance below the deviation (~3e-4): run again, and it refines.
+  const std::string tighter = R"({"mode":"adaptive","tolerance":1e-4})";
+  const Deformed tight = deform(service, obj(fine), tighter);
+  EXPECT_FALSE(tight.subdivision.at("reused").get<bool>());
+  EXPECT_GT(tight.subdivision.at("vertices_added").get<size_t>(), 0u);
+  EXPECT_EQ(deform(service, obj(fine), tighter).body, tight.body);
+  // The same positions with every triangle's winding reversed: other
+  // triangles (the positions, and so the placement, are shared).
+  Mesh flipped = fine;
+  for (auto& t : flipped.triangles) std::swap(t[1], t[2]);
+  const Deformed other = deform(service, obj(flipped), adaptive);
+  EXPECT_FALSE(other.subdivision.at("reused").get<bool>());
+  EXPECT_EQ(other.body, deform(fresh, obj(flipped), adaptive).body);
+  // The verdict of the original options was replaced by the last one.
+  EXPECT_TRUE(deform(service, obj(flipped), adaptive).subdivision.at("reused").get<bool>());
+  EXPECT_FALSE(deform(service, obj(fine), adaptive).subdivision.at("reused").get<bool>());
+  EXPECT_EQ(service.placement_memo_stats().subdivisions_skipped, 2u);
+}
+
 // Requests for one model at once: the first to finish stores the footprint,
 // the others store theirs or find it; every response is the same.
 TEST(Service, ConcurrentRequestsForOneModelShareItsFootprint) {
