@@ -101,6 +101,23 @@ class Child {
   int port_ = 0;
 };
 
+// The machine's idle and total jiffies, all cores (/proc/stat's first line).
+struct MachineTicks {
+  unsigned long long idle = 0, total = 0;
+};
+MachineTicks ReadMachineTicks() {
+  std::ifstream in("/proc/stat");
+  std::string cpu;
+  in >> cpu;
+  MachineTicks t;
+  unsigned long long v = 0;
+  for (int k = 0; k < 8 && in >> v; ++k) {
+    t.total += v;
+    if (k == 3 || k == 4) t.idle += v;  // idle, iowait
+  }
+  return t;
+}
+
 double ProcessCpuSeconds() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
@@ -190,23 +207,27 @@ int main(int argc, char** argv) {
       clients.back()->set_read_timeout(60, 0);
     }
     const std::string params = base.dump();
-    std::printf("\nsubdivision %s\n%5s | %9s %11s | %9s %11s | %9s %11s | %s\n", mode, "conc",
-                "server/s", "CPU ms/req", "draco/s", "CPU ms/enc", "CPU ratio", "of limit",
-                "rounds' ratios");
+    std::printf("\nsubdivision %s\n%5s | %9s %11s %10s %5s | %9s %11s | %9s %11s | %s\n", mode,
+                "conc", "server/s", "CPU ms/req", "client ms", "idle", "draco/s", "CPU ms/enc",
+                "CPU ratio", "of limit", "rounds' ratios");
     double draco_single_cpu_ms = 0, best_rate = 0, best_ratio = 0;
     int best_k = 0;
     for (int k = 1; k <= max_concurrency; ++k) {
       int served = 0, encoded = 0;
-      double server_cpu = 0, draco_cpu = 0;
+      double server_cpu = 0, draco_cpu = 0, client_cpu = 0, idle_ticks = 0, total_ticks = 0;
       std::vector<double> ratios;
       for (int round = 0; round < rounds; ++round) {
         const double s0 = server.CpuSeconds();
+        const double c0 = ProcessCpuSeconds();
+        const MachineTicks m0 = ReadMachineTicks();
         const int n_served = RunFor(k, seconds, [&](int t) {
           auto r = clients[t]->Post("/v1/deform", {{"X-Surfdeform-Params", params}}, bunny,
                                     "application/octet-stream");
           return r && r->status == 200;
         });
         const double s1 = server.CpuSeconds();
+        const double c1 = ProcessCpuSeconds();
+        const MachineTicks m1 = ReadMachineTicks();
         if (n_served <= 0) {
           std::fprintf(stderr, "requests failed at concurrency %d\n", k);
           return 1;
@@ -218,6 +239,9 @@ int main(int argc, char** argv) {
         served += n_served;
         encoded += n_encoded;
         server_cpu += s1 - s0;
+        client_cpu += c1 - c0;
+        idle_ticks += static_cast<double>(m1.idle - m0.idle);
+        total_ticks += static_cast<double>(m1.total - m0.total);
         draco_cpu += p1 - p0;
       }
       std::sort(ratios.begin(), ratios.end());
@@ -227,9 +251,11 @@ int main(int argc, char** argv) {
       if (k == 1) draco_single_cpu_ms = dra.cpu_ms;
       // The physical limit: every core encoding, at one encode's CPU time alone.
       const double limit = cores * 1000.0 / draco_single_cpu_ms;
-      std::printf("%5d | %9.1f %11.2f | %9.1f %11.2f | %8.2fx %10.0f%% | %.2f-%.2fx\n", k,
-                  srv.per_second, srv.cpu_ms, dra.per_second, dra.cpu_ms, ratio,
-                  100 * srv.per_second / limit, ratios.front(), ratios.back());
+      std::printf(
+          "%5d | %9.1f %11.2f %10.2f %4.0f%% | %9.1f %11.2f | %8.2fx %10.0f%% | %.2f-%.2fx\n", k,
+          srv.per_second, srv.cpu_ms, 1000 * client_cpu / served,
+          100 * idle_ticks / std::max(total_ticks, 1.0), dra.per_second, dra.cpu_ms, ratio,
+          100 * srv.per_second / limit, ratios.front(), ratios.back());
       if (srv.per_second > best_rate) {
         best_rate = srv.per_second;
         best_k = k;
@@ -247,6 +273,8 @@ int main(int argc, char** argv) {
       "\nCPU ratio: the server's CPU time per request / Draco's CPU time per encode, both at "
       "that concurrency (the median over the rounds; their range in the last column).\nof limit: "
       "server requests per second / (cores / Draco's CPU time "
-      "per encode at concurrency 1).\n");
+      "per encode at concurrency 1).\nclient ms: this process's CPU time per request while it "
+      "loads the server (the load generator shares the cores); idle: the machine's idle share "
+      "then (/proc/stat).\n");
   return 0;
 }
