@@ -118,18 +118,20 @@ class GateStream final : public httplib::Stream {
   bool is_writable() const override { return Poll(POLLOUT, write_ms_); }
 
   // A body arrives in httplib's 4 KiB reads; they are served from a 64 KiB
-  // buffer, filled by a recv() that is tried before any poll(): a 1.4 MB
-  // body took ~700 system calls before, ~45 now (BENCHMARKS.md).
+  // buffer, filled by a recv() that is tried before any poll(): a request
+  // with the 1.4 MB bunny took ~725 recv() and poll() calls before, ~37 now
+  // (strace -c; BENCHMARKS.md). A read of at least the buffer's size skips it.
   ssize_t read(char* ptr, size_t size) override {
     if (buffered() == 0) {
-      char* into = size >= kBufferBytes ? ptr : buffer_.get();
-      const size_t room = size >= kBufferBytes ? size : kBufferBytes;
+      const bool direct = size >= kBufferBytes;
+      char* into = direct ? ptr : buffer_.get();
+      const size_t room = direct ? size : kBufferBytes;
       ssize_t n = Recv(into, room, MSG_DONTWAIT);
       if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
         if (!Poll(POLLIN, read_ms_)) return -1;
         n = Recv(into, room, 0);
       }
-      if (n <= 0 || into == ptr) return n;
+      if (n <= 0 || direct) return n;
       begin_ = 0;
       end_ = static_cast<size_t>(n);
     }
@@ -192,7 +194,8 @@ class GateStream final : public httplib::Stream {
   int read_ms_;
   int write_ms_;
   static constexpr size_t kBufferBytes = 64 * 1024;
-  std::unique_ptr<char[]> buffer_ = std::make_unique<char[]>(kBufferBytes);
+  // Not zeroed: a stream is made each time a connection comes to a worker.
+  std::unique_ptr<char[]> buffer_ = std::make_unique_for_overwrite<char[]>(kBufferBytes);
   size_t begin_ = 0;
   size_t end_ = 0;
 };
