@@ -26,11 +26,9 @@ Status ValidateInput(const FlatSheet& sheet, const Mesh& mesh, const PlacementOp
       sheet.flat.size() != static_cast<size_t>(sheet.nu) * sheet.nv) {
     return InvalidArgument("the flat sheet is empty or inconsistent", "surface");
   }
-  for (size_t k = 0; k < mesh.positions.size(); ++k) {
-    if (!mesh.positions[k].allFinite()) {
-      return InvalidArgument("vertex position is not finite",
-                             "mesh.positions[" + std::to_string(k) + "]");
-    }
+  if (const long long k = FirstNonFinite(mesh.positions); k >= 0) {
+    return InvalidArgument("vertex position is not finite",
+                           "mesh.positions[" + std::to_string(k) + "]");
   }
   return Status::Ok();
 }

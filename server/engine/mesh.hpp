@@ -49,6 +49,22 @@ struct Mesh {
 // an empty string.
 std::string CheckMesh(const Mesh& mesh);
 
+// The index of the first vector in `values` with a component that is not
+// finite, or -1 (a branch-free pass first, which the compiler vectorises:
+// meshes are checked on every request).
+template <typename V>
+long long FirstNonFinite(const std::vector<V>& values) {
+  const double* x = values.empty() ? nullptr : values.data()->data();
+  const size_t count = values.size() * static_cast<size_t>(V::SizeAtCompileTime);
+  bool finite = true;
+  for (size_t k = 0; k < count; ++k) finite &= (x[k] - x[k] == 0.0);
+  if (finite) return -1;
+  for (size_t k = 0; k < values.size(); ++k) {
+    if (!values[k].allFinite()) return static_cast<long long>(k);
+  }
+  return -1;
+}
+
 // Sets `normals` to the area-weighted average of the adjacent face normals
 // (+Z for a vertex with no non-degenerate face). A mesh that shares vertices
 // across a crease gets smooth normals there: split such vertices first.

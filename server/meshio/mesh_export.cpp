@@ -14,10 +14,7 @@ namespace {
 
 template <typename V>
 bool AllFinite(const std::vector<V>& values) {
-  for (const V& v : values) {
-    if (!v.allFinite()) return false;
-  }
-  return true;
+  return FirstNonFinite(values) < 0;
 }
 
 void AppendF(std::string* out, const char* format, double a, double b, double c) {
