@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -54,11 +55,17 @@ std::string CheckMesh(const Mesh& mesh);
 // meshes are checked on every request).
 template <typename V>
 long long FirstNonFinite(const std::vector<V>& values) {
+  // A double is not finite when its 11 exponent bits are all set: then
+  // exponent + 1 carries into bit 11. Integer operations only, OR-ed.
   const double* x = values.empty() ? nullptr : values.data()->data();
   const size_t count = values.size() * static_cast<size_t>(V::SizeAtCompileTime);
-  bool finite = true;
-  for (size_t k = 0; k < count; ++k) finite &= (x[k] - x[k] == 0.0);
-  if (finite) return -1;
+  uint64_t carry = 0;
+  for (size_t k = 0; k < count; ++k) {
+    uint64_t bits;
+    std::memcpy(&bits, x + k, sizeof bits);
+    carry |= ((bits >> 52) & 0x7ff) + 1;
+  }
+  if ((carry & 0x800) == 0) return -1;
   for (size_t k = 0; k < values.size(); ++k) {
     if (!values[k].allFinite()) return static_cast<long long>(k);
   }

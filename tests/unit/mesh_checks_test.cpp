@@ -18,6 +18,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 TEST(FirstNonFinite, FindsTheFirstVectorWithANonFiniteComponent) {
   std::vector<Vec3> v(1000, Vec3(1.0, -2.0, 3.0));
+  // The extremes of the finite doubles are finite.
+  v[10] = Vec3(std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(), -0.0);
+  v[11] = Vec3(std::numeric_limits<double>::denorm_min(), std::numeric_limits<double>::min(), 0.0);
   EXPECT_EQ(FirstNonFinite(v), -1);
   EXPECT_EQ(FirstNonFinite(std::vector<Vec3>{}), -1);
   v[700].z() = kNaN;
