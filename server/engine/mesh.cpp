@@ -17,7 +17,7 @@ std::string CheckMesh(const Mesh& m) {
   // every request, three times), the culprit only when there is one.
   uint32_t largest = 0;
   for (const auto& t : m.triangles) largest = std::max({largest, t[0], t[1], t[2]});
-  if (!m.triangles.empty() && largest >= n) {
+  if (largest >= n) {
     for (size_t t = 0; t < m.triangles.size(); ++t) {
       for (uint32_t v : m.triangles[t]) {
         if (v >= n) {

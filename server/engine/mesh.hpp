@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "engine/geometry_types.hpp"
@@ -55,6 +56,7 @@ std::string CheckMesh(const Mesh& mesh);
 // meshes are checked on every request).
 template <typename V>
 long long FirstNonFinite(const std::vector<V>& values) {
+  static_assert(std::is_same_v<typename V::Scalar, double>, "the pass reads IEEE doubles");
   // A double is not finite when its 11 exponent bits are all set: then
   // exponent + 1 carries into bit 11. Integer operations only, OR-ed.
   const double* x = values.empty() ? nullptr : values.data()->data();

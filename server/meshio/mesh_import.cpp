@@ -157,10 +157,8 @@ Result<ImportedMesh> ImportMesh(std::string_view bytes, const ImportLimits& limi
   if (const std::string problem = CheckMesh(out.mesh); !problem.empty()) {
     return InvalidArgument("malformed mesh: " + problem, "mesh");
   }
-  for (size_t k = 0; k < out.mesh.positions.size(); ++k) {
-    if (!out.mesh.positions[k].allFinite()) {
-      return InvalidArgument("vertex " + std::to_string(k) + " has a non-finite position", "mesh");
-    }
+  if (const long long k = FirstNonFinite(out.mesh.positions); k >= 0) {
+    return InvalidArgument("vertex " + std::to_string(k) + " has a non-finite position", "mesh");
   }
   return out;
 }

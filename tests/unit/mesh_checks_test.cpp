@@ -7,6 +7,7 @@
 #include "engine/deform.hpp"
 #include "engine/mesh.hpp"
 #include "meshio/mesh_export.hpp"
+#include "meshio/mesh_import.hpp"
 #include "support/test_meshes.hpp"
 #include "support/test_surfaces.hpp"
 
@@ -71,6 +72,19 @@ TEST(MeshChecks, ADeformationNamesTheFirstNonFinitePosition) {
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(r.status().field(), "mesh.positions[17]");
+}
+
+TEST(MeshChecks, ImportNamesTheFirstNonFinitePosition) {
+  const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n";
+  ASSERT_TRUE(ImportMesh(obj).ok());
+  std::string bad = obj;
+  bad.replace(bad.find("v 1 1 0"), 7, "v 1 1 inf");
+  bad.replace(bad.find("v 0 1 0"), 7, "v 0 nan 0");
+  auto r = ImportMesh(bad);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(r.status().message().find("vertex 2 has a non-finite position"), std::string::npos)
+      << r.status().message();
 }
 
 TEST(MeshChecks, ExportRefusesANonFiniteAttribute) {
