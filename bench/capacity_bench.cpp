@@ -14,7 +14,14 @@
 // slower than the other for minutes at a time (BENCHMARKS.md), which a
 // single pair of phases caught on one side only. Rates and CPU times are
 // totals over the rounds; the ratio is the median of the rounds' ratios; the
-// limit uses Draco's fastest round. Targets of issue 12:
+// limit uses Draco's fastest round.
+//
+// A third phase per round loads bench/draco_only_server the same way: a
+// server that only reads the body and encodes the same output with Draco.
+// Its throughput is the ceiling this machine and this load generator allow
+// any server (the load generator's CPU and loopback transfer share the
+// cores); "of ceiling" is the server's throughput against it at the same
+// concurrency. Targets of issue 12:
 // server CPU per request at most 1.25x Draco's (subdivision off) and 1.35x (adaptive); throughput
 // at the best concurrency at least 80% of cores / Draco's encode CPU time.
 #include <httplib.h>
@@ -28,6 +35,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -49,15 +57,13 @@ std::string ReadFile(const std::string& path) {
   return s.str();
 }
 
-// The server binary as a child on a free port; its CPU seconds from /proc.
+// A server binary (args[0]) as a child that prints {"port":N} first; its CPU
+// seconds from /proc.
 class Child {
  public:
-  explicit Child(const std::vector<std::string>& extra) {
+  explicit Child(std::vector<std::string> args) {
     int fds[2];
     if (pipe(fds) != 0) return;
-    std::vector<std::string> args = {
-        SURFDEFORM_SERVER_BINARY, "--host", "127.0.0.1", "--port", "0", "--log-level", "off"};
-    args.insert(args.end(), extra.begin(), extra.end());
     pid_ = fork();
     if (pid_ == 0) {
       dup2(fds[1], STDOUT_FILENO);
@@ -134,7 +140,7 @@ struct Sample {
 // One concurrency step: totals over its rounds.
 struct Step {
   int k = 0;
-  Sample server, draco;
+  Sample server, draco, ceiling;
   double client_ms = 0;        // the load generator's CPU time per request
   double idle = 0;             // the machine's idle share during the server phases
   std::vector<double> ratios;  // server CPU per request / Draco's per encode, by round (sorted)
@@ -179,7 +185,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 
-  Child server({});
+  Child server(
+      {SURFDEFORM_SERVER_BINARY, "--host", "127.0.0.1", "--port", "0", "--log-level", "off"});
   if (server.port() == 0) {
     std::fprintf(stderr, "the server did not start (%s)\n", SURFDEFORM_SERVER_BINARY);
     return 1;
@@ -207,20 +214,46 @@ int main(int argc, char** argv) {
     auto ply = setup.Post("/v1/deform", {{"X-Surfdeform-Params", as_ply.dump()}}, bunny,
                           "application/octet-stream");
     if (!ply || ply->status != 200) return 1;
+    char ply_path[] = "/tmp/capacity_bench_XXXXXX";
+    const int ply_fd = mkstemp(ply_path);
+    if (ply_fd < 0 || write(ply_fd, ply->body.data(), ply->body.size()) !=
+                          static_cast<ssize_t>(ply->body.size())) {
+      return 1;
+    }
+    close(ply_fd);
+    Child ceiling({SURFDEFORM_DRACO_ONLY_SERVER_BINARY, "--ply", ply_path});
+    unlink(ply_path);
+    if (ceiling.port() == 0) {
+      std::fprintf(stderr, "the Draco-only server did not start (%s)\n",
+                   SURFDEFORM_DRACO_ONLY_SERVER_BINARY);
+      return 1;
+    }
     std::vector<std::unique_ptr<surfdeform::bench::DracoPeer>> peers;
-    std::vector<std::unique_ptr<httplib::Client>> clients;
+    std::vector<std::unique_ptr<httplib::Client>> clients, ceiling_clients;
+    auto client_of = [](int port) {
+      auto c = std::make_unique<httplib::Client>("127.0.0.1", port);
+      c->set_keep_alive(true);
+      c->set_tcp_nodelay(true);
+      c->set_read_timeout(60, 0);
+      return c;
+    };
     for (int t = 0; t < max_concurrency; ++t) {
       peers.push_back(std::make_unique<surfdeform::bench::DracoPeer>(ply->body));
       if (!peers.back()->ok()) return 1;
-      clients.push_back(std::make_unique<httplib::Client>("127.0.0.1", server.port()));
-      clients.back()->set_keep_alive(true);
-      clients.back()->set_tcp_nodelay(true);
-      clients.back()->set_read_timeout(60, 0);
+      clients.push_back(client_of(server.port()));
+      ceiling_clients.push_back(client_of(ceiling.port()));
     }
     const std::string params = base.dump();
-    std::printf("\nsubdivision %s\n%5s | %9s %11s %10s %5s | %9s %11s | %9s %11s | %s\n", mode,
-                "conc", "server/s", "CPU ms/req", "client ms", "idle", "draco/s", "CPU ms/enc",
-                "CPU ratio", "of limit", "rounds' ratios");
+    for (int warm = 0; warm < 4; ++warm) {  // both servers' arenas and caches, as in use
+      const auto a = clients[0]->Post("/v1/deform", {{"X-Surfdeform-Params", params}}, bunny,
+                                      "application/octet-stream");
+      const auto b = ceiling_clients[0]->Post("/v1/deform", bunny, "application/octet-stream");
+      if (!a || a->status != 200 || !b || b->status != 200) return 1;
+    }
+    std::printf(
+        "\nsubdivision %s\n%5s | %9s %11s %10s %5s | %9s %11s | %10s %11s | %9s %9s %11s | %s\n",
+        mode, "conc", "server/s", "CPU ms/req", "client ms", "idle", "draco/s", "CPU ms/enc",
+        "ceiling/s", "CPU ms/req", "CPU ratio", "of limit", "of ceiling", "rounds' ratios");
     // The physical limit: every core encoding, at the CPU time of Draco's
     // fastest round in this run (any step): a phase slowed by the machine
     // cannot lower the bar.
@@ -229,8 +262,9 @@ int main(int argc, char** argv) {
     for (int k = 1; k <= max_concurrency; ++k) {
       Step step;
       step.k = k;
-      int served = 0, encoded = 0;
-      double server_cpu = 0, draco_cpu = 0, client_cpu = 0, idle_ticks = 0, total_ticks = 0;
+      int served = 0, encoded = 0, echoed = 0;
+      double server_cpu = 0, draco_cpu = 0, ceiling_cpu = 0, client_cpu = 0, idle_ticks = 0,
+             total_ticks = 0;
       for (int round = 0; round < rounds; ++round) {
         const double s0 = server.CpuSeconds();
         const double c0 = ProcessCpuSeconds();
@@ -250,6 +284,19 @@ int main(int argc, char** argv) {
         const double p0 = ProcessCpuSeconds();
         const int n_encoded = RunFor(k, seconds, [&](int t) { return peers[t]->EncodeMs() > 0; });
         const double p1 = ProcessCpuSeconds();
+        const double e0 = ceiling.CpuSeconds();
+        const int n_echoed = RunFor(k, seconds, [&](int t) {
+          auto r = ceiling_clients[t]->Post("/v1/deform", {{"X-Surfdeform-Params", params}}, bunny,
+                                            "application/octet-stream");
+          return r && r->status == 200;
+        });
+        const double e1 = ceiling.CpuSeconds();
+        if (n_echoed <= 0) {
+          std::fprintf(stderr, "the Draco-only server failed at concurrency %d\n", k);
+          return 1;
+        }
+        echoed += n_echoed;
+        ceiling_cpu += e1 - e0;
         const double draco_ms = 1000 * (p1 - p0) / std::max(n_encoded, 1);
         fastest_draco_ms = std::min(fastest_draco_ms, draco_ms);
         step.ratios.push_back(1000 * ((s1 - s0) / n_served) / draco_ms);
@@ -265,19 +312,24 @@ int main(int argc, char** argv) {
       step.ratio = step.ratios[step.ratios.size() / 2];
       step.server = {served / (seconds * rounds), 1000 * server_cpu / served};
       step.draco = {encoded / (seconds * rounds), 1000 * draco_cpu / encoded};
+      step.ceiling = {echoed / (seconds * rounds), 1000 * ceiling_cpu / echoed};
       step.client_ms = 1000 * client_cpu / served;
       step.idle = idle_ticks / std::max(total_ticks, 1.0);
       steps.push_back(std::move(step));
     }
     const double limit = cores * 1000.0 / fastest_draco_ms;
     const Step* best = &steps.front();
+    const Step* best_ceiling = &steps.front();
     for (const Step& s : steps) {
       std::printf(
-          "%5d | %9.1f %11.2f %10.2f %4.0f%% | %9.1f %11.2f | %8.2fx %10.0f%% | %.2f-%.2fx\n", s.k,
-          s.server.per_second, s.server.cpu_ms, s.client_ms, 100 * s.idle, s.draco.per_second,
-          s.draco.cpu_ms, s.ratio, 100 * s.server.per_second / limit, s.ratios.front(),
-          s.ratios.back());
+          "%5d | %9.1f %11.2f %10.2f %4.0f%% | %9.1f %11.2f | %10.1f %11.2f | %8.2fx %8.0f%% "
+          "%10.0f%% | %.2f-%.2fx\n",
+          s.k, s.server.per_second, s.server.cpu_ms, s.client_ms, 100 * s.idle, s.draco.per_second,
+          s.draco.cpu_ms, s.ceiling.per_second, s.ceiling.cpu_ms, s.ratio,
+          100 * s.server.per_second / limit, 100 * s.server.per_second / s.ceiling.per_second,
+          s.ratios.front(), s.ratios.back());
       if (s.server.per_second > best->server.per_second) best = &s;
+      if (s.ceiling.per_second > best_ceiling->ceiling.per_second) best_ceiling = &s;
     }
     std::printf(
         "best: %.1f req/s at %d (%.0f%% of cores / Draco's fastest encode CPU time, %.2f ms: "
@@ -285,12 +337,21 @@ int main(int argc, char** argv) {
         "%.2fx)\n",
         best->server.per_second, best->k, 100 * best->server.per_second / limit, fastest_draco_ms,
         limit, best->ratio, std::string(mode) == "off" ? 1.25 : 1.35);
+    std::printf(
+        "ceiling: the Draco-only server's best, %.1f/s at %d, is %.0f%% of that limit; the "
+        "server's best is %.0f%% of it\n",
+        best_ceiling->ceiling.per_second, best_ceiling->k,
+        100 * best_ceiling->ceiling.per_second / limit,
+        100 * best->server.per_second / best_ceiling->ceiling.per_second);
   }
   std::printf(
       "\nCPU ratio: the server's CPU time per request / Draco's CPU time per encode, both at "
       "that concurrency (the median over the rounds; their range in the last column).\nof limit: "
       "server requests per second / (cores / Draco's CPU time "
-      "per encode in its fastest round of the run, at any concurrency).\nclient ms: this process's "
+      "per encode in its fastest round of the run, at any concurrency).\nceiling: "
+      "bench/draco_only_server under the same load (reads the body, encodes the same output "
+      "with Draco, sends it; deforms nothing); of ceiling: server requests per second / its, "
+      "at that concurrency.\nclient ms: this process's "
       "CPU time per request while it "
       "loads the server (the load generator shares the cores); idle: the machine's idle share "
       "then (/proc/stat).\n");

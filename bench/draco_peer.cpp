@@ -42,4 +42,11 @@ double DracoPeer::EncodeMs() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+bool DracoPeer::Encode(std::string* out) {
+  draco::EncoderBuffer buffer;
+  if (!impl_->encoder.EncodeMeshToBuffer(impl_->mesh, &buffer).ok()) return false;
+  out->assign(buffer.data(), buffer.size());
+  return true;
+}
+
 }  // namespace surfdeform::bench

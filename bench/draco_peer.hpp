@@ -18,6 +18,8 @@ class DracoPeer {
   ~DracoPeer();
   bool ok() const;
   double EncodeMs();  // one encoding, timed
+  // One encoding into `out` (the .drc bytes); false if Draco failed.
+  bool Encode(std::string* out);
 
  private:
   struct Impl;
