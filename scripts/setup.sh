@@ -38,6 +38,7 @@ if [[ $build_only != 1 ]]; then
   packages+=(redis-server)  # the shared tier's tests run a real Redis (no Docker needed)
   packages+=(wrk)           # tests/load and scripts/loadtest.sh
   packages+=(yamllint)      # docker/k8s manifests are linted offline
+  packages+=(valgrind)      # bench/instruction_ratio.sh counts instructions per request
 fi
 
 missing=()
