@@ -162,7 +162,8 @@ void CarryFrame(const Mesh& in, const Mat3& jac, const Mat3& linear, const Mat3&
 // The deformation, vertex by vertex, of `r.source` into `out` (which may be
 // the same mesh: each vertex reads only its own input before writing).
 // Vertices are located one by one and evaluated in blocks
-// (Surface::EvaluateMany: four at a time on the bicubic Bezier patch).
+// (Surface::EvaluateMany, or Surface::OffsetMany without a frame to carry:
+// four at a time on the bicubic Bezier patch).
 MapTally MapVertices(const SheetMap& map, const Placement& pl, const Refined& r, size_t n_input,
                      const PlacementOptions& o, bool need_frame, const FootprintUse& footprint,
                      Mesh* out) {
@@ -179,20 +180,21 @@ MapTally MapVertices(const SheetMap& map, const Placement& pl, const Refined& r,
     };
     SurfaceBatch batch(map.surface(), need_frame ? 2 : 1);
     SheetParameters params[SurfaceBatch::kSize];  // by slot, when carrying a frame
-    auto finish = [&](int slot, int k, const SurfacePoint& s, double h) {
-      if (!need_frame) {
-        out->positions[k] = OffsetAlongNormal(s, h);
-      } else {
-        Vec3 nrm;
-        const Mat3 jac = DeformJacobian(s, params[slot], h, &nrm);  // d(position)/d(a, b, h)
-        out->positions[k] = s.p + h * nrm;
-        CarryFrame(in, jac, linear, normal_linear, k, out);
-      }
+    auto finish = [&](int slot, int k, const SurfacePoint& s, double h) {  // with a frame
+      Vec3 nrm;
+      const Mat3 jac = DeformJacobian(s, params[slot], h, &nrm);  // d(position)/d(a, b, h)
+      out->positions[k] = s.p + h * nrm;
+      CarryFrame(in, jac, linear, normal_linear, k, out);
       const bool finite = out->positions[k].allFinite() &&
                           (in.normals.empty() || out->normals[k].allFinite()) &&
                           (in.tangents.empty() || out->tangents[k].allFinite());
       if (!finite) note_bad(k);
     };
+    auto place = [&](int k, const Vec3& moved) {  // no frame: the position only
+      out->positions[k] = moved;
+      if (!moved.allFinite()) note_bad(k);
+    };
+    auto drain = [&] { need_frame ? batch.Drain(finish) : batch.DrainOffsets(place); };
     int hint = -1;  // the previous vertex's cell
     for (int k = begin; k < end; ++k) {
       if (static_cast<size_t>(k) < r.known.size() && r.known_on_sheet[k]) {
@@ -216,9 +218,9 @@ MapTally MapVertices(const SheetMap& map, const Placement& pl, const Refined& r,
       if (p.outside && mode == OutsideMode::kError) continue;
       const int slot = batch.Add(k, p.uv, abh.z());
       if (need_frame) params[slot] = p;
-      if (batch.full()) batch.Drain(finish);
+      if (batch.full()) drain();
     }
-    batch.Drain(finish);
+    drain();
   });
   MapTally total;
   for (const MapTally& t : tally) {

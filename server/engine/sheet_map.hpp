@@ -90,14 +90,6 @@ class SheetMap {
   double sheet_size_ = 1.0;  // diagonal of the sheet's bounding box
 };
 
-// S + h N at a surface point (its first derivatives set): the deformed
-// position of a vertex at height h. NaN where the normal vanishes, for the
-// caller to report (SheetMap::Position takes a zero normal there instead).
-inline Vec3 OffsetAlongNormal(const SurfacePoint& s, double h) {
-  const Vec3 cross = s.su.cross(s.sv);
-  return s.p + h * (cross / cross.norm());
-}
-
 // The unit normal and the Jacobian d F / d(a, b, h) at a flat point with
 // parameters `p` and height h, from the surface's first and second
 // derivatives `s` there (Weingarten: the normal's derivatives follow from

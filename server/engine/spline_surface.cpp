@@ -126,22 +126,54 @@ class SplineSurface final : public Surface {
       Surface::EvaluateMany(uv, order, out);
       return;
     }
-    const size_t n = uv.size();
-    for (size_t k = 0; k < n; k += 4) {
-      const size_t lanes = std::min<size_t>(4, n - k);
+    ForEachFour(uv, [&](size_t k, size_t lanes, const Lanes& u, const Lanes& v) {
+      Lanes d[6][3];
+      EvaluateBicubicBezier(u, v, order, d);
+      for (size_t l = 0; l < lanes; ++l) out[k + l] = PointOf(d, static_cast<int>(l), order);
+    });
+  }
+
+  void OffsetMany(std::span<const Vec2> uv, std::span<const double> h,
+                  std::span<Vec3> out) const override {
+    if (!bicubic_bezier_) {
+      Surface::OffsetMany(uv, h, out);
+      return;
+    }
+    ForEachFour(uv, [&](size_t k, size_t lanes, const Lanes& u, const Lanes& v) {
+      Lanes height;
+      for (size_t l = 0; l < 4; ++l) height[l] = h[k + std::min(l, lanes - 1)];
+      Lanes d[6][3];
+      BicubicBezier4<1>(points_.data(), u, v, d);
+      // OffsetAlongNormal lane by lane: S + h (Su x Sv) / |Su x Sv|.
+      const Lanes(&su)[3] = d[1];
+      const Lanes(&sv)[3] = d[2];
+      const Lanes cross[3] = {su[1] * sv[2] - su[2] * sv[1], su[2] * sv[0] - su[0] * sv[2],
+                              su[0] * sv[1] - su[1] * sv[0]};
+      const Lanes norm = (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]).sqrt();
+      Lanes moved[3];
+      for (int c = 0; c < 3; ++c) moved[c] = d[0][c] + height * (cross[c] / norm);
+      for (size_t l = 0; l < lanes; ++l) out[k + l] = Vec3(moved[0][l], moved[1][l], moved[2][l]);
+    });
+  }
+
+ private:
+  // Calls each(k, lanes, u, v) with the parameters of the points k ..
+  // k + lanes - 1 (lanes <= 4) as lanes, for k = 0, 4, 8, ...; a short tail
+  // repeats its last point.
+  template <typename Each>
+  static void ForEachFour(std::span<const Vec2> uv, Each&& each) {
+    for (size_t k = 0; k < uv.size(); k += 4) {
+      const size_t lanes = std::min<size_t>(4, uv.size() - k);
       Lanes u, v;
-      for (size_t l = 0; l < 4; ++l) {  // a short tail repeats its last point
+      for (size_t l = 0; l < 4; ++l) {
         const Vec2& p = uv[k + std::min(l, lanes - 1)];
         u[l] = p.x();
         v[l] = p.y();
       }
-      Lanes d[6][3];
-      EvaluateBicubicBezier(u, v, order, d);
-      for (size_t l = 0; l < lanes; ++l) out[k + l] = PointOf(d, static_cast<int>(l), order);
+      each(k, lanes, u, v);
     }
   }
 
- private:
   void EvaluateBicubicBezier(const Lanes& u, const Lanes& v, int order, Lanes d[6][3]) const {
     if (order == 0) {
       BicubicBezier4<0>(points_.data(), u, v, d);

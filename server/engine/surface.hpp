@@ -38,6 +38,14 @@ inline Vec3 UnitNormal(const SurfacePoint& s) {
   return n / len;
 }
 
+// S + h N at a surface point (its first derivatives set): the deformed
+// position of a vertex at height h. NaN where the normal vanishes, for the
+// caller to report (SheetMap::Position takes a zero normal there instead).
+inline Vec3 OffsetAlongNormal(const SurfacePoint& s, double h) {
+  const Vec3 cross = s.su.cross(s.sv);
+  return s.p + h * (cross / cross.norm());
+}
+
 class Surface {
  public:
   virtual ~Surface() = default;
@@ -51,6 +59,15 @@ class Surface {
   // per-vertex map goes through here. Deterministic: a point's result does
   // not depend on its neighbours in `uv`.
   virtual void EvaluateMany(std::span<const Vec2> uv, int order, std::span<SurfacePoint> out) const;
+
+  // The points at uv[k] moved by h[k] along the unit normal:
+  // out[k] = OffsetAlongNormal(Evaluate(uv[k], 1), h[k]), to rounding (NaN
+  // where the normal vanishes), with out.size() == h.size() == uv.size().
+  // What the per-vertex map needs when it carries no normals or tangents;
+  // the bicubic Bezier patch computes four points to a vector and keeps
+  // their derivatives in registers. Deterministic as EvaluateMany.
+  virtual void OffsetMany(std::span<const Vec2> uv, std::span<const double> h,
+                          std::span<Vec3> out) const;
 
   // The kind as named in the API: "bezier", "cylinder", ...
   virtual const char* Kind() const = 0;

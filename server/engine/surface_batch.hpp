@@ -2,7 +2,8 @@
 // locate vertices one by one on the sheet, queue their parameters here, and
 // get the surface back from Surface::EvaluateMany (four points to a vector on
 // the bicubic Bezier patch, where one at a time waited on each point's
-// latency).
+// latency). Without a frame to carry the map needs only the positions moved
+// along the normal: DrainOffsets (Surface::OffsetMany).
 #pragma once
 
 #include <span>
@@ -41,6 +42,18 @@ class SurfaceBatch {
     count_ = 0;
   }
 
+  // The queued points moved by their heights along the unit normal (NaN
+  // where it vanishes): calls each(index, position) in the order they were
+  // added, and empties the batch. The order given at construction is unused.
+  template <typename Each>
+  void DrainOffsets(Each&& each) {
+    if (count_ == 0) return;
+    surface_.OffsetMany(std::span<const Vec2>(uv_, count_),
+                        std::span<const double>(height_, count_), std::span<Vec3>(moved_, count_));
+    for (int b = 0; b < count_; ++b) each(index_[b], moved_[b]);
+    count_ = 0;
+  }
+
  private:
   const Surface& surface_;
   const int order_;
@@ -49,6 +62,7 @@ class SurfaceBatch {
   double height_[kSize];
   Vec2 uv_[kSize];
   SurfacePoint point_[kSize];
+  Vec3 moved_[kSize];
 };
 
 }  // namespace surfdeform

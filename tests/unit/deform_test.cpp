@@ -312,6 +312,35 @@ TEST(Deform, ResultDoesNotDependOnThreadCount) {
   EXPECT_EQ(a.normals, b.normals);
 }
 
+// A vertex whose deformation is not finite is an error that names it, with
+// and without a frame to carry (the batched map without one moves the
+// positions along the normal in Surface::OffsetMany). Laid on the plane's
+// sheet, the surface mapped to is a line (S_v = 0): no normal anywhere.
+TEST(Deform, NoNormalIsAnErrorThatNamesTheFirstVertex) {
+  BezierSpec plane, line;
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 4; ++i) {
+      plane.control_points.emplace_back(2.0 * i / 3, 2.0 * j / 3, 0.0);
+      line.control_points.emplace_back(2.0 * i / 3, 0.0, 0.0);
+    }
+  }
+  const Target t = Flattened(plane, 8);
+  const std::unique_ptr<Surface> no_normal = testing::MakeValid(line);
+  Mesh framed = testing::FlatGrid(-0.5, -0.3, 1.0, 0.8, 6, 5, 0.2);
+  Mesh bare = framed;
+  bare.normals.clear();
+  bare.tangents.clear();
+  ASSERT_FALSE(framed.normals.empty());
+  for (const Mesh* m : {&framed, &bare}) {
+    auto ok = DeformMesh(*t.surface, t.sheet, *m, KeepCoordinates(*m, Vec2(1.0, 1.0)));
+    ASSERT_TRUE(ok.ok()) << ok.status().ToString();
+    auto r = DeformMesh(*no_normal, t.sheet, *m, KeepCoordinates(*m, Vec2(1.0, 1.0)));
+    ASSERT_FALSE(r.ok()) << (m == &bare ? "without" : "with") << " a frame";
+    EXPECT_NE(r.status().message().find("deformation of vertex 0 is not finite"), std::string::npos)
+        << r.status().ToString();
+  }
+}
+
 TEST(Deform, RejectsBadPlacement) {
   const Target t = Flattened(WaveSpec{}, 8);
   const Mesh m = testing::ThinPlate(0.5, 0.5, 0.1);

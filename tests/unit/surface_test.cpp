@@ -137,6 +137,34 @@ TEST_P(EveryKind, EvaluateManyMatchesEvaluate) {
   }
 }
 
+// The positions moved along the normal in a batch (four to a vector on the
+// bicubic Bezier patch, without the derivatives leaving the registers)
+// against OffsetAlongNormal one point at a time: the same to rounding,
+// heights of either sign and zero, and each point independent of its
+// neighbours in the batch.
+TEST_P(EveryKind, OffsetManyMatchesOffsetAlongNormal) {
+  auto s = Make(GetParam().spec);
+  std::vector<Vec2> uv;  // 11 points: two full vectors and a tail of three
+  std::vector<double> h;
+  for (int k = 0; k < 11; ++k) {
+    uv.emplace_back(-0.05 + 0.11 * k, 1.04 - 0.097 * k);
+    h.push_back(k == 4 ? 0.0 : 0.37 * std::sin(1.3 * k + 0.2));
+  }
+  std::vector<Vec3> many(uv.size());
+  s->OffsetMany(uv, h, many);
+  for (size_t k = 0; k < uv.size(); ++k) {
+    const SurfacePoint one = s->Evaluate(uv[k].x(), uv[k].y(), 1);
+    const Vec3 want = OffsetAlongNormal(one, h[k]);
+    EXPECT_LT((many[k] - want).norm(), 1e-13 * (1.0 + one.p.norm() + std::abs(h[k])))
+        << "point " << k;
+    EXPECT_GT(std::abs(h[k]) > 0 ? (many[k] - one.p).norm() : 1.0, 0.9 * std::abs(h[k]))
+        << "point " << k << " did not move by its height";
+    Vec3 alone;
+    s->OffsetMany(std::span(&uv[k], 1), std::span(&h[k], 1), std::span(&alone, 1));
+    EXPECT_EQ(alone, many[k]) << "point " << k;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Kinds, EveryKind, ::testing::ValuesIn(AllKinds()),
                          [](const auto& param_info) { return param_info.param.name; });
 
@@ -222,6 +250,29 @@ TEST(Surface, GridInterpolatesItsPointsAndIsC2) {
   const double knot = 2.0 / 6.0, h = 1e-9;
   const SurfacePoint a = s->Evaluate(knot - h, 0.4, 2), b = s->Evaluate(knot + h, 0.4, 2);
   EXPECT_LT((a.suu - b.suu).norm(), 1e-6 * (1 + a.suu.norm()));
+}
+
+// Where the normal vanishes (a Bezier patch whose first row of control
+// points is one point: S_u = 0 along v = 0) the batch answers NaN, for the
+// map to report, in a full vector of four and alone; the points beside it
+// are unaffected.
+TEST(Surface, OffsetManyIsNaNWhereTheNormalVanishes) {
+  BezierSpec b;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i)
+      b.control_points.emplace_back(j == 0 ? 0.0 : i - 1.5, j, 0.1 * i * j);
+  auto s = Make(b);
+  const std::vector<Vec2> uv = {{0.2, 0.5}, {0.5, 0.0}, {0.7, 0.3}, {0.9, 0.8}};
+  const std::vector<double> h = {0.1, 0.1, -0.2, 0.0};
+  std::vector<Vec3> out(uv.size());
+  s->OffsetMany(uv, h, out);
+  EXPECT_TRUE(out[0].allFinite());
+  EXPECT_FALSE(out[1].allFinite());
+  EXPECT_TRUE(out[2].allFinite());
+  EXPECT_TRUE(out[3].allFinite());
+  Vec3 alone;
+  s->OffsetMany(std::span(&uv[1], 1), std::span(&h[1], 1), std::span(&alone, 1));
+  EXPECT_FALSE(alone.allFinite());
 }
 
 TEST(Surface, PlanarBezierIsItsBilinearMap) {

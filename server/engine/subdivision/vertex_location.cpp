@@ -6,12 +6,10 @@
 namespace surfdeform::subdivision {
 namespace {
 
-// SurfaceBatch's finish for both passes: the on-sheet vertex k at its height
-// along the normal.
+// SurfaceBatch::DrainOffsets' callback for both passes: the on-sheet vertex k
+// at its height along the normal.
 auto WriteDeformed(IdVector<VertexId, Vec3>& deformed) {
-  return [&deformed](int, int k, const SurfacePoint& s, double h) {
-    deformed[VertexId(k)] = OffsetAlongNormal(s, h);
-  };
+  return [&deformed](int k, const Vec3& moved) { deformed[VertexId(k)] = moved; };
 }
 
 }  // namespace
@@ -49,7 +47,7 @@ Result<LocatedVertices> LocateVertices(const Context& ctx, bool positions) {
         out.deformed[v] = ctx.Deformed(abh, &hint);
       } else {
         batch.Add(k, p.uv, abh.z());
-        if (batch.full()) batch.Drain(finish);
+        if (batch.full()) batch.DrainOffsets(finish);
       }
       int cell = p.cell;
       if (exact) {  // the closed-form inverse located nothing: find the cell
@@ -58,7 +56,7 @@ Result<LocatedVertices> LocateVertices(const Context& ctx, bool positions) {
       }
       out.cell[v] = cell;
     }
-    batch.Drain(finish);
+    batch.DrainOffsets(finish);
   });
   for (int c = 0; c < ctx.threads; ++c) {
     out.outside += outside[c];
@@ -86,9 +84,9 @@ void CompleteDeformed(const Context& ctx, LocatedVertices* located) {
         continue;
       }
       batch.Add(k, located->uv[v], abh.z());
-      if (batch.full()) batch.Drain(finish);
+      if (batch.full()) batch.DrainOffsets(finish);
     }
-    batch.Drain(finish);
+    batch.DrainOffsets(finish);
   });
 }
 
