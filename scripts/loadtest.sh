@@ -5,7 +5,8 @@
 # loopback port. It creates the Figure 10 surface, then deforms a mesh by its
 # id at 1, 2, 3, 4, 6, 8, ... connections until goodput (200s per second)
 # stops rising: the best step is the capacity. Then it runs at 4x those
-# connections (overload) and prints, per step: requests per second, goodput,
+# connections (overload), then at the capacity's connections once more, and
+# prints, per step: requests per second, goodput,
 # p50 / p90 / p99 of the served requests, the status codes, and the server's
 # CPU time per served request (from /metrics: process_cpu_seconds_total).
 #
@@ -18,7 +19,8 @@
 #   LOADTEST_CHECK=1      exit 1 unless: no code but 200 and 503, every 503
 #                         has Retry-After, no socket error, and goodput at
 #                         overload >= LOADTEST_MIN_OVERLOAD (default 0.8) of
-#                         the capacity measured in the same run
+#                         the capacity measured in the same run (the mean
+#                         of the capacity step and its rerun after the overload)
 #   LOADTEST_JSON=FILE    also write the steps as JSON
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -112,6 +114,10 @@ for c in 1 2 3 4 6 8 12 16 24 32 48 64 96 128; do
 done
 overload_c=$((4 * best_c))
 step "$overload_c"
+# The capacity step once more, right after the overload: on a shared machine
+# the cores' speed drifts by tens of percent within a minute, and the check
+# compares the overload with the capacity around it (the mean of the two).
+step "$best_c"
 
 python3 - "$work/steps" "$best_c" "$overload_c" "${LOADTEST_CHECK:-0}" "$min_overload" "${LOADTEST_JSON:-}" << 'PY'
 import json, sys
@@ -127,17 +133,21 @@ for w in steps:
     cpu = 1000 * w["server_cpu_s"] / served if served else float("nan")
     codes = " ".join(f"{k}:{v}" for k, v in sorted(w["codes"].items()))
     errors = sum(w["socket_errors"].values())
-    tag = " (capacity)" if w["connections"] == best_c else " (4x: overload)" if w is steps[-1] else ""
+    tag = (" (capacity again)" if w is steps[-1] else " (4x: overload)" if w is steps[-2]
+           else " (capacity)" if w["connections"] == best_c else "")
     print(f"{w['connections']:>5} {rps:>8.1f} {good:>8.1f} {s['p50']:>8.1f} {s['p90']:>8.1f} {s['p99']:>8.1f} {ratio:>7.2f} {cpu:>10.1f}  {codes}"
           + (f" socket-errors:{errors}" if errors else "") + tag)
-capacity = max(w["codes"].get("200", 0) / w["duration_s"] for w in steps[:-1])
-over = steps[-1]
+capacity = max(w["codes"].get("200", 0) / w["duration_s"] for w in steps[:-2])
+again = steps[-1]["codes"].get("200", 0) / steps[-1]["duration_s"]
+around = (capacity + again) / 2  # the capacity before and after the overload step
+over = steps[-2]
 over_good = over["codes"].get("200", 0) / over["duration_s"]
-print(f"capacity {capacity:.1f} req/s at {best_c} connections; at {overload_c} connections goodput "
-      f"{over_good:.1f} req/s ({100 * over_good / capacity:.0f}% of capacity), served p99/p50 "
+print(f"capacity {capacity:.1f} req/s at {best_c} connections ({again:.1f} again after the overload, "
+      f"mean {around:.1f}); at {overload_c} connections goodput {over_good:.1f} req/s "
+      f"({100 * over_good / around:.0f}% of that mean), served p99/p50 "
       f"{over['served_ms']['p99'] / max(over['served_ms']['p50'], 1e-9):.2f}")
 if json_out:
-    json.dump({"steps": steps, "capacity": capacity, "capacity_connections": best_c,
+    json.dump({"steps": steps, "capacity": capacity, "capacity_again": again, "capacity_connections": best_c,
                "overload_connections": overload_c, "overload_goodput": over_good}, open(json_out, "w"), indent=1)
 if check:
     problems = []
@@ -146,8 +156,9 @@ if check:
         if other: problems.append(f"{w['connections']} connections: codes other than 200 and 503: {other}")
         if w["retry_after_missing"]: problems.append(f"{w['connections']} connections: {w['retry_after_missing']} 503s without Retry-After")
         if sum(w["socket_errors"].values()): problems.append(f"{w['connections']} connections: socket errors {w['socket_errors']}")
-    if over_good < min_overload * capacity:
-        problems.append(f"goodput at overload {over_good:.1f} req/s is under {min_overload:.0%} of capacity {capacity:.1f} req/s")
+    if over_good < min_overload * around:
+        problems.append(f"goodput at overload {over_good:.1f} req/s is under {min_overload:.0%} of capacity {around:.1f} req/s "
+                        f"(the mean of {capacity:.1f} before and {again:.1f} after)")
     for p in problems: print("FAIL: " + p)
     sys.exit(1 if problems else 0)
 PY
