@@ -18,7 +18,8 @@ bool ArmForThisThread(std::string_view spec) {
   const std::pair<std::string_view, Fault> names[] = {
       {"handler_throws", Fault::kHandlerThrows},
       {"allocation_fails", Fault::kAllocationFails},
-      {"draco_encode_fails", Fault::kDracoEncodeFails}};
+      {"draco_encode_fails", Fault::kDracoEncodeFails},
+      {"shedding_off", Fault::kSheddingOff}};
   for (const auto& [name, fault] : names) {
     if (spec.find(name) != std::string_view::npos) t_armed |= Bit(fault);
   }

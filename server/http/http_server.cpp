@@ -17,6 +17,8 @@
 #include <regex>
 #include <thread>
 
+#include <time.h>
+
 #include "base/fault_points.hpp"
 #include "http/connection_gate.hpp"
 #include "http/embedded_files.hpp"
@@ -40,6 +42,7 @@ struct RequestContext {
   bool finished = false;   // logged and counted
   size_t bytes_in = 0;     // a body read by its handler (not into req.body)
   size_t body_length = 0;  // its Content-Length, as the framing checks parsed it
+  double cpu_start = 0;    // the worker thread's CPU time when the head was in
 };
 thread_local RequestContext t_context;
 
@@ -85,6 +88,24 @@ std::string RouteOf(const std::string& path, std::string* allow = nullptr) {
   }
   if (allow != nullptr) *allow = methods.empty() ? "" : methods + "OPTIONS";
   return label;
+}
+
+// "http://host:port/x" -> "/x" (and "http://host" -> "/"); other paths as
+// they are.
+void StripSchemeAndAuthority(std::string& path) {
+  const size_t scheme = path.find("://");
+  if (path.empty() || path.front() == '/' || scheme == std::string::npos) return;
+  const size_t slash = path.find('/', scheme + 3);
+  path = slash == std::string::npos ? "/" : path.substr(slash);
+}
+
+// The calling thread's CPU time, in seconds: what a request cost its worker,
+// whatever else runs on the machine (a load test's check compares refused
+// requests with served ones by it, which other tenants do not move).
+double ThreadCpuSeconds() {
+  timespec t{};
+  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 bool IsSafeRequestId(const std::string& id) {
@@ -235,8 +256,19 @@ struct HttpServer::Impl {
   }
 
   void Fail(const httplib::Request& req, httplib::Response& res, const Status& status) {
-    if (status.code() == ErrorCode::kUnavailable) HoldRefusal();
-    Problem(req, res, HttpStatusOf(status.code()), status);
+    if (status.code() == ErrorCode::kUnavailable && !faults::Armed(faults::Fault::kSheddingOff)) {
+      HoldRefusal();
+    }
+    const int http_status = HttpStatusOf(status.code());
+    if (http_status >= 500 && status.code() != ErrorCode::kUnavailable) {
+      // The client reads "internal error" and the request id; the cause is here.
+      Log(LogLevel::kError, json{{"event", "internal_error"},
+                                 {"request_id", t_context.id},
+                                 {"path", req.path},
+                                 {"code", ErrorCodeName(status.code())},
+                                 {"detail", status.message()}});
+    }
+    Problem(req, res, http_status, status);
   }
 
   // A refusal for overload is answered after a short pause. Load generators
@@ -261,11 +293,27 @@ struct HttpServer::Impl {
     res.set_content(reply.body, reply.content_type.c_str());
   }
 
-  // Before the body is read: request id, CORS preflight, framing checks.
-  httplib::Server::HandlerResponse PreRouting(const httplib::Request& req, httplib::Response& res) {
+  // A request's context, its id and its count in flight, from the moment
+  // its head is parsed (or found unparsable).
+  void BeginRequest(const httplib::Request& req, httplib::Response& res) {
     t_context = RequestContext{};
     t_context.active = true;
     t_context.start = Clock::now();
+    t_context.cpu_start = ThreadCpuSeconds();
+    const std::string given = req.get_header_value("X-Request-Id");
+    t_context.id = IsSafeRequestId(given) ? given : NewRequestId();
+    metrics.RequestStarted();
+    res.set_header("X-Request-Id", t_context.id);
+  }
+
+  // Before the body is read: request id, CORS preflight, framing checks.
+  httplib::Server::HandlerResponse PreRouting(const httplib::Request& req, httplib::Response& res) {
+    BeginRequest(req, res);
+    // An absolute-form target (RFC 9112 section 3.2.2: "GET http://host/x")
+    // names the resource by its path, as an origin-form one does. The
+    // Request is not const where httplib made it; only its handler
+    // interface is, and routing reads the path after this.
+    StripSchemeAndAuthority(const_cast<httplib::Request&>(req).path);
     // Content-Length is parsed once, by the framing checks; the watchdog and
     // the body readers use what they found.
     const std::optional<Rejection> rejection =
@@ -276,14 +324,9 @@ struct HttpServer::Impl {
     if (req.has_header("X-Surfdeform-Fault")) {
       faults::ArmForThisThread(req.get_header_value("X-Surfdeform-Fault"));
     }
-    const std::string given = req.get_header_value("X-Request-Id");
-    t_context.id = IsSafeRequestId(given) ? given : NewRequestId();
-    metrics.RequestStarted();
-    res.set_header("X-Request-Id", t_context.id);
     SetCors(req, res);
     // Range requests are ignored (RFC 9110 allows it): httplib 0.11.4 would
-    // multiply overlapping ranges into a huge response. The Request is not
-    // const where httplib made it; only its handler interface is.
+    // multiply overlapping ranges into a huge response.
     const_cast<httplib::Request&>(req).ranges.clear();
 
     if (rejection) {
@@ -353,6 +396,46 @@ struct HttpServer::Impl {
   // limit) and handlers that set an error status without a body.
   void OnError(const httplib::Request& req, httplib::Response& res) {
     if (res.get_header_value("Content-Type") == kProblemType) return;
+    if (!t_context.active) {
+      // httplib refused the request line or a header before pre-routing
+      // (pipelined behind a request the gate passed; the gate refuses such
+      // heads itself): nothing after it can be framed.
+      BeginRequest(req, res);
+      connection_phase::CloseAfterResponse();
+      if (res.status == 416) {
+        return Problem(req, res, 416,
+                       Status(ErrorCode::kMalformed,
+                              "the Range header could not be parsed (ranges are not served: "
+                              "send the request without one)",
+                              "Range"));
+      }
+      const bool too_long = res.status == 414;
+      return Problem(
+          req, res, res.status,
+          too_long ? Status::LimitExceeded(
+                         "the request line is over " + std::to_string(kMaxRequestLineBytes) +
+                             " bytes: send long parameters in the body",
+                         "request-line", kMaxRequestLineBytes, kMaxRequestLineBytes + 1)
+                   : Status(ErrorCode::kMalformed,
+                            "the request line or a header field could not be parsed (METHOD TARGET "
+                            "HTTP/1.1, then NAME: VALUE lines of at most " +
+                                std::to_string(kMaxHeaderLineBytes) + " bytes, all ending in CRLF)",
+                            "request-line"));
+    }
+    if (res.status != 404 && res.status != 405) {
+      // httplib stopped reading the body (a multipart body it could not
+      // parse, a length it refused): the rest of it is not a request.
+      connection_phase::CloseAfterResponse();
+    }
+    if (res.status == 400 && req.is_multipart_form_data()) {
+      return Problem(req, res, 400,
+                     Status(ErrorCode::kMalformed,
+                            "the multipart/form-data body could not be parsed: each part needs "
+                            "the boundary of the Content-Type header, a Content-Disposition "
+                            "with a name, and a blank line before its content; the body ends "
+                            "with the boundary followed by \"--\"",
+                            "body"));
+    }
     std::string allow;
     const std::string route = RouteOf(req.path, &allow);
     if (res.status == 404 && route != "other") {
@@ -406,6 +489,7 @@ struct HttpServer::Impl {
     if (t_context.active) {
       ms = std::chrono::duration<double, std::milli>(Clock::now() - t_context.start).count();
       metrics.RequestFinished(RouteOf(req.path), req.method, status, ms / 1000.0,
+                              ThreadCpuSeconds() - t_context.cpu_start,
                               req.body.size() + t_context.bytes_in, bytes_out);
     }
     const LogLevel level = status >= 500   ? LogLevel::kError
@@ -441,7 +525,9 @@ struct HttpServer::Impl {
     const bool multipart = req.is_multipart_form_data();
     DeformBody body;
     bool read = false;
-    if (service.Saturated()) {
+    // The test build's shedding_off fault sends such a request on, as if
+    // there were no early refusal (base/fault_points.hpp).
+    if (service.Saturated() && !faults::Armed(faults::Fault::kSheddingOff)) {
       auto drop = [](const char*, size_t n) {
         t_context.bytes_in += n;
         connection_phase::BodyProgress(t_context.bytes_in);
@@ -636,7 +722,14 @@ struct HttpServer::Impl {
     res.set_content(kOpenApiYaml, "application/yaml");
   }
   void Info(const httplib::Request&, httplib::Response& res) {
-    res.set_content(service.InfoJson(), "application/json");
+    // The service's limits and those of the HTTP edge (request_guard.hpp).
+    json info = json::parse(service.InfoJson());
+    json& limits = info["limits"];
+    limits["max_request_line_bytes"] = kMaxRequestLineBytes;
+    limits["max_header_line_bytes"] = kMaxHeaderLineBytes;
+    limits["max_header_fields"] = kMaxHeaderCount;
+    limits["max_head_bytes"] = GateOptions{}.max_head_bytes;
+    res.set_content(info.dump(), "application/json");
   }
   void CreateSurface(const httplib::Request& req, httplib::Response& res) {
     const std::string type = req.get_header_value("Content-Type");

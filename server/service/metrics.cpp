@@ -16,9 +16,14 @@ std::string Number(double x) {
 }  // namespace
 
 void Metrics::RequestFinished(const std::string& route, const std::string& method, int status,
-                              double seconds, uint64_t bytes_in, uint64_t bytes_out) {
+                              double seconds, double cpu_seconds, uint64_t bytes_in,
+                              uint64_t bytes_out) {
   in_flight_.fetch_sub(1, std::memory_order_relaxed);
+  const char* outcome = status < 400 ? "served" : status == 503 ? "refused" : "failed";
   std::lock_guard lock(mutex_);
+  CpuSum& cpu = request_cpu_[outcome];
+  ++cpu.count;
+  cpu.seconds += cpu_seconds;
   ++requests_[{route, method, status}];
   Histogram& h = latency_[route];
   for (size_t k = 0; k < kBuckets.size(); ++k) {
@@ -62,6 +67,15 @@ std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shar
     line(name + "_bucket{route=\"" + route + "\",le=\"+Inf\"} " + std::to_string(h.count));
     line(name + "_sum{route=\"" + route + "\"} " + Number(h.sum));
     line(name + "_count{route=\"" + route + "\"} " + std::to_string(h.count));
+  }
+  line(
+      "# HELP surfdeform_http_request_cpu_seconds CPU time of the worker thread that handled "
+      "each request, by outcome (served: 2xx and 3xx; refused: 503; failed: other).");
+  line("# TYPE surfdeform_http_request_cpu_seconds summary");
+  for (const auto& [outcome, cpu] : request_cpu_) {
+    const std::string label = "{outcome=\"" + outcome + "\"} ";
+    line("surfdeform_http_request_cpu_seconds_sum" + label + Number(cpu.seconds));
+    line("surfdeform_http_request_cpu_seconds_count" + label + std::to_string(cpu.count));
   }
   line(
       "# HELP surfdeform_http_rejected_total Requests refused before their handler ran, by "
@@ -138,6 +152,8 @@ std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shar
   for (const auto& [reason, value] :
        {std::pair<const char*, uint64_t>{"head_timeout", connections.head_timeout},
         {"head_too_large", connections.head_too_large},
+        {"malformed_head", connections.malformed_head},
+        {"evicted", connections.evicted},
         {"gate_full", connections.refused_full},
         {"client_left", connections.closed_early},
         {"slow_body", connections.slow_body},

@@ -26,6 +26,8 @@ struct ConnectionStats {
   uint64_t passed = 0;          // connections handed to a worker
   uint64_t head_timeout = 0;    // 408: the head was not in by the head timeout
   uint64_t head_too_large = 0;  // 431
+  uint64_t malformed_head = 0;  // 400, 414, 431: a head that cannot be framed
+  uint64_t evicted = 0;         // waited longest when the gate was full
   uint64_t refused_full = 0;    // 503: the gate was full
   uint64_t closed_early = 0;    // the client left before its head was in
   uint64_t slow_body = 0;       // shut down on a worker, by phase
@@ -40,8 +42,11 @@ class Metrics {
                                                       0.1,   0.25,   0.5,   1.0,  2.5,   10.0};
 
   void RequestStarted() { in_flight_.fetch_add(1, std::memory_order_relaxed); }
+  // `cpu_seconds`: the CPU time of the worker thread that served it, summed
+  // by outcome (served: 2xx and 3xx; refused: 503; failed: any other), so
+  // that CPU per refused request can be set against CPU per served one.
   void RequestFinished(const std::string& route, const std::string& method, int status,
-                       double seconds, uint64_t bytes_in, uint64_t bytes_out);
+                       double seconds, double cpu_seconds, uint64_t bytes_in, uint64_t bytes_out);
   void Rejected(const std::string& reason);  // load shedding and early rejections
 
   // The whole exposition, cache counters (both levels) included.
@@ -60,6 +65,11 @@ class Metrics {
   std::map<std::tuple<std::string, std::string, int>, uint64_t> requests_;
   std::map<std::string, Histogram> latency_;
   std::map<std::string, uint64_t> rejected_;
+  struct CpuSum {
+    uint64_t count = 0;
+    double seconds = 0.0;
+  };
+  std::map<std::string, CpuSum> request_cpu_;  // by outcome
   uint64_t bytes_in_ = 0;
   uint64_t bytes_out_ = 0;
   std::atomic<int64_t> in_flight_{0};

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -138,9 +139,23 @@ TEST_F(Faults, AnAllocationThatFailsIsAnOpaque500AndFreesItsSlot) {
 
 TEST_F(Faults, ADracoEncodeThatFailsIsAnOpaque500) {
   auto c = Client();
-  ExpectOpaque500(
-      c.Post("/v1/deform", {{"X-Surfdeform-Fault", "draco_encode_fails"}}, DeformForm()),
-      "POST /v1/deform, Draco fails");
+  auto failed = c.Post("/v1/deform", {{"X-Surfdeform-Fault", "draco_encode_fails"}}, DeformForm());
+  ExpectOpaque500(failed, "POST /v1/deform, Draco fails");
+  // The cause is in the log, on a line with the request id the client got.
+  const std::string id = json::parse(failed->body).value("request_id", "");
+  ASSERT_FALSE(id.empty());
+  std::string cause;
+  for (int k = 0; k < 40 && cause.empty(); ++k) {
+    std::istringstream log(server_->Log());
+    for (std::string line; std::getline(log, line);) {
+      if (line.find("\"internal_error\"") != std::string::npos &&
+          line.find(id) != std::string::npos) {
+        cause = line;
+      }
+    }
+    if (cause.empty()) std::this_thread::sleep_for(50ms);
+  }
+  EXPECT_NE(cause.find("Draco encoding failed"), std::string::npos) << server_->Log();
   auto r = c.Post("/v1/deform", DeformForm());
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 200) << r->body;
@@ -151,7 +166,8 @@ TEST(FaultPoints, TheProductionServerHasNone) {
   ServerProcess server({"--log-level", "error"});
   ASSERT_GT(server.port(), 0);
   httplib::Client c("127.0.0.1", server.port());
-  for (const char* fault : {"handler_throws", "allocation_fails", "draco_encode_fails"}) {
+  for (const char* fault :
+       {"handler_throws", "allocation_fails", "draco_encode_fails", "shedding_off"}) {
     auto r = c.Post("/v1/deform", {{"X-Surfdeform-Fault", fault}}, DeformForm());
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 200) << fault << ": " << r->body;

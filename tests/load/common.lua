@@ -37,6 +37,11 @@ local sent_at = nil
 
 local threads = {}
 
+-- The test build's fault to arm on every request (LOADTEST_FAULT, sent as
+-- X-Surfdeform-Fault; surfdeform-server-faults only), or nil.
+local fault = os.getenv("LOADTEST_FAULT")
+if fault == "" then fault = nil end
+
 -- make_request(): the next request, as wrk.format(...) builds it.
 function M.install(make_request)
   function setup(thread)
@@ -45,7 +50,9 @@ function M.install(make_request)
 
   function request()
     sent_at = now_us()
-    return make_request()
+    if fault == nil then return make_request() end
+    -- The header goes right after the request line.
+    return (make_request():gsub("\r\n", "\r\nX-Surfdeform-Fault: " .. fault .. "\r\n", 1))
   end
 
   function response(status, headers, body)
