@@ -83,6 +83,7 @@ struct ConnectionGate::Served {
   uint64_t done = 0;      // body bytes read so far, where known
   bool progress_known = false;
   bool shut = false;
+  bool close_after = false;  // the request could not be framed: end the connection
 };
 
 namespace {
@@ -223,6 +224,9 @@ void Responding(size_t bytes) {
     SetPhase(s, ConnectionGate::Served::Phase::kResponding, bytes);
   });
 }
+void CloseAfterResponse() {
+  UpdatePhase([](ConnectionGate::Served& s) { s.close_after = true; });
+}
 }  // namespace connection_phase
 
 ConnectionGate::ConnectionGate(GateOptions options, ServeRequest serve)
@@ -273,7 +277,10 @@ void ConnectionGate::Wait(int fd, int requests_left, bool kept_alive) {
       close(fd);
       return;
     }
-    if (!kept_alive && waiting_.size() + admitted_.size() >= options_.max_waiting) {
+    // Past max_waiting the loop closes the longest waiting to make room;
+    // past the margin it has not caught up with a burst.
+    if (!kept_alive &&
+        waiting_.size() + admitted_.size() >= options_.max_waiting + options_.max_waiting / 8) {
       ++stats_.refused_full;
       refuse = true;
     } else {
@@ -281,11 +288,11 @@ void ConnectionGate::Wait(int fd, int requests_left, bool kept_alive) {
     }
   }
   if (refuse) {
+    const size_t limit = options_.max_waiting + options_.max_waiting / 8;
     Refuse(fd, 503,
            Status(ErrorCode::kUnavailable,
                   "too many connections are waiting to send their requests; retry later")
-               .WithLimit(static_cast<double>(options_.max_waiting),
-                          static_cast<double>(options_.max_waiting + 1)));
+               .WithLimit(static_cast<double>(limit), static_cast<double>(limit + 1)));
     return;
   }
   const uint64_t one = 1;
@@ -300,7 +307,8 @@ ConnectionStats ConnectionGate::stats() const {
   return s;
 }
 
-ConnectionGate::Verdict ConnectionGate::Inspect(int fd, size_t* seen) const {
+ConnectionGate::Verdict ConnectionGate::Inspect(int fd, size_t* seen,
+                                                std::optional<Rejection>* rejection) const {
   // The head and the body's first window, without taking them off the socket.
   thread_local std::vector<char> buffer;
   buffer.resize(options_.max_head_bytes + options_.body_window_bytes);
@@ -313,6 +321,8 @@ ConnectionGate::Verdict ConnectionGate::Inspect(int fd, size_t* seen) const {
   const std::string_view bytes(buffer.data(), static_cast<size_t>(n));
   *seen = bytes.size();
   const size_t end = bytes.find("\r\n\r\n");
+  *rejection = CheckHead(bytes, end == std::string_view::npos ? kHeadIncomplete : end + 4);
+  if (*rejection) return Verdict::kMalformed;
   if (end == std::string_view::npos || end + 4 > options_.max_head_bytes) {
     return bytes.size() >= options_.max_head_bytes ? Verdict::kTooLarge : Verdict::kWait;
   }
@@ -328,9 +338,12 @@ ConnectionGate::Verdict ConnectionGate::Inspect(int fd, size_t* seen) const {
 
 void ConnectionGate::Refuse(int fd, int http_status, const Status& status) {
   const std::string body = ProblemJson(status, http_status, "", "");
+  // A refusal for load says when to come back (the gate keeps no service
+  // time: a second, as a busy admission's shortest answer).
+  const std::string retry = http_status == 503 ? "\r\nRetry-After: 1" : "";
   const std::string response = "HTTP/1.1 " + std::to_string(http_status) + " " +
                                StatusTitle(http_status) + "\r\nContent-Type: " + kProblemType +
-                               "\r\nContent-Length: " + std::to_string(body.size()) +
+                               "\r\nContent-Length: " + std::to_string(body.size()) + retry +
                                "\r\nConnection: close\r\n\r\n" + body;
   // Best effort, never blocking: the client may have stopped reading.
   [[maybe_unused]] auto n = send(fd, response.data(), response.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
@@ -363,7 +376,7 @@ void ConnectionGate::ServeOnWorker(int fd, int requests_left) {
     bool shut;
     {
       std::lock_guard lock(served->mutex);
-      shut = served->shut;
+      shut = served->shut || served->close_after;
     }
     if (!ok || connection_closed || close_connection || shut) break;
     if (stream.buffered() == 0) {
@@ -374,8 +387,9 @@ void ConnectionGate::ServeOnWorker(int fd, int requests_left) {
       // the gate.
       pollfd p{fd, POLLIN, 0};
       size_t seen = 0;
+      std::optional<Rejection> rejection;
       if (poll(&p, 1, kLingerMs) == 1 && (p.revents & POLLIN) != 0 &&
-          Inspect(fd, &seen) == Verdict::kPass) {
+          Inspect(fd, &seen, &rejection) == Verdict::kPass) {
         continue;
       }
       keep = true;
@@ -472,6 +486,43 @@ void ConnectionGate::CheckDeadlines(Clock::time_point now) {
   }
 }
 
+void ConnectionGate::EvictLongestWaiting() {
+  std::vector<std::pair<int, bool>> evicted;  // fd, some of a head had come
+  {
+    std::lock_guard lock(mutex_);
+    while (waiting_.size() > options_.max_waiting) {
+      // An idle kept-alive connection first (its client reconnects at no
+      // loss), else the one that has waited longest.
+      auto victim = waiting_.end();
+      for (auto it = waiting_.begin(); it != waiting_.end(); ++it) {
+        const bool idle = it->second.kept_alive && !it->second.started;
+        const bool victim_idle =
+            victim != waiting_.end() && victim->second.kept_alive && !victim->second.started;
+        if (victim == waiting_.end() || (idle && !victim_idle) ||
+            (idle == victim_idle && it->second.since < victim->second.since)) {
+          victim = it;
+        }
+      }
+      evicted.emplace_back(victim->first, victim->second.started);
+      waiting_.erase(victim);
+      ++stats_.evicted;
+    }
+  }
+  for (const auto& [fd, started] : evicted) {
+    epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, fd, nullptr);
+    if (!started) {
+      close(fd);
+      continue;
+    }
+    Refuse(fd, 503,
+           Status(ErrorCode::kUnavailable,
+                  "too many connections are waiting to send their requests, and this one had "
+                  "waited longest; retry later")
+               .WithLimit(static_cast<double>(options_.max_waiting),
+                          static_cast<double>(options_.max_waiting + 1)));
+  }
+}
+
 void ConnectionGate::Loop() {
   constexpr int kMaxEvents = 64;
   epoll_event events[kMaxEvents];
@@ -484,6 +535,7 @@ void ConnectionGate::Loop() {
       admitted.swap(admitted_);
       for (const auto& [fd, pending] : admitted) waiting_.emplace(fd, pending);
     }
+    EvictLongestWaiting();
     for (const auto& [fd, pending] : admitted) {
       epoll_event ev{};
       ev.events = EPOLLIN | EPOLLRDHUP | EPOLLET;  // each arrival, though unread
@@ -498,7 +550,8 @@ void ConnectionGate::Loop() {
         continue;
       }
       size_t seen = 0;
-      const Verdict verdict = Inspect(fd, &seen);
+      std::optional<Rejection> rejection;
+      const Verdict verdict = Inspect(fd, &seen, &rejection);
       int requests_left = 0;
       {
         std::lock_guard lock(mutex_);
@@ -509,6 +562,7 @@ void ConnectionGate::Loop() {
         requests_left = it->second.requests_left;
         waiting_.erase(it);
         if (verdict == Verdict::kTooLarge) ++stats_.head_too_large;
+        if (verdict == Verdict::kMalformed) ++stats_.malformed_head;
         if (verdict == Verdict::kClosed) ++stats_.closed_early;
         if (verdict == Verdict::kPass) ++stats_.passed;
       }
@@ -522,6 +576,9 @@ void ConnectionGate::Loop() {
                  Status::LimitExceeded("the request head is too large", "",
                                        static_cast<double>(options_.max_head_bytes),
                                        static_cast<double>(seen)));
+          break;
+        case Verdict::kMalformed:
+          Refuse(fd, rejection->http_status, rejection->status);
           break;
         default:
           close(fd);

@@ -14,7 +14,13 @@
 //   `head_timeout` is answered 408 and closed; one longer than
 //   `max_head_bytes` 431. Heads that ask for 100-continue, declare no body,
 //   a body over `max_body_bytes` or an unusable length go on at once: the
-//   framing checks answer those.
+//   framing checks answer those. A head that cannot be framed (a bare LF, a
+//   request line or header line httplib would refuse or misread: CheckHead
+//   in request_guard.hpp) is answered at once and its connection closed,
+//   so that no byte after it is read as another request.
+// - Past `max_waiting` connections the one that has waited longest (an
+//   idle kept-alive one first) is closed to make room: a flood of silent
+//   connections cannot keep a new client, such as a liveness probe, out.
 // - Between requests a kept-alive connection goes back to the epoll loop: it
 //   is closed when no new request starts within `idle_timeout`, and its
 //   next head has `idle_timeout + head_timeout` in all.
@@ -33,10 +39,12 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
 #include "base/status.hpp"
+#include "http/request_guard.hpp"
 #include "service/metrics.hpp"
 
 namespace surfdeform::http {
@@ -50,8 +58,10 @@ struct GateOptions {
   std::chrono::milliseconds idle_timeout{5000};  // the keep-alive wait
   double min_bytes_per_s = 16 * 1024;
   std::chrono::milliseconds transfer_grace{10000};
-  // Connections waiting in the gate; past it new ones get 503. httplib
-  // 0.11.4 select()s, so descriptors must stay under FD_SETSIZE (1024).
+  // Connections waiting in the gate; past it the longest waiting is closed
+  // for each new one, and past max_waiting + max_waiting / 8 (a burst the
+  // epoll loop has not caught up with) new ones get 503. httplib 0.11.4
+  // select()s, so descriptors must stay under FD_SETSIZE (1024).
   size_t max_waiting = 512;
   int max_requests_per_connection = 100;  // keep-alive
   std::chrono::seconds read_timeout{10};  // per recv() and send(), on a worker
@@ -67,6 +77,9 @@ void HeadIn(size_t content_length);  // pre-routing: the body comes next
 void BodyProgress(size_t bytes);     // a handler reading its own body
 void Handling();                     // the body is in; the handler works
 void Responding(size_t bytes);       // the response goes out next
+// The request could not be framed (httplib refused its line or headers, or
+// its body is only partly read): the connection ends after this response.
+void CloseAfterResponse();
 }  // namespace connection_phase
 
 // One request on a connection, as httplib's Server::process_request does it:
@@ -101,11 +114,12 @@ class ConnectionGate : public httplib::TaskQueue {
     bool kept_alive = false;  // back from a worker: waiting for its next request
     bool started = false;     // some bytes of the head are in
   };
-  enum class Verdict { kWait, kPass, kTooLarge, kClosed };
+  enum class Verdict { kWait, kPass, kTooLarge, kMalformed, kClosed };
 
   void Wait(int fd, int requests_left, bool kept_alive);
   void Loop();
-  Verdict Inspect(int fd, size_t* seen) const;
+  Verdict Inspect(int fd, size_t* seen, std::optional<Rejection>* rejection) const;
+  void EvictLongestWaiting();  // while over max_waiting; on the loop's thread
   void Refuse(int fd, int http_status, const Status& status);
   void CheckDeadlines(std::chrono::steady_clock::time_point now);
   void ServeOnWorker(int fd, int requests_left);

@@ -1,5 +1,7 @@
 #include "http/request_guard.hpp"
 
+#include <algorithm>
+#include <iterator>
 #include <string>
 
 namespace surfdeform::http {
@@ -9,16 +11,150 @@ Rejection Reject(int http_status, ErrorCode code, std::string message, std::stri
   return Rejection{http_status, Status(code, std::move(message), std::move(field))};
 }
 
+bool IsTokenChar(char c) {  // RFC 9110 section 5.6.2
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+         std::string_view("!#$%&'*+-.^_`|~").find(c) != std::string_view::npos;
+}
+
+// A piece of untrusted text for a message: printable ASCII, at most 40 bytes.
+std::string Shown(std::string_view text) {
+  std::string out;
+  for (char c : text.substr(0, 40)) out += (c >= 0x20 && c < 0x7f) ? c : '?';
+  return text.size() > 40 ? out + "..." : out;
+}
+
+std::optional<Rejection> CheckRequestLine(std::string_view line) {
+  auto bad = [&](const std::string& why) {
+    return Reject(400, ErrorCode::kMalformed,
+                  "the request line \"" + Shown(line) + "\" " + why +
+                      "; it must be METHOD TARGET HTTP/1.1 (RFC 9112 section 3)",
+                  "request-line");
+  };
+  const size_t sp1 = line.find(' ');
+  const size_t sp2 = sp1 == std::string_view::npos ? sp1 : line.find(' ', sp1 + 1);
+  if (sp2 == std::string_view::npos || line.find(' ', sp2 + 1) != std::string_view::npos) {
+    return bad("does not have three parts separated by single spaces");
+  }
+  const std::string_view method = line.substr(0, sp1);
+  const std::string_view target = line.substr(sp1 + 1, sp2 - sp1 - 1);
+  const std::string_view version = line.substr(sp2 + 1);
+  static constexpr std::string_view kMethods[] = {"GET",     "HEAD",    "POST",  "PUT",  "DELETE",
+                                                  "CONNECT", "OPTIONS", "TRACE", "PATCH"};
+  if (std::find(std::begin(kMethods), std::end(kMethods), method) == std::end(kMethods)) {
+    return bad("has an unknown method");
+  }
+  if (version != "HTTP/1.1" && version != "HTTP/1.0") {
+    return bad("is not HTTP/1.1 or HTTP/1.0");
+  }
+  const bool origin_form = !target.empty() && target.front() == '/';
+  const bool absolute_form = target.rfind("http://", 0) == 0 || target.rfind("https://", 0) == 0;
+  const bool asterisk_form = target == "*" && method == "OPTIONS";
+  if (!origin_form && !absolute_form && !asterisk_form) {
+    return bad("has a target that is neither a path nor an absolute http(s) URI");
+  }
+  for (char c : target) {
+    if (static_cast<unsigned char>(c) <= 0x20 || c == 0x7f) {
+      return bad("has a control character in its target");
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<Rejection> CheckHeaderLine(std::string_view line) {
+  const size_t colon = line.find(':');
+  if (line.front() == ' ' || line.front() == '\t') {
+    return Reject(400, ErrorCode::kMalformed,
+                  "a header field line starts with white space (obsolete line folding, RFC 9112 "
+                  "section 5.2): put each field on one line",
+                  Shown(line));
+  }
+  if (colon == std::string_view::npos || colon == 0 ||
+      !std::all_of(line.begin(), line.begin() + static_cast<long>(colon), IsTokenChar)) {
+    return Reject(400, ErrorCode::kMalformed,
+                  "the header field line \"" + Shown(line) +
+                      "\" is not NAME: VALUE (a token, a colon with no space before it, a value)",
+                  "headers");
+  }
+  for (char c : line.substr(colon + 1)) {
+    if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7f) {
+      return Reject(400, ErrorCode::kMalformed,
+                    "the header field " + Shown(line.substr(0, colon)) +
+                        " has a control character in its value",
+                    std::string(line.substr(0, colon)));
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+std::optional<Rejection> CheckHead(std::string_view bytes, size_t head_end) {
+  const bool complete = head_end != kHeadIncomplete;
+  const std::string_view head = complete ? bytes.substr(0, head_end) : bytes;
+  size_t at = 0, fields = 0;
+  for (size_t line_number = 0;; ++line_number) {
+    const size_t lf = head.find('\n', at);
+    const size_t end = lf == std::string_view::npos ? head.size() : lf;
+    const bool has_cr = end > at && head[end - 1] == '\r';
+    const size_t length = end - at - (has_cr ? 1 : 0);
+    const size_t limit = line_number == 0 ? kMaxRequestLineBytes : kMaxHeaderLineBytes;
+    if (length > limit) {  // a line so far, or a whole one
+      const std::string_view line = head.substr(at, length);
+      if (line_number == 0) {
+        return Rejection{
+            414, Status::LimitExceeded("the request line (the method, the target with its query, "
+                                       "the version) is over " +
+                                           std::to_string(limit) +
+                                           " bytes: send long parameters in the body (a multipart "
+                                           "\"params\" part)",
+                                       "request-line", static_cast<double>(limit),
+                                       static_cast<double>(length))};
+      }
+      const std::string name(line.substr(0, std::min<size_t>(line.find(':'), 40)));
+      return Rejection{
+          431, Status::LimitExceeded(
+                   "the header field line " + Shown(name) + " is over " + std::to_string(limit) +
+                       " bytes: send long parameters in the body (a multipart "
+                       "\"params\" part)",
+                   name, static_cast<double>(limit), static_cast<double>(length))};
+    }
+    if (lf == std::string_view::npos) break;  // the rest is not a whole line yet
+    if (!has_cr) {
+      return Reject(400, ErrorCode::kMalformed,
+                    "a line of the request head ends in a bare LF; HTTP/1.1 lines end in CRLF "
+                    "(RFC 9112 section 2.2)",
+                    line_number == 0 ? "request-line" : "headers");
+    }
+    const std::string_view line = head.substr(at, length);
+    at = lf + 1;
+    if (line_number == 0) {
+      if (auto r = CheckRequestLine(line)) return r;
+      continue;
+    }
+    if (line.empty()) break;  // the blank line: the head is over
+    if (auto r = CheckHeaderLine(line)) return r;
+    ++fields;
+  }
+  if (fields > kMaxHeaderCount) {  // all of them, or those so far
+    return Rejection{
+        431, Status::LimitExceeded("the request has " + std::string(complete ? "" : "at least ") +
+                                       std::to_string(fields) + " header fields; the limit is " +
+                                       std::to_string(kMaxHeaderCount),
+                                   "headers", kMaxHeaderCount, static_cast<double>(fields))};
+  }
+  return std::nullopt;
+}
 
 std::optional<Rejection> CheckFraming(const httplib::Request& req, size_t max_body_bytes,
                                       size_t* body_length) {
   *body_length = 0;
-  if (req.headers.size() > kMaxHeaderCount) {
+  // The client's fields: httplib adds its own to every request it parses.
+  const size_t fields = req.headers.size() - std::min(req.headers.size(), kServerAddedHeaders);
+  if (fields > kMaxHeaderCount) {
     Rejection r{431, Status::LimitExceeded(
-                         "the request has " + std::to_string(req.headers.size()) +
+                         "the request has " + std::to_string(fields) +
                              " header fields; the limit is " + std::to_string(kMaxHeaderCount),
-                         "headers", kMaxHeaderCount, static_cast<double>(req.headers.size()))};
+                         "headers", kMaxHeaderCount, static_cast<double>(fields))};
     return r;
   }
   if (req.has_header("Transfer-Encoding")) {

@@ -8,6 +8,7 @@
 #include <httplib.h>
 
 #include <optional>
+#include <string_view>
 
 #include "base/status.hpp"
 
@@ -19,6 +20,28 @@ struct Rejection {
 };
 
 inline constexpr size_t kMaxHeaderCount = 100;
+// cpp-httplib 0.11.4 as Debian compiles it (CPPHTTPLIB_REQUEST_URI_MAX_LENGTH
+// and CPPHTTPLIB_HEADER_MAX_LENGTH, 8192 bytes with the line's CRLF): the
+// longest request line (the target and its query, `?params=` included) and
+// the longest header field line (an X-Surfdeform-Params header included).
+inline constexpr size_t kMaxRequestLineBytes = 8190;
+inline constexpr size_t kMaxHeaderLineBytes = 8190;
+// The header fields cpp-httplib adds to every request it parses
+// (REMOTE_ADDR, REMOTE_PORT, LOCAL_ADDR, LOCAL_PORT): not the client's.
+inline constexpr size_t kServerAddedHeaders = 4;
+
+// Checks a request head as it arrives (`bytes`: the head so far, or all of
+// it and more when `complete`; `head_end` then is where its blank line
+// ends), before httplib parses it, so that a request that cannot be framed
+// is answered at once and its connection closed (RFC 9112): a line that
+// ends in a bare LF (section 2.2; 400), a request line over
+// kMaxRequestLineBytes (414), one that is not "METHOD target HTTP/1.x"
+// with a method and a target form httplib serves (400), a header line over
+// kMaxHeaderLineBytes (431), one that is not "name: value" or folds onto
+// the next (section 5.2; 400), more than kMaxHeaderCount fields (431).
+// Incomplete heads are refused as soon as the bytes so far break a rule.
+std::optional<Rejection> CheckHead(std::string_view bytes, size_t head_end);
+inline constexpr size_t kHeadIncomplete = static_cast<size_t>(-1);
 
 // Rejects, in order: more than kMaxHeaderCount headers (431); any
 // Transfer-Encoding (411: send a Content-Length); any Content-Encoding other

@@ -253,6 +253,33 @@ TEST_F(SlowClients, AKeptAliveConnectionThatTricklesItsNextHeadIsClosed) {
 // grace here, so the whole response is due within about 2.4 s. (With the
 // kernel's autotuned send buffer, some 4 MB on loopback, the sample would
 // fit, and its worker would be free at once.)
+// Issue 34, item 5: a flood of silent connections past the gate's 512 places
+// cannot keep a liveness probe out. The longest waiting are closed to make
+// room; /healthz answers 200 (not 503) at once, and so does a real request.
+TEST_F(SlowClients, LivenessAnswersThroughAFloodOfSilentConnections) {
+  const double before = Closed("evicted");
+  std::vector<int> silent;
+  for (int k = 0; k < 600; ++k) {
+    const int fd = ConnectLoopback(port());
+    if (fd >= 0) silent.push_back(fd);
+  }
+  ASSERT_GE(silent.size(), 590u);
+  std::this_thread::sleep_for(200ms);  // the gate has them all
+  for (int k = 0; k < 5; ++k) {
+    httplib::Client c("127.0.0.1", port());
+    c.set_connection_timeout(2, 0);
+    c.set_read_timeout(2, 0);
+    const auto t0 = Clock::now();
+    auto r = c.Get("/healthz");
+    ASSERT_TRUE(r) << "probe " << k << ": " << httplib::to_string(r.error());
+    EXPECT_EQ(r->status, 200) << r->body;
+    EXPECT_LT(Clock::now() - t0, 1s);
+  }
+  // At least the connections past the gate's places were closed to make room.
+  EXPECT_GE(Closed("evicted") - before, 600.0 + 5 - 512 - 64);
+  for (int fd : silent) close(fd);
+}
+
 TEST(SlowReaders, ResponsesReadSlowerThanTheMinimumRateAreCutOff) {
   ServerProcess server({"--log-level", "error", "--http-threads", std::to_string(kWorkers),
                         "--transfer-grace", "1", "--min-transfer-rate", "1048576", "--send-buffer",
