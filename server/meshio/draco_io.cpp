@@ -136,9 +136,20 @@ Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& o,
   encoder.SetEncodingMethod(o.sequential ? draco::MESH_SEQUENTIAL_ENCODING
                                          : draco::MESH_EDGEBREAKER_ENCODING);
   draco::EncoderBuffer buffer;
-  const draco::Status st = faults::Armed(faults::Fault::kDracoEncodeFails)
-                               ? draco::Status(draco::Status::DRACO_ERROR, "injected fault")
-                               : encoder.EncodeMeshToBuffer(dm, &buffer);
+  auto encode = [&] {
+    return faults::Armed(faults::Fault::kDracoEncodeFails)
+               ? draco::Status(draco::Status::DRACO_ERROR, "injected fault")
+               : encoder.EncodeMeshToBuffer(dm, &buffer);
+  };
+  draco::Status st = encode();
+  if (!st.ok() && !o.sequential) {
+    // Edgebreaker refuses some valid connectivity (every triangle
+    // degenerate, two of its corners on one vertex); the sequential coding
+    // takes any, and every Draco decoder reads both.
+    encoder.SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);
+    buffer.Clear();
+    st = encode();
+  }
   if (!st.ok()) {
     return Status(ErrorCode::kInternal, std::string("Draco encoding failed: ") + st.error_msg());
   }

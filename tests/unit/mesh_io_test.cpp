@@ -402,6 +402,27 @@ TEST(MeshRoundTrip, GlbWithDracoKeepsGroups) {
   EXPECT_EQ(back.mesh.colors.size(), back.mesh.positions.size());
 }
 
+// Draco's edgebreaker refuses a mesh whose every triangle has two corners on
+// one vertex; such a mesh is valid, and every output format writes it.
+TEST(MeshExport, DegenerateTrianglesAreWrittenInEveryFormat) {
+  Mesh m;
+  m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  m.triangles = {{0, 0, 1}, {1, 1, 2}};
+  ExportOptions plain;
+  plain.glb_draco = false;
+  for (const auto& [format, o] :
+       {std::pair{MeshFormat::kDraco, ExportOptions{}},
+        std::pair{MeshFormat::kGlb, ExportOptions{}}, std::pair{MeshFormat::kGlb, plain},
+        std::pair{MeshFormat::kObj, ExportOptions{}},
+        std::pair{MeshFormat::kPly, ExportOptions{}}}) {
+    SCOPED_TRACE(MeshFormatName(format));
+    auto bytes = ExportMesh(m, format, o);
+    ASSERT_TRUE(bytes.ok()) << bytes.status().message();
+    const ImportedMesh back = ImportOk(*bytes);
+    EXPECT_EQ(back.mesh.triangles.size(), m.triangles.size());
+  }
+}
+
 TEST(MeshExport, NeverWritesNonFiniteValues) {
   Mesh m = RichMesh();
   m.normals[3].x() = std::nan("");
