@@ -365,7 +365,10 @@ Status ReadAnimationParts(JsonObject& parent, AnimationRequest* out) {
   SURFDEFORM_RETURN_IF_ERROR(o.Integer("frames", &spec.frames));
   SURFDEFORM_RETURN_IF_ERROR(o.Number("fps", &spec.fps));
   SURFDEFORM_RETURN_IF_ERROR(o.Finish());
-  SURFDEFORM_RETURN_IF_ERROR(ValidateAnimation(spec, kMaxAnimationFrames).WithFieldPrefix(path));
+  // The frame count against the server's own limit (published at /v1/info)
+  // is the service's to check: here, only what makes an animation at all.
+  SURFDEFORM_RETURN_IF_ERROR(
+      ValidateAnimation(spec, std::numeric_limits<int>::max()).WithFieldPrefix(path));
   SURFDEFORM_RETURN_IF_ERROR(ReadSampling(parent, &out->sampling));
   return ReadFlatten(parent, &out->flatten);
 }

@@ -67,10 +67,6 @@ struct AnimationRequest {
   FlattenOptions flatten;
 };
 
-// The most frames any request may name (the server's own limit, published
-// at /v1/info, is at most this).
-inline constexpr int kMaxAnimationFrames = 100000;
-
 // POST /v1/deform parameters: a surface inline (with its sampling and
 // flattening) or the id of a flattened one, and what to do with the mesh.
 struct DeformParams {

@@ -8,6 +8,7 @@
 #include <thread>
 #include <type_traits>
 
+#include "base/format.hpp"
 #include "engine/elapsed.hpp"
 #include "engine/parallel.hpp"
 
@@ -213,8 +214,10 @@ Status ValidateAnimation(const AnimationSpec& spec, int max_frames) {
     }
     return InvalidArgument("must be at least 1, got " + std::to_string(spec.frames), "frames");
   }
-  if (!(spec.fps > 0.0 && spec.fps <= 1000.0)) {
-    return InvalidArgument("must be in (0, 1000] frames per second", "fps");
+  if (!(spec.fps >= kMinFps && spec.fps <= kMaxFps)) {
+    return InvalidArgument(
+        Format("must be from %g to %g frames per second, got %g", kMinFps, kMaxFps, spec.fps),
+        "fps");
   }
   if (spec.keyframes.size() == 1 && !std::holds_alternative<WaveSpec>(spec.keyframes[0].surface)) {
     return InvalidArgument(
@@ -227,11 +230,15 @@ Status ValidateAnimation(const AnimationSpec& spec, int max_frames) {
   for (size_t k = 0; k < spec.keyframes.size(); ++k) {
     const std::string key = "keyframes[" + std::to_string(k) + "]";
     const Keyframe& kf = spec.keyframes[k];
-    if (!std::isfinite(kf.time)) return InvalidArgument("must be finite", key + ".time");
+    if (!(std::abs(kf.time) <= kMaxKeyTime)) {
+      return InvalidArgument(
+          Format("must be a time within +-%g seconds, got %g", kMaxKeyTime, kf.time),
+          key + ".time");
+    }
     if (k > 0 && !(kf.time > spec.keyframes[k - 1].time)) {
-      return InvalidArgument("must be later than keyframe " + std::to_string(k - 1) + "'s (" +
-                                 std::to_string(spec.keyframes[k - 1].time) + ")",
-                             key + ".time");
+      return InvalidArgument(
+          Format("must be later than keyframe %zu's (%g)", k - 1, spec.keyframes[k - 1].time),
+          key + ".time");
     }
     SURFDEFORM_RETURN_IF_ERROR(SameShape(first, kf.surface).WithFieldPrefix(key + ".surface"));
     const std::vector<double> numbers = NumbersOf(kf.surface);

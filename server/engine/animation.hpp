@@ -64,10 +64,17 @@ struct AnimationSpec {
   double fps = 30.0;  // playback rate; a single (wave) key also advances by 1 / fps per frame
 };
 
-// Keyframes: at least one, times finite and increasing, all of one kind and
-// shape (a single one must be a wave); frames from 1 to max_frames; fps in
-// (0, 1000]. Errors name the offending key and field ("keyframes[2].surface.
-// degree_u"): kInvalidArgument, or kLimitExceeded for too many frames.
+// Frame rates and key times an animation may have: every frame's time and
+// its time in the GLB (float seconds, strictly increasing) stay finite.
+inline constexpr double kMinFps = 1e-3;
+inline constexpr double kMaxFps = 1000.0;
+inline constexpr double kMaxKeyTime = 1e9;  // seconds, either sign
+
+// Keyframes: at least one, times within +-kMaxKeyTime and increasing, all of
+// one kind and shape (a single one must be a wave); frames from 1 to
+// max_frames; fps from kMinFps to kMaxFps. Errors name the offending key and
+// field ("keyframes[2].surface.degree_u"): kInvalidArgument, or
+// kLimitExceeded for too many frames.
 Status ValidateAnimation(const AnimationSpec& spec, int max_frames);
 
 // The time of frame k (the wave's time for a single key).

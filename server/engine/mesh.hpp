@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -52,26 +53,45 @@ struct Mesh {
 std::string CheckMesh(const Mesh& mesh);
 
 // The index of the first vector in `values` with a component that is not
-// finite, or -1 (a branch-free pass first, which the compiler vectorises:
-// meshes are checked on every request).
+// finite or whose magnitude is 2^max_exponent or more, or -1 (a branch-free
+// pass first, which the compiler vectorises: meshes are checked on every
+// request).
 template <typename V>
-long long FirstNonFinite(const std::vector<V>& values) {
+long long FirstBeyond(const std::vector<V>& values, int max_exponent) {
   static_assert(std::is_same_v<typename V::Scalar, double>, "the pass reads IEEE doubles");
-  // A double is not finite when its 11 exponent bits are all set: then
-  // exponent + 1 carries into bit 11. Integer operations only, OR-ed.
+  // A double is 2^max_exponent or more in magnitude (or not finite) when its
+  // 11 biased exponent bits are at least 1023 + max_exponent: then adding
+  // 2048 - (1023 + max_exponent) carries into bit 11. Integer operations
+  // only, OR-ed.
+  const uint64_t addend = static_cast<uint64_t>(2048 - (1023 + max_exponent));
   const double* x = values.empty() ? nullptr : values.data()->data();
   const size_t count = values.size() * static_cast<size_t>(V::SizeAtCompileTime);
   uint64_t carry = 0;
   for (size_t k = 0; k < count; ++k) {
     uint64_t bits;
     std::memcpy(&bits, x + k, sizeof bits);
-    carry |= ((bits >> 52) & 0x7ff) + 1;
+    carry |= ((bits >> 52) & 0x7ff) + addend;
   }
   if ((carry & 0x800) == 0) return -1;
+  const double bound = std::ldexp(1.0, max_exponent);
   for (size_t k = 0; k < values.size(); ++k) {
-    if (!values[k].allFinite()) return static_cast<long long>(k);
+    if (!(values[k].array().abs() < bound).all()) return static_cast<long long>(k);
   }
   return -1;
+}
+
+// The first vector with a component that is not finite, or -1.
+template <typename V>
+long long FirstNonFinite(const std::vector<V>& values) {
+  return FirstBeyond(values, 1024);  // 2^1024: the exponent of inf and NaN
+}
+
+// The first vector with a component that a float cannot hold (not finite,
+// or 2^127 or more in magnitude, a margin under FLT_MAX), or -1: meshes are
+// written in float32.
+template <typename V>
+long long FirstBeyondFloat(const std::vector<V>& values) {
+  return FirstBeyond(values, 127);
 }
 
 // Sets `normals` to the area-weighted average of the adjacent face normals

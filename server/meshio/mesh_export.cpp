@@ -13,8 +13,8 @@ namespace surfdeform {
 namespace {
 
 template <typename V>
-bool AllFinite(const std::vector<V>& values) {
-  return FirstNonFinite(values) < 0;
+bool AllFitFloat(const std::vector<V>& values) {
+  return FirstBeyondFloat(values) < 0;
 }
 
 void AppendF(std::string* out, const char* format, double a, double b, double c) {
@@ -132,10 +132,13 @@ Result<std::string> ExportMesh(const Mesh& mesh, MeshFormat format, const Export
   if (const std::string problem = CheckMesh(mesh); !problem.empty()) {
     return InvalidArgument("malformed mesh: " + problem, "mesh");
   }
-  if (!AllFinite(mesh.positions) || !AllFinite(mesh.normals) || !AllFinite(mesh.tangents) ||
-      !AllFinite(mesh.uv0) || !AllFinite(mesh.uv1) || !AllFinite(mesh.colors) ||
-      !AllFinite(mesh.distortion)) {
-    return InvalidArgument("the mesh holds a non-finite value; it is never written", "mesh");
+  if (!AllFitFloat(mesh.positions) || !AllFitFloat(mesh.normals) || !AllFitFloat(mesh.tangents) ||
+      !AllFitFloat(mesh.uv0) || !AllFitFloat(mesh.uv1) || !AllFitFloat(mesh.colors) ||
+      !AllFitFloat(mesh.distortion)) {
+    return InvalidArgument(
+        "the mesh holds a non-finite value, or one beyond the float32 range (1.7e38) that every "
+        "output format stores; it is never written",
+        "mesh");
   }
   ExportOptions clean = o;
   for (std::string& m : clean.materials) m = meshio::CleanName(m);

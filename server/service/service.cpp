@@ -191,6 +191,37 @@ constexpr size_t kPlacementMemoEntries = 1024;
 
 std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
 
+// The JSON path of the first number in `j` that is not finite ("" if none):
+// nlohmann writes such a number as null, which a client would read as
+// "absent" or choke on.
+std::string FirstNonFinite(const json& j, const std::string& path) {
+  if (j.is_number_float()) return std::isfinite(j.get<double>()) ? "" : path;
+  if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) {
+      std::string found = FirstNonFinite(value, path.empty() ? key : path + "." + key);
+      if (!found.empty()) return found;
+    }
+  } else if (j.is_array()) {
+    for (size_t k = 0; k < j.size(); ++k) {
+      std::string found = FirstNonFinite(j[k], path + "[" + std::to_string(k) + "]");
+      if (!found.empty()) return found;
+    }
+  }
+  return "";
+}
+
+// A reply's JSON (a body or the stats header), refused where a number in it
+// is not finite: every number the service writes is finite.
+Result<std::string> DumpFinite(const json& j, const char* what) {
+  const std::string at = FirstNonFinite(j, "");
+  if (at.empty()) return Dump(j);
+  return Status(ErrorCode::kInvalidArgument,
+                std::string("the ") + what + "'s " + at +
+                    " would not be a finite number: the request's coordinates or sizes are "
+                    "too large to compute with in double precision",
+                at);
+}
+
 // A deformed mesh encoded as asked, and the reply around it: `timings` gain
 // the encoding's.
 Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
@@ -210,7 +241,7 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   reply.body = std::move(bytes);
   reply.content_type = proto::OutputMediaType(format);
   reply.timings = std::move(timings);
-  reply.stats_json = Dump(stats);
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, DumpFinite(stats, "statistics"));
   reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
 }
@@ -611,7 +642,7 @@ Result<Reply> Service::CreateSurface(std::string_view body) {
   reply.cache_hit = hit;
   reply.surface_id = (*entry)->id;
   json summary = SheetSummary(**entry, hit);
-  reply.body = Dump(summary);
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.body, DumpFinite(summary, "reply"));
   reply.content_type = "application/json";
   reply.timings = {{"parse", parse_ms}, {"flatten", MsSince(t1)}};
   reply.stats_json = Dump({{"surface_id", (*entry)->id}, {"cached", hit}});
@@ -632,7 +663,7 @@ Result<Reply> Service::GetSurface(std::string_view id) {
   j["flat"] = std::move(flat);
   Reply reply;
   reply.cache_hit = true;
-  reply.body = Dump(j);
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.body, DumpFinite(j, "reply"));
   reply.content_type = "application/json";
   reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
@@ -681,7 +712,8 @@ Result<Reply> Service::MapOnSurface(std::string_view id, std::string_view body) 
   Reply reply;
   reply.cache_hit = true;
   reply.surface_id = entry->id;
-  reply.body = Dump(proto::MapResponseJson(request.kind, marks));
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.body,
+                              DumpFinite(proto::MapResponseJson(request.kind, marks), "reply"));
   reply.content_type = "application/json";
   reply.timings = {{"parse", parse_ms}, {"map", MsSince(t1)}};
   reply.etag = proto::Sha256Hex(reply.body, 32);
@@ -923,7 +955,7 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
   // The per-frame list can be long: the header keeps the first 100 frames.
   json& each = stats["flatten"]["each"];
   if (each.size() > 100) each.erase(each.begin() + 100, each.end());
-  reply.stats_json = Dump(stats);
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, DumpFinite(stats, "statistics"));
   reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
 }

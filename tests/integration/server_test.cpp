@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -107,11 +108,15 @@ RawReply Raw(int port, const std::string& request, std::chrono::milliseconds wai
   return out;
 }
 
+// Status lines ("HTTP/1.1 NNN "; problem details may quote "HTTP/1.1").
 int CountResponses(const std::string& bytes) {
   int count = 0;
   for (size_t at = bytes.find("HTTP/1.1 "); at != std::string::npos;
        at = bytes.find("HTTP/1.1 ", at + 1)) {
-    ++count;
+    const std::string code = bytes.substr(at + 9, 4);
+    count += code.size() == 4 && std::isdigit(static_cast<unsigned char>(code[0])) &&
+             std::isdigit(static_cast<unsigned char>(code[1])) &&
+             std::isdigit(static_cast<unsigned char>(code[2])) && code[3] == ' ';
   }
   return count;
 }
@@ -520,6 +525,131 @@ TEST_F(ServerTest, RequestFramingAttacks) {
   EXPECT_EQ(r->status, 200);
 }
 
+// Issue 34, item 4: a request that cannot be framed is answered once, with
+// problem+json naming the rule or the limit, and its connection ends: what
+// follows it is never served as a request. Framed forms HTTP/1.1 allows
+// (absolute-form targets, 100 header fields of the client's own) are served.
+TEST_F(ServerTest, HeadsThatCannotBeFramedEndTheirConnection) {
+  const std::string hidden = "GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n";
+  std::string many = "GET /healthz HTTP/1.1\r\nHost: x\r\n";
+  for (int k = 0; k < 100; ++k) many += "X-H" + std::to_string(k) + ": 1\r\n";
+  struct Case {
+    std::string head;
+    int status;
+    std::string says;
+  };
+  const Case cases[] = {
+      {"XYZ / HTTP/1.1\r\nHost: x\r\n\r\n", 400, "unknown method"},
+      {"GET /healthz HTTP/1.1\nHost: x\n\n", 400, "bare LF"},
+      {"GET /healthz HTTP/1.1\r\nHost: x\r\n folded\r\n\r\n", 400, "folding"},
+      {"GET /healthz HTTP/1.1\r\nNo colon\r\n\r\n", 400, "NAME: VALUE"},
+      {"GET /v1/info?params=" + std::string(9000, 'a') + " HTTP/1.1\r\nHost: x\r\n\r\n", 414,
+       "\"limit\":8190"},
+      {"POST /v1/deform HTTP/1.1\r\nHost: x\r\nX-Surfdeform-Params: " + std::string(9000, 'p') +
+           "\r\nContent-Length: 0\r\n\r\n",
+       431, "\"field\":\"X-Surfdeform-Params\""},
+      {many + "X-One-Too-Many: 1\r\n\r\n", 431, "\"actual\":102"},
+  };
+  for (const Case& k : cases) {
+    SCOPED_TRACE(k.head.substr(0, 60));
+    const auto t0 = std::chrono::steady_clock::now();
+    RawReply reply = Raw(port(), k.head + hidden);
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, 2s);  // not the 10 s head timeout
+    EXPECT_TRUE(reply.closed);
+    EXPECT_EQ(CountResponses(reply.bytes), 1) << reply.bytes;
+    EXPECT_EQ(reply.bytes.rfind("HTTP/1.1 " + std::to_string(k.status), 0), 0u) << reply.bytes;
+    EXPECT_NE(reply.bytes.find("application/problem+json"), std::string::npos) << reply.bytes;
+    EXPECT_NE(reply.bytes.find(k.says), std::string::npos) << reply.bytes;
+  }
+  // 100 fields of the client's own (httplib adds four) are served.
+  RawReply full = Raw(port(), many + "Connection: close\r\n\r\n");
+  EXPECT_EQ(full.bytes.rfind("HTTP/1.1 431", 0), 0u) << full.bytes.substr(0, 200);  // 101 fields
+  std::string hundred = "GET /healthz HTTP/1.1\r\nConnection: close\r\n";
+  for (int k = 0; k < 99; ++k) hundred += "X-H" + std::to_string(k) + ": 1\r\n";
+  RawReply served = Raw(port(), hundred + "\r\n");
+  EXPECT_EQ(served.bytes.rfind("HTTP/1.1 200", 0), 0u) << served.bytes.substr(0, 200);
+  // An absolute-form target (RFC 9112 section 3.2.2) names the same resource.
+  RawReply absolute = Raw(port(),
+                          "GET http://example.org:8080/healthz HTTP/1.1\r\nHost: x\r\nConnection: "
+                          "close\r\n\r\n");
+  EXPECT_EQ(absolute.bytes.rfind("HTTP/1.1 200", 0), 0u) << absolute.bytes;
+  // Pipelined behind a good request, a bad one is refused by httplib's own
+  // parser (the gate saw only the first head): the connection ends there too.
+  RawReply pipelined = Raw(port(), hidden + "XYZ / HTTP/1.1\r\nHost: x\r\n\r\n" + hidden);
+  EXPECT_TRUE(pipelined.closed);
+  EXPECT_EQ(CountResponses(pipelined.bytes), 2) << pipelined.bytes;
+  EXPECT_NE(pipelined.bytes.find("HTTP/1.1 400"), std::string::npos) << pipelined.bytes;
+  EXPECT_NE(pipelined.bytes.find("application/problem+json"), std::string::npos);
+  // Malformed multipart: problem+json that says what a form needs.
+  const std::string form = "--b\r\nContent-Disposition: form-data\r\n\r\nx\r\n--c--\r\n";
+  RawReply multipart =
+      Raw(port(),
+          "POST /v1/deform HTTP/1.1\r\nHost: x\r\nContent-Type: multipart/form-data; "
+          "boundary=b\r\nContent-Length: " +
+              std::to_string(form.size()) + "\r\n\r\n" + form + hidden);
+  EXPECT_EQ(multipart.bytes.rfind("HTTP/1.1 400", 0), 0u) << multipart.bytes;
+  EXPECT_NE(multipart.bytes.find("multipart/form-data body could not be parsed"), std::string::npos)
+      << multipart.bytes;
+  EXPECT_EQ(CountResponses(multipart.bytes), 1) << multipart.bytes;
+  // The limits are published.
+  auto info = Client().Get("/v1/info");
+  ASSERT_TRUE(info);
+  const json limits = json::parse(info->body)["limits"];
+  EXPECT_EQ(limits.value("max_request_line_bytes", 0), 8190);
+  EXPECT_EQ(limits.value("max_header_line_bytes", 0), 8190);
+  EXPECT_EQ(limits.value("max_header_fields", 0), 100);
+}
+
+// Issue 34, item 2: a mesh whose every triangle is degenerate (two corners on
+// one vertex) is valid input: every output format answers 200, Draco's
+// included (its edgebreaker coding refuses such connectivity).
+TEST_F(ServerTest, DegenerateTrianglesAreServedInEveryFormat) {
+  auto c = Client();
+  const std::string mesh = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\nf 2 2 3\n";
+  for (const char* format : {"drc", "glb", "glb_plain", "obj", "ply"}) {
+    auto r = c.Post(
+        "/v1/deform",
+        Multipart(mesh, DeformParams(std::string(R"(,"output":{"format":")") + format + R"("})")));
+    ASSERT_TRUE(r) << format;
+    EXPECT_EQ(r->status, 200) << format << ": " << r->body;
+  }
+}
+
+// Issue 34, item 3: every number the service writes is finite, or the
+// request is refused with a 422 that names the field.
+TEST_F(ServerTest, NothingNonFiniteIsWritten) {
+  auto c = Client();
+  const std::string wave =
+      R"({"kind":"wave","length":4,"width":1.5,"amplitude":0.25,"wavelength":2})";
+  auto animate = [&](const std::string& animation) {
+    return c.Post(
+        "/v1/animate",
+        Multipart(PlateObj(), R"({"animation":)" + animation +
+                                  R"(,"sampling":{"nu":8,"nv":8},"placement":{"scale":"fit"}})"));
+  };
+  // A frame every 1e300 seconds: its times would be infinite in the GLB.
+  json p = Problem(
+      animate(R"({"keyframes":[{"time":0,"surface":)" + wave + R"(}],"frames":3,"fps":1e-300})"),
+      422);
+  EXPECT_EQ(p.value("field", ""), "animation.fps") << p;
+  EXPECT_NE(p.value("detail", "").find("0.001"), std::string::npos) << p;
+  // Key times whose span overflows.
+  p = Problem(animate(R"({"keyframes":[{"time":-1e308,"surface":)" + wave +
+                      R"(},{"time":1e308,"surface":)" + wave + R"(}],"frames":3})"),
+              422);
+  EXPECT_EQ(p.value("field", ""), "animation.keyframes[0].time") << p;
+  // A surface point whose distance to the surface overflows: refused, never
+  // "distance": null.
+  auto made = c.Post("/v1/surfaces", SurfaceBody(), "application/json");
+  ASSERT_TRUE(made);
+  const std::string id = json::parse(made->body).value("id", "");
+  auto mapped = c.Post("/v1/surfaces/" + id + "/map", R"({"surface_points":[[1e308,0,0]]})",
+                       "application/json");
+  ASSERT_TRUE(mapped);
+  EXPECT_EQ(mapped->body.find("null"), std::string::npos) << mapped->body;
+  Problem(mapped, 422);
+}
+
 // A glTF document with one triangle whose buffer is at `uri`.
 std::string Gltf(const std::string& uri, const std::string& accessor_extra = "",
                  const std::string& extras = "") {
@@ -607,7 +737,9 @@ TEST_F(ServerTest, MetricsCountRequestsAndTheCache) {
         "surfdeform_http_requests_in_flight", "surfdeform_cache_hits_total",
         "surfdeform_cache_misses_total", "surfdeform_cache_evictions_total",
         "surfdeform_cache_bytes", "surfdeform_cache_entries",
-        "surfdeform_http_response_bytes_total"}) {
+        "surfdeform_http_response_bytes_total",
+        "surfdeform_http_request_cpu_seconds_sum{outcome=\"served\"}",
+        "surfdeform_http_request_cpu_seconds_count{outcome=\"served\"}"}) {
     EXPECT_NE(r->body.find(name), std::string::npos) << name;
   }
 }
@@ -779,6 +911,11 @@ TEST(ServerConcurrency, PastTheQueueADeformationIsRefusedAndItsBodyDropped) {
       auto m = c.Get("/metrics");
       EXPECT_TRUE(m && m->body.find("surfdeform_http_rejected_total{reason=\"overload\"} 2") !=
                            std::string::npos);
+      // Both refusals are counted with their workers' CPU time.
+      EXPECT_TRUE(m &&
+                  m->body.find("surfdeform_http_request_cpu_seconds_count{outcome=\"refused\"} "
+                               "2") != std::string::npos)
+          << (m ? m->body : "");
     } else {
       EXPECT_EQ(r->status, 200) << r->body;  // it waited for the slot
       EXPECT_NE(holder.status(), 0);         // which came free when the slow one ended

@@ -37,6 +37,28 @@ TEST(FirstNonFinite, FindsTheFirstVectorWithANonFiniteComponent) {
   EXPECT_EQ(FirstNonFinite(colors), 0);
 }
 
+TEST(FirstBeyondFloat, FindsTheFirstVectorAFloatCannotHold) {
+  std::vector<Vec3> v(1000, Vec3(1.0, -2.0, 3.0));
+  v[10] = Vec3(1e38, -1e38, std::numeric_limits<double>::denorm_min());  // a float holds these
+  EXPECT_EQ(FirstBeyondFloat(v), -1);
+  v[500].y() = -2e38;  // 2^127 is 1.7e38
+  v[800].x() = 1e300;
+  EXPECT_EQ(FirstBeyondFloat(v), 500);
+  EXPECT_EQ(FirstNonFinite(v), -1);
+  v[500].y() = 0.0;
+  EXPECT_EQ(FirstBeyondFloat(v), 800);
+  v[800].x() = kNaN;
+  EXPECT_EQ(FirstBeyondFloat(v), 800);
+  // Every output format writes float32: a double past its range is refused.
+  Mesh m = testing::ThinPlate(1.0, 1.0, 0.1);
+  m.positions[3].z() = 1e300;
+  for (MeshFormat f : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kDraco, MeshFormat::kGlb}) {
+    auto r = ExportMesh(m, f);
+    EXPECT_EQ(r.status().code(), ErrorCode::kInvalidArgument) << MeshFormatName(f);
+    EXPECT_NE(r.status().message().find("float32"), std::string::npos) << r.status().message();
+  }
+}
+
 TEST(CheckMesh, NamesTheFirstTriangleWithAnIndexOutOfRange) {
   Mesh m = testing::ThinPlate(1.0, 1.0, 0.1);  // 8 vertices
   ASSERT_EQ(m.positions.size(), 8u);
