@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
+#include <vector>
 
 namespace surfdeform::proto {
 namespace {
@@ -57,8 +59,44 @@ Result<nlohmann::json> ParseRequestJson(std::string_view text, int max_depth,
                      what)
         .WithLimit(max_depth, depth);
   }
+  // A key given twice in one object is refused rather than resolved (the
+  // last one would win silently): the open objects' keys so far, and the
+  // path to the first duplicate.
+  struct Open {
+    std::set<std::string> keys;
+    std::string path;
+  };
+  std::vector<Open> open;
+  std::string last_key, duplicate;
+  using Event = nlohmann::json::parse_event_t;
+  auto callback = [&](int, Event event, nlohmann::json& parsed) {
+    if (!duplicate.empty()) return true;
+    switch (event) {
+      case Event::object_start:
+        open.push_back({{}, open.empty() ? std::string() : JoinPath(open.back().path, last_key)});
+        break;
+      case Event::object_end:
+        if (!open.empty()) open.pop_back();
+        break;
+      case Event::key:
+        last_key = parsed.get<std::string>();
+        if (!open.empty() && !open.back().keys.insert(last_key).second) {
+          duplicate = JoinPath(open.back().path, last_key);
+        }
+        break;
+      default:
+        break;
+    }
+    return true;
+  };
   try {
-    return nlohmann::json::parse(text);
+    nlohmann::json parsed = nlohmann::json::parse(text, callback);
+    if (!duplicate.empty()) {
+      return Malformed(
+          what + " gives the key \"" + duplicate.substr(0, 80) + "\" twice; give each key once",
+          JoinPath(what, duplicate));
+    }
+    return parsed;
   } catch (const nlohmann::json::parse_error& e) {
     return Malformed(
         what + " is not valid JSON (syntax error at byte " + std::to_string(e.byte) + ")", what);

@@ -6,9 +6,11 @@
 #include <string>
 #include <variant>
 
+#include "base/format.hpp"
 #include "engine/analytic_surfaces.hpp"
 #include "engine/bspline_basis.hpp"
 #include "engine/spline_surface.hpp"
+#include "engine/surface_fields.hpp"
 #include "engine/surface_spec.hpp"
 
 namespace surfdeform {
@@ -333,6 +335,18 @@ SurfaceKind KindOf(const SurfaceSpec& spec) {
 }
 
 Result<std::unique_ptr<Surface>> MakeSurface(const SurfaceSpec& spec) {
+  // Sizes past kMaxSurfaceNumber overflow the derivatives' products (the
+  // normal is Su x Sv): refused as what they are, not as a vanishing normal.
+  Status bounded = Status::Ok();
+  WalkNumbers(spec, [&](const auto& name, const double& v) {
+    if (bounded.ok() && std::isfinite(v) && std::abs(v) > kMaxSurfaceNumber) {
+      bounded = InvalidArgument(Format("must be within +-%g (larger sizes overflow the "
+                                       "surface's derivatives), got %g",
+                                       kMaxSurfaceNumber, v),
+                                name());
+    }
+  });
+  SURFDEFORM_RETURN_IF_ERROR(bounded);
   return std::visit([](const auto& s) { return Build(s); }, spec);
 }
 

@@ -147,9 +147,15 @@ inline std::string_view KindName(SurfaceKind kind) {
   return NameOf<SurfaceKind>(kSurfaceKinds, kind);
 }
 
+// The largest magnitude of any number of a surface description (sizes,
+// coordinates, knots, angles, times): past it the products in the surface's
+// derivatives and normals overflow double precision.
+inline constexpr double kMaxSurfaceNumber = 1e15;
+
 // Validates the spec and builds the surface. Errors: kInvalidArgument for bad
-// numbers and counts, kDegenerate for a surface that cannot have a normal
-// (zero radius, collapsed control grid, parallel frame axes).
+// numbers and counts (any number past kMaxSurfaceNumber among them),
+// kDegenerate for a surface that cannot have a normal (zero radius,
+// collapsed control grid, parallel frame axes).
 Result<std::unique_ptr<Surface>> MakeSurface(const SurfaceSpec& spec);
 
 }  // namespace surfdeform

@@ -577,6 +577,23 @@ struct HttpServer::Impl {
     DeformRequest d;
     d.accept = req.get_header_value("Accept");
     std::string params;
+    // The parameters come from one place, once: a second copy would be
+    // ignored without a word.
+    const size_t in_query = req.get_param_value_count("params");
+    const size_t in_header = req.get_header_value_count("X-Surfdeform-Params");
+    const size_t in_form = req.is_multipart_form_data() ? body.parts.count("params") : 0;
+    if (in_query + in_header + in_form > 1) {
+      return Fail(
+          req, res,
+          Status(ErrorCode::kMalformed,
+                 "the parameters are given " + std::to_string(in_query + in_header + in_form) +
+                     " times (query: " + std::to_string(in_query) +
+                     ", X-Surfdeform-Params "
+                     "header: " +
+                     std::to_string(in_header) + ", form part: " + std::to_string(in_form) +
+                     "); give them once",
+                 "params"));
+    }
     if (req.is_multipart_form_data()) {
       if (body.parts.count("mesh") == 0) {
         return Fail(req, res,
@@ -585,7 +602,7 @@ struct HttpServer::Impl {
                            "\"params\" part (JSON)",
                            "mesh"));
       }
-      if (body.parts.count("mesh") > 1 || body.parts.count("params") > 1) {
+      if (body.parts.count("mesh") > 1) {
         return Fail(req, res,
                     Status(ErrorCode::kMalformed, "give one \"mesh\" part and one \"params\" part",
                            "mesh"));

@@ -13,6 +13,7 @@
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
 #include "meshio/gltf_look.hpp"
+#include "meshio/gltf_schema.hpp"
 #include "meshio/importers.hpp"
 #include "meshio/json_depth.hpp"
 
@@ -443,12 +444,18 @@ Status AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& 
 // before our limits are checked) rejects the indices accessor of a
 // KHR_draco_mesh_compression primitive, which has no buffer view by the
 // extension's rules. The Draco data carries the faces, so `indices` is
-// dropped from those primitives before tinygltf parses the JSON. Returns the
-// JSON text to parse (unchanged when there is nothing to drop).
-Result<std::string> DropDracoIndices(std::string_view json) {
+// dropped from those primitives before tinygltf parses the JSON. On the same
+// parse, the schema's rules for accessors, views and buffers are checked
+// (gltf_schema.hpp). Returns the JSON text to parse (unchanged when there is
+// nothing to drop).
+Result<std::string> CheckedGltfJson(std::string_view json) {
   nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
   if (doc.is_discarded() || !doc.is_object()) {
     return GltfError("not a valid glTF 2.0 JSON document");
+  }
+  std::string field;
+  if (std::string problem = FirstGltfSchemaProblem(doc, &field); !problem.empty()) {
+    return InvalidArgument("glTF: " + problem, "mesh." + field);
   }
   bool changed = false;
   if (doc.contains("meshes") && doc["meshes"].is_array()) {
@@ -509,7 +516,7 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
                            "mesh")
         .WithLimit(limits.max_json_depth, depth);
   }
-  SURFDEFORM_ASSIGN_OR_RETURN(auto patched, DropDracoIndices(json));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto patched, CheckedGltfJson(json));
   std::string rebuilt;
   if (patched.size() != json.size() || patched != json) {
     rebuilt = binary ? RebuildGlb(bytes, json, std::move(patched)) : std::move(patched);

@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <optional>
 
+#include "base/format.hpp"
 #include "meshio/importers.hpp"
 #include "meshio/text_reader.hpp"
 
@@ -429,10 +431,9 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
         if (p.is_list) {
           double count;
           if (!body.Read(p.count_type, &count)) return PlyError("the file ends inside " + e.name);
-          if (!(count >= 0) || count > kMaxPolygon) {
-            return PlyError(e.name + " " + std::to_string(r) + " has a list of " +
-                            std::to_string(count) + " items (at most " +
-                            std::to_string(kMaxPolygon) + ")");
+          if (!(count >= 0) || count > kMaxPolygon || count != std::floor(count)) {
+            return PlyError(Format("%s %zu has a list of %.17g items (a whole number, at most %d)",
+                                   e.name.c_str(), r, count, static_cast<int>(kMaxPolygon)));
           }
           uint32_t poly[kMaxPolygon];
           const size_t n = static_cast<size_t>(count);

@@ -650,6 +650,44 @@ TEST_F(ServerTest, NothingNonFiniteIsWritten) {
   Problem(mapped, 422);
 }
 
+// Issue 34, item 8: what could be read two ways is refused, not resolved in
+// silence: a key given twice, parameters given in two places or twice.
+TEST_F(ServerTest, AmbiguousParametersAreRefused) {
+  auto c = Client();
+  json p =
+      Problem(c.Post("/v1/surfaces", R"({"surface":{"kind":"cylinder","radius":1,"radius":2}})",
+                     "application/json"),
+              400);
+  EXPECT_EQ(p.value("field", ""), "body.surface.radius") << p;
+  EXPECT_NE(p.value("detail", "").find("twice"), std::string::npos) << p;
+  const std::string params = DeformParams();
+  auto encoded = [](const std::string& text) {
+    std::string out;
+    for (unsigned char ch : text) {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "%%%02X", ch);
+      out += std::isalnum(ch) ? std::string(1, static_cast<char>(ch)) : std::string(hex);
+    }
+    return out;
+  };
+  const std::string query = "/v1/deform?params=" + encoded(params);
+  p = Problem(c.Post(query.c_str(), {{"X-Surfdeform-Params", params}}, PlateObj(),
+                     "application/octet-stream"),
+              400);
+  EXPECT_EQ(p.value("field", ""), "params") << p;
+  p = Problem(
+      c.Post((query + "&params=" + encoded(DeformParams(R"(,"output":{"format":"obj"})"))).c_str(),
+             PlateObj(), "application/octet-stream"),
+      400);
+  EXPECT_NE(p.value("detail", "").find("2 times"), std::string::npos) << p;
+  p = Problem(c.Post(query.c_str(), Multipart(PlateObj(), params)), 400);
+  EXPECT_NE(p.value("detail", "").find("form part: 1"), std::string::npos) << p;
+  // Once is fine, from each place.
+  auto once = c.Post(query.c_str(), PlateObj(), "application/octet-stream");
+  ASSERT_TRUE(once);
+  EXPECT_EQ(once->status, 200) << once->body;
+}
+
 // A glTF document with one triangle whose buffer is at `uri`.
 std::string Gltf(const std::string& uri, const std::string& accessor_extra = "",
                  const std::string& extras = "") {

@@ -197,5 +197,20 @@ TEST(ApiJson, IdsAreContentHashes) {
   EXPECT_FALSE(IsSurfaceIdShaped("../../etc/passwd"));
 }
 
+// A key given twice in one object is refused, wherever it is; the same key
+// in two objects is not a duplicate.
+TEST(ApiJson, DuplicateKeysAreRefusedWithTheirPath) {
+  auto j = ParseRequestJson(R"({"surface":{"kind":"cone","radius_top":1,"radius_top":2}})", 32,
+                            "params");
+  ASSERT_FALSE(j.ok());
+  EXPECT_EQ(j.status().code(), ErrorCode::kMalformed);
+  EXPECT_EQ(j.status().field(), "params.surface.radius_top");
+  j = ParseRequestJson(R"({"a":1,"b":{"a":1},"c":[{"a":1},{"a":2}],"d":2})", 32, "params");
+  EXPECT_TRUE(j.ok()) << j.status().ToString();
+  j = ParseRequestJson(R"({"a":1,"b":{"x":1},"a":2})", 32, "params");
+  ASSERT_FALSE(j.ok());
+  EXPECT_EQ(j.status().field(), "params.a");
+}
+
 }  // namespace
 }  // namespace surfdeform::proto

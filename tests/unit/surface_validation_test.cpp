@@ -147,6 +147,22 @@ std::vector<BadSpec> Cases() {
     g.points.assign(8, Vec3(1, 0, 0));
     c.push_back({"GridCount", g, ErrorCode::kInvalidArgument, "points", "9 points expected"});
   }
+  // Huge finite sizes overflow the derivatives: refused as too large, never
+  // blamed on a vanishing normal (issue 34, item 6).
+  c.push_back({"HugeRadius", CylinderSpec{1e300, 1.0, 90.0, {}}, ErrorCode::kInvalidArgument,
+               "radius", "within +-1e+15"});
+  {
+    BezierSpec b = Bicubic();
+    b.control_points[5].z() = -2e15;
+    c.push_back(
+        {"HugeControlPoint", b, ErrorCode::kInvalidArgument, "control_points[5][2]", "got -2e+15"});
+  }
+  {
+    Frame f;
+    f.origin = Vec3(1e16, 0, 0);
+    c.push_back({"HugeOrigin", TorusSpec{2.0, 0.5, 0, 90, 0, 90, f}, ErrorCode::kInvalidArgument,
+                 "frame.origin[0]", "within"});
+  }
   return c;
 }
 
