@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   size_t cache_mib = limits.cache_bytes >> 20;
   size_t body_mib = limits.max_body_bytes >> 20;
   size_t footprint_mib = limits.footprint_memo_bytes >> 20;
+  size_t request_memory_mib = limits.request_memory_bytes >> 20;
 
   CLI::App app{
       "surfdeform-server: deforms 3D meshes along parametric surfaces over HTTP.\n"
@@ -92,6 +93,12 @@ int main(int argc, char** argv) {
                  "Largest deformed mesh after subdivision, triangles (over it: 413)")
       ->envname("SURFDEFORM_MAX_OUTPUT_TRIANGLES")
       ->check(CLI::Range(1, 400'000'000))
+      ->capture_default_str();
+  app.add_option("--request-memory-mib", request_memory_mib,
+                 "Memory one request's work may take, MiB, estimated from its counts before "
+                 "the work (over it: 413 at once); it also caps the subdivision's output")
+      ->envname("SURFDEFORM_REQUEST_MEMORY_MIB")
+      ->check(CLI::Range(16, 1 << 20))
       ->capture_default_str();
   app.add_option("--max-json-depth", limits.max_json_depth, "Deepest request JSON nesting")
       ->envname("SURFDEFORM_MAX_JSON_DEPTH")
@@ -202,6 +209,7 @@ int main(int argc, char** argv) {
   limits.cache_bytes = cache_mib << 20;
   limits.max_body_bytes = body_mib << 20;
   limits.footprint_memo_bytes = footprint_mib << 20;
+  limits.request_memory_bytes = request_memory_mib << 20;
   http_options.log_level = ParseLogLevel(log_level);
 
   // Signals go to one waiting thread only (blocked everywhere else, inherited

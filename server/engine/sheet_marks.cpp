@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "base/format.hpp"
+
 namespace surfdeform {
 namespace {
 
@@ -42,8 +44,18 @@ SheetMark MarkAt(const SheetMap& map, const Vec2& ab) {
 Result<std::vector<std::vector<SheetMark>>> ResamplePolylines(
     const SheetMap& map, const std::vector<std::vector<Vec2>>& polylines,
     const PolylineOptions& o) {
-  const double tolerance =
-      o.tolerance > 0.0 ? o.tolerance : 1e-3 * map.locator().bounds().diagonal().norm();
+  const double diagonal = map.locator().bounds().diagonal().norm();
+  const double tolerance = o.tolerance > 0.0 ? o.tolerance : 1e-3 * diagonal;
+  const double finest = kFinestMarkShare * diagonal;
+  for (const auto& [value, field] :
+       {std::pair{o.tolerance, "tolerance"}, std::pair{o.max_segment, "max_segment"}}) {
+    if (value > 0.0 && value < finest) {
+      return InvalidArgument(Format("must be at least %g (1e-7 of the sheet's diagonal, finer "
+                                    "than the flattening keeps distances), got %g",
+                                    finest, value),
+                             field);
+    }
+  }
   for (size_t k = 0; k < polylines.size(); ++k) {
     const std::string field = "polylines[" + std::to_string(k) + "]";
     if (polylines[k].size() < 2)

@@ -24,10 +24,18 @@ struct SheetMark {
 // of its boundary (on_sheet false; `sheet` stays `ab`).
 SheetMark MarkAt(const SheetMap& map, const Vec2& ab);
 
+// The finest tolerance and segment a resampling takes, as a share of the
+// sheet's diagonal: the flattening keeps distances to about 1e-6, so finer
+// pieces only multiply points (to the output limit, from a request of a
+// few bytes).
+inline constexpr double kFinestMarkShare = 1e-7;
+
 struct PolylineOptions {
-  double max_segment = 0.0;     // > 0: no piece longer than this on the sheet
+  double max_segment = 0.0;     // > 0: no piece longer than this on the sheet (at least
+                                // kFinestMarkShare of its diagonal)
   double tolerance = 0.0;       // > 0: the largest distance of the image's chords from the
-                                // surface; 0 = 1e-3 of the sheet's diagonal
+                                // surface (at least kFinestMarkShare of the diagonal);
+                                // 0 = 1e-3 of the sheet's diagonal
   size_t max_points = 1000000;  // over all polylines of a call
 };
 
@@ -36,8 +44,9 @@ struct PolylineOptions {
 // max_segment long on the sheet and the straight chord between the images of
 // its ends stays within the tolerance of the image of the piece (tested at
 // a quarter, half and three quarters). The given vertices are kept.
-// kLimitExceeded past max_points; kInvalidArgument for a non-finite point or
-// a polyline of fewer than two points.
+// kLimitExceeded past max_points; kInvalidArgument for a non-finite point,
+// a polyline of fewer than two points, or a tolerance or max_segment under
+// kFinestMarkShare of the sheet's diagonal.
 Result<std::vector<std::vector<SheetMark>>> ResamplePolylines(
     const SheetMap& map, const std::vector<std::vector<Vec2>>& polylines,
     const PolylineOptions& options);

@@ -7,6 +7,7 @@
 #include "engine/elapsed.hpp"
 #include "engine/subdivision/assembly.hpp"
 #include "engine/subdivision/screen.hpp"
+#include "engine/subdivision/work_estimate.hpp"
 
 namespace surfdeform {
 namespace {
@@ -46,7 +47,12 @@ Result<SubdivisionResult> Run(const Context& ctx, InputPositions want) {
     return r;
   }
   // Each stage is bounded by the input's size; the refinement, by the output
-  // limits and the time budget.
+  // limits and the time budget; and a request whose least work passes the
+  // output limit is refused before any of it.
+  if (const WorkEstimate least = EstimateWork(ctx, located, estimates);
+      !(least.total() <= static_cast<double>(ctx.options.max_vertices))) {
+    return Budget::OverLimitError(ctx.options.max_vertices, least);
+  }
   if (budget.OutOfTime()) return budget.TimeUp();
   const EdgeGraph graph = BuildEdgeGraph(ctx.mesh);
   if (budget.OutOfTime()) return budget.TimeUp();

@@ -453,9 +453,9 @@ Result<std::string> CheckedGltfJson(std::string_view json) {
   if (doc.is_discarded() || !doc.is_object()) {
     return GltfError("not a valid glTF 2.0 JSON document");
   }
-  std::string field;
+  std::string field;  // named in the message: errors in a mesh are the field "mesh"
   if (std::string problem = FirstGltfSchemaProblem(doc, &field); !problem.empty()) {
-    return InvalidArgument("glTF: " + problem, "mesh." + field);
+    return GltfError(problem);
   }
   bool changed = false;
   if (doc.contains("meshes") && doc["meshes"].is_array()) {

@@ -61,6 +61,7 @@ std::string CheckOneOf(const json& object, const std::string& path, const char* 
   return *field + " must be one of " + list + ", got " + Shown(*it);
 }
 
+// Past these the published limits answer (413 with the limit), not the schema.
 constexpr int64_t kMaxIndex = INT32_MAX;
 constexpr int64_t kMaxBytes = INT64_MAX / 2;
 
@@ -87,7 +88,7 @@ std::string FirstGltfSchemaProblem(const json& doc, std::string* field) {
   };
   std::string problem = each("accessors", [&](const json& a, const std::string& path) {
     for (const IntegerRule& rule :
-         {IntegerRule{"count", true, 1, kMaxIndex}, IntegerRule{"bufferView", false, 0, kMaxIndex},
+         {IntegerRule{"count", true, 1, kMaxBytes}, IntegerRule{"bufferView", false, 0, kMaxIndex},
           IntegerRule{"byteOffset", false, 0, kMaxBytes}}) {
       if (std::string p = CheckInteger(a, path, rule, field); !p.empty()) return p;
     }

@@ -23,6 +23,7 @@
 #include "proto/map_api.hpp"
 #include "service/admission.hpp"
 #include "service/flat_sheet_svg.hpp"
+#include "service/memory_budget.hpp"
 #include "service/output_negotiation.hpp"
 #include "service/placement_memo.hpp"
 #include "service/sheet_codec.hpp"
@@ -160,7 +161,7 @@ json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, boo
                   {"parts", st.rigid.parts},
                   {"max_lift", st.rigid.max_lift},
                   {"max_sink", st.rigid.max_sink},
-                  {"each", std::move(each)}};  // the first 1000 parts
+                  {"each", std::move(each)}};  // the first 1000 parts (StatsHeader cuts more)
   }
   if (st.distortion.computed) {
     j["distortion"] = {
@@ -222,6 +223,44 @@ Result<std::string> DumpFinite(const json& j, const char* what) {
                 at);
 }
 
+// The X-Surfdeform-Stats header's JSON. Header lines have limits on the
+// way: cpp-httplib's clients (the CLI) read at most 8 KB a line, and nginx
+// fails a response whose headers outgrow proxy_buffer_size (4 KB by
+// default) with 502. The per-item lists ("each": a rigid model's parts, an
+// animation's frames) are cut to their first items until the text fits
+// kMaxStatsHeaderBytes; "each_omitted" beside a list counts what was cut.
+constexpr size_t kMaxStatsHeaderBytes = 2048;
+
+void CollectLists(json& j, std::vector<json*>* lists) {
+  if (j.is_object()) {
+    for (auto& [key, value] : j.items()) {
+      if (key == "each" && value.is_array()) lists->push_back(&j);
+      CollectLists(value, lists);
+    }
+  } else if (j.is_array()) {
+    for (json& item : j) CollectLists(item, lists);
+  }
+}
+
+Result<std::string> StatsHeader(json stats) {
+  SURFDEFORM_ASSIGN_OR_RETURN(std::string text, DumpFinite(stats, "statistics"));
+  std::vector<json*> owners;  // objects that hold an "each" list
+  CollectLists(stats, &owners);
+  while (text.size() > kMaxStatsHeaderBytes) {
+    json* longest = nullptr;
+    for (json* o : owners) {
+      if (longest == nullptr || (*o)["each"].size() > (*longest)["each"].size()) longest = o;
+    }
+    if (longest == nullptr || (*longest)["each"].empty()) break;
+    json& each = (*longest)["each"];
+    const size_t cut = (each.size() + 1) / 2;
+    each.erase(each.end() - static_cast<long>(cut), each.end());
+    (*longest)["each_omitted"] = longest->value("each_omitted", size_t{0}) + cut;
+    text = Dump(stats);
+  }
+  return text;
+}
+
 // A deformed mesh encoded as asked, and the reply around it: `timings` gain
 // the encoding's.
 Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
@@ -241,7 +280,7 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   reply.body = std::move(bytes);
   reply.content_type = proto::OutputMediaType(format);
   reply.timings = std::move(timings);
-  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, DumpFinite(stats, "statistics"));
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, StatsHeader(stats));
   reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
 }
@@ -281,7 +320,10 @@ struct Service::Impl {
               " samples per side",
           s.nu >= s.nv ? "sampling.nu" : "sampling.nv", options.limits.max_grid_side, side);
     }
-    return Status::Ok();
+    return CheckMemory(
+        kSheetBytesPerSample * s.nu * s.nv, options.limits.request_memory_bytes,
+        "flattening a " + std::to_string(s.nu) + " x " + std::to_string(s.nv) + " grid",
+        "sampling");
   }
 
   // The flattened surface for `request`, from the cache or flattened now. With
@@ -479,10 +521,17 @@ struct Service::Impl {
     SURFDEFORM_RETURN_IF_ERROR(CheckGrid(request.sampling));
     const int frames = request.animation.frames;
     const int limit = options.limits.max_animation_frames;
-    if (frames <= limit) return Status::Ok();
-    return Status::LimitExceeded("this server animates at most " + std::to_string(limit) +
-                                     " frames, asked for " + std::to_string(frames),
-                                 "animation.frames", limit, frames);
+    if (frames > limit) {
+      return Status::LimitExceeded("this server animates at most " + std::to_string(limit) +
+                                       " frames, asked for " + std::to_string(frames),
+                                   "animation.frames", limit, frames);
+    }
+    const SamplingOptions& s = request.sampling;
+    return CheckMemory(kAnimationBytesPerFrameSample * frames * s.nu * s.nv,
+                       options.limits.request_memory_bytes,
+                       "flattening " + std::to_string(frames) + " frames of " +
+                           std::to_string(s.nu) + " x " + std::to_string(s.nv),
+                       "animation.frames");
   }
 
   // The sheets of an animation, from the cache or flattened now (within the
@@ -549,7 +598,9 @@ struct Service::Impl {
     for (const SheetMap& m : a.maps) maps.push_back(&m);
     placement.threads = threads;
     subdivision.threads = threads;
-    subdivision.max_vertices = options.limits.max_output_vertices;
+    subdivision.max_vertices =
+        CountWithin(options.limits.request_memory_bytes, kSubdivisionBytesPerVertex,
+                    options.limits.max_output_vertices);
     subdivision.max_triangles = options.limits.max_output_triangles;
     subdivision.time_budget_ms = clock.BudgetFor(options.limits.request_time_budget_ms);
     auto model = PrepareModel(maps, std::move(mesh), placement, subdivision);
@@ -704,7 +755,8 @@ Result<Reply> Service::MapOnSurface(std::string_view id, std::string_view body) 
       break;
     case proto::MapRequest::Kind::kPolylines: {
       PolylineOptions o = request.polyline;
-      o.max_points = kMaxMapOutputPoints;
+      o.max_points = CountWithin(impl_->options.limits.request_memory_bytes,
+                                 kMapBytesPerOutputPoint, kMaxMapOutputPoints);
       SURFDEFORM_ASSIGN_OR_RETURN(marks, ResamplePolylines(map, request.polylines, o));
       break;
     }
@@ -775,7 +827,8 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
       imported.format == MeshFormat::kGlb || imported.format == MeshFormat::kGltf;
   SubdivisionOptions subdivision = params.subdivision;
   subdivision.threads = threads;
-  subdivision.max_vertices = limits.max_output_vertices;
+  subdivision.max_vertices = CountWithin(limits.request_memory_bytes, kSubdivisionBytesPerVertex,
+                                         limits.max_output_vertices);
   subdivision.max_triangles = limits.max_output_triangles;
   subdivision.time_budget_ms = clock.BudgetFor(limits.request_time_budget_ms);
   DeformExtras extras;
@@ -952,43 +1005,44 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
                    {"subdivide", a.subdivide_ms},
                    {"deform", deform_ms},
                    {"encode", encode_ms}};
-  // The per-frame list can be long: the header keeps the first 100 frames.
-  json& each = stats["flatten"]["each"];
-  if (each.size() > 100) each.erase(each.begin() + 100, each.end());
-  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, DumpFinite(stats, "statistics"));
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, StatsHeader(std::move(stats)));
   reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
 }
 
 std::string Service::InfoJson() const {
   const ServiceLimits& l = impl_->options.limits;
-  json j = {{"name", "surfdeform"},
-            {"version", SURFDEFORM_VERSION},
-            {"limits",
-             {{"max_body_bytes", l.max_body_bytes},
-              {"max_vertices", l.max_vertices},
-              {"max_triangles", l.max_triangles},
-              {"max_grid_side", l.max_grid_side},
-              {"max_output_vertices", l.max_output_vertices},
-              {"max_output_triangles", l.max_output_triangles},
-              {"max_json_depth", l.max_json_depth},
-              {"max_in_flight", l.max_in_flight},
-              {"max_queued", l.max_queued},
-              {"queue_timeout_ms", l.queue_timeout_ms},
-              {"flatten_time_budget_ms", l.flatten_time_budget_ms},
-              {"request_time_budget_ms", l.request_time_budget_ms},
-              {"cache_bytes", l.cache_bytes},
-              {"max_map_points", kMapLimits.max_points},
-              {"max_map_surface_points", kMapLimits.max_surface_points},
-              {"max_map_output_points", kMaxMapOutputPoints},
-              {"max_animation_frames", l.max_animation_frames},
-              {"max_animation_frame_vertices", l.max_animation_frame_vertices},
-              {"max_animation_bytes", l.max_animation_bytes}}},
-            {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
-            {"output_formats", NamesOf<proto::OutputFormat>(proto::kOutputFormats)},
-            {"surface_kinds", NamesOf<proto::SurfaceKind>(proto::kSurfaceKinds)},
-            {"flatten_methods", NamesOf<FlattenMethod>(kFlattenMethods)},
-            {"subdivision_modes", NamesOf<SubdivisionMode>(kSubdivisionModes)}};
+  json j = {
+      {"name", "surfdeform"},
+      {"version", SURFDEFORM_VERSION},
+      {"limits",
+       {{"max_body_bytes", l.max_body_bytes},
+        {"max_vertices", l.max_vertices},
+        {"max_triangles", l.max_triangles},
+        {"max_grid_side", l.max_grid_side},
+        {"max_output_vertices",
+         CountWithin(l.request_memory_bytes, kSubdivisionBytesPerVertex, l.max_output_vertices)},
+        {"max_output_triangles", l.max_output_triangles},
+        {"max_json_depth", l.max_json_depth},
+        {"max_in_flight", l.max_in_flight},
+        {"max_queued", l.max_queued},
+        {"queue_timeout_ms", l.queue_timeout_ms},
+        {"flatten_time_budget_ms", l.flatten_time_budget_ms},
+        {"request_time_budget_ms", l.request_time_budget_ms},
+        {"cache_bytes", l.cache_bytes},
+        {"max_map_points", kMapLimits.max_points},
+        {"max_map_surface_points", kMapLimits.max_surface_points},
+        {"max_map_output_points",
+         CountWithin(l.request_memory_bytes, kMapBytesPerOutputPoint, kMaxMapOutputPoints)},
+        {"max_animation_frames", l.max_animation_frames},
+        {"max_animation_frame_vertices", l.max_animation_frame_vertices},
+        {"max_animation_bytes", l.max_animation_bytes},
+        {"request_memory_bytes", l.request_memory_bytes}}},
+      {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
+      {"output_formats", NamesOf<proto::OutputFormat>(proto::kOutputFormats)},
+      {"surface_kinds", NamesOf<proto::SurfaceKind>(proto::kSurfaceKinds)},
+      {"flatten_methods", NamesOf<FlattenMethod>(kFlattenMethods)},
+      {"subdivision_modes", NamesOf<SubdivisionMode>(kSubdivisionModes)}};
   // Every named choice of the request, by its field: {name, description}.
   json& enums = j["enums"];
   auto publish = [&enums](const char* field, const auto& table) {

@@ -47,6 +47,12 @@ struct ServiceLimits {
   int max_animation_frames = 600;
   size_t max_animation_frame_vertices = 8'000'000;
   size_t max_animation_bytes = 256u << 20;
+  // The memory one request may take for its work, estimated before the work
+  // from its counts (server/service/memory_budget.hpp): a request past it is
+  // refused (413) at once, and the subdivision's and the map's output limits
+  // shrink to fit it. With max_in_flight, it bounds the memory that work in
+  // flight takes, besides the caches.
+  size_t request_memory_bytes = 1u << 30;
 };
 
 struct ServiceOptions {

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "http/http_server.hpp"
+#include "http/request_guard.hpp"
 #include "service/service.hpp"
 
 namespace {
@@ -43,6 +44,12 @@ surfdeform::http::HttpServer& Server() {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  (void)Server().ServeBytes(std::string_view(reinterpret_cast<const char*>(data), size));
+  const std::string_view bytes(reinterpret_cast<const char*>(data), size);
+  // The connection gate's checks on the head as it arrives, and once whole.
+  (void)surfdeform::http::CheckHead(bytes, surfdeform::http::kHeadIncomplete);
+  if (const size_t end = bytes.find("\r\n\r\n"); end != std::string_view::npos) {
+    (void)surfdeform::http::CheckHead(bytes, end + 4);
+  }
+  (void)Server().ServeBytes(bytes);
   return 0;
 }

@@ -3,13 +3,16 @@
 # UndefinedBehaviorSanitizer) and runs them:
 #   import  mesh import (every format), then every writer on what it accepted
 #   params  request JSON into the request types
-#   http    whole connections into the HTTP layer: framing, multipart, routes
+#   http    whole connections into the HTTP layer: framing, multipart, routes,
+#           and the connection gate's head checks
+#   estimate  small deformation requests with extreme numbers: each answered
+#           within a time bound (the target aborts past it) and -rss_limit_mb
 # Each starts from its committed seeds (tests/fuzz/seeds/TARGET) and the
 # corpus it grew before, kept in BUILD/corpus/TARGET between runs.
 # Findings go to BUILD/crashes/TARGET-*; the run fails on one.
 #
 # Usage: tests/fuzz/run.sh [SECONDS] [TARGET...]
-#   SECONDS per target (default 60); targets default to all three.
+#   SECONDS per target (default 60); targets default to all four.
 #   FUZZ_RUNS=N instead runs N inputs per target from a fixed seed
 #   (deterministic on a fresh clone: what scripts/test.sh does).
 set -euo pipefail
@@ -20,7 +23,7 @@ if [[ ${1:-} =~ ^[0-9]+$ ]]; then
   shift
 fi
 targets=("$@")
-((${#targets[@]})) || targets=(import params http)
+((${#targets[@]})) || targets=(import params http estimate)
 # FUZZ_BUILD_DIR=DIR uses a build already configured with SURFDEFORM_FUZZ
 # (scripts/test.sh's build-san, which also holds the sanitized tests); by
 # default the fuzzers get a build of their own, build-fuzz.

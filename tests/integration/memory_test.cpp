@@ -12,8 +12,10 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "server_process.hpp"
 
@@ -130,6 +132,91 @@ TEST(BoundedMemory, ClaimsTheBodyCannotHoldCostNoMemory) {
   auto health = c.Get("/healthz");
   ASSERT_TRUE(health);
   EXPECT_EQ(health->status, 200);
+}
+
+// Issue 34, item 1: a request's cost is bounded by what it is, not by what
+// its numbers ask for. Requests of under 1 KiB whose numbers would have
+// taken minutes and gigabytes (a model laid across 1e30 units of the sheet
+// and clamped, a scale of 1e300, a tolerance of 1e-9 or 1e-300, a polyline
+// resampled to 1e-300) are answered within a second, at under 64 MiB above
+// the idle peak resident set, by estimates made before the work
+// (engine/subdivision/work_estimate.hpp, service/memory_budget.hpp).
+TEST(BoundedCost, SmallRequestsAreAnsweredWithinASecondInLittleMemory) {
+  ServerProcess server({"--log-level", "error"});  // the published default limits
+  ASSERT_GT(server.port(), 0);
+  const long idle = StatusKb(server.pid(), "VmHWM");
+  ASSERT_GT(idle, 0);
+  httplib::Client c("127.0.0.1", server.port());
+  c.set_read_timeout(120, 0);
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  const std::string far = "v 1e30 0 0\nv 0 1e30 0\nv -1e30 -1e30 0\nf 1 2 3\n";
+  std::string plate;  // the paper's plate, 1 x 0.5 x 0.05
+  for (int k = 0; k < 8; ++k) {
+    plate += std::string("v ") + ((k & 1) ? "0.5" : "-0.5") + ((k & 2) ? " 0.25" : " -0.25") +
+             ((k & 4) ? " 0.025\n" : " -0.025\n");
+  }
+  plate += "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  const std::string cylinder = R"("surface":{"kind":"cylinder"})";
+  const std::string wave =
+      R"({"kind":"wave","length":4,"width":1.5,"amplitude":0.25,"wavelength":2})";
+  struct Case {
+    std::string name, path, mesh, params;
+  };
+  const std::vector<Case> cases = {
+      {"1e30 units, clamped", "/v1/deform", far,
+       "{" + cylinder + R"(,"placement":{"outside":"clamp"}})"},
+      {"1e30 units, extrapolated", "/v1/deform", far,
+       "{" + cylinder + R"(,"placement":{"outside":"extrapolate"}})"},
+      {"scale 1e300, clamped", "/v1/deform", tri,
+       "{" + cylinder + R"(,"placement":{"scale":1e300,"outside":"clamp"}})"},
+      {"scale 1e6, uniform", "/v1/deform", tri,
+       "{" + cylinder +
+           R"(,"placement":{"scale":1e6,"outside":"extrapolate"},"subdivision":{"mode":"uniform"}})"},
+      {"tolerance 1e-9", "/v1/deform", plate,
+       "{" + cylinder + R"(,"placement":{"scale":"fit"},"subdivision":{"tolerance":1e-9}})"},
+      {"tolerance 1e-300", "/v1/deform", plate,
+       "{" + cylinder + R"(,"placement":{"scale":"fit"},"subdivision":{"tolerance":1e-300}})"},
+      {"epsilon 1e-300", "/v1/deform", plate,
+       "{" + cylinder + R"(,"placement":{"scale":"fit"},"subdivision":{"epsilon":1e-300}})"},
+      {"frames 1e9", "/v1/animate", tri,
+       R"({"animation":{"keyframes":[{"time":0,"surface":)" + wave +
+           R"(}],"frames":1e9},"placement":{"scale":"fit"}})"},
+      {"animation at tolerance 1e-9", "/v1/animate", plate,
+       R"({"animation":{"keyframes":[{"time":0,"surface":)" + wave +
+           R"(}],"frames":3},"placement":{"scale":"fit"},"subdivision":{"tolerance":1e-9}})"},
+      {"radius 1e300", "/v1/deform", tri, R"({"surface":{"kind":"cylinder","radius":1e300}})"},
+      {"fps 1e-300", "/v1/animate", tri,
+       R"({"animation":{"keyframes":[{"time":0,"surface":)" + wave +
+           R"(}],"frames":3,"fps":1e-300},"placement":{"scale":"fit"}})"},
+  };
+  auto run = [&](const std::string& name, const std::string& path, const std::string& body,
+                 const httplib::Headers& headers, const char* type) {
+    SCOPED_TRACE(name);
+    size_t bytes = path.size() + body.size();
+    for (const auto& [k, v] : headers) bytes += k.size() + v.size() + 4;
+    EXPECT_LT(bytes, 1024u);
+    const auto t0 = std::chrono::steady_clock::now();
+    auto r = c.Post(path, headers, body, type);
+    const auto spent = std::chrono::steady_clock::now() - t0;
+    ASSERT_TRUE(r);
+    EXPECT_LT(r->status, 500) << r->body;
+    EXPECT_LT(spent, 1s) << r->status << " " << r->body.substr(0, 200);
+  };
+  for (const Case& k : cases) {
+    run(k.name, k.path, k.mesh, {{"X-Surfdeform-Params", k.params}}, "application/octet-stream");
+  }
+  auto made = c.Post("/v1/surfaces", "{" + cylinder + R"(,"sampling":{"nu":16,"nv":16}})",
+                     "application/json");
+  ASSERT_TRUE(made);
+  const std::string id = nlohmann::json::parse(made->body).value("id", "");
+  for (const char* tolerance : {"1e-300", "1e-12"}) {
+    run(std::string("map tolerance ") + tolerance, "/v1/surfaces/" + id + "/map",
+        std::string(R"({"polylines":[[[0,0],[3,1]],[[0,0],[1e30,1e30]]],"tolerance":)") +
+            tolerance + "}",
+        {}, "application/json");
+  }
+  const long peak = StatusKb(server.pid(), "VmHWM");
+  EXPECT_LT(peak - idle, 64 * 1024) << "peak RSS grew from " << idle << " kB to " << peak << " kB";
 }
 
 }  // namespace

@@ -1,9 +1,12 @@
 #include "engine/subdivision/context.hpp"
 
+#include <algorithm>
 #include <string>
 
+#include "base/format.hpp"
 #include "engine/elapsed.hpp"
 #include "engine/parallel.hpp"
+#include "engine/subdivision/work_estimate.hpp"
 
 namespace surfdeform::subdivision {
 
@@ -43,9 +46,28 @@ Status Budget::TimeUp() const {
 Status Budget::OverLimitError(const char* what, size_t limit, size_t actual) {
   return Status::LimitExceeded(
       "the subdivision would produce more than " + std::to_string(limit) + " " + what +
-          " (the server's limit) at this tolerance; raise "
-          "subdivision.tolerance or epsilon, or use a coarser grid",
+          " (the server's limit) at this tolerance; raise subdivision.tolerance or epsilon, or "
+          "use a coarser grid",
       "subdivision.tolerance", static_cast<double>(limit), static_cast<double>(actual));
+}
+
+Status Budget::OverLimitError(size_t limit, const WorkEstimate& least) {
+  const double actual = std::min(least.total(), 1e300);
+  if (!(least.grid_points <= least.tolerance_points)) {  // the footprint's size (or not finite)
+    return Status::LimitExceeded(
+        Format("the model's footprint on the sheet (placed, before clamping) spans about %.3g "
+               "cells of the sheet's grid: refining it would add more than %zu vertices (the "
+               "server's limit); lay it on less of the sheet (placement.scale or \"fit\", "
+               "placement.center) or use subdivision mode \"off\"",
+               std::min(least.grid_points, 1e300), limit),
+        "placement", static_cast<double>(limit), actual);
+  }
+  return Status::LimitExceeded(
+      Format("meeting subdivision.tolerance %g on this surface's curvature would add at least "
+             "%.3g vertices (estimated before the work), more than the server's limit of %zu; "
+             "raise the tolerance or use subdivision mode \"off\"",
+             least.tolerance, least.tolerance_points, limit),
+      "subdivision.tolerance", static_cast<double>(limit), actual);
 }
 
 }  // namespace surfdeform::subdivision

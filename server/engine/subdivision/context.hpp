@@ -20,6 +20,8 @@
 
 namespace surfdeform::subdivision {
 
+struct WorkEstimate;  // work_estimate.hpp
+
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Shares of the tolerance: edges are refined until their measured deviation
@@ -98,6 +100,9 @@ class Budget {
   Status TimeUp() const;
   // kLimitExceeded for the size limits: `what` ("vertices", ...).
   static Status OverLimitError(const char* what, size_t limit, size_t actual);
+  // The same, known before the work (work_estimate.hpp): it names the
+  // footprint's size or the tolerance, whichever asks for more.
+  static Status OverLimitError(size_t limit, const WorkEstimate& least);
 
  private:
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();

@@ -155,6 +155,9 @@ FaceOutput RefineFace(const FaceStageInputs& in, FaceId fi, Budget* budget, int*
   }
   TriangleDeviation deviation(in.ctx, face.corner, *work, &out.tally);
   if (in.ctx.refine) RefineToTolerance(in.ctx, face, &*work, &deviation, budget, &out, hint);
+  // Past a budget the request fails: measuring what was refined so far (the
+  // whole face again, millions of triangles) would be work for nothing.
+  if (budget->OverLimit() || budget->OutOfTime()) return out;
   out.tally.max_dev = edge_dev;
   out.tally.max_estimate = edge_estimate;
   const auto& tris = work->tri.triangles();

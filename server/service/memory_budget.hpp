@@ -1,0 +1,36 @@
+// What a request's work takes in memory, estimated from its counts before
+// the work, against the per-request budget (ServiceLimits::
+// request_memory_bytes). The bytes per unit were measured with VmHWM on
+// single requests to a fresh Release server (BENCHMARKS.md, "Bounded cost
+// per request"), rounded up.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "base/status.hpp"
+
+namespace surfdeform {
+
+// A sampled and flattened grid, per sample (measured 2.1 KB at 128^2 and
+// 256^2, range 3).
+inline constexpr double kSheetBytesPerSample = 2560;
+// An animation's sheets and maps, per frame and sample (measured 430 B,
+// 600 frames of 32^2).
+inline constexpr double kAnimationBytesPerFrameSample = 512;
+// A subdivided, deformed and encoded mesh, per output vertex (measured
+// 216 B at 1M vertices, PLY out).
+inline constexpr double kSubdivisionBytesPerVertex = 256;
+// A resampled polyline's point: the marks and the JSON reply built from
+// them (measured 2.06 KB at 262k points; 170 B of it the reply's text).
+inline constexpr double kMapBytesPerOutputPoint = 2048;
+
+// kLimitExceeded naming `field` when `bytes` (the estimate for `what`) is
+// over `budget`.
+Status CheckMemory(double bytes, size_t budget, const std::string& what, const std::string& field);
+
+// The largest count of units of `bytes_per_unit` that fit `budget`, at most
+// `limit`.
+size_t CountWithin(size_t budget, double bytes_per_unit, size_t limit);
+
+}  // namespace surfdeform
