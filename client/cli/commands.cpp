@@ -50,6 +50,9 @@ bool ReadSurfaceRequest(const std::string& file, json* out, CliError* error) {
     return false;
   }
   *out = j.contains("surface") ? j : json{{"surface", j}};
+  // The sample surfaces (client/web/samples) say what they are in a
+  // "description", which is the file's, not the API's.
+  if ((*out)["surface"].is_object()) (*out)["surface"].erase("description");
   return true;
 }
 

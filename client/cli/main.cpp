@@ -95,9 +95,9 @@ int main(int argc, char** argv) {
   auto* deform = app.add_subcommand(
       "deform", "Deform one mesh; the output's extension (.drc .glb .obj .ply) picks its format");
   std::string mesh_path, out_path;
+  // Mesh files are checked when read: one that cannot be is exit code 4, not 1.
   deform->add_option("mesh", mesh_path, "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF)")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   deform->add_option("-o,--output", out_path, "Output file")->required();
   add_deform_options(deform);
 
@@ -124,8 +124,7 @@ int main(int argc, char** argv) {
   AnimateOptions a;
   std::string animate_mesh, animate_out;
   animate->add_option("mesh", animate_mesh, "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF)")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   animate->add_option("-o,--output", animate_out, "Output .glb");
   animate
       ->add_option("--surface", a.animation_file,
