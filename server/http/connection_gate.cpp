@@ -279,8 +279,7 @@ void ConnectionGate::Wait(int fd, int requests_left, bool kept_alive) {
     }
     // Past max_waiting the loop closes the longest waiting to make room;
     // past the margin it has not caught up with a burst.
-    if (!kept_alive &&
-        waiting_.size() + admitted_.size() >= options_.max_waiting + options_.max_waiting / 8) {
+    if (!kept_alive && waiting_.size() + admitted_.size() >= BurstLimit()) {
       ++stats_.refused_full;
       refuse = true;
     } else {
@@ -288,11 +287,11 @@ void ConnectionGate::Wait(int fd, int requests_left, bool kept_alive) {
     }
   }
   if (refuse) {
-    const size_t limit = options_.max_waiting + options_.max_waiting / 8;
-    Refuse(fd, 503,
-           Status(ErrorCode::kUnavailable,
-                  "too many connections are waiting to send their requests; retry later")
-               .WithLimit(static_cast<double>(limit), static_cast<double>(limit + 1)));
+    Refuse(
+        fd, 503,
+        Status(ErrorCode::kUnavailable,
+               "too many connections are waiting to send their requests; retry later")
+            .WithLimit(static_cast<double>(BurstLimit()), static_cast<double>(BurstLimit() + 1)));
     return;
   }
   const uint64_t one = 1;

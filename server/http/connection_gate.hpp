@@ -120,6 +120,9 @@ class ConnectionGate : public httplib::TaskQueue {
   void Loop();
   Verdict Inspect(int fd, size_t* seen, std::optional<Rejection>* rejection) const;
   void EvictLongestWaiting();  // while over max_waiting; on the loop's thread
+  // Connections waiting past which new ones are refused: max_waiting and a
+  // margin for a burst the loop has not evicted for yet.
+  size_t BurstLimit() const { return options_.max_waiting + options_.max_waiting / 8; }
   void Refuse(int fd, int http_status, const Status& status);
   void CheckDeadlines(std::chrono::steady_clock::time_point now);
   void ServeOnWorker(int fd, int requests_left);
