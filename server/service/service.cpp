@@ -195,16 +195,16 @@ std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_hand
 // The JSON path of the first number in `j` that is not finite ("" if none):
 // nlohmann writes such a number as null, which a client would read as
 // "absent" or choke on.
-std::string FirstNonFinite(const json& j, const std::string& path) {
+std::string FirstNonFiniteNumber(const json& j, const std::string& path) {
   if (j.is_number_float()) return std::isfinite(j.get<double>()) ? "" : path;
   if (j.is_object()) {
     for (const auto& [key, value] : j.items()) {
-      std::string found = FirstNonFinite(value, path.empty() ? key : path + "." + key);
+      std::string found = FirstNonFiniteNumber(value, path.empty() ? key : path + "." + key);
       if (!found.empty()) return found;
     }
   } else if (j.is_array()) {
     for (size_t k = 0; k < j.size(); ++k) {
-      std::string found = FirstNonFinite(j[k], path + "[" + std::to_string(k) + "]");
+      std::string found = FirstNonFiniteNumber(j[k], path + "[" + std::to_string(k) + "]");
       if (!found.empty()) return found;
     }
   }
@@ -214,7 +214,7 @@ std::string FirstNonFinite(const json& j, const std::string& path) {
 // A reply's JSON (a body or the stats header), refused where a number in it
 // is not finite: every number the service writes is finite.
 Result<std::string> DumpFinite(const json& j, const char* what) {
-  const std::string at = FirstNonFinite(j, "");
+  const std::string at = FirstNonFiniteNumber(j, "");
   if (at.empty()) return Dump(j);
   return Status(ErrorCode::kInvalidArgument,
                 std::string("the ") + what + "'s " + at +
@@ -231,11 +231,16 @@ Result<std::string> DumpFinite(const json& j, const char* what) {
 // kMaxStatsHeaderBytes; "each_omitted" beside a list counts what was cut.
 constexpr size_t kMaxStatsHeaderBytes = 2048;
 
+// The objects under `j` that hold an "each" list; not those inside such a
+// list, whose items the cut erases (a pointer to one would dangle).
 void CollectLists(json& j, std::vector<json*>* lists) {
   if (j.is_object()) {
     for (auto& [key, value] : j.items()) {
-      if (key == "each" && value.is_array()) lists->push_back(&j);
-      CollectLists(value, lists);
+      if (key == "each" && value.is_array()) {
+        lists->push_back(&j);
+      } else {
+        CollectLists(value, lists);
+      }
     }
   } else if (j.is_array()) {
     for (json& item : j) CollectLists(item, lists);
