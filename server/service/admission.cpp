@@ -103,4 +103,9 @@ AdmissionStats Admission::stats() const {
   return s;
 }
 
+int ThreadsFor(const Admission::Ticket& ticket, int engine_threads) {
+  const int t = ticket.threads();
+  return engine_threads > 0 ? std::min(engine_threads, t) : t;
+}
+
 }  // namespace surfdeform

@@ -7,7 +7,7 @@
 // retries at once makes the server spend its cores on refusals.
 //
 // A request that runs alone gets every core for its own data-parallel work;
-// under load each gets one (threads_for_request), so that requests do not
+// under load each gets one (Ticket::threads, ThreadsFor), so that requests do not
 // fight each other's helper threads for cores.
 #pragma once
 
@@ -92,5 +92,9 @@ class Admission {
   std::list<Waiter*> queue_;  // arrival order
   AdmissionStats stats_;
 };
+
+// Threads for a request's own parallel work: what its ticket allows (all
+// cores alone, one under load), at most `engine_threads` when that is set.
+int ThreadsFor(const Admission::Ticket& ticket, int engine_threads);
 
 }  // namespace surfdeform

@@ -87,4 +87,16 @@ Status AcceptGlbOnly(std::string_view accept) {
       "Accept");
 }
 
+Status CheckDistortionFormat(const proto::OutputOptions& o, proto::OutputFormat format) {
+  using F = proto::OutputFormat;
+  if (!o.distortion || format == F::kGlb || format == F::kGlbPlain || format == F::kPly) {
+    return Status::Ok();
+  }
+  return InvalidArgument(std::string("the distortion map is written in glb, glb_plain or ply "
+                                     "output (a _DISTORTION attribute, or two PLY properties); "
+                                     "the output format is ") +
+                             proto::OutputFormatName(format),
+                         "output.distortion");
+}
+
 }  // namespace surfdeform

@@ -23,4 +23,8 @@ Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat
 // with q=0); else kNotAcceptable naming the header.
 Status AcceptGlbOnly(std::string_view accept);
 
+// output.distortion travels only in formats that name custom attributes
+// (glb, glb_plain, ply); else kInvalidArgument naming the field.
+Status CheckDistortionFormat(const proto::OutputOptions& output, proto::OutputFormat format);
+
 }  // namespace surfdeform

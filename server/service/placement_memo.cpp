@@ -143,4 +143,35 @@ PlacementMemoStats PlacementMemo::stats() const {
           footprints, footprint_bytes_, footprint_budget_, subdivisions_skipped_.load()};
 }
 
+PlacementMemo::Use::Use(PlacementMemo& memo, std::string_view surface_id,
+                        const PlacementOptions& placement, const SubdivisionOptions& subdivision,
+                        const Mesh& mesh, DeformExtras* extras)
+    : memo_(memo), placed_(memo.KeyOf(surface_id, placement, mesh.positions)) {
+  known_ = memo_.Find(placed_);
+  if (known_) extras->placement = &known_->placement;
+  if (known_ && known_->footprint) {
+    extras->footprint = known_->footprint.get();
+  } else {
+    extras->record_footprint = true;
+  }
+  if (subdivision.mode != SubdivisionMode::kOff) {
+    subdivision_ = memo_.SubdivisionKeyOf(subdivision, mesh.triangles);
+    if (known_) extras->unrefined = memo_.UnrefinedVerdict(*known_, *subdivision_);
+  }
+  subdivision_skipped_ = extras->unrefined != nullptr;
+}
+
+void PlacementMemo::Use::Learn(DeformResult& result) {
+  if (!known_ || !known_->footprint) {
+    std::shared_ptr<const SheetFootprint> footprint;
+    if (!result.footprint.location.empty()) {
+      footprint = std::make_shared<const SheetFootprint>(std::move(result.footprint));
+    }
+    memo_.Store(placed_, result.placement, std::move(footprint));
+  }
+  if (result.unrefined && !subdivision_skipped_ && subdivision_) {
+    memo_.NoteUnrefined(placed_, *subdivision_, result.stats.subdivision);
+  }
+}
+
 }  // namespace surfdeform

@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/deform.hpp"
 #include "engine/geometry_types.hpp"
 #include "engine/placement.hpp"
 #include "engine/sheet_footprint.hpp"
@@ -92,6 +93,31 @@ class PlacementMemo {
   // The statistics of `entry`'s verdict if it is for `subdivision` (then
   // counted as a subdivision skipped), else null.
   const SubdivisionStats* UnrefinedVerdict(const Entry& entry, const Key& subdivision);
+
+  // One deformation's use of the memo: what it recalls (the placement, the
+  // footprint, a subdivision that added nothing) as the engine's extras, and
+  // what it learns from the result. `extras` point into this object: keep it
+  // alive until the deformation returns.
+  class Use {
+   public:
+    Use(PlacementMemo& memo, std::string_view surface_id, const PlacementOptions& placement,
+        const SubdivisionOptions& subdivision, const Mesh& mesh, DeformExtras* extras);
+    Use(const Use&) = delete;
+    Use& operator=(const Use&) = delete;
+    // Stores the placement and footprint of a model seen for the first time
+    // (moving the footprint out of `result`), and a subdivision that added
+    // nothing.
+    void Learn(DeformResult& result);
+    bool placement_reused() const { return known_.has_value(); }
+    bool subdivision_reused() const { return subdivision_skipped_; }
+
+   private:
+    PlacementMemo& memo_;
+    Key placed_;
+    std::optional<Entry> known_;
+    std::optional<Key> subdivision_;
+    bool subdivision_skipped_ = false;
+  };
 
   PlacementMemoStats stats() const;
 

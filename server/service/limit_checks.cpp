@@ -1,0 +1,71 @@
+#include "service/limit_checks.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "service/memory_budget.hpp"
+
+namespace surfdeform {
+
+Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& s) {
+  const int side = std::max(s.nu, s.nv);
+  if (side > limits.max_grid_side) {
+    return Status::LimitExceeded("the sampling grid is " + std::to_string(s.nu) + " x " +
+                                     std::to_string(s.nv) + "; this server flattens at most " +
+                                     std::to_string(limits.max_grid_side) + " samples per side",
+                                 s.nu >= s.nv ? "sampling.nu" : "sampling.nv", limits.max_grid_side,
+                                 side);
+  }
+  return CheckMemory(
+      kSheetBytesPerSample * s.nu * s.nv, limits.request_memory_bytes,
+      "flattening a " + std::to_string(s.nu) + " x " + std::to_string(s.nv) + " grid", "sampling");
+}
+
+Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& request) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits, request.sampling));
+  const int frames = request.animation.frames;
+  const int limit = limits.max_animation_frames;
+  if (frames > limit) {
+    return Status::LimitExceeded("this server animates at most " + std::to_string(limit) +
+                                     " frames, asked for " + std::to_string(frames),
+                                 "animation.frames", limit, frames);
+  }
+  const SamplingOptions& s = request.sampling;
+  return CheckMemory(kAnimationBytesPerFrameSample * frames * s.nu * s.nv,
+                     limits.request_memory_bytes,
+                     "flattening " + std::to_string(frames) + " frames of " + std::to_string(s.nu) +
+                         " x " + std::to_string(s.nv),
+                     "animation.frames");
+}
+
+Status CheckFrameVertices(const ServiceLimits& limits, size_t frames, size_t vertices) {
+  if (frames * vertices <= limits.max_animation_frame_vertices) return Status::Ok();
+  return Status::LimitExceeded(std::to_string(frames) + " frames of " + std::to_string(vertices) +
+                                   " vertices are more than this server animates in one request (" +
+                                   std::to_string(limits.max_animation_frame_vertices) +
+                                   " frame vertices); ask for fewer frames or a smaller model",
+                               "animation.frames",
+                               static_cast<double>(limits.max_animation_frame_vertices),
+                               static_cast<double>(frames * vertices));
+}
+
+ImportLimits ImportLimitsOf(const ServiceLimits& limits) {
+  ImportLimits l;
+  l.max_bytes = limits.max_body_bytes;
+  l.max_vertices = limits.max_vertices;
+  l.max_triangles = limits.max_triangles;
+  l.max_json_depth = 2 * limits.max_json_depth;
+  l.max_image_bytes = limits.max_body_bytes;  // they travel to the output as they came
+  return l;
+}
+
+size_t MaxMapOutputPoints(const ServiceLimits& limits) {
+  return CountWithin(limits.request_memory_bytes, kMapBytesPerOutputPoint, kMaxMapOutputPoints);
+}
+
+size_t MaxOutputVertices(const ServiceLimits& limits) {
+  return CountWithin(limits.request_memory_bytes, kSubdivisionBytesPerVertex,
+                     limits.max_output_vertices);
+}
+
+}  // namespace surfdeform

@@ -1,0 +1,42 @@
+// A request's counts against the service's limits, before the work they
+// stand for: each check names the field, the limit and the value asked for.
+#pragma once
+
+#include <cstddef>
+
+#include "base/status.hpp"
+#include "engine/sample_grid.hpp"
+#include "meshio/mesh_import.hpp"
+#include "proto/api.hpp"
+#include "proto/map_api.hpp"
+#include "service/service_limits.hpp"
+
+namespace surfdeform {
+
+// POST /v1/surfaces/{id}/map: the input counts (published at /v1/info) and
+// the points resampled polylines may have in all.
+inline constexpr proto::MapLimits kMapLimits;
+inline constexpr size_t kMaxMapOutputPoints = 1'000'000;
+
+// The sampling grid's side and the memory its flattening takes.
+Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& sampling);
+
+// An animation's grid, its frame count, and the memory its sheets take.
+Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& request);
+
+// Frames times the model's vertices: checked on the input's count before any
+// work, and again on the output's after the subdivision.
+Status CheckFrameVertices(const ServiceLimits& limits, size_t frames, size_t vertices);
+
+// What an import may read (a glTF's JSON nests deeper than a request's).
+ImportLimits ImportLimitsOf(const ServiceLimits& limits);
+
+// The most points a map request's polylines may be resampled to: the count
+// limit, lowered to fit the request's memory budget.
+size_t MaxMapOutputPoints(const ServiceLimits& limits);
+
+// The most vertices a subdivision may produce: the output limit, lowered to
+// fit the request's memory budget.
+size_t MaxOutputVertices(const ServiceLimits& limits);
+
+}  // namespace surfdeform

@@ -1,0 +1,268 @@
+#include "service/replies.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "engine/elapsed.hpp"
+#include "engine/flatten.hpp"
+#include "engine/sheet_map.hpp"
+#include "engine/subdivide.hpp"
+#include "meshio/mesh_export.hpp"
+#include "proto/content_hash.hpp"
+#include "service/limit_checks.hpp"
+
+namespace surfdeform {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+// The objects under `j` that hold an "each" list; not those inside such a
+// list, whose items the cut erases (a pointer to one would dangle).
+void CollectLists(json& j, std::vector<json*>* lists) {
+  if (j.is_object()) {
+    for (auto& [key, value] : j.items()) {
+      if (key == "each" && value.is_array()) {
+        lists->push_back(&j);
+      } else {
+        CollectLists(value, lists);
+      }
+    }
+  } else if (j.is_array()) {
+    for (json& item : j) CollectLists(item, lists);
+  }
+}
+
+}  // namespace
+
+std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
+std::string FirstNonFiniteNumber(const json& j, const std::string& path) {
+  if (j.is_number_float()) return std::isfinite(j.get<double>()) ? "" : path;
+  if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) {
+      std::string found = FirstNonFiniteNumber(value, path.empty() ? key : path + "." + key);
+      if (!found.empty()) return found;
+    }
+  } else if (j.is_array()) {
+    for (size_t k = 0; k < j.size(); ++k) {
+      std::string found = FirstNonFiniteNumber(j[k], path + "[" + std::to_string(k) + "]");
+      if (!found.empty()) return found;
+    }
+  }
+  return "";
+}
+
+Result<std::string> DumpFinite(const json& j, const char* what) {
+  const std::string at = FirstNonFiniteNumber(j, "");
+  if (at.empty()) return Dump(j);
+  return Status(ErrorCode::kInvalidArgument,
+                std::string("the ") + what + "'s " + at +
+                    " would not be a finite number: the request's coordinates or sizes are "
+                    "too large to compute with in double precision",
+                at);
+}
+
+Result<std::string> StatsHeader(json stats) {
+  SURFDEFORM_ASSIGN_OR_RETURN(std::string text, DumpFinite(stats, "statistics"));
+  std::vector<json*> owners;  // objects that hold an "each" list
+  CollectLists(stats, &owners);
+  while (text.size() > kMaxStatsHeaderBytes) {
+    json* longest = nullptr;
+    for (json* o : owners) {
+      if (longest == nullptr || (*o)["each"].size() > (*longest)["each"].size()) longest = o;
+    }
+    if (longest == nullptr || (*longest)["each"].empty()) break;
+    json& each = (*longest)["each"];
+    const size_t cut = (each.size() + 1) / 2;
+    each.erase(each.end() - static_cast<long>(cut), each.end());
+    (*longest)["each_omitted"] = longest->value("each_omitted", size_t{0}) + cut;
+    text = Dump(stats);
+  }
+  return text;
+}
+
+Result<Reply> JsonReply(const json& body) {
+  Reply reply;
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.body, DumpFinite(body, "reply"));
+  reply.content_type = "application/json";
+  reply.etag = proto::Sha256Hex(reply.body, 32);
+  return reply;
+}
+
+json SheetSummary(const StoredSurface& s, bool cached) {
+  return {{"id", s.id},
+          {"cached", cached},
+          {"grid", {{"nu", s.sheet.nu}, {"nv", s.sheet.nv}}},
+          {"method", s.sheet.method},
+          {"quality", proto::QualityJson(s.sheet.quality)},
+          {"timing_ms", {{"flatten", s.flatten_ms}}}};
+}
+
+json SheetJson(const StoredSurface& s) {
+  json j = SheetSummary(s, true);
+  j["request"] = proto::CanonicalJson(s.request);
+  json points = json::array();
+  json flat = json::array();
+  for (const Vec3& p : s.sheet.points) points.push_back({p.x(), p.y(), p.z()});
+  for (const Vec2& p : s.sheet.flat) flat.push_back({p.x(), p.y()});
+  j["points"] = std::move(points);
+  j["flat"] = std::move(flat);
+  return j;
+}
+
+json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, bool hit,
+                       proto::OutputFormat format, const ImportedMesh& imported,
+                       const DeformStats& st, bool placement_reused, bool subdivision_reused) {
+  json j = {{"surface_id", id},
+            {"cached", hit},
+            {"format", proto::OutputFormatName(format)},
+            {"input_format", MeshFormatName(imported.format)},
+            {"vertices", st.vertices},
+            {"triangles", st.triangles},
+            {"subdivision", proto::SubdivisionStatsJson(st.subdivision)},
+            {"placement", proto::DeformStatsJson(st)},
+            {"quality", proto::QualityJson(quality)},
+            {"warnings", imported.warnings}};
+  j["placement"]["reused"] = placement_reused;  // from the memo: the same model came before
+  // Not run: it added nothing to the same model with the same options before.
+  j["subdivision"]["reused"] = subdivision_reused;
+  if (st.rigid.mode != RigidMode::kNone) {
+    json each = json::array();
+    for (size_t k = 0; k < st.rigid.each.size() && k < 1000; ++k) {
+      const RigidPartStats& e = st.rigid.each[k];
+      each.push_back({{"vertices", e.vertices}, {"lift", e.lift}, {"sink", e.sink}});
+    }
+    j["rigid"] = {{"mode", NameOf<RigidMode>(kRigidModes, st.rigid.mode)},
+                  {"parts", st.rigid.parts},
+                  {"max_lift", st.rigid.max_lift},
+                  {"max_sink", st.rigid.max_sink},
+                  {"each", std::move(each)}};  // the first 1000 parts (StatsHeader cuts more)
+  }
+  if (st.distortion.computed) {
+    j["distortion"] = {
+        {"max", st.distortion.max}, {"p95", st.distortion.p95}, {"mean", st.distortion.mean}};
+  }
+  return j;
+}
+
+json AnimationStatsHeader(const StoredAnimation& animation, bool hit, double fps,
+                          const PreparedModel& model, AnimationCompression compression,
+                          const ImportedMesh& imported, const DeformStats& first_frame) {
+  const AnimatedSheets& sheets = animation.sheets;
+  const size_t frames = sheets.frames.size();
+  const size_t vertices = model.mesh.positions.size();
+  json per_frame = json::array();
+  long long warm_iterations = 0;
+  for (const FrameFlattening& f : sheets.frames) {
+    per_frame.push_back({{"time", f.time},
+                         {"warm", f.warm},
+                         {"paths_reused", f.reused_paths},
+                         {"stress", f.quality.stress},
+                         {"iterations", f.quality.iterations},
+                         {"folded_cells", f.quality.folded_cells},
+                         {"ms", f.quality.total_ms}});
+    if (f.warm) warm_iterations += f.quality.iterations;
+  }
+  // Frame 0 starts cold: what the others would have taken each, at most.
+  const long long cold = sheets.frames.front().quality.iterations;
+  json stats = {
+      {"animation_id", animation.id},
+      {"cached", hit},
+      {"frames", frames},
+      {"fps", fps},
+      {"vertices", vertices},
+      {"triangles", model.mesh.triangles.size()},
+      {"compression", NameOf<AnimationCompression>(kAnimationCompressions, compression)},
+      {"input_format", MeshFormatName(imported.format)},
+      {"subdivision", proto::SubdivisionStatsJson(model.subdivision)},
+      {"subdivision_passes", model.subdivision_passes},
+      {"placement", proto::DeformStatsJson(first_frame)},
+      {"flatten",
+       {{"iterations_first", cold},
+        {"iterations_warm_mean",
+         frames > 1 ? static_cast<double>(warm_iterations) / static_cast<double>(frames - 1) : 0.0},
+        {"iterations_saved_estimate",
+         std::max(0LL, cold * static_cast<long long>(frames - 1) - warm_iterations)},
+        {"each", std::move(per_frame)}}},
+      {"warnings", imported.warnings}};
+  return stats;
+}
+
+Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
+                        proto::OutputFormat format, const ImportedMesh& imported, bool hit,
+                        std::vector<Timing> timings, const json& stats) {
+  const auto t0 = Clock::now();
+  ExportOptions export_options;
+  export_options.draco = output.draco;
+  export_options.glb_draco = format == proto::OutputFormat::kGlb;
+  export_options.materials = imported.materials;
+  export_options.look = imported.look;
+  SURFDEFORM_ASSIGN_OR_RETURN(auto bytes,
+                              ExportMesh(mesh, proto::OutputMeshFormat(format), export_options));
+  timings.push_back({"encode", MsSince(t0)});
+  Reply reply;
+  reply.cache_hit = hit;
+  reply.body = std::move(bytes);
+  reply.content_type = proto::OutputMediaType(format);
+  reply.timings = std::move(timings);
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, StatsHeader(stats));
+  reply.etag = proto::Sha256Hex(reply.body, 32);
+  return reply;
+}
+
+std::string InfoJson(const ServiceLimits& l) {
+  json j = {{"name", "surfdeform"},
+            {"version", SURFDEFORM_VERSION},
+            {"limits",
+             {{"max_body_bytes", l.max_body_bytes},
+              {"max_vertices", l.max_vertices},
+              {"max_triangles", l.max_triangles},
+              {"max_grid_side", l.max_grid_side},
+              {"max_output_vertices", MaxOutputVertices(l)},
+              {"max_output_triangles", l.max_output_triangles},
+              {"max_json_depth", l.max_json_depth},
+              {"max_in_flight", l.max_in_flight},
+              {"max_queued", l.max_queued},
+              {"queue_timeout_ms", l.queue_timeout_ms},
+              {"flatten_time_budget_ms", l.flatten_time_budget_ms},
+              {"request_time_budget_ms", l.request_time_budget_ms},
+              {"cache_bytes", l.cache_bytes},
+              {"max_map_points", kMapLimits.max_points},
+              {"max_map_surface_points", kMapLimits.max_surface_points},
+              {"max_map_output_points", MaxMapOutputPoints(l)},
+              {"max_animation_frames", l.max_animation_frames},
+              {"max_animation_frame_vertices", l.max_animation_frame_vertices},
+              {"max_animation_bytes", l.max_animation_bytes},
+              {"request_memory_bytes", l.request_memory_bytes}}},
+            {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
+            {"output_formats", NamesOf<proto::OutputFormat>(proto::kOutputFormats)},
+            {"surface_kinds", NamesOf<proto::SurfaceKind>(proto::kSurfaceKinds)},
+            {"flatten_methods", NamesOf<FlattenMethod>(kFlattenMethods)},
+            {"subdivision_modes", NamesOf<SubdivisionMode>(kSubdivisionModes)}};
+  // Every named choice of the request, by its field: {name, description}.
+  json& enums = j["enums"];
+  auto publish = [&enums](const char* field, const auto& table) {
+    for (const auto& e : table) {
+      enums[field].push_back({{"name", e.name}, {"description", e.description}});
+    }
+  };
+  publish("surface.kind", proto::kSurfaceKinds);
+  publish("flatten.method", kFlattenMethods);
+  publish("placement.up", kUpAxes);
+  publish("placement.rigid", kRigidModes);
+  publish("placement.anchor", kAnchorModes);
+  publish("placement.outside", kOutsideModes);
+  publish("output.format", proto::kOutputFormats);
+  publish("subdivision.mode", kSubdivisionModes);
+  publish("animation.interpolation", kInterpolations);
+  publish("output.compression", kAnimationCompressions);
+  for (const auto& e : kErrorCodes) {  // problem+json's "code"
+    if (e.value != ErrorCode::kOk)
+      enums["problem.code"].push_back({{"name", e.name}, {"description", e.description}});
+  }
+  return Dump(j);
+}
+
+}  // namespace surfdeform

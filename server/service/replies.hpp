@@ -1,0 +1,75 @@
+// Every reply the service writes, built in one place: the JSON bodies (a
+// sheet's summary, the sheet, /v1/info), the X-Surfdeform-Stats header of a
+// deformation and of an animation, and a deformed mesh encoded as asked.
+// Every number written is finite, or the request is refused (kInvalidArgument
+// naming the JSON path).
+#pragma once
+
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "base/status.hpp"
+#include "engine/deform.hpp"
+#include "meshio/animation_glb.hpp"
+#include "meshio/mesh_import.hpp"
+#include "proto/api.hpp"
+#include "service/reply.hpp"
+#include "service/service_limits.hpp"
+#include "service/surface_store.hpp"
+
+namespace surfdeform {
+
+// JSON text; invalid UTF-8 in strings replaced, not thrown on.
+std::string Dump(const nlohmann::json& j);
+
+// The JSON path of the first number in `j` that is not finite ("" if none):
+// nlohmann writes such a number as null, which a client would read as
+// "absent" or choke on.
+std::string FirstNonFiniteNumber(const nlohmann::json& j, const std::string& path = "");
+
+// `j` as text, refused where a number in it is not finite; `what` names it
+// in the error ("reply", "statistics").
+Result<std::string> DumpFinite(const nlohmann::json& j, const char* what);
+
+// The X-Surfdeform-Stats header's text. Header lines have limits on the way:
+// cpp-httplib's clients (the CLI) read at most 8 KB a line, and nginx fails a
+// response whose headers outgrow proxy_buffer_size (4 KB by default) with
+// 502. The per-item lists ("each": a rigid model's parts, an animation's
+// frames) are cut to their first items until the text fits
+// kMaxStatsHeaderBytes; "each_omitted" beside a list counts what was cut.
+inline constexpr size_t kMaxStatsHeaderBytes = 2048;
+Result<std::string> StatsHeader(nlohmann::json stats);
+
+// A JSON reply: the body (finite numbers only), its media type and ETag.
+Result<Reply> JsonReply(const nlohmann::json& body);
+
+// POST /v1/surfaces's reply: the id, the grid, the method, the quality.
+nlohmann::json SheetSummary(const StoredSurface& s, bool cached);
+// GET /v1/surfaces/{id}: the summary, the canonical request, and every
+// sample's surface point and flat position.
+nlohmann::json SheetJson(const StoredSurface& s);
+
+// The X-Surfdeform-Stats of a deformation.
+nlohmann::json DeformStatsHeader(const std::string& surface_id, const FlattenQuality& quality,
+                                 bool hit, proto::OutputFormat format, const ImportedMesh& imported,
+                                 const DeformStats& stats, bool placement_reused = false,
+                                 bool subdivision_reused = false);
+
+// The X-Surfdeform-Stats of an animation: the model, and each frame's
+// flattening (frame 0 cold, the others warm from the one before).
+nlohmann::json AnimationStatsHeader(const StoredAnimation& animation, bool hit, double fps,
+                                    const PreparedModel& model, AnimationCompression compression,
+                                    const ImportedMesh& imported, const DeformStats& first_frame);
+
+// A deformed mesh encoded as asked, and the reply around it: `timings` gain
+// the encoding's.
+Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
+                        proto::OutputFormat format, const ImportedMesh& imported, bool hit,
+                        std::vector<Timing> timings, const nlohmann::json& stats);
+
+// GET /v1/info: the limits, the formats, every named choice of the request.
+std::string InfoJson(const ServiceLimits& limits);
+
+}  // namespace surfdeform

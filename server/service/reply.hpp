@@ -1,0 +1,25 @@
+// What a service call returns for the HTTP layer to send: plain bytes and
+// strings, no engine types (the HTTP layer must not see Eigen).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace surfdeform {
+
+struct Timing {
+  std::string name;  // parse, flatten, deform, encode
+  double ms = 0.0;
+};
+
+struct Reply {
+  std::string body;
+  std::string content_type;
+  std::vector<Timing> timings;
+  std::string stats_json;  // for a response header: counts, quality
+  std::string etag;        // over the body bytes (deterministic)
+  bool cache_hit = false;
+  std::string surface_id;  // CreateSurface: the id of the flattened surface
+};
+
+}  // namespace surfdeform

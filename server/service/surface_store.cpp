@@ -1,0 +1,261 @@
+#include "service/surface_store.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+#include <thread>
+#include <type_traits>
+#include <variant>
+
+#include "engine/elapsed.hpp"
+#include "engine/surface_spec.hpp"
+#include "proto/content_hash.hpp"
+#include "proto/json_object.hpp"
+#include "service/limit_checks.hpp"
+#include "service/sheet_codec.hpp"
+
+namespace surfdeform {
+
+using Clock = std::chrono::steady_clock;
+
+size_t EstimateBytes(const StoredAnimation& a) {
+  size_t samples = 0;
+  for (const FlatSheet& s : a.sheets.sheets) samples += s.points.size();
+  // Samples: position, normal, flat position; each frame's surface about as
+  // much as a key's spec (a Bezier's control points, a grid's points).
+  return sizeof(StoredAnimation) + samples * (24 + 24 + 16) + a.sheets.surfaces.size() * 4096 +
+         1024;
+}
+
+size_t EstimateBytes(const StoredSurface& s) {
+  const size_t samples = s.sheet.points.size();
+  size_t spec = 0;
+  std::visit(
+      [&spec](const auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, BezierSpec>) spec = v.control_points.size() * 24;
+        if constexpr (std::is_same_v<T, BSplineSpec>) {
+          spec = v.control_points.size() * 32 + (v.knots_u.size() + v.knots_v.size()) * 8;
+        }
+        if constexpr (std::is_same_v<T, GridSpec>) spec = v.points.size() * 24 * 4;
+      },
+      s.request.surface);
+  // Samples: position, normal and flat position; the surface keeps about as
+  // much again as its spec (copies, derived coefficients).
+  return sizeof(StoredSurface) + samples * (24 + 24 + 16) + 2 * spec + 1024;
+}
+
+// Releases a cross-replica flattening lock however the flattening ends.
+class SurfaceStore::SharedLock {
+ public:
+  SharedLock(SharedTier* tier, std::string key, std::string token)
+      : tier_(tier), key_(std::move(key)), token_(std::move(token)) {}
+  SharedLock(const SharedLock&) = delete;
+  SharedLock& operator=(const SharedLock&) = delete;
+  ~SharedLock() { tier_->Unlock(key_, token_); }
+
+ private:
+  SharedTier* tier_;
+  std::string key_, token_;
+};
+
+SurfaceStore::SurfaceStore(const ServiceLimits& limits, int engine_threads,
+                           std::shared_ptr<SharedTier> shared)
+    : limits_(limits),
+      engine_threads_(engine_threads),
+      shared_(std::move(shared)),
+      surfaces_(limits.cache_bytes, [](const StoredSurface& s) { return s.bytes; }),
+      animations_(limits.cache_bytes, [](const StoredAnimation& a) { return a.bytes; }) {}
+
+SharedTierStats SurfaceStore::shared_tier_stats() const {
+  return shared_ != nullptr ? shared_->stats() : SharedTierStats{};
+}
+
+Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flattened(
+    const proto::SurfaceRequest& request, const RequestClock& clock, bool* hit,
+    Admission* admission) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling));
+  const std::string id = proto::SurfaceId(request);
+  bool from_shared = false;  // computed here, but read from the second level
+  auto result = surfaces_.GetOrCompute(
+      id,
+      [&]() -> Result<std::shared_ptr<const StoredSurface>> {
+        // The second level first; then, holding its lock (or when another
+        // replica holds it but never finishes), flatten here.
+        std::optional<SharedLock> lock;
+        if (shared_ != nullptr) {
+          if (auto e = FromShared(id)) {
+            from_shared = true;
+            return e;
+          }
+          std::string token;
+          switch (shared_->TryLock(SheetLockKey(id), &token)) {
+            case SharedTier::Lock::kAcquired:
+              lock.emplace(shared_.get(), SheetLockKey(id), std::move(token));
+              break;
+            case SharedTier::Lock::kHeldElsewhere:
+              if (auto e = WaitForShared(id, clock)) {
+                from_shared = true;
+                return e;
+              }
+              break;
+            case SharedTier::Lock::kUnavailable:
+              break;
+          }
+        }
+        return Flatten(id, request, clock, admission);
+      },
+      hit);
+  if (from_shared) *hit = true;
+  return result;
+}
+
+Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
+    const std::string& id, const proto::SurfaceRequest& request, const RequestClock& clock,
+    Admission* admission) {
+  std::optional<Admission::Ticket> ticket;
+  if (admission != nullptr) {
+    SURFDEFORM_ASSIGN_OR_RETURN(auto t, admission->Enter(clock.remaining_ms()));
+    ticket.emplace(std::move(t));
+  }
+  const auto t0 = Clock::now();
+  auto surface = MakeSurface(request.surface);
+  if (!surface.ok()) return surface.status().WithFieldPrefix("surface");
+  FlattenOptions flatten = request.flatten;
+  flatten.threads = ticket ? ThreadsFor(*ticket, engine_threads_) : engine_threads_;
+  flatten.time_budget_ms = clock.BudgetFor(limits_.flatten_time_budget_ms);
+  auto sheet = FlattenSurface(**surface, request.sampling, flatten);
+  if (!sheet.ok()) {
+    const Status& s = sheet.status();
+    // Sampling errors name a sample of the surface.
+    return s.field().empty() ? Status(s.code(), s.message(), "surface") : s;
+  }
+  auto entry = std::make_shared<StoredSurface>();
+  entry->id = id;
+  entry->request = request;
+  entry->surface = std::move(*surface);
+  entry->sheet = std::move(*sheet);
+  entry->flatten_ms = MsSince(t0);
+  entry->bytes = EstimateBytes(*entry);
+  if (shared_ != nullptr) {
+    shared_->Put(SheetKey(id), EncodeSheet(entry->sheet, {proto::CanonicalJson(request).dump(),
+                                                          entry->flatten_ms}));
+  }
+  return std::shared_ptr<const StoredSurface>(std::move(entry));
+}
+
+// Surface `id` from the second level, checked and rebuilt; nullptr for a
+// miss, an unreachable tier, or a value that fails any check (counted).
+std::shared_ptr<const StoredSurface> SurfaceStore::FromShared(const std::string& id) {
+  std::string value;
+  if (shared_->Get(SheetKey(id), &value) != SharedTier::Lookup::kHit) return nullptr;
+  auto entry = Rebuild(id, value);
+  if (!entry.ok()) {
+    shared_->CountCorrupt();
+    return nullptr;
+  }
+  return *entry;
+}
+
+Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Rebuild(const std::string& id,
+                                                                   std::string_view value) {
+  SURFDEFORM_ASSIGN_OR_RETURN(auto decoded, DecodeSheet(value, limits_.max_grid_side));
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      auto parsed, proto::ParseRequestJson(decoded.parts.canonical_request, limits_.max_json_depth,
+                                           "shared_tier"));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto request, proto::ParseSurfaceRequest(parsed));
+  if (proto::SurfaceId(request) != id || request.sampling.nu != decoded.sheet.nu ||
+      request.sampling.nv != decoded.sheet.nv) {
+    return Status(ErrorCode::kMalformed, "the shared sheet answers another request", "shared_tier");
+  }
+  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto surface, MakeSurface(request.surface));
+  auto entry = std::make_shared<StoredSurface>();
+  entry->id = id;
+  entry->request = std::move(request);
+  entry->surface = std::move(surface);
+  entry->sheet = std::move(decoded.sheet);
+  entry->flatten_ms = decoded.parts.flatten_ms;
+  entry->bytes = EstimateBytes(*entry);
+  return std::shared_ptr<const StoredSurface>(std::move(entry));
+}
+
+// Another replica holds the lock on `id`: its value, once the lock is
+// released, or nullptr after the tier's wait bound (or half of what is left
+// of this request's budget, whichever is less); then this replica flattens.
+std::shared_ptr<const StoredSurface> SurfaceStore::WaitForShared(const std::string& id,
+                                                                 const RequestClock& clock) {
+  const SharedTierOptions& o = shared_->options();
+  const auto t0 = Clock::now();
+  const double bound = std::min(o.wait_ms, clock.remaining_ms() / 2);
+  const auto poll = std::chrono::duration<double, std::milli>(o.poll_ms);
+  while (MsSince(t0) < bound) {
+    std::this_thread::sleep_for(poll);
+    if (shared_->Exists(SheetLockKey(id)) && MsSince(t0) < bound) continue;
+    auto e = FromShared(id);
+    shared_->CountLockWait(e != nullptr);
+    return e;
+  }
+  shared_->CountLockWait(false);
+  return FromShared(id);
+}
+
+Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Find(std::string_view id) {
+  if (!proto::IsSurfaceIdShaped(id)) {
+    return Status(ErrorCode::kNotFound,
+                  "no surface has this id (ids are 32 hex digits from POST /v1/surfaces)", "id");
+  }
+  std::shared_ptr<const StoredSurface> found;
+  if (shared_ == nullptr) {
+    found = surfaces_.Find(std::string(id));
+  } else {  // a miss here reads the second level (once for concurrent callers)
+    bool hit = false;
+    auto fetched = surfaces_.GetOrCompute(
+        std::string(id),
+        [&]() -> Result<std::shared_ptr<const StoredSurface>> {
+          if (auto e = FromShared(std::string(id))) return e;
+          return Status(ErrorCode::kNotFound, "not in the shared tier");
+        },
+        &hit);
+    if (fetched.ok()) found = *fetched;
+  }
+  if (found == nullptr) {
+    return Status(ErrorCode::kNotFound,
+                  "no flattened surface with this id is cached here (it may have been evicted): "
+                  "POST its description to /v1/surfaces again, or send it inline",
+                  "id");
+  }
+  return found;
+}
+
+Result<std::shared_ptr<const StoredAnimation>> SurfaceStore::FlattenedAnimation(
+    const proto::AnimationRequest& request, const RequestClock& clock, int threads, bool* hit) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckFrames(limits_, request));
+  const std::string id = proto::AnimationId(request);
+  return animations_.GetOrCompute(
+      id,
+      [&]() -> Result<std::shared_ptr<const StoredAnimation>> {
+        const auto t0 = Clock::now();
+        FlattenOptions flatten = request.flatten;
+        flatten.threads = threads;
+        flatten.time_budget_ms = clock.BudgetFor(limits_.flatten_time_budget_ms);
+        auto sheets = FlattenAnimation(request.animation, request.sampling, flatten);
+        if (!sheets.ok()) {
+          const Status& st = sheets.status();
+          if (st.code() == ErrorCode::kDeadlineExceeded) return st;
+          // The frame's surface is at fault: name the animation.
+          return Status(st.code(), st.message(),
+                        st.field().empty() ? std::string("animation") : st.field());
+        }
+        auto entry = std::make_shared<StoredAnimation>();
+        entry->id = id;
+        entry->request = request;
+        entry->sheets = std::move(*sheets);
+        entry->flatten_ms = MsSince(t0);
+        entry->bytes = EstimateBytes(*entry);
+        return std::shared_ptr<const StoredAnimation>(std::move(entry));
+      },
+      hit);
+}
+
+}  // namespace surfdeform

@@ -1,0 +1,102 @@
+// Flattened surfaces and animations' sheets, kept by content id: the first
+// level in process (an LRU bounded by bytes, single flight: concurrent
+// requests for one id share one flattening), the second level in Redis when
+// the service has a shared tier (sheets only, encoded by sheet_codec.hpp,
+// rebuilt and checked when read back; one replica flattens a new surface
+// while the others wait on its lock, for a bounded time).
+//
+// The store flattens on a miss. Only that flattening takes a slot from
+// admission when asked: a hit, or a wait on another request's flattening of
+// the same surface, is never refused by the limit (checklist 27; the wait is
+// bounded by that flattening's own time budget).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "base/status.hpp"
+#include "engine/animation.hpp"
+#include "engine/flatten.hpp"
+#include "engine/surface.hpp"
+#include "proto/api.hpp"
+#include "service/admission.hpp"
+#include "service/request_clock.hpp"
+#include "service/service_limits.hpp"
+#include "service/shared_tier.hpp"
+#include "service/single_flight_cache.hpp"
+
+namespace surfdeform {
+
+// A flattened surface as the store holds it: immutable once built.
+struct StoredSurface {
+  std::string id;
+  proto::SurfaceRequest request;
+  std::unique_ptr<const Surface> surface;
+  FlatSheet sheet;
+  double flatten_ms = 0.0;
+  size_t bytes = 0;
+};
+
+// An animation's sheets as the store holds them: immutable once built.
+struct StoredAnimation {
+  std::string id;
+  proto::AnimationRequest request;
+  AnimatedSheets sheets;
+  double flatten_ms = 0.0;
+  size_t bytes = 0;
+};
+
+// What the store's entries take in memory, estimated (for the LRU's budget).
+size_t EstimateBytes(const StoredSurface& s);
+size_t EstimateBytes(const StoredAnimation& a);
+
+class SurfaceStore {
+ public:
+  // `engine_threads`: threads per flattening (0: one per core). `shared`:
+  // the second level, or null.
+  SurfaceStore(const ServiceLimits& limits, int engine_threads, std::shared_ptr<SharedTier> shared);
+  SurfaceStore(const SurfaceStore&) = delete;
+  SurfaceStore& operator=(const SurfaceStore&) = delete;
+
+  // The flattened surface for `request`: from either level, or flattened now
+  // (then written to the second level). *hit says it was not flattened here.
+  // With `admission`, the flattening takes a slot from it first, and as many
+  // threads as the slot allows.
+  Result<std::shared_ptr<const StoredSurface>> Flattened(const proto::SurfaceRequest& request,
+                                                         const RequestClock& clock, bool* hit,
+                                                         Admission* admission = nullptr);
+
+  // The surface with this id, from either level; kNotFound (field "id") for
+  // an id of the wrong shape or one neither level holds.
+  Result<std::shared_ptr<const StoredSurface>> Find(std::string_view id);
+
+  // The sheets of an animation, from the first level or flattened now with
+  // `threads` (the caller holds a slot). Animations are not shared.
+  Result<std::shared_ptr<const StoredAnimation>> FlattenedAnimation(
+      const proto::AnimationRequest& request, const RequestClock& clock, int threads, bool* hit);
+
+  CacheStats surface_stats() const { return surfaces_.stats(); }
+  CacheStats animation_stats() const { return animations_.stats(); }
+  SharedTierStats shared_tier_stats() const;  // enabled = false without one
+
+ private:
+  class SharedLock;
+  std::shared_ptr<const StoredSurface> FromShared(const std::string& id);
+  Result<std::shared_ptr<const StoredSurface>> Rebuild(const std::string& id,
+                                                       std::string_view value);
+  std::shared_ptr<const StoredSurface> WaitForShared(const std::string& id,
+                                                     const RequestClock& clock);
+  Result<std::shared_ptr<const StoredSurface>> Flatten(const std::string& id,
+                                                       const proto::SurfaceRequest& request,
+                                                       const RequestClock& clock,
+                                                       Admission* admission);
+
+  const ServiceLimits limits_;
+  const int engine_threads_;
+  const std::shared_ptr<SharedTier> shared_;  // may be null
+  SingleFlightCache<StoredSurface> surfaces_;
+  SingleFlightCache<StoredAnimation> animations_;
+};
+
+}  // namespace surfdeform

@@ -1,0 +1,221 @@
+// The surface store alone, without the service: both levels (the second one
+// on a real redis-server), single flight, admission of the flattening only,
+// eviction, animations.
+#include "service/surface_store.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <nlohmann/json.hpp>
+#include <thread>
+#include <vector>
+
+#include "proto/api.hpp"
+#include "service/sheet_codec.hpp"
+#include "support/redis_process.hpp"
+
+namespace surfdeform {
+namespace {
+
+using nlohmann::json;
+
+proto::SurfaceRequest Cylinder(double radius, int n = 8) {
+  auto r = proto::ParseSurfaceRequest(json{
+      {"surface", {{"kind", "cylinder"}, {"radius", radius}, {"height", 3}, {"angle_deg", 180}}},
+      {"sampling", {{"nu", n}, {"nv", n}}}});
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  return *r;
+}
+
+proto::AnimationRequest Swim(int frames) {
+  auto r = proto::ParseAnimateParams(
+      json::parse(R"({"animation":{"frames":)" + std::to_string(frames) + R"(,"fps":10,
+      "keyframes":[
+        {"time":0,"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":90}},
+        {"time":1,"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180}}]},
+      "sampling":{"nu":8,"nv":8}})"));
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  return r->animation;
+}
+
+ServiceLimits Limits() {
+  ServiceLimits l;
+  l.flatten_time_budget_ms = l.request_time_budget_ms = 120000;  // sanitizer builds
+  return l;
+}
+
+TEST(SurfaceStore, FlattensOnceAndFindsByIdAfter) {
+  SurfaceStore store(Limits(), 1, nullptr);
+  const RequestClock clock(60000);
+  bool hit = true;
+  auto first = store.Flattened(Cylinder(2), clock, &hit);
+  ASSERT_TRUE(first.ok()) << first.status().ToString();
+  EXPECT_FALSE(hit);
+  EXPECT_EQ((*first)->id, proto::SurfaceId(Cylinder(2)));
+  EXPECT_EQ((*first)->sheet.flat.size(), 64u);
+  EXPECT_GT((*first)->bytes, 64u * 64);
+
+  auto again = store.Flattened(Cylinder(2), clock, &hit);
+  ASSERT_TRUE(again.ok());
+  EXPECT_TRUE(hit);
+  EXPECT_EQ(again->get(), first->get());  // the one entry, shared
+
+  auto found = store.Find((*first)->id);
+  ASSERT_TRUE(found.ok());
+  EXPECT_EQ(found->get(), first->get());
+  const CacheStats stats = store.surface_stats();
+  EXPECT_EQ(stats.misses, 1u);
+  EXPECT_EQ(stats.hits, 2u);
+  EXPECT_EQ(stats.entries, 1u);
+}
+
+TEST(SurfaceStore, UnknownAndMisshapenIdsAreNotFoundNamingTheId) {
+  SurfaceStore store(Limits(), 1, nullptr);
+  for (const char* id : {"00000000000000000000000000000000", "nope", ""}) {
+    auto found = store.Find(id);
+    ASSERT_FALSE(found.ok()) << id;
+    EXPECT_EQ(found.status().code(), ErrorCode::kNotFound);
+    EXPECT_EQ(found.status().field(), "id");
+  }
+}
+
+TEST(SurfaceStore, ConcurrentRequestsForOneSurfaceFlattenItOnce) {
+  SurfaceStore store(Limits(), 1, nullptr);
+  const RequestClock clock(60000);
+  std::atomic<int> hits{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 6; ++t) {
+    threads.emplace_back([&] {
+      bool hit = false;
+      auto r = store.Flattened(Cylinder(2, 48), clock, &hit);
+      EXPECT_TRUE(r.ok());
+      if (hit) ++hits;
+    });
+  }
+  for (auto& t : threads) t.join();
+  const CacheStats stats = store.surface_stats();
+  EXPECT_EQ(stats.misses, 1u);
+  EXPECT_EQ(hits.load(), 5);
+}
+
+TEST(SurfaceStore, OnlyTheFlatteningTakesASlotFromAdmission) {
+  SurfaceStore store(Limits(), 0, nullptr);
+  Admission admission({/*slots=*/1, /*queue=*/0, /*queue_timeout_ms=*/10, /*cores=*/2});
+  const RequestClock clock(60000);
+  bool hit = false;
+  ASSERT_TRUE(store.Flattened(Cylinder(2), clock, &hit, &admission).ok());
+  EXPECT_EQ(admission.stats().admitted, 1u);
+
+  auto held = admission.Enter();  // every slot busy, no queue
+  ASSERT_TRUE(held.ok());
+  // A hit needs no slot...
+  auto cached = store.Flattened(Cylinder(2), clock, &hit, &admission);
+  ASSERT_TRUE(cached.ok()) << cached.status().ToString();
+  EXPECT_TRUE(hit);
+  // ... a new flattening does, and is refused.
+  auto refused = store.Flattened(Cylinder(3), clock, &hit, &admission);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code(), ErrorCode::kUnavailable);
+  // Without admission (the caller holds its own slot) it runs.
+  EXPECT_TRUE(store.Flattened(Cylinder(3), clock, &hit).ok());
+}
+
+TEST(SurfaceStore, StaysWithinItsBytesAndForgetsTheLeastRecent) {
+  ServiceLimits limits = Limits();
+  SurfaceStore probe(limits, 1, nullptr);
+  const RequestClock clock(60000);
+  bool hit = false;
+  const size_t one = (*probe.Flattened(Cylinder(2), clock, &hit))->bytes;
+  limits.cache_bytes = one + one / 2;  // room for one
+  SurfaceStore store(limits, 1, nullptr);
+  auto a = store.Flattened(Cylinder(2), clock, &hit);
+  auto b = store.Flattened(Cylinder(3), clock, &hit);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_FALSE(store.Find((*a)->id).ok());
+  EXPECT_TRUE(store.Find((*b)->id).ok());
+  EXPECT_EQ(store.surface_stats().evictions, 1u);
+  EXPECT_LE(store.surface_stats().bytes, limits.cache_bytes);
+}
+
+TEST(SurfaceStore, GridsPastTheLimitAreRefusedBeforeAnyWork) {
+  ServiceLimits limits = Limits();
+  limits.max_grid_side = 16;
+  SurfaceStore store(limits, 1, nullptr);
+  bool hit = false;
+  auto r = store.Flattened(Cylinder(2, 17), RequestClock(60000), &hit);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(r.status().field(), "sampling.nu");
+  EXPECT_EQ(store.surface_stats().misses, 0u);  // nothing computed, nothing counted
+}
+
+TEST(SurfaceStore, AnAnimationIsFlattenedOnceFrameByFrame) {
+  ServiceLimits limits = Limits();
+  SurfaceStore store(limits, 1, nullptr);
+  const RequestClock clock(60000);
+  bool hit = true;
+  auto first = store.FlattenedAnimation(Swim(5), clock, 1, &hit);
+  ASSERT_TRUE(first.ok()) << first.status().ToString();
+  EXPECT_FALSE(hit);
+  ASSERT_EQ((*first)->sheets.sheets.size(), 5u);
+  EXPECT_FALSE((*first)->sheets.frames[0].warm);
+  EXPECT_TRUE((*first)->sheets.frames[1].warm);
+  auto again = store.FlattenedAnimation(Swim(5), clock, 1, &hit);
+  ASSERT_TRUE(again.ok());
+  EXPECT_TRUE(hit);
+  EXPECT_EQ(store.animation_stats().misses, 1u);
+  EXPECT_EQ(store.surface_stats().misses, 0u);  // the surfaces' level is apart
+
+  limits.max_animation_frames = 4;
+  SurfaceStore small(limits, 1, nullptr);
+  auto refused = small.FlattenedAnimation(Swim(5), clock, 1, &hit);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().field(), "animation.frames");
+}
+
+std::shared_ptr<SharedTier> Tier(const std::string& url) {
+  SharedTierOptions o;
+  o.url = url;
+  o.timeout_ms = 200;
+  auto tier = SharedTier::Create(o, nullptr);
+  EXPECT_TRUE(tier.ok());
+  return tier.ok() ? std::shared_ptr<SharedTier>(std::move(*tier)) : nullptr;
+}
+
+TEST(SurfaceStore, TheSecondLevelServesAnotherStoreAndIgnoresWhatFailsItsChecks) {
+  testing::RedisProcess redis;
+  ASSERT_NE(redis.port(), 0) << "redis-server did not start (scripts/setup.sh installs it)";
+  SurfaceStore a(Limits(), 1, Tier(redis.url()));
+  SurfaceStore b(Limits(), 1, Tier(redis.url()));
+  const RequestClock clock(60000);
+  bool hit = false;
+  auto flat = a.Flattened(Cylinder(2), clock, &hit);
+  ASSERT_TRUE(flat.ok());
+  EXPECT_EQ(a.shared_tier_stats().writes, 1u);
+
+  // By id on B: rebuilt from the second level, the same sheet.
+  auto found = b.Find((*flat)->id);
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  EXPECT_EQ((*found)->sheet.flat, (*flat)->sheet.flat);
+  EXPECT_EQ((*found)->request.sampling.nu, 8);
+  EXPECT_EQ(b.shared_tier_stats().hits, 1u);
+  // By content on B: a hit, no flattening.
+  SurfaceStore c(Limits(), 1, Tier(redis.url()));
+  ASSERT_TRUE(c.Flattened(Cylinder(2), clock, &hit).ok());
+  EXPECT_TRUE(hit);
+
+  // A value that fails the codec's checks is refused, counted, and the
+  // surface flattened here instead.
+  const std::string other = proto::SurfaceId(Cylinder(3));
+  redis.Command({"SET", SheetKey(other), "not a sheet"});
+  SurfaceStore d(Limits(), 1, Tier(redis.url()));
+  EXPECT_FALSE(d.Find(other).ok());
+  EXPECT_EQ(d.shared_tier_stats().corrupt, 1u);
+  auto rebuilt = d.Flattened(Cylinder(3), clock, &hit);
+  ASSERT_TRUE(rebuilt.ok());
+  EXPECT_FALSE(hit);
+  EXPECT_EQ(d.surface_stats().misses, 2u);  // the failed read, then the flattening
+}
+
+}  // namespace
+}  // namespace surfdeform
