@@ -1,7 +1,7 @@
 // The command-line client's connection to a surfdeform server: requests with
 // retries for what is safe to retry (connection errors, 503 with
 // Retry-After), never for 4xx. Free of httplib in its header (httplib.h and
-// Eigen must not meet in one translation unit; see DESIGN.md).
+// Eigen must not meet in one translation unit; see docs/ARCHITECTURE.md).
 #pragma once
 
 #include <functional>

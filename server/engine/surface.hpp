@@ -1,6 +1,6 @@
 // Parametric surfaces S(u, v), (u, v) in [0, 1]^2, with exact derivatives.
 //
-// Conventions (see DESIGN.md): u runs along the first index of a control or
+// Conventions (docs/ARCHITECTURE.md): u runs along the first index of a control or
 // sample grid, v along the second; grids are stored u-fastest
 // (points[i + nu * j]). The unit normal is N = Su x Sv / |Su x Sv|.
 //

@@ -1,5 +1,5 @@
 // Writing an animation as one GLB: one mesh whose frames are morph targets,
-// and an animation of its weights (DESIGN.md, "Animation").
+// and an animation of its weights (docs/ARCHITECTURE.md, "Conventions the code relies on").
 //
 // The layout, which three.js's GLTFLoader plays (AnimationMixer) and the
 // Khronos validator accepts:
