@@ -18,6 +18,7 @@
 #include "engine/animation.hpp"
 #include "engine/deform.hpp"
 #include "engine/flatten.hpp"
+#include "harness.hpp"
 #include "meshio/animation_glb.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
@@ -29,25 +30,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double Ms(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-std::string ReadAll(const std::string& path) {
-  FILE* f = std::fopen(path.c_str(), "rb");
-  if (f == nullptr) return {};
-  std::string s;
-  char buf[1 << 16];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) s.append(buf, n);
-  std::fclose(f);
-  return s;
-}
+using bench::Median;
+const auto Ms = bench::MsSince;
 
 // Figure 10 with its heights scaled.
 BezierSpec Scaled(const BezierSpec& b, double k) {
@@ -64,7 +48,7 @@ int Run(int frames, int repeat) {
   spec.fps = 30;
   const SamplingOptions sampling{16, 16};
   FlattenOptions flatten;  // the defaults, as the service uses them
-  auto imported = ImportMesh(ReadAll(testing::DataPath("bunny.ply")));
+  auto imported = ImportMesh(bench::ReadFile(testing::DataPath("bunny.ply")));
   if (!imported.ok()) {
     std::fprintf(stderr, "bunny: %s\n", imported.status().ToString().c_str());
     return 1;

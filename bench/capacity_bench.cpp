@@ -44,18 +44,14 @@
 #include <vector>
 
 #include "draco_peer.hpp"
+#include "harness.hpp"
 
 using Clock = std::chrono::steady_clock;
 using nlohmann::json;
 
 namespace {
 
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using surfdeform::bench::ReadFile;
 
 // A server binary (args[0]) as a child that prints {"port":N} first; its CPU
 // seconds from /proc.

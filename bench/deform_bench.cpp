@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "engine/deform.hpp"
+#include "harness.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
 #include "service/allocator_tuning.hpp"
@@ -23,17 +24,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-template <typename F>
-double MedianMs(int repeat, F&& f) {
-  std::vector<double> t;
-  for (int k = 0; k < repeat; ++k) {
-    const auto t0 = Clock::now();
-    f();
-    t.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
-}
+using bench::MedianMs;
 
 double Diagonal(const Mesh& m) {
   Eigen::AlignedBox3d b;
@@ -52,10 +43,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   TuneAllocatorForServing();  // as the server runs (Draco encodes ~1.5x faster with it)
 
-  std::ifstream in(testing::DataPath("bunny.ply"), std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  const std::string ply = s.str();
+  const std::string ply = bench::ReadFile(testing::DataPath("bunny.ply"));
   Result<ImportedMesh> bunny = Status();
   const double import_ms = MedianMs(repeat, [&] { bunny = ImportMesh(ply); });
   auto surface = MakeSurface(testing::LoadBezierFile(testing::DataPath("figure10.json")));

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "draco_peer.hpp"
+#include "harness.hpp"
 #include "service/allocator_tuning.hpp"
 
 int main(int argc, char** argv) {
@@ -38,10 +39,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   surfdeform::TuneAllocatorForServing();
 
-  std::ifstream in(ply_path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string ply = text.str();
+  const std::string ply = surfdeform::bench::ReadFile(ply_path);
   using surfdeform::bench::DracoPeer;
   std::vector<std::unique_ptr<DracoPeer>> free_peers;
   for (unsigned k = 0; k < std::max(1u, std::thread::hardware_concurrency()); ++k) {

@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "engine/flatten.hpp"
-#include "engine/flatten_solvers.hpp"
 #include "engine/surface_distance.hpp"
 #include "engine/surface_spec.hpp"
 #include "support/surface_file.hpp"
 #ifdef SURFDEFORM_HAVE_CGAL
 #include "cgal_peer.hpp"
+#include "harness.hpp"
 #endif
 
 namespace surfdeform {
@@ -33,10 +33,7 @@ struct Measured {
   int iterations = 0;
 };
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+using bench::Median;
 
 Measured RunEngine(const Surface& s, int n, FlattenOptions o, int repeat) {
   Measured m;
@@ -86,9 +83,7 @@ Measured RunCgal(const Surface& s, int n, const std::string& method, int repeat,
     }
     for (Vec2& p : x) p *= dl / ll;
   }
-  internal::Canonicalize(n, n, &x);
-  FlattenQuality q;
-  internal::MeasureQuality(dist, x, &q);
+  const FlattenQuality q = MeasureLayout(dist, n, n, &x);
   m.ran = true;
   m.ms = Median(times);
   m.stress = q.stress;

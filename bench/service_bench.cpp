@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "draco_peer.hpp"
+#include "harness.hpp"
 #include "http/http_server.hpp"
 #include "service/allocator_tuning.hpp"
 #include "service/service.hpp"
@@ -23,12 +24,7 @@ using nlohmann::json;
 
 namespace {
 
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using surfdeform::bench::ReadFile;
 
 std::string PlateObj() {
   std::string obj;

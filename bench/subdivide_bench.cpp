@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "engine/deform.hpp"
+#include "harness.hpp"
 #include "meshio/mesh_import.hpp"
 #include "support/subdivision_check.hpp"
 #include "support/surface_file.hpp"
@@ -77,10 +78,7 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "runs per measurement (median)")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
-  std::ifstream in(testing::DataPath("bunny.ply"), std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  auto bunny = ImportMesh(text.str());
+  auto bunny = ImportMesh(bench::ReadFile(testing::DataPath("bunny.ply")));
   if (!bunny.ok()) return 1;
   auto figure = [](int n, int grid) {
     return testing::Flattened(

@@ -160,4 +160,12 @@ Result<FlatSheet> FlattenSurface(const Surface& surface, const SamplingOptions& 
 
 Status ValidateFlattenOptions(const FlattenOptions& options);
 
+// The quality of any layout `flat` of the nu x nv grid whose distances are
+// `distances` (another method's, for comparisons), on the flattening's own
+// terms: `flat` is moved to the canonical position first (sample (0, 0) at
+// the origin, u along +X), then its stress, edge error, area ratios and
+// folded cells are measured.
+FlattenQuality MeasureLayout(const SurfaceDistances& distances, int nu, int nv,
+                             std::vector<Vec2>* flat);
+
 }  // namespace surfdeform

@@ -83,3 +83,15 @@ void MeasureQuality(const SurfaceDistances& dist, const std::vector<Vec2>& x, Fl
 }
 
 }  // namespace surfdeform::internal
+
+namespace surfdeform {
+
+FlattenQuality MeasureLayout(const SurfaceDistances& distances, int nu, int nv,
+                             std::vector<Vec2>* flat) {
+  internal::Canonicalize(nu, nv, flat);
+  FlattenQuality q;
+  internal::MeasureQuality(distances, *flat, &q);
+  return q;
+}
+
+}  // namespace surfdeform

@@ -1,6 +1,6 @@
 #include "support/subdivision_check.hpp"
 
-#include <gtest/gtest.h>
+#include "support/expect_ok.hpp"
 
 #include "engine/sheet_map.hpp"
 
@@ -11,7 +11,7 @@ Refined Refine(const Target& t, const Mesh& m, const PlacementOptions& o,
   Refined r;
   const SheetMap map(*t.surface, t.sheet);
   auto pl = ComputePlacement(map.locator(), t.sheet, m.positions, o);
-  EXPECT_TRUE(pl.ok()) << pl.status().ToString();
+  ExpectOk(pl);
   if (!pl.ok()) return r;
   std::vector<Vec3> placed;
   for (const Vec3& p : m.positions) placed.push_back(pl->Apply(p));
@@ -19,7 +19,7 @@ Refined Refine(const Target& t, const Mesh& m, const PlacementOptions& o,
   const InputPositions want = m.normals.empty() && m.tangents.empty() ? InputPositions::kWanted
                                                                       : InputPositions::kNotWanted;
   auto sub = Subdivide(m, placed, map, o.outside, s, want);
-  EXPECT_TRUE(sub.ok()) << sub.status().ToString();
+  ExpectOk(sub);
   if (!sub.ok()) return r;
   r.model = sub->unchanged ? m : std::move(sub->mesh);
   r.placed = sub->unchanged ? placed : std::move(sub->placed);

@@ -1,6 +1,6 @@
 #include "support/subdivision_stages.hpp"
 
-#include <gtest/gtest.h>
+#include "support/expect_ok.hpp"
 
 namespace surfdeform::testing {
 
@@ -22,7 +22,7 @@ std::unique_ptr<StageInputs> MakeStageInputs(Target target, Mesh mesh,
   in->map = std::make_unique<SheetMap>(*in->target.surface, in->target.sheet);
   auto pl =
       ComputePlacement(in->map->locator(), in->target.sheet, in->mesh.positions, in->placement);
-  EXPECT_TRUE(pl.ok()) << pl.status().ToString();
+  ExpectOk(pl);
   if (!pl.ok()) return in;
   for (const Vec3& p : in->mesh.positions) in->placed.push_back(pl->Apply(p));
   in->ctx =
@@ -32,7 +32,7 @@ std::unique_ptr<StageInputs> MakeStageInputs(Target target, Mesh mesh,
 
 LocatedVertices StageInputs::Located(bool positions) const {
   auto located = LocateVertices(*ctx, positions);
-  EXPECT_TRUE(located.ok()) << located.status().ToString();
+  ExpectOk(located);
   return located.ok() ? std::move(located).value() : LocatedVertices{};
 }
 

@@ -1,6 +1,6 @@
 #include "support/test_surfaces.hpp"
 
-#include <gtest/gtest.h>
+#include "support/expect_ok.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -9,7 +9,7 @@ namespace surfdeform::testing {
 
 std::unique_ptr<Surface> MakeValid(const SurfaceSpec& spec) {
   auto s = MakeSurface(spec);
-  EXPECT_TRUE(s.ok()) << s.status().ToString();
+  ExpectOk(s);
   return s.ok() ? std::move(s).value() : nullptr;
 }
 
@@ -48,7 +48,7 @@ Target Flattened(const SurfaceSpec& spec, int n) {
   t.surface = MakeValid(spec);
   if (t.surface == nullptr) return t;
   auto r = FlattenSurface(*t.surface, {n, n});
-  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  ExpectOk(r);
   if (r.ok()) t.sheet = std::move(r).value();
   return t;
 }
