@@ -7,9 +7,8 @@
 
 namespace surfdeform::testing {
 
-void ReportFailure(const std::string& what, const std::source_location& where) {
-  std::fprintf(stderr, "%s:%u: %s\n", where.file_name(), static_cast<unsigned>(where.line()),
-               what.c_str());
+void ReportFailure(const std::string& what, const char* file, int line) {
+  std::fprintf(stderr, "%s:%d: %s\n", file, line, what.c_str());
   std::abort();
 }
 

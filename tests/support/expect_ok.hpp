@@ -5,17 +5,18 @@
 // a benchmark of a failed step measures nothing).
 #pragma once
 
-#include <source_location>
 #include <string>
 
 namespace surfdeform::testing {
 
-void ReportFailure(const std::string& what, const std::source_location& where);
+void ReportFailure(const std::string& what, const char* file, int line);
 
-// Reports `result`'s status when it is not ok.
+// Reports `result`'s status when it is not ok, at the caller's line
+// (__builtin_FILE and __builtin_LINE: clang 14 has no std::source_location
+// with libstdc++ 12).
 template <class R>
-void ExpectOk(const R& result, std::source_location where = std::source_location::current()) {
-  if (!result.ok()) ReportFailure(result.status().ToString(), where);
+void ExpectOk(const R& result, const char* file = __builtin_FILE(), int line = __builtin_LINE()) {
+  if (!result.ok()) ReportFailure(result.status().ToString(), file, line);
 }
 
 }  // namespace surfdeform::testing

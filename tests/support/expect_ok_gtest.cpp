@@ -6,8 +6,8 @@
 
 namespace surfdeform::testing {
 
-void ReportFailure(const std::string& what, const std::source_location& where) {
-  ADD_FAILURE_AT(where.file_name(), static_cast<int>(where.line())) << what;
+void ReportFailure(const std::string& what, const char* file, int line) {
+  ADD_FAILURE_AT(file, line) << what;
 }
 
 }  // namespace surfdeform::testing
