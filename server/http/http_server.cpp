@@ -409,14 +409,11 @@ struct HttpServer::Impl {
                               "send the request without one)",
                               "Range"));
       }
-      const bool too_long = res.status == 414;
-      return Problem(
-          req, res, res.status,
-          too_long ? Status::LimitExceeded(
-                         "the request line is over " + std::to_string(kMaxRequestLineBytes) +
-                             " bytes: send long parameters in the body",
-                         "request-line", kMaxRequestLineBytes, kMaxRequestLineBytes + 1)
-                   : Status(ErrorCode::kMalformed,
+      if (res.status == 414) {  // httplib knows only that it is longer
+        return Problem(req, res, 414, RequestLineTooLong(kMaxRequestLineBytes + 1).status);
+      }
+      return Problem(req, res, res.status,
+                     Status(ErrorCode::kMalformed,
                             "the request line or a header field could not be parsed (METHOD TARGET "
                             "HTTP/1.1, then NAME: VALUE lines of at most " +
                                 std::to_string(kMaxHeaderLineBytes) + " bytes, all ending in CRLF)",

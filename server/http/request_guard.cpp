@@ -88,6 +88,24 @@ std::optional<Rejection> CheckHeaderLine(std::string_view line) {
 
 }  // namespace
 
+Rejection RequestLineTooLong(size_t length) {
+  return Rejection{
+      414,
+      Status::LimitExceeded(
+          "the request line (the method, the target with its query, the version) is over " +
+              std::to_string(kMaxRequestLineBytes) +
+              " bytes: send long parameters in the body (a multipart \"params\" part)",
+          "request-line", static_cast<double>(kMaxRequestLineBytes), static_cast<double>(length))};
+}
+
+Rejection TooManyHeaderFields(size_t fields, bool at_least) {
+  return Rejection{
+      431, Status::LimitExceeded("the request has " + std::string(at_least ? "at least " : "") +
+                                     std::to_string(fields) + " header fields; the limit is " +
+                                     std::to_string(kMaxHeaderCount),
+                                 "headers", kMaxHeaderCount, static_cast<double>(fields))};
+}
+
 std::optional<Rejection> CheckHead(std::string_view bytes, size_t head_end) {
   const bool complete = head_end != kHeadIncomplete;
   const std::string_view head = complete ? bytes.substr(0, head_end) : bytes;
@@ -100,16 +118,7 @@ std::optional<Rejection> CheckHead(std::string_view bytes, size_t head_end) {
     const size_t limit = line_number == 0 ? kMaxRequestLineBytes : kMaxHeaderLineBytes;
     if (length > limit) {  // a line so far, or a whole one
       const std::string_view line = head.substr(at, length);
-      if (line_number == 0) {
-        return Rejection{
-            414, Status::LimitExceeded("the request line (the method, the target with its query, "
-                                       "the version) is over " +
-                                           std::to_string(limit) +
-                                           " bytes: send long parameters in the body (a multipart "
-                                           "\"params\" part)",
-                                       "request-line", static_cast<double>(limit),
-                                       static_cast<double>(length))};
-      }
+      if (line_number == 0) return RequestLineTooLong(length);
       const std::string name(line.substr(0, std::min<size_t>(line.find(':'), 40)));
       return Rejection{
           431, Status::LimitExceeded(
@@ -135,13 +144,7 @@ std::optional<Rejection> CheckHead(std::string_view bytes, size_t head_end) {
     if (auto r = CheckHeaderLine(line)) return r;
     ++fields;
   }
-  if (fields > kMaxHeaderCount) {  // all of them, or those so far
-    return Rejection{
-        431, Status::LimitExceeded("the request has " + std::string(complete ? "" : "at least ") +
-                                       std::to_string(fields) + " header fields; the limit is " +
-                                       std::to_string(kMaxHeaderCount),
-                                   "headers", kMaxHeaderCount, static_cast<double>(fields))};
-  }
+  if (fields > kMaxHeaderCount) return TooManyHeaderFields(fields, !complete);
   return std::nullopt;
 }
 
@@ -150,13 +153,7 @@ std::optional<Rejection> CheckFraming(const httplib::Request& req, size_t max_bo
   *body_length = 0;
   // The client's fields: httplib adds its own to every request it parses.
   const size_t fields = req.headers.size() - std::min(req.headers.size(), kServerAddedHeaders);
-  if (fields > kMaxHeaderCount) {
-    Rejection r{431, Status::LimitExceeded(
-                         "the request has " + std::to_string(fields) +
-                             " header fields; the limit is " + std::to_string(kMaxHeaderCount),
-                         "headers", kMaxHeaderCount, static_cast<double>(fields))};
-    return r;
-  }
+  if (fields > kMaxHeaderCount) return TooManyHeaderFields(fields, false);
   if (req.has_header("Transfer-Encoding")) {
     return Reject(411, ErrorCode::kMalformed,
                   "Transfer-Encoding (chunked bodies) is not accepted; send the body with a "

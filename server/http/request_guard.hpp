@@ -30,6 +30,13 @@ inline constexpr size_t kMaxHeaderLineBytes = 8190;
 // (REMOTE_ADDR, REMOTE_PORT, LOCAL_ADDR, LOCAL_PORT): not the client's.
 inline constexpr size_t kServerAddedHeaders = 4;
 
+// The refusals for a request line over kMaxRequestLineBytes (414; `length`
+// as far as it is known) and for more than kMaxHeaderCount fields (431;
+// `at_least` when only part of the head was counted). The gate's checks,
+// the framing checks and httplib's own refusals answer with these.
+Rejection RequestLineTooLong(size_t length);
+Rejection TooManyHeaderFields(size_t fields, bool at_least);
+
 // Checks a request head as it arrives (`bytes`: the head so far, or all of
 // it and more when `complete`; `head_end` then is where its blank line
 // ends), before httplib parses it, so that a request that cannot be framed
