@@ -83,12 +83,17 @@ Result<std::string> StatsHeader(json stats) {
   return text;
 }
 
-Result<Reply> JsonReply(const json& body) {
+Reply BytesReply(std::string body, std::string content_type) {
   Reply reply;
-  SURFDEFORM_ASSIGN_OR_RETURN(reply.body, DumpFinite(body, "reply"));
-  reply.content_type = "application/json";
+  reply.body = std::move(body);
+  reply.content_type = std::move(content_type);
   reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
+}
+
+Result<Reply> JsonReply(const json& body) {
+  SURFDEFORM_ASSIGN_OR_RETURN(std::string text, DumpFinite(body, "reply"));
+  return BytesReply(std::move(text), "application/json");
 }
 
 json SheetSummary(const StoredSurface& s, bool cached) {
@@ -202,13 +207,10 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   SURFDEFORM_ASSIGN_OR_RETURN(auto bytes,
                               ExportMesh(mesh, proto::OutputMeshFormat(format), export_options));
   timings.push_back({"encode", MsSince(t0)});
-  Reply reply;
+  Reply reply = BytesReply(std::move(bytes), proto::OutputMediaType(format));
   reply.cache_hit = hit;
-  reply.body = std::move(bytes);
-  reply.content_type = proto::OutputMediaType(format);
   reply.timings = std::move(timings);
   SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, StatsHeader(stats));
-  reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
 }
 

@@ -42,6 +42,9 @@ Result<std::string> DumpFinite(const nlohmann::json& j, const char* what);
 inline constexpr size_t kMaxStatsHeaderBytes = 2048;
 Result<std::string> StatsHeader(nlohmann::json stats);
 
+// A reply of these bytes: its media type, and its ETag over the bytes.
+Reply BytesReply(std::string body, std::string content_type);
+
 // A JSON reply: the body (finite numbers only), its media type and ETag.
 Result<Reply> JsonReply(const nlohmann::json& body);
 

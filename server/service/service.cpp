@@ -1,7 +1,6 @@
 #include "service/service.hpp"
 
 #include <chrono>
-#include <optional>
 
 #include "engine/animation.hpp"
 #include "engine/deform.hpp"
@@ -11,7 +10,6 @@
 #include "meshio/animation_glb.hpp"
 #include "meshio/mesh_import.hpp"
 #include "proto/api.hpp"
-#include "proto/content_hash.hpp"
 #include "proto/map_api.hpp"
 #include "service/flat_sheet_svg.hpp"
 #include "service/limit_checks.hpp"
@@ -228,11 +226,9 @@ Result<Reply> Service::GetSurface(std::string_view id) {
 
 Result<Reply> Service::GetSurfaceSvg(std::string_view id) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto entry, impl_->store.Find(id));
-  Reply reply;
+  Reply reply =
+      BytesReply(FlatSheetSvg(entry->sheet, "surfdeform flat sheet " + entry->id), "image/svg+xml");
   reply.cache_hit = true;
-  reply.body = FlatSheetSvg(entry->sheet, "surfdeform flat sheet " + entry->id);
-  reply.content_type = "image/svg+xml";
-  reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
 }
 
@@ -388,10 +384,8 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
   }
   const double encode_ms = MsSince(t3);
 
-  Reply reply;
+  Reply reply = BytesReply(std::move(bytes), "model/gltf-binary");
   reply.cache_hit = a.hit;
-  reply.body = std::move(bytes);
-  reply.content_type = "model/gltf-binary";
   reply.timings = {{"parse", work.parse_ms()},
                    {"flatten", a.flatten_ms},
                    {"subdivide", a.subdivide_ms},
@@ -400,7 +394,6 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
   SURFDEFORM_ASSIGN_OR_RETURN(
       reply.stats_json, StatsHeader(AnimationStatsHeader(*a.entry, a.hit, anim.fps, a.model,
                                                          glb.compression, imported, first_stats)));
-  reply.etag = proto::Sha256Hex(reply.body, 32);
   return reply;
 }
 
