@@ -47,12 +47,14 @@ def call(name, method, path, body=None, headers=None, keep_body=False):
         digest_of = json.dumps(doc, sort_keys=True).encode()
     else:
         digest_of = data
+    # JSON bodies are compared (and sized) without their timings, whose
+    # digits vary from run to run.
     stats = h.get("X-Surfdeform-Stats")
     stats = json.dumps(without_timings(json.loads(stats)), sort_keys=True) if stats else "-"
     etag = h.get("ETag", "-") if not h.get("Content-Type", "").startswith("application/json") \
         else "(json)"
     print(f"{name}\t{status}\t{h.get('Content-Type', '-')}\tetag={etag}\t"
-          f"sha256={hashlib.sha256(digest_of).hexdigest()[:24]}\tbytes={len(data)}\tstats={stats}")
+          f"sha256={hashlib.sha256(digest_of).hexdigest()[:24]}\tbytes={len(digest_of)}\tstats={stats}")
     return data if keep_body else None
 
 
