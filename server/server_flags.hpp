@@ -1,0 +1,36 @@
+// surfdeform-server's flags: one table (server_flags.cpp), each flag with the
+// environment variable of its name (--max-queued: SURFDEFORM_MAX_QUEUED), its
+// range and its default as built.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstddef>
+#include <string>
+
+#include "http/http_server.hpp"
+#include "service/service.hpp"
+
+namespace surfdeform {
+
+struct ServerConfig {
+  ServiceOptions service;
+  http::HttpOptions http;
+  SharedTierOptions shared;  // the Redis level; its url empty: none
+  std::string log_level = "info";
+  double drain_seconds = 0.0;  // on SIGTERM: not ready this long before stopping
+  // Byte limits as the flags give them, in MiB (ResolveServerConfig sets the
+  // limits from them).
+  size_t cache_mib = ServiceLimits{}.cache_bytes >> 20;
+  size_t body_mib = ServiceLimits{}.max_body_bytes >> 20;
+  size_t footprint_mib = ServiceLimits{}.footprint_memo_bytes >> 20;
+  size_t request_memory_mib = ServiceLimits{}.request_memory_bytes >> 20;
+};
+
+// Adds every flag to `app`, bound to `config`'s fields.
+void AddServerFlags(CLI::App& app, ServerConfig* config);
+
+// After parsing: the MiB limits in bytes, the log level, and the shared
+// tier's lock, which outlives both a wait for it and a flattening.
+void ResolveServerConfig(ServerConfig* config);
+
+}  // namespace surfdeform
