@@ -115,12 +115,18 @@ inline Status Degenerate(std::string message, std::string field = {}) {
   return Status(ErrorCode::kDegenerate, std::move(message), std::move(field));
 }
 
-// Either a T or a non-ok Status.
+// A slot for a result still to be computed (a vector filled by threads):
+// not ok, and an internal error if it were ever read unfilled.
+inline Status NotComputed() { return Status(ErrorCode::kInternal, "not computed"); }
+
+// Either a T or a non-ok Status (an ok Status without a value is taken as
+// NotComputed(): "not ok, but the status is OK" cannot be built).
 template <typename T>
 class Result {
  public:
-  Result(T value) : data_(std::move(value)) {}         // NOLINT(google-explicit-constructor)
-  Result(Status status) : data_(std::move(status)) {}  // NOLINT(google-explicit-constructor)
+  Result(T value) : data_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+  Result(Status status)                         // NOLINT(google-explicit-constructor)
+      : data_(status.ok() ? NotComputed() : std::move(status)) {}
 
   bool ok() const { return std::holds_alternative<T>(data_); }
   const Status& status() const {

@@ -363,7 +363,7 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
   enum class AnchorState : char { kPending, kMeasured, kFailed };
   std::vector<DistancePaths> paths(anchor_count);  // dropped once no frame left needs them
   std::vector<AnchorState> anchor_state(anchor_count, AnchorState::kPending);
-  std::vector<Result<MeasuredGrid>> measured(spec.frames, Status::Ok());
+  std::vector<Result<MeasuredGrid>> measured(spec.frames, NotComputed());
   std::vector<double> measure_ms(spec.frames, 0.0);
   std::vector<char> ready(spec.frames, 0);
   // Guards the task cursor, anchor_state, ready, `solved` and `stop`; a

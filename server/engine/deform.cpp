@@ -38,6 +38,14 @@ Status ValidateInput(const FlatSheet& sheet, const Mesh& mesh, const PlacementOp
 // on the fly), and the input vertices the subdivision deformed already. The
 // spans view either the owned vectors or a PreparedModel's.
 struct Refined {
+  Refined() = default;
+  // Moved, the vectors keep their buffers, so the spans stay valid; a copy's
+  // spans would point into the original.
+  Refined(Refined&&) = default;
+  Refined& operator=(Refined&&) = default;
+  Refined(const Refined&) = delete;
+  Refined& operator=(const Refined&) = delete;
+
   const Mesh* source = nullptr;
   std::span<const Vec3> placed;
   std::span<const Vec3> known;  // per input vertex, where known_on_sheet
@@ -456,7 +464,7 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
     // The faces' extents on the sheet are those of the placed model, the same
     // for every map: measured once per pass.
     const std::vector<FaceExtent> extents = FaceExtents(model.mesh, model.placed);
-    std::vector<Result<SubdivisionResult>> results(maps.size(), Status::Ok());
+    std::vector<Result<SubdivisionResult>> results(maps.size(), NotComputed());
     ParallelChunks(n_maps, threads, [&](int, int begin, int end) {
       for (int k = begin; k < end; ++k) {
         results[k] = Subdivide(model.mesh, model.placed, *maps[k], o.outside, one, want, extents);

@@ -190,5 +190,19 @@ TEST(Status, FieldPrefixJoinsPaths) {
   EXPECT_TRUE(Status::Ok().WithFieldPrefix("x").ok());
 }
 
+TEST(Result, HoldsAValueOrAnErrorNeverAnOkStatusWithoutAValue) {
+  const Result<int> value = 3;
+  EXPECT_TRUE(value.ok());
+  EXPECT_TRUE(value.status().ok());
+  const Result<int> error = InvalidArgument("bad", "x");
+  EXPECT_FALSE(error.ok());
+  EXPECT_EQ(error.status().code(), ErrorCode::kInvalidArgument);
+  // An ok status stands for no value: an error, never "not ok, status OK".
+  const Result<int> empty = Status::Ok();
+  EXPECT_FALSE(empty.ok());
+  EXPECT_EQ(empty.status().code(), ErrorCode::kInternal);
+  EXPECT_EQ(Result<int>(NotComputed()).status().code(), ErrorCode::kInternal);
+}
+
 }  // namespace
 }  // namespace surfdeform
