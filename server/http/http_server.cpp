@@ -46,50 +46,6 @@ struct RequestContext {
 };
 thread_local RequestContext t_context;
 
-// One row per route: the method, httplib's pattern (a regex where the path
-// carries an id), and the path template that names it in metrics and logs.
-// Registration, the methods a path allows (405, OPTIONS) and the metrics
-// labels all come from this table; the handlers are HttpServer::Impl's, by
-// the same index (kRouteHandlers).
-struct Route {
-  const char* method;
-  const char* pattern;
-  const char* label;
-};
-constexpr Route kRoutes[] = {
-    {"GET", "/", "/"},
-    {"GET", "/healthz", "/healthz"},
-    {"GET", "/readyz", "/readyz"},
-    {"GET", "/metrics", "/metrics"},
-    {"GET", "/openapi.yaml", "/openapi.yaml"},
-    {"GET", "/v1/info", "/v1/info"},
-    {"POST", "/v1/surfaces", "/v1/surfaces"},
-    {"GET", R"(/v1/surfaces/([^/]+)/flat\.svg)", "/v1/surfaces/{id}/flat.svg"},
-    {"GET", R"(/v1/surfaces/([^/]+))", "/v1/surfaces/{id}"},
-    {"POST", "/v1/deform", "/v1/deform"},
-    {"POST", R"(/v1/surfaces/([^/]+)/map)", "/v1/surfaces/{id}/map"},
-    {"POST", "/v1/animate", "/v1/animate"},
-};
-constexpr size_t kRouteCount = sizeof(kRoutes) / sizeof(kRoutes[0]);
-
-// The route label of a path ("other" for none) and, in *allow, the methods
-// its routes take, with OPTIONS (empty for none).
-std::string RouteOf(const std::string& path, std::string* allow = nullptr) {
-  static const std::vector<std::regex> patterns = [] {
-    std::vector<std::regex> p;
-    for (const Route& r : kRoutes) p.emplace_back(r.pattern);
-    return p;
-  }();
-  std::string label = "other", methods;
-  for (size_t k = 0; k < kRouteCount; ++k) {
-    if (!std::regex_match(path, patterns[k])) continue;
-    if (label == "other") label = kRoutes[k].label;
-    methods += std::string(kRoutes[k].method) + ", ";
-  }
-  if (allow != nullptr) *allow = methods.empty() ? "" : methods + "OPTIONS";
-  return label;
-}
-
 // "http://host:port/x" -> "/x" (and "http://host" -> "/"); other paths as
 // they are.
 void StripSchemeAndAuthority(std::string& path) {
@@ -228,6 +184,42 @@ struct HttpServer::Impl {
   std::atomic<bool> ready{true};
   std::mutex log_mutex;
   int bound_port = 0;
+
+  // One row per route: the method, httplib's pattern (a regex where the path
+  // carries an id), the path template that names it in metrics and logs,
+  // and its handler. Registration, the methods a path allows (405, OPTIONS)
+  // and the metrics labels all come from this table (kRoutes, below).
+  using Handler = void (Impl::*)(const httplib::Request&, httplib::Response&);
+  // A handler that reads its own body (POST /v1/deform, /v1/animate).
+  using BodyHandler = void (Impl::*)(const httplib::Request&, httplib::Response&,
+                                     const httplib::ContentReader&);
+  struct Route {
+    const char* method;
+    const char* pattern;
+    const char* label;
+    Handler handler;           // or
+    BodyHandler body_handler;  // for a route that reads its own body
+  };
+  static const Route kRoutes[];
+  static const size_t kRouteCount;
+
+  // The route label of a path ("other" for none) and, in *allow, the methods
+  // its routes take, with OPTIONS (empty for none).
+  static std::string RouteOf(const std::string& path, std::string* allow = nullptr) {
+    static const std::vector<std::regex> patterns = [] {
+      std::vector<std::regex> p;
+      for (size_t k = 0; k < kRouteCount; ++k) p.emplace_back(kRoutes[k].pattern);
+      return p;
+    }();
+    std::string label = "other", methods;
+    for (size_t k = 0; k < kRouteCount; ++k) {
+      if (!std::regex_match(path, patterns[k])) continue;
+      if (label == "other") label = kRoutes[k].label;
+      methods += std::string(kRoutes[k].method) + ", ";
+    }
+    if (allow != nullptr) *allow = methods.empty() ? "" : methods + "OPTIONS";
+    return label;
+  }
 
   bool AllowsOrigin(const std::string& origin) const {
     for (const std::string& o : options.allowed_origins) {
@@ -517,8 +509,17 @@ struct HttpServer::Impl {
   // its queue, the body is read and dropped as it arrives (no copy, no
   // parse) and the request refused, so that a refusal costs a small part of
   // what serving it would, and the connection stays usable (checklist 26).
-  void DeformWithBody(const httplib::Request& req, httplib::Response& res,
-                      const httplib::ContentReader& reader) {
+  using ServiceCall = Result<Reply> (Service::*)(const DeformRequest&);
+  void DeformRoute(const httplib::Request& req, httplib::Response& res,
+                   const httplib::ContentReader& reader) {
+    WithBody(req, res, reader, &Service::Deform);
+  }
+  void AnimateRoute(const httplib::Request& req, httplib::Response& res,
+                    const httplib::ContentReader& reader) {
+    WithBody(req, res, reader, &Service::Animate);
+  }
+  void WithBody(const httplib::Request& req, httplib::Response& res,
+                const httplib::ContentReader& reader, ServiceCall call) {
     const bool multipart = req.is_multipart_form_data();
     DeformBody body;
     bool read = false;
@@ -564,12 +565,13 @@ struct HttpServer::Impl {
     }
     if (!read) return;  // httplib answers (or the connection is gone)
     connection_phase::Handling();
-    Deform(req, res, body);
+    Deform(req, res, body, call);
   }
 
   // POST /v1/deform and POST /v1/animate: one mesh and its parameters, in the
   // same body forms.
-  void Deform(const httplib::Request& req, httplib::Response& res, const DeformBody& body) {
+  void Deform(const httplib::Request& req, httplib::Response& res, const DeformBody& body,
+              ServiceCall call) {
     ThrowIfArmed();  // the body is in: the connection can go on
     DeformRequest d;
     d.accept = req.get_header_value("Accept");
@@ -636,7 +638,7 @@ struct HttpServer::Impl {
     d.routed_surface_id = req.has_param("surface_id")
                               ? req.get_param_value("surface_id")
                               : req.get_header_value("X-Surfdeform-Surface-Id");
-    auto reply = req.path == "/v1/animate" ? service.Animate(d) : service.Deform(d);
+    auto reply = (service.*call)(d);
     if (!reply.ok()) return Fail(req, res, reply.status());
     Send(req, res, *reply);
   }
@@ -669,37 +671,28 @@ struct HttpServer::Impl {
   }
 
   void Routes() {
-    // The handlers of kRoutes, in its order.
-    using Handler = void (Impl::*)(const httplib::Request&, httplib::Response&);
-    const Handler handlers[] = {
-        &Impl::Index,         &Impl::Healthz,
-        &Impl::Readyz,        &Impl::MetricsText,
-        &Impl::OpenApi,       &Impl::Info,
-        &Impl::CreateSurface, &Impl::SurfaceSvg,
-        &Impl::SurfaceSheet,  nullptr /* POST /v1/deform reads its own body: DeformWithBody */,
-        &Impl::MapOnSurface,  nullptr /* POST /v1/animate: as /v1/deform */};
-    static_assert(sizeof(handlers) / sizeof(handlers[0]) == kRouteCount);
     // A mounted viewer serves GET / from its files first; the built-in page
     // stands in where it has none.
     MountViewer();
     for (size_t k = 0; k < kRouteCount; ++k) {
-      const Handler h = handlers[k];
-      if (h == nullptr) {
-        server.Post(kRoutes[k].pattern, [this](const httplib::Request& req, httplib::Response& res,
-                                               const httplib::ContentReader& reader) {
-          DeformWithBody(req, res, reader);
-        });
+      const Route& route = kRoutes[k];
+      if (route.body_handler != nullptr) {
+        server.Post(route.pattern,
+                    [this, h = route.body_handler](
+                        const httplib::Request& req, httplib::Response& res,
+                        const httplib::ContentReader& reader) { (this->*h)(req, res, reader); });
         continue;
       }
-      auto handler = [this, h](const httplib::Request& req, httplib::Response& res) {
+      auto handler = [this, h = route.handler](const httplib::Request& req,
+                                               httplib::Response& res) {
         connection_phase::Handling();  // httplib has read the body
         ThrowIfArmed();
         (this->*h)(req, res);
       };
-      if (std::string(kRoutes[k].method) == "GET") {
-        server.Get(kRoutes[k].pattern, handler);
+      if (std::string(route.method) == "GET") {
+        server.Get(route.pattern, handler);
       } else {
-        server.Post(kRoutes[k].pattern, handler);
+        server.Post(route.pattern, handler);
       }
     }
   }
@@ -783,6 +776,23 @@ struct HttpServer::Impl {
     Send(req, res, *reply);
   }
 };
+
+const HttpServer::Impl::Route HttpServer::Impl::kRoutes[] = {
+    {"GET", "/", "/", &Impl::Index, nullptr},
+    {"GET", "/healthz", "/healthz", &Impl::Healthz, nullptr},
+    {"GET", "/readyz", "/readyz", &Impl::Readyz, nullptr},
+    {"GET", "/metrics", "/metrics", &Impl::MetricsText, nullptr},
+    {"GET", "/openapi.yaml", "/openapi.yaml", &Impl::OpenApi, nullptr},
+    {"GET", "/v1/info", "/v1/info", &Impl::Info, nullptr},
+    {"POST", "/v1/surfaces", "/v1/surfaces", &Impl::CreateSurface, nullptr},
+    {"GET", R"(/v1/surfaces/([^/]+)/flat\.svg)", "/v1/surfaces/{id}/flat.svg", &Impl::SurfaceSvg,
+     nullptr},
+    {"GET", R"(/v1/surfaces/([^/]+))", "/v1/surfaces/{id}", &Impl::SurfaceSheet, nullptr},
+    {"POST", "/v1/deform", "/v1/deform", nullptr, &Impl::DeformRoute},
+    {"POST", R"(/v1/surfaces/([^/]+)/map)", "/v1/surfaces/{id}/map", &Impl::MapOnSurface, nullptr},
+    {"POST", "/v1/animate", "/v1/animate", nullptr, &Impl::AnimateRoute},
+};
+const size_t HttpServer::Impl::kRouteCount = std::size(HttpServer::Impl::kRoutes);
 
 HttpServer::HttpServer(Service& service, HttpOptions options)
     : impl_(std::make_unique<Impl>(service, std::move(options))) {
