@@ -373,6 +373,15 @@ Status ReadAnimationParts(JsonObject& parent, AnimationRequest* out) {
   return ReadFlatten(parent, &out->flatten);
 }
 
+// The optional "model_id": an id's shape, or an error naming it.
+Status ReadModelId(JsonObject& o, std::string* out) {
+  SURFDEFORM_RETURN_IF_ERROR(o.String("model_id", out));
+  if (!out->empty() && !IsSurfaceIdShaped(*out)) {
+    return InvalidArgument("must be an id returned by POST /v1/models (32 hex digits)", "model_id");
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 const char* OutputFormatName(OutputFormat format) {
@@ -421,6 +430,7 @@ Result<SurfaceRequest> ParseSurfaceRequest(const json& body) {
 Result<DeformParams> ParseDeformParams(const json& body) {
   SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(body, ""));
   DeformParams params;
+  SURFDEFORM_RETURN_IF_ERROR(ReadModelId(o, &params.model_id));
   const bool inline_surface = o.Find("surface") != nullptr;
   const json* id = o.Find("surface_id");
   const bool animated = o.Find("animation") != nullptr;
@@ -482,6 +492,7 @@ Result<DeformParams> ParseDeformParams(const json& body) {
 Result<AnimateParams> ParseAnimateParams(const json& body) {
   SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(body, ""));
   AnimateParams params;
+  SURFDEFORM_RETURN_IF_ERROR(ReadModelId(o, &params.model_id));
   for (const char* other : {"surface", "surface_id", "frame"}) {
     if (o.Find(other) != nullptr) {
       return Malformed(std::string("does not belong to an animation: give \"animation\" with "
@@ -554,6 +565,8 @@ std::string SurfaceId(const SurfaceRequest& request) {
   const std::string text = "surfdeform-sheet-1\n" + CanonicalJson(request).dump();
   return Sha256Hex(text, 32);
 }
+
+std::string ModelId(std::string_view mesh_bytes) { return Sha256Hex(mesh_bytes, 32); }
 
 bool IsSurfaceIdShaped(std::string_view text) {
   if (text.size() != 32) return false;

@@ -70,6 +70,8 @@ struct AnimationRequest {
 // POST /v1/deform parameters: a surface inline (with its sampling and
 // flattening) or the id of a flattened one, and what to do with the mesh.
 struct DeformParams {
+  // The mesh: from POST /v1/models by its id, or (empty) the request's body.
+  std::string model_id;
   std::optional<SurfaceRequest> surface;      // inline ...
   std::string surface_id;                     // ... or by id ...
   std::optional<AnimationRequest> animation;  // ... or one frame of an animation
@@ -82,6 +84,7 @@ struct DeformParams {
 // POST /v1/animate parameters: the animation, and what to do with the mesh
 // (output: GLB only, with its compression).
 struct AnimateParams {
+  std::string model_id;  // as in DeformParams
   AnimationRequest animation;
   PlacementOptions placement;
   SubdivisionOptions subdivision;
@@ -109,8 +112,13 @@ std::string SurfaceId(const SurfaceRequest& request);
 nlohmann::json CanonicalJson(const AnimationRequest& request);
 std::string AnimationId(const AnimationRequest& request);
 
-// True for a string that has the shape of a SurfaceId.
+// True for a string that has the shape of a SurfaceId (or a ModelId).
 bool IsSurfaceIdShaped(std::string_view text);
+
+// The id of an uploaded model (POST /v1/models): the first 32 hex digits of
+// SHA-256 of the mesh file's bytes, nothing else, so that a client can
+// compute it before uploading (and a load balancer route by it).
+std::string ModelId(std::string_view mesh_bytes);
 
 nlohmann::json QualityJson(const FlattenQuality& quality);
 nlohmann::json DeformStatsJson(const DeformStats& stats);

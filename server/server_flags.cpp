@@ -52,6 +52,8 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
        "Threads per flattening or deformation (0: one per core)", 0, 256);
   Flag(app, "--cache-mib", c->cache_mib, "Byte budget of the flattened-surface cache, MiB", 1,
        1 << 20);
+  Flag(app, "--model-cache-mib", c->model_cache_mib,
+       "Byte budget of the uploaded-model cache (POST /v1/models), MiB", 1, 1 << 20);
   Flag(app, "--footprint-memo-mib", c->footprint_mib,
        "Byte budget for where the vertices of models that come back lie on their sheets (24 "
        "bytes a vertex), MiB; 0: none kept",
@@ -128,6 +130,7 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
 void ResolveServerConfig(ServerConfig* c) {
   ServiceLimits& l = c->service.limits;
   l.cache_bytes = c->cache_mib << 20;
+  l.model_cache_bytes = c->model_cache_mib << 20;
   l.max_body_bytes = c->body_mib << 20;
   l.footprint_memo_bytes = c->footprint_mib << 20;
   l.request_memory_bytes = c->request_memory_mib << 20;

@@ -106,8 +106,7 @@ int RunAnimate(const Connection& c, const DeformOptions& d, const AnimateOptions
     std::fprintf(stderr, "animating %d frames of %s ...\n", frames, mesh_path.c_str());
     HttpReply r;
     HttpFailure f;
-    if (!client.PostMesh("/v1/animate", mesh, mesh_path, body.dump(), "model/gltf-binary", &r,
-                         &f)) {
+    if (!PostWithModel(client, "/v1/animate", mesh, body.dump(), "model/gltf-binary", &r, &f)) {
       std::fprintf(stderr, "surfdeform: %s: %s\n", mesh_path.c_str(), f.message.c_str());
       return ExitFor(f);
     }

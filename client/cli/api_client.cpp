@@ -18,6 +18,24 @@ std::string Num(double x) {
   return buf;
 }
 
+// The routing headers for the ids `params` (JSON text) names.
+httplib::Headers RoutingHeaders(const std::string& params) {
+  httplib::Headers headers;
+  const auto j = nlohmann::json::parse(params, nullptr, false);
+  if (!j.is_object()) return headers;
+  for (const auto& [key, header] : {std::pair{"surface_id", "X-Surfdeform-Surface-Id"},
+                                    std::pair{"model_id", "X-Surfdeform-Model-Id"}}) {
+    if (j.contains(key) && j[key].is_string()) headers.emplace(header, j[key].get<std::string>());
+  }
+  return headers;
+}
+
+std::string ProblemCode(const std::string& body) {
+  const auto j = nlohmann::json::parse(body, nullptr, false);
+  return j.is_object() && j.contains("code") && j["code"].is_string() ? j["code"].get<std::string>()
+                                                                      : "";
+}
+
 }  // namespace
 
 std::string ProblemMessage(int status, const std::string& body) {
@@ -75,6 +93,7 @@ struct ApiClient::Impl {
         failure->unreachable = false;
         failure->status = r->status;
         failure->message = ProblemMessage(r->status, r->body);
+        failure->code = ProblemCode(r->body);
         return false;
       }
       if (attempt >= retry.attempts) {
@@ -109,26 +128,19 @@ bool ApiClient::Get(const std::string& path, HttpReply* out, HttpFailure* failur
 }
 
 bool ApiClient::PostJson(const std::string& path, const std::string& json, HttpReply* out,
-                         HttpFailure* failure) {
-  return impl_->Exchange([&] { return impl_->client.Post(path, json, "application/json"); }, out,
-                         failure);
+                         HttpFailure* failure, const std::string& accept) {
+  httplib::Headers headers = RoutingHeaders(json);
+  if (!accept.empty()) headers.emplace("Accept", accept);
+  return impl_->Exchange(
+      [&] { return impl_->client.Post(path, headers, json, "application/json"); }, out, failure);
 }
 
-bool ApiClient::PostMesh(const std::string& path, const std::string& mesh,
-                         const std::string& file_name, const std::string& params,
-                         const std::string& accept, HttpReply* out, HttpFailure* failure) {
-  const httplib::MultipartFormDataItems items = {
-      {"mesh", mesh, file_name, "application/octet-stream"},
-      {"params", params, "", "application/json"}};
-  httplib::Headers headers;
-  if (!accept.empty()) headers.emplace("Accept", accept);
-  // A load balancer routes by it (docker/nginx.conf), so that the replica
-  // that already holds this surface serves it.
-  const auto j = nlohmann::json::parse(params, nullptr, false);
-  if (j.is_object() && j.contains("surface_id") && j["surface_id"].is_string()) {
-    headers.emplace("X-Surfdeform-Surface-Id", j["surface_id"].get<std::string>());
-  }
-  return impl_->Exchange([&] { return impl_->client.Post(path, headers, items); }, out, failure);
+bool ApiClient::PostModel(const std::string& mesh, const std::string& model_id, HttpReply* out,
+                          HttpFailure* failure) {
+  const httplib::Headers headers = {{"X-Surfdeform-Model-Id", model_id}};
+  return impl_->Exchange(
+      [&] { return impl_->client.Post("/v1/models", headers, mesh, "application/octet-stream"); },
+      out, failure);
 }
 
 }  // namespace surfdeform::cli

@@ -32,6 +32,7 @@ struct HttpFailure {
   bool unreachable = false;
   int status = 0;
   std::string message;
+  std::string code;  // the problem's "code" ("unknown_model", ...), when there is one
 };
 
 class ApiClient {
@@ -47,12 +48,13 @@ class ApiClient {
 
   // On success (2xx) *out is the reply; else *failure says what went wrong.
   bool Get(const std::string& path, HttpReply* out, HttpFailure* failure);
+  // With the routing headers of the ids the JSON names (surface_id,
+  // model_id), by which a load balancer picks the replica that holds them.
   bool PostJson(const std::string& path, const std::string& json, HttpReply* out,
-                HttpFailure* failure);
-  // POST multipart/form-data: a `mesh` file part and a `params` JSON part.
-  bool PostMesh(const std::string& path, const std::string& mesh, const std::string& file_name,
-                const std::string& params, const std::string& accept, HttpReply* out,
-                HttpFailure* failure);
+                HttpFailure* failure, const std::string& accept = "");
+  // POST /v1/models: a mesh file's bytes, routed by `model_id` (its id).
+  bool PostModel(const std::string& mesh, const std::string& model_id, HttpReply* out,
+                 HttpFailure* failure);
 
   const std::string& server() const { return server_; }
 

@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "proto/content_hash.hpp"
+
 namespace surfdeform::cli {
 
 using nlohmann::json;
@@ -54,6 +56,15 @@ bool ReadSurfaceRequest(const std::string& file, json* out, CliError* error) {
   // "description", which is the file's, not the API's.
   if ((*out)["surface"].is_object()) (*out)["surface"].erase("description");
   return true;
+}
+
+// The JSON reply of a request that creates something with an id; false,
+// having said so, for anything else.
+bool ReplyWithId(const HttpReply& r, json* out) {
+  *out = json::parse(r.body, nullptr, false);
+  if (!out->is_discarded() && out->contains("id")) return true;
+  std::fprintf(stderr, "surfdeform: unexpected reply from the server\n");
+  return false;
 }
 
 }  // namespace
@@ -131,11 +142,8 @@ int RunFlatten(const Connection& c, const std::string& surface_file, const std::
     std::fprintf(stderr, "surfdeform: %s\n", f.message.c_str());
     return ExitFor(f);
   }
-  const json j = json::parse(r.body, nullptr, false);
-  if (j.is_discarded() || !j.contains("id")) {
-    std::fprintf(stderr, "surfdeform: unexpected reply from the server\n");
-    return kExitUnavailable;
-  }
+  json j;
+  if (!ReplyWithId(r, &j)) return kExitUnavailable;
   if (json_output) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
@@ -192,6 +200,7 @@ bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* 
               "no surface: give --surface FILE, --surface-id ID, or a surface in --params"};
     return false;
   }
+  if (!o.model_id.empty()) params["model_id"] = o.model_id;
   if (!o.subdivision.empty()) params["subdivision"]["mode"] = o.subdivision;
   if (o.tolerance > 0.0) params["subdivision"]["tolerance"] = o.tolerance;
   if (!o.scale.empty()) {
@@ -246,15 +255,60 @@ bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* 
   return true;
 }
 
-int DeformFile(ApiClient& client, const DeformRequest& request, const std::string& mesh_path,
-               const std::string& out_path, std::string* message) {
-  std::string mesh;
-  if (!ReadFileBytes(mesh_path, &mesh, message)) return kExitLocalFile;
-  const size_t slash = mesh_path.find_last_of('/');
-  const std::string name = slash == std::string::npos ? mesh_path : mesh_path.substr(slash + 1);
+bool PostWithModel(ApiClient& client, const std::string& path, const std::string& mesh,
+                   const std::string& params, const std::string& accept, HttpReply* out,
+                   HttpFailure* failure) {
+  json p = json::parse(params);
+  const std::string id = proto::Sha256Hex(mesh, 32);  // what the server names it (proto/api.hpp)
+  p["model_id"] = id;
+  const std::string body = p.dump();
+  if (client.PostJson(path, body, out, failure, accept)) return true;
+  if (failure->code != "unknown_model") return false;
+  HttpReply uploaded;
+  if (!client.PostModel(mesh, id, &uploaded, failure)) return false;
+  return client.PostJson(path, body, out, failure, accept);
+}
+
+int RunUpload(const Connection& c, const std::string& mesh_path, bool json_output) {
+  std::string mesh, message;
+  if (!ReadFileBytes(mesh_path, &mesh, &message)) {
+    std::fprintf(stderr, "surfdeform: %s\n", message.c_str());
+    return kExitLocalFile;
+  }
+  ApiClient client(c.server, c.retry, c.timeout_s);
+  ConfigureRetries(c, &client);
   HttpReply r;
   HttpFailure f;
-  if (!client.PostMesh("/v1/deform", mesh, name, request.params, request.accept, &r, &f)) {
+  if (!client.PostModel(mesh, proto::Sha256Hex(mesh, 32), &r, &f)) {
+    std::fprintf(stderr, "surfdeform: %s: %s\n", mesh_path.c_str(), f.message.c_str());
+    return ExitFor(f);
+  }
+  json j;
+  if (!ReplyWithId(r, &j)) return kExitUnavailable;
+  if (json_output) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("%s\n", j["id"].get<std::string>().c_str());
+    std::fprintf(stderr, "%s: %s, %d vertices, %d triangles, up %s (%s)\n", mesh_path.c_str(),
+                 j.value("format", "").c_str(), j.value("vertices", 0), j.value("triangles", 0),
+                 j.value("up", "").c_str(), r.status == 201 ? "uploaded" : "already on the server");
+  }
+  return kExitOk;
+}
+
+int DeformFile(ApiClient& client, const DeformRequest& request, const std::string& mesh_path,
+               const std::string& out_path, std::string* message) {
+  HttpReply r;
+  HttpFailure f;
+  bool sent = false;
+  if (mesh_path.empty()) {
+    sent = client.PostJson("/v1/deform", request.params, &r, &f, request.accept);
+  } else {
+    std::string mesh;
+    if (!ReadFileBytes(mesh_path, &mesh, message)) return kExitLocalFile;
+    sent = PostWithModel(client, "/v1/deform", mesh, request.params, request.accept, &r, &f);
+  }
+  if (!sent) {
     *message = f.message;
     return ExitFor(f);
   }
@@ -303,12 +357,13 @@ int RunDeform(const Connection& c, const DeformOptions& o, const std::string& me
   ApiClient client(c.server, c.retry, c.timeout_s);
   ConfigureRetries(c, &client);
   std::string message;
+  const std::string what = mesh_path.empty() ? "model " + o.model_id : mesh_path;
   const int code = DeformFile(client, request, mesh_path, out_path, &message);
   if (code != kExitOk) {
-    std::fprintf(stderr, "surfdeform: %s: %s\n", mesh_path.c_str(), message.c_str());
+    std::fprintf(stderr, "surfdeform: %s: %s\n", what.c_str(), message.c_str());
     return code;
   }
-  std::printf("%s -> %s: %s\n", mesh_path.c_str(), out_path.c_str(), message.c_str());
+  std::printf("%s -> %s: %s\n", what.c_str(), out_path.c_str(), message.c_str());
   return kExitOk;
 }
 

@@ -42,6 +42,7 @@ struct Connection {
 // surface request, or just its "surface" object) or by id, and the other
 // parameters (a JSON object, inline or a file), with a few overrides.
 struct DeformOptions {
+  std::string model_id;  // a model uploaded before, instead of a mesh file
   std::string surface_file;
   std::string surface_id;
   std::string params;       // JSON text, or a file name
@@ -57,6 +58,8 @@ struct DeformOptions {
 int RunMap(const Connection& c, const std::string& surface_id, const std::string& request,
            const std::string& out_path);
 int RunInfo(const Connection& c);
+// POST /v1/models: prints the model's id (and what the server read).
+int RunUpload(const Connection& c, const std::string& mesh_path, bool json_output);
 int RunHealth(const Connection& c);
 int RunFlatten(const Connection& c, const std::string& surface_file, const std::string& svg_path,
                bool json_output);
@@ -96,7 +99,16 @@ struct DeformRequest {
 bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* out,
                         CliError* error);
 
-// One mesh through the server into `out_path`. Returns an exit code; on
+// POST `path` with `params` (JSON text) naming the mesh by its id: the mesh
+// is uploaded (POST /v1/models) only when the server does not hold it (404
+// unknown_model: never sent, or evicted since), and the request sent again.
+// So a mesh crosses the wire once per server however many requests use it.
+bool PostWithModel(ApiClient& client, const std::string& path, const std::string& mesh,
+                   const std::string& params, const std::string& accept, HttpReply* out,
+                   HttpFailure* failure);
+
+// One mesh through the server into `out_path` (an empty `mesh_path`: the
+// model the request's parameters name by id). Returns an exit code; on
 // failure *message says why, on success it summarises the result.
 int DeformFile(ApiClient& client, const DeformRequest& request, const std::string& mesh_path,
                const std::string& out_path, std::string* message);

@@ -96,10 +96,21 @@ int main(int argc, char** argv) {
       "deform", "Deform one mesh; the output's extension (.drc .glb .obj .ply) picks its format");
   std::string mesh_path, out_path;
   // Mesh files are checked when read: one that cannot be is exit code 4, not 1.
-  deform->add_option("mesh", mesh_path, "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF)")
-      ->required();
+  auto* deform_mesh = deform->add_option(
+      "mesh", mesh_path,
+      "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF); sent once per server (by id after)");
+  deform->add_option("--model-id", d.model_id, "A model already uploaded (see upload)")
+      ->excludes(deform_mesh);
   deform->add_option("-o,--output", out_path, "Output file")->required();
   add_deform_options(deform);
+
+  auto* upload = app.add_subcommand(
+      "upload", "Upload a mesh once (POST /v1/models) and print its id, for deform --model-id");
+  std::string upload_path;
+  upload->add_option("mesh", upload_path, "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF)")
+      ->required();
+  bool upload_json = false;
+  upload->add_flag("--json", upload_json, "Print the server's JSON reply");
 
   auto* batch = app.add_subcommand(
       "batch", "Deform many meshes with one set of parameters into a folder (resumable)");
@@ -163,7 +174,14 @@ int main(int argc, char** argv) {
   if (app.got_subcommand("health")) return RunHealth(c);
   if (flatten->parsed()) return RunFlatten(c, surface_file, svg_path, json_output);
   if (map->parsed()) return RunMap(c, map_id, map_request, map_out);
-  if (deform->parsed()) return RunDeform(c, d, mesh_path, out_path);
+  if (deform->parsed()) {
+    if (mesh_path.empty() == d.model_id.empty()) {
+      std::fprintf(stderr, "surfdeform deform: give a mesh file or --model-id ID\n");
+      return kExitUsage;
+    }
+    return RunDeform(c, d, mesh_path, out_path);
+  }
+  if (upload->parsed()) return RunUpload(c, upload_path, upload_json);
   if (animate->parsed()) return RunAnimate(c, d, a, animate_mesh, animate_out);
   if (batch->parsed()) return RunBatch(c, d, inputs, out_dir, extension, jobs, force);
   return kExitUsage;

@@ -34,6 +34,7 @@ enum class ErrorCode {
   kUnsupportedFormat,  // bytes in no format the reader knows (or one it refuses)
   kMalformed,          // a request that cannot be parsed (syntax, wrong types, unknown fields)
   kNotFound,           // an id that names nothing (e.g. a surface no longer cached)
+  kUnknownModel,       // a model id the service does not hold (never uploaded, or evicted)
   kNotAcceptable,      // no output format the caller accepts
   kUnavailable,        // overloaded or shutting down: retry later
 };
@@ -51,6 +52,8 @@ inline constexpr EnumEntry<ErrorCode> kErrorCodes[] = {
     {ErrorCode::kUnsupportedFormat, "unsupported_format", "bytes in no format the reader knows"},
     {ErrorCode::kMalformed, "malformed", "a request that cannot be parsed"},
     {ErrorCode::kNotFound, "not_found", "an id that names nothing"},
+    {ErrorCode::kUnknownModel, "unknown_model",
+     "a model id the service does not hold: upload the model again"},
     {ErrorCode::kNotAcceptable, "not_acceptable", "no output format the caller accepts"},
     {ErrorCode::kUnavailable, "unavailable", "overloaded or shutting down: retry later"},
 };

@@ -350,7 +350,7 @@ struct HttpServer::Impl {
         res.set_header("Access-Control-Allow-Methods", "GET, POST, OPTIONS");
         res.set_header("Access-Control-Allow-Headers",
                        "Content-Type, Accept, If-None-Match, X-Request-Id, X-Surfdeform-Params, "
-                       "X-Surfdeform-Surface-Id");
+                       "X-Surfdeform-Surface-Id, X-Surfdeform-Model-Id");
         res.set_header("Access-Control-Max-Age", "600");
       }
       return httplib::Server::HandlerResponse::Handled;
@@ -505,21 +505,28 @@ struct HttpServer::Impl {
     std::multimap<std::string, httplib::MultipartFormData> parts;  // or a form's parts
   };
 
-  // POST /v1/deform and /v1/animate read their own bodies: past the work-in-flight limit and
-  // its queue, the body is read and dropped as it arrives (no copy, no
-  // parse) and the request refused, so that a refusal costs a small part of
-  // what serving it would, and the connection stays usable (checklist 26).
+  // POST /v1/deform, /v1/animate and /v1/models read their own bodies: past
+  // the work-in-flight limit and its queue, the body is read and dropped as
+  // it arrives (no copy, no parse) and the request refused, so that a
+  // refusal costs a small part of what serving it would, and the connection
+  // stays usable (checklist 26).
   using ServiceCall = Result<Reply> (Service::*)(const DeformRequest&);
   void DeformRoute(const httplib::Request& req, httplib::Response& res,
                    const httplib::ContentReader& reader) {
-    WithBody(req, res, reader, &Service::Deform);
+    WithBody(req, res, reader, [&](const DeformBody& b) { Deform(req, res, b, &Service::Deform); });
   }
   void AnimateRoute(const httplib::Request& req, httplib::Response& res,
                     const httplib::ContentReader& reader) {
-    WithBody(req, res, reader, &Service::Animate);
+    WithBody(req, res, reader,
+             [&](const DeformBody& b) { Deform(req, res, b, &Service::Animate); });
   }
+  void UploadModelRoute(const httplib::Request& req, httplib::Response& res,
+                        const httplib::ContentReader& reader) {
+    WithBody(req, res, reader, [&](const DeformBody& b) { UploadModel(req, res, b); });
+  }
+  template <class Use>
   void WithBody(const httplib::Request& req, httplib::Response& res,
-                const httplib::ContentReader& reader, ServiceCall call) {
+                const httplib::ContentReader& reader, const Use& use) {
     const bool multipart = req.is_multipart_form_data();
     DeformBody body;
     bool read = false;
@@ -565,7 +572,27 @@ struct HttpServer::Impl {
     }
     if (!read) return;  // httplib answers (or the connection is gone)
     connection_phase::Handling();
-    Deform(req, res, body, call);
+    use(body);
+  }
+
+  // POST /v1/models: the mesh file as the raw body or a multipart "mesh" part.
+  void UploadModel(const httplib::Request& req, httplib::Response& res, const DeformBody& body) {
+    ThrowIfArmed();
+    std::string_view mesh = body.raw;
+    if (req.is_multipart_form_data()) {
+      if (body.parts.size() != 1 || body.parts.count("mesh") != 1) {
+        return Fail(req, res,
+                    Status(ErrorCode::kMalformed,
+                           "POST /v1/models takes one multipart part, \"mesh\" (the mesh file), "
+                           "or the file's raw bytes as the body",
+                           "mesh"));
+      }
+      mesh = body.parts.begin()->second.content;
+    }
+    auto reply = service.UploadModel(mesh, req.get_header_value("X-Surfdeform-Model-Id"));
+    if (!reply.ok()) return Fail(req, res, reply.status());
+    res.set_header("Location", "/v1/models/" + reply->model_id);
+    Send(req, res, *reply, reply->cache_hit ? 200 : 201);
   }
 
   // POST /v1/deform and POST /v1/animate: one mesh and its parameters, in the
@@ -581,42 +608,44 @@ struct HttpServer::Impl {
     const size_t in_query = req.get_param_value_count("params");
     const size_t in_header = req.get_header_value_count("X-Surfdeform-Params");
     const size_t in_form = req.is_multipart_form_data() ? body.parts.count("params") : 0;
-    if (in_query + in_header + in_form > 1) {
-      return Fail(
-          req, res,
-          Status(ErrorCode::kMalformed,
-                 "the parameters are given " + std::to_string(in_query + in_header + in_form) +
-                     " times (query: " + std::to_string(in_query) +
-                     ", X-Surfdeform-Params "
-                     "header: " +
-                     std::to_string(in_header) + ", form part: " + std::to_string(in_form) +
-                     "); give them once",
-                 "params"));
+    // A JSON body is the parameters alone (the mesh named by "model_id").
+    const std::string type = req.get_header_value("Content-Type");
+    const bool json_body = type.rfind("application/json", 0) == 0;
+    const size_t in_body = json_body ? 1 : 0;
+    if (in_query + in_header + in_form + in_body > 1) {
+      return Fail(req, res,
+                  Status(ErrorCode::kMalformed,
+                         "the parameters are given " +
+                             std::to_string(in_query + in_header + in_form + in_body) +
+                             " times (query: " + std::to_string(in_query) +
+                             ", X-Surfdeform-Params "
+                             "header: " +
+                             std::to_string(in_header) + ", form part: " + std::to_string(in_form) +
+                             ", JSON body: " + std::to_string(in_body) + "); give them once",
+                         "params"));
     }
     if (req.is_multipart_form_data()) {
-      if (body.parts.count("mesh") == 0) {
-        return Fail(req, res,
-                    Status(ErrorCode::kMalformed,
-                           "the multipart body needs a \"mesh\" part (the mesh file) and a "
-                           "\"params\" part (JSON)",
-                           "mesh"));
-      }
+      // No "mesh" part: the parameters name a model_id (or the service says
+      // that a mesh is missing).
       if (body.parts.count("mesh") > 1) {
         return Fail(req, res,
                     Status(ErrorCode::kMalformed, "give one \"mesh\" part and one \"params\" part",
                            "mesh"));
       }
-      d.mesh = body.parts.find("mesh")->second.content;
+      if (auto it = body.parts.find("mesh"); it != body.parts.end()) d.mesh = it->second.content;
       if (auto it = body.parts.find("params"); it != body.parts.end()) params = it->second.content;
+    } else if (json_body) {
+      params = body.raw;
     } else {
-      const std::string type = req.get_header_value("Content-Type");
-      if (type.rfind("application/json", 0) == 0 || type.rfind("application/x-www-form", 0) == 0) {
+      if (type.rfind("application/x-www-form", 0) == 0) {
         return Fail(req, res,
                     Status(ErrorCode::kUnsupportedFormat,
                            "POST " + req.path +
                                " takes multipart/form-data (parts \"mesh\" and "
-                               "\"params\") or the raw mesh bytes with the parameters in the "
-                               "\"params\" query parameter or the X-Surfdeform-Params header",
+                               "\"params\"), the raw mesh bytes with the parameters in the "
+                               "\"params\" query parameter or the X-Surfdeform-Params header, "
+                               "or the parameters as an application/json body naming a "
+                               "\"model_id\"",
                            "Content-Type"));
       }
       d.mesh = body.raw;
@@ -722,7 +751,7 @@ struct HttpServer::Impl {
   void MetricsText(const httplib::Request&, httplib::Response& res) {
     res.set_content(metrics.Render(service.cache_stats(), service.shared_tier_stats(),
                                    service.admission_stats(), server.connection_stats(),
-                                   service.placement_memo_stats()),
+                                   service.placement_memo_stats(), service.model_cache_stats()),
                     "text/plain; version=0.0.4");
   }
   void OpenApi(const httplib::Request&, httplib::Response& res) {
@@ -770,6 +799,11 @@ struct HttpServer::Impl {
     if (!reply.ok()) return Fail(req, res, reply.status());
     Send(req, res, *reply);
   }
+  void ModelSummary(const httplib::Request& req, httplib::Response& res) {
+    auto reply = service.GetModel(req.matches[1].str());
+    if (!reply.ok()) return Fail(req, res, reply.status());
+    Send(req, res, *reply);
+  }
   void SurfaceSheet(const httplib::Request& req, httplib::Response& res) {
     auto reply = service.GetSurface(req.matches[1].str());
     if (!reply.ok()) return Fail(req, res, reply.status());
@@ -791,6 +825,8 @@ const HttpServer::Impl::Route HttpServer::Impl::kRoutes[] = {
     {"POST", "/v1/deform", "/v1/deform", nullptr, &Impl::DeformRoute},
     {"POST", R"(/v1/surfaces/([^/]+)/map)", "/v1/surfaces/{id}/map", &Impl::MapOnSurface, nullptr},
     {"POST", "/v1/animate", "/v1/animate", nullptr, &Impl::AnimateRoute},
+    {"POST", "/v1/models", "/v1/models", nullptr, &Impl::UploadModelRoute},
+    {"GET", R"(/v1/models/([^/]+))", "/v1/models/{id}", &Impl::ModelSummary, nullptr},
 };
 const size_t HttpServer::Impl::kRouteCount = std::size(HttpServer::Impl::kRoutes);
 

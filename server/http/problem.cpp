@@ -12,6 +12,7 @@ int HttpStatusOf(ErrorCode code) {
     case ErrorCode::kMalformed:
       return 400;
     case ErrorCode::kNotFound:
+    case ErrorCode::kUnknownModel:
       return 404;
     case ErrorCode::kNotAcceptable:
       return 406;

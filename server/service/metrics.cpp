@@ -42,7 +42,7 @@ void Metrics::Rejected(const std::string& reason) {
 
 std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shared,
                             const AdmissionStats& admission, const ConnectionStats& connections,
-                            const PlacementMemoStats& placements) const {
+                            const PlacementMemoStats& placements, const CacheStats& models) const {
   std::string out;
   auto line = [&out](const std::string& text) { out += text + "\n"; };
   std::lock_guard lock(mutex_);
@@ -114,6 +114,22 @@ std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shar
   gauge("bytes", "Bytes held by cached flattened surfaces.", cache.bytes);
   gauge("entries", "Flattened surfaces in the cache.", cache.entries);
   gauge("capacity_bytes", "The cache's byte budget.", cache.capacity_bytes);
+  // The uploaded models' cache (POST /v1/models), the same counters.
+  auto model_line = [&](const char* name, const char* type, const char* help, uint64_t value) {
+    const std::string full = std::string("surfdeform_model_cache_") + name;
+    line("# HELP " + full + " " + help);
+    line("# TYPE " + full + " " + type);
+    line(full + " " + std::to_string(value));
+  };
+  model_line("hits_total", "counter", "Model lookups and uploads served from the cache.",
+             models.hits);
+  model_line("misses_total", "counter", "Model lookups and uploads that had to import.",
+             models.misses);
+  model_line("evictions_total", "counter", "Models evicted to stay within the byte budget.",
+             models.evictions);
+  model_line("bytes", "gauge", "Bytes held by uploaded models (estimated).", models.bytes);
+  model_line("entries", "gauge", "Uploaded models in the cache.", models.entries);
+  model_line("capacity_bytes", "gauge", "The model cache's byte budget.", models.capacity_bytes);
 
   auto plain = [&](const std::string& name, const char* type, const char* help,
                    const std::string& value) {

@@ -6,6 +6,7 @@
 
 #include "engine/elapsed.hpp"
 #include "engine/flatten.hpp"
+#include "engine/placement.hpp"
 #include "engine/sheet_map.hpp"
 #include "engine/subdivide.hpp"
 #include "meshio/mesh_export.hpp"
@@ -214,6 +215,32 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   return reply;
 }
 
+json ModelSummary(const StoredModel& m) {
+  const ImportedMesh& in = m.imported;
+  const Mesh& mesh = in.mesh;
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+  if (!mesh.positions.empty()) {
+    lo = hi = mesh.positions[0];
+    for (const Vec3& p : mesh.positions) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  }
+  const char* reason = "default";
+  const bool y_up = in.format == MeshFormat::kGlb || in.format == MeshFormat::kGltf;
+  const UpAxis up = ResolveUpAxis(UpAxis::kAuto, y_up, mesh.positions, &reason);
+  return {{"id", m.id},
+          {"format", MeshFormatName(in.format)},
+          {"file_bytes", m.file_bytes},
+          {"vertices", mesh.positions.size()},
+          {"triangles", mesh.triangles.size()},
+          {"groups", std::max<size_t>(1, mesh.groups.size())},
+          {"bounds", {{lo.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), hi.z()}}},
+          {"up", NameOf<UpAxis>(kUpAxes, up)},
+          {"up_reason", reason},
+          {"warnings", in.warnings}};
+}
+
 std::string InfoJson(const ServiceLimits& l) {
   json j = {{"name", "surfdeform"},
             {"version", SURFDEFORM_VERSION},
@@ -231,6 +258,7 @@ std::string InfoJson(const ServiceLimits& l) {
               {"flatten_time_budget_ms", l.flatten_time_budget_ms},
               {"request_time_budget_ms", l.request_time_budget_ms},
               {"cache_bytes", l.cache_bytes},
+              {"model_cache_bytes", l.model_cache_bytes},
               {"max_map_points", kMapLimits.max_points},
               {"max_map_surface_points", kMapLimits.max_surface_points},
               {"max_map_output_points", MaxMapOutputPoints(l)},

@@ -15,6 +15,7 @@
 #include "meshio/animation_glb.hpp"
 #include "meshio/mesh_import.hpp"
 #include "proto/api.hpp"
+#include "service/model_store.hpp"
 #include "service/reply.hpp"
 #include "service/service_limits.hpp"
 #include "service/surface_store.hpp"
@@ -53,6 +54,11 @@ nlohmann::json SheetSummary(const StoredSurface& s, bool cached);
 // GET /v1/surfaces/{id}: the summary, the canonical request, and every
 // sample's surface point and flat position.
 nlohmann::json SheetJson(const StoredSurface& s);
+
+// POST /v1/models's reply and GET /v1/models/{id}: the id, the file's
+// format and size, the imported counts and bounds, and the axis that
+// "up": "auto" resolves to (placement.hpp's rule), with why.
+nlohmann::json ModelSummary(const StoredModel& m);
 
 // The X-Surfdeform-Stats of a deformation.
 nlohmann::json DeformStatsHeader(const std::string& surface_id, const FlattenQuality& quality,

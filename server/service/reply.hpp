@@ -20,6 +20,7 @@ struct Reply {
   std::string etag;        // over the body bytes (deterministic)
   bool cache_hit = false;
   std::string surface_id;  // CreateSurface: the id of the flattened surface
+  std::string model_id;    // UploadModel: the model's id
 };
 
 }  // namespace surfdeform

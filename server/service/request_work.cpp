@@ -25,7 +25,12 @@ Result<nlohmann::json> RequestWork::ParseJson(std::string_view text, const char*
 }
 
 Result<ImportedMesh> RequestWork::Import(std::string_view mesh) {
-  if (mesh.empty()) return Status(ErrorCode::kMalformed, "the request carries no mesh", "mesh");
+  if (mesh.empty()) {
+    return Status(ErrorCode::kMalformed,
+                  "the request carries no mesh: send the mesh file, or name an uploaded one "
+                  "(POST /v1/models) by \"model_id\" in the parameters",
+                  "mesh");
+  }
   faults::MaybeFailAllocation();  // the test build's fault point; nothing in production
   SURFDEFORM_ASSIGN_OR_RETURN(auto imported, ImportMesh(mesh, ImportLimitsOf(limits_)));
   SURFDEFORM_RETURN_IF_ERROR(EndParse());

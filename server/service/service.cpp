@@ -13,6 +13,7 @@
 #include "proto/map_api.hpp"
 #include "service/flat_sheet_svg.hpp"
 #include "service/limit_checks.hpp"
+#include "service/model_store.hpp"
 #include "service/output_negotiation.hpp"
 #include "service/placement_memo.hpp"
 #include "service/replies.hpp"
@@ -86,6 +87,7 @@ struct Service::Impl {
   explicit Impl(ServiceOptions o)
       : options(Normalised(std::move(o))),
         store(options.limits, options.engine_threads, options.shared_tier),
+        models(options.limits, options.shared_tier),
         admission(AdmissionOptions{options.limits.max_in_flight, options.limits.max_queued,
                                    options.limits.queue_timeout_ms, Cores()}) {}
 
@@ -114,6 +116,23 @@ struct Service::Impl {
     }
     *hit = true;
     return found;
+  }
+
+  // The request's mesh: the uploaded model it names (a copy: the work
+  // consumes it), or its body imported. Ends the parse phase.
+  Result<ImportedMesh> MeshOf(const std::string& model_id, std::string_view body,
+                              RequestWork& work) {
+    if (model_id.empty()) return work.Import(body);
+    if (!body.empty()) {
+      return Status(ErrorCode::kMalformed,
+                    "the parameters name a model_id and the request carries a mesh too: send "
+                    "one of them",
+                    "model_id");
+    }
+    SURFDEFORM_ASSIGN_OR_RETURN(auto model, models.Find(model_id));
+    ImportedMesh copy = model->imported;
+    SURFDEFORM_RETURN_IF_ERROR(work.EndParse());
+    return copy;
   }
 
   Result<AnimatedModel> PrepareAnimated(const proto::AnimationRequest& request, Mesh&& mesh,
@@ -174,6 +193,7 @@ struct Service::Impl {
 
   const ServiceOptions options;
   SurfaceStore store;
+  ModelStore models;
   Admission admission;
   // Placements and footprints of models that come back, by surface, options
   // and positions.
@@ -185,6 +205,7 @@ Service::~Service() = default;
 
 const ServiceLimits& Service::limits() const { return impl_->options.limits; }
 CacheStats Service::cache_stats() const { return impl_->store.surface_stats(); }
+CacheStats Service::model_cache_stats() const { return impl_->models.stats(); }
 PlacementMemoStats Service::placement_memo_stats() const { return impl_->placements.stats(); }
 AdmissionStats Service::admission_stats() const { return impl_->admission.stats(); }
 bool Service::Saturated() const { return impl_->admission.Full(); }
@@ -229,6 +250,40 @@ Result<Reply> Service::GetSurfaceSvg(std::string_view id) {
   Reply reply =
       BytesReply(FlatSheetSvg(entry->sheet, "surfdeform flat sheet " + entry->id), "image/svg+xml");
   reply.cache_hit = true;
+  return reply;
+}
+
+Result<Reply> Service::UploadModel(std::string_view mesh, std::string_view routed_id) {
+  RequestWork work(impl_->options.limits);
+  if (mesh.empty()) return Status(ErrorCode::kMalformed, "the request carries no mesh", "mesh");
+  const std::string id = proto::ModelId(mesh);
+  if (!routed_id.empty() && routed_id != id) {
+    return Status(ErrorCode::kMalformed,
+                  "the X-Surfdeform-Model-Id header names model " + std::string(routed_id) +
+                      " but the bytes' id is " + id +
+                      " (the first 32 hex digits of their SHA-256): they must agree, since load "
+                      "balancers route by the header",
+                  "X-Surfdeform-Model-Id");
+  }
+  // Importing is work like any other: a slot first.
+  SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+  bool known = false;
+  SURFDEFORM_ASSIGN_OR_RETURN(auto model, impl_->models.Put(mesh, &known));
+  SURFDEFORM_RETURN_IF_ERROR(work.EndParse());
+  SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(ModelSummary(*model)));
+  reply.cache_hit = known;
+  reply.model_id = model->id;
+  reply.timings = {{"parse", work.parse_ms()}};
+  return reply;
+}
+
+Result<Reply> Service::GetModel(std::string_view id) {
+  auto found = impl_->models.Find(id);
+  if (!found.ok()) return Status(found.status().code(), found.status().message(), "id");
+  const std::shared_ptr<const StoredModel>& model = *found;
+  SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(ModelSummary(*model)));
+  reply.cache_hit = true;
+  reply.model_id = model->id;
   return reply;
 }
 
@@ -279,7 +334,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto format,
                               ChooseOutputFormat(params.output.format, request.accept));
   SURFDEFORM_RETURN_IF_ERROR(CheckDistortionFormat(params.output, format));
-  SURFDEFORM_ASSIGN_OR_RETURN(auto imported, work.Import(request.mesh));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto imported, impl_->MeshOf(params.model_id, request.mesh, work));
   if (params.animation) {
     return impl_->DeformFrame(params, std::move(imported), format, work);
   }
@@ -325,7 +380,7 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto params, proto::ParseAnimateParams(parsed));
   SURFDEFORM_RETURN_IF_ERROR(CheckFrames(limits, params.animation));
   SURFDEFORM_RETURN_IF_ERROR(AcceptGlbOnly(request.accept));
-  SURFDEFORM_ASSIGN_OR_RETURN(auto imported, work.Import(request.mesh));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto imported, impl_->MeshOf(params.model_id, request.mesh, work));
   const PlacementOptions placement = PlacementFor(params.placement, imported, work.threads());
   // Checked before any work on the input's count, and again after the
   // subdivision on the output's.

@@ -30,7 +30,7 @@ struct ServiceOptions {
 };
 
 struct DeformRequest {
-  std::string_view mesh;    // the mesh file's bytes
+  std::string_view mesh;    // the mesh file's bytes (empty: the parameters name a model_id)
   std::string_view params;  // the parameters' JSON
   std::string accept;       // the Accept header (used when params name no format)
   // The X-Surfdeform-Surface-Id header or surface_id query parameter, which
@@ -46,9 +46,14 @@ class Service {
   Service(const Service&) = delete;
   Service& operator=(const Service&) = delete;
 
-  Result<Reply> CreateSurface(std::string_view body);   // POST /v1/surfaces
-  Result<Reply> GetSurface(std::string_view id);        // GET /v1/surfaces/{id}
-  Result<Reply> GetSurfaceSvg(std::string_view id);     // GET /v1/surfaces/{id}/flat.svg
+  Result<Reply> CreateSurface(std::string_view body);  // POST /v1/surfaces
+  Result<Reply> GetSurface(std::string_view id);       // GET /v1/surfaces/{id}
+  Result<Reply> GetSurfaceSvg(std::string_view id);    // GET /v1/surfaces/{id}/flat.svg
+  // POST /v1/models: a mesh file's bytes. `routed_id` (the
+  // X-Surfdeform-Model-Id header, which load balancers route by), when
+  // given, must be the id the bytes have.
+  Result<Reply> UploadModel(std::string_view mesh, std::string_view routed_id);
+  Result<Reply> GetModel(std::string_view id);          // GET /v1/models/{id}
   Result<Reply> Deform(const DeformRequest& request);   // POST /v1/deform
   Result<Reply> Animate(const DeformRequest& request);  // POST /v1/animate
   // POST /v1/surfaces/{id}/map (proto/map_api.hpp)
@@ -56,6 +61,7 @@ class Service {
 
   std::string InfoJson() const;  // GET /v1/info
   CacheStats cache_stats() const;
+  CacheStats model_cache_stats() const;
   PlacementMemoStats placement_memo_stats() const;
   SharedTierStats shared_tier_stats() const;  // enabled = false without one
   AdmissionStats admission_stats() const;

@@ -25,6 +25,9 @@ struct ServiceLimits {
   // the output size limits instead.
   double request_time_budget_ms = 60000;
   size_t cache_bytes = 256u << 20;
+  // Uploaded models (POST /v1/models), imported: ~60 bytes a vertex for a
+  // plain mesh, plus the file's size; 2.4 MB for the bunny.
+  size_t model_cache_bytes = 256u << 20;
   // Where the vertices of models that come back lie on their sheets
   // (service/placement_memo.hpp): 24 bytes a vertex, 0.9 MB for the bunny.
   size_t footprint_memo_bytes = 64u << 20;

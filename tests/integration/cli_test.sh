@@ -103,6 +103,25 @@ EOF
 expect 0 deform "$samples/bunny.ply" --surface-id "$id" --scale fit -o "$out/bunny.ply"
 head -c 3 "$out/bunny.ply" | grep -q ply || fail ".ply header"
 
+# Models by id: every deform above sent the bunny by its id, uploading it
+# once (on the first 404 unknown_model); `upload` prints that id (the first 32
+# hex digits of the file's SHA-256), and `deform --model-id` gives the same
+# bytes as sending the file.
+uploads=$(curl -sS "$base/metrics" | sed -n 's|^surfdeform_http_requests_total{route="/v1/models",method="POST",status="201"} ||p')
+[[ $uploads == 1 ]] || fail "the bunny was uploaded ${uploads:-0} times, expected once"
+expect 0 upload "$samples/bunny.ply"
+mid=$(cat "$out/o")
+[[ $mid == "$(sha256sum "$samples/bunny.ply" | cut -c1-32)" ]] || fail "upload printed '$mid', not the bytes' id"
+grep -q "ply, 37706 vertices, 75408 triangles, up +z (already on the server)" "$out/e" || fail "upload summary: $(cat "$out/e")"
+expect 0 deform --model-id "$mid" --surface-id "$id" --scale fit -o "$out/by_id.glb"
+cmp -s "$out/by_id.glb" "$out/bunny.glb" || fail "deform --model-id differs from deform with the file"
+grep -q "^model $mid -> " "$out/o" || fail "deform --model-id summary: $(cat "$out/o")"
+expect 2 deform --model-id 0123456789abcdef0123456789abcdef --surface-id "$id" -o "$out/x.glb"
+grep -q "POST the mesh to /v1/models again" "$out/e" || fail "unknown model: $(cat "$out/e")"
+expect 1 deform "$samples/bunny.ply" --model-id "$mid" --surface-id "$id" -o "$out/x.glb"
+expect 1 deform --surface-id "$id" -o "$out/x.glb"
+expect 4 upload "$out/missing.ply"
+
 # The distortion map: in .ply (then lossless: Draco would drop it) with its
 # summary printed; not in .obj or .drc (usage).
 expect 0 deform "$samples/bunny.ply" --surface-id "$id" --scale fit --distortion -o "$out/dist.ply"

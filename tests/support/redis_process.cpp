@@ -1,6 +1,7 @@
 #include "redis_process.hpp"
 
 #include <arpa/inet.h>
+#include <gtest/gtest.h>
 #include <hiredis/hiredis.h>
 #include <netinet/in.h>
 #include <signal.h>
@@ -93,6 +94,15 @@ std::string RedisProcess::Command(const std::vector<std::string>& argv) {
   }
   redisFree(c);
   return out;
+}
+
+std::shared_ptr<SharedTier> SharedTierAt(const std::string& url) {
+  SharedTierOptions o;
+  o.url = url;
+  o.timeout_ms = 200;
+  auto tier = SharedTier::Create(o, nullptr);
+  EXPECT_TRUE(tier.ok()) << tier.status().ToString();
+  return tier.ok() ? std::shared_ptr<SharedTier>(std::move(*tier)) : nullptr;
 }
 
 }  // namespace surfdeform::testing

@@ -5,8 +5,11 @@
 
 #include <sys/types.h>
 
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "service/shared_tier.hpp"
 
 namespace surfdeform::testing {
 
@@ -30,6 +33,10 @@ class RedisProcess {
   pid_t pid_ = -1;
   int port_ = 0;
 };
+
+// A shared tier on `url` with a short timeout (a test's), or null (and a
+// test failure) for a URL it refuses.
+std::shared_ptr<SharedTier> SharedTierAt(const std::string& url);
 
 // A loopback TCP port that nothing listens on now.
 int FreePort();

@@ -173,20 +173,11 @@ TEST(SurfaceStore, AnAnimationIsFlattenedOnceFrameByFrame) {
   EXPECT_EQ(refused.status().field(), "animation.frames");
 }
 
-std::shared_ptr<SharedTier> Tier(const std::string& url) {
-  SharedTierOptions o;
-  o.url = url;
-  o.timeout_ms = 200;
-  auto tier = SharedTier::Create(o, nullptr);
-  EXPECT_TRUE(tier.ok());
-  return tier.ok() ? std::shared_ptr<SharedTier>(std::move(*tier)) : nullptr;
-}
-
 TEST(SurfaceStore, TheSecondLevelServesAnotherStoreAndIgnoresWhatFailsItsChecks) {
   testing::RedisProcess redis;
   ASSERT_NE(redis.port(), 0) << "redis-server did not start (scripts/setup.sh installs it)";
-  SurfaceStore a(Limits(), 1, Tier(redis.url()));
-  SurfaceStore b(Limits(), 1, Tier(redis.url()));
+  SurfaceStore a(Limits(), 1, testing::SharedTierAt(redis.url()));
+  SurfaceStore b(Limits(), 1, testing::SharedTierAt(redis.url()));
   const RequestClock clock(60000);
   bool hit = false;
   auto flat = a.Flattened(Cylinder(2), clock, &hit);
@@ -200,7 +191,7 @@ TEST(SurfaceStore, TheSecondLevelServesAnotherStoreAndIgnoresWhatFailsItsChecks)
   EXPECT_EQ((*found)->request.sampling.nu, 8);
   EXPECT_EQ(b.shared_tier_stats().hits, 1u);
   // By content on B: a hit, no flattening.
-  SurfaceStore c(Limits(), 1, Tier(redis.url()));
+  SurfaceStore c(Limits(), 1, testing::SharedTierAt(redis.url()));
   ASSERT_TRUE(c.Flattened(Cylinder(2), clock, &hit).ok());
   EXPECT_TRUE(hit);
 
@@ -208,7 +199,7 @@ TEST(SurfaceStore, TheSecondLevelServesAnotherStoreAndIgnoresWhatFailsItsChecks)
   // surface flattened here instead.
   const std::string other = proto::SurfaceId(Cylinder(3));
   redis.Command({"SET", SheetKey(other), "not a sheet"});
-  SurfaceStore d(Limits(), 1, Tier(redis.url()));
+  SurfaceStore d(Limits(), 1, testing::SharedTierAt(redis.url()));
   EXPECT_FALSE(d.Find(other).ok());
   EXPECT_EQ(d.shared_tier_stats().corrupt, 1u);
   auto rebuilt = d.Flattened(Cylinder(3), clock, &hit);

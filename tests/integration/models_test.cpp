@@ -1,0 +1,224 @@
+// Models uploaded once (POST /v1/models) and used by id, on the real server:
+// 201 then 200 for the same bytes, the summary, deformations and animations
+// by "model_id" byte-identical to sending the mesh, and the errors (404
+// unknown_model, a mesh and an id at once, an id the bytes do not have).
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "proto/content_hash.hpp"
+#include "server_process.hpp"
+#include "shared_server.hpp"
+
+namespace surfdeform::testing {
+namespace {
+
+using nlohmann::json;
+
+const char kSurface[] =
+    R"("surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180},"sampling":{"nu":16,"nv":16})";
+const char kUnknown[] = "0123456789abcdef0123456789abcdef";
+
+// A deformation's statistics without what depends on the caches' state.
+json Uncached(const std::string& stats) {
+  json j = json::parse(stats);
+  j.erase("cached");
+  j["placement"].erase("reused");
+  j["subdivision"].erase("reused");
+  return j;
+}
+
+class ModelsTest : public SharedServerTest<ModelsTest> {
+ public:
+  static std::vector<std::string> Args() { return {"--log-level", "warn"}; }
+
+ protected:
+  static httplib::Client Client() {
+    httplib::Client c("127.0.0.1", port());
+    c.set_read_timeout(60, 0);
+    return c;
+  }
+  static std::string Bunny() {
+    auto r = Client().Get("/samples/bunny.ply");
+    EXPECT_TRUE(r && r->status == 200) << "the viewer's samples are served";
+    return r ? r->body : std::string();
+  }
+  // The problem+json of a failed request: its status and "code".
+  static json Problem(const httplib::Result& r, int status, const std::string& code) {
+    EXPECT_TRUE(r) << "no response";
+    if (!r) return json::object();
+    EXPECT_EQ(r->status, status) << r->body;
+    EXPECT_EQ(r->get_header_value("Content-Type"), "application/problem+json");
+    json j = json::parse(r->body, nullptr, false);
+    EXPECT_EQ(j.value("code", ""), code) << r->body;
+    return j;
+  }
+};
+
+TEST_F(ModelsTest, TheFirstUploadCreatesTheSameBytesAgainFindIt) {
+  auto c = Client();
+  const std::string bunny = Bunny();
+  const std::string id = proto::Sha256Hex(bunny, 32);
+  auto first = c.Post("/v1/models", bunny, "application/octet-stream");
+  ASSERT_TRUE(first);
+  ASSERT_EQ(first->status, 201) << first->body;
+  EXPECT_EQ(first->get_header_value("Location"), "/v1/models/" + id);
+  const json summary = json::parse(first->body);
+  EXPECT_EQ(summary.at("id"), id);
+  EXPECT_EQ(summary.at("format"), "ply");
+  EXPECT_EQ(summary.at("file_bytes"), bunny.size());
+  EXPECT_EQ(summary.at("vertices"), 37706);  // the viewer's sample's header says so
+  EXPECT_EQ(summary.at("triangles"), 75408);
+  EXPECT_EQ(summary.at("up"), "+z");
+  const json& bounds = summary.at("bounds");
+  for (int k = 0; k < 3; ++k) EXPECT_LT(bounds[0][k].get<double>(), bounds[1][k].get<double>());
+
+  // The same bytes again, raw or as a form's part, and on the id header.
+  httplib::Headers routed = {{"X-Surfdeform-Model-Id", id}};
+  auto again = c.Post("/v1/models", routed, bunny, "application/octet-stream");
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->status, 200);
+  EXPECT_EQ(again->body, first->body);
+  auto form = c.Post("/v1/models", httplib::MultipartFormDataItems{
+                                       {"mesh", bunny, "bunny.ply", "application/octet-stream"}});
+  ASSERT_TRUE(form);
+  EXPECT_EQ(form->status, 200);
+  EXPECT_EQ(form->body, first->body);
+
+  auto got = c.Get("/v1/models/" + id);
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->status, 200);
+  EXPECT_EQ(got->body, first->body);
+  EXPECT_EQ(got->get_header_value("ETag"), first->get_header_value("ETag"));
+}
+
+TEST_F(ModelsTest, ADeformationByIdIsByteIdenticalToSendingTheMesh) {
+  auto c = Client();
+  const std::string bunny = Bunny();
+  auto up = c.Post("/v1/models", bunny, "application/octet-stream");
+  ASSERT_TRUE(up && (up->status == 201 || up->status == 200));
+  const std::string id = json::parse(up->body).at("id");
+  for (const char* format : {"drc", "glb", "ply"}) {
+    const std::string options =
+        std::string(R"("placement":{"scale":0.6},"output":{"format":")") + format + "\"}";
+    const std::string with_mesh = std::string("{") + kSurface + "," + options + "}";
+    const std::string by_id =
+        std::string(R"({"model_id":")") + id + "\"," + kSurface + "," + options + "}";
+    auto sent = c.Post("/v1/deform", httplib::MultipartFormDataItems{
+                                         {"mesh", bunny, "bunny.ply", "application/octet-stream"},
+                                         {"params", with_mesh, "", "application/json"}});
+    ASSERT_TRUE(sent);
+    ASSERT_EQ(sent->status, 200) << sent->body;
+    // By id, as a JSON body and as a form with no mesh part.
+    auto json_body = c.Post("/v1/deform", by_id, "application/json");
+    ASSERT_TRUE(json_body);
+    ASSERT_EQ(json_body->status, 200) << json_body->body;
+    EXPECT_TRUE(json_body->body == sent->body) << format;
+    EXPECT_EQ(json_body->get_header_value("ETag"), sent->get_header_value("ETag"));
+    // The statistics too, but for what the second request found cached.
+    EXPECT_EQ(Uncached(json_body->get_header_value("X-Surfdeform-Stats")),
+              Uncached(sent->get_header_value("X-Surfdeform-Stats")));
+    auto form = c.Post("/v1/deform",
+                       httplib::MultipartFormDataItems{{"params", by_id, "", "application/json"}});
+    ASSERT_TRUE(form);
+    ASSERT_EQ(form->status, 200) << form->body;
+    EXPECT_TRUE(form->body == sent->body) << format;
+  }
+}
+
+TEST_F(ModelsTest, AnAnimationByIdIsByteIdenticalToSendingTheMesh) {
+  auto c = Client();
+  const std::string plate = "v -1 -0.5 0\nv 1 -0.5 0\nv 1 0.5 0\nv -1 0.5 0\nf 1 2 3 4\n";
+  auto up = c.Post("/v1/models", plate, "application/octet-stream");
+  ASSERT_TRUE(up && up->status == 201) << (up ? up->body : "");
+  const std::string animation =
+      R"("animation":{"frames":4,"fps":8,"keyframes":[
+        {"time":0,"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":90}},
+        {"time":1,"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180}}]},
+        "sampling":{"nu":8,"nv":8})";
+  auto sent = c.Post("/v1/animate", httplib::MultipartFormDataItems{
+                                        {"mesh", plate, "plate.obj", "application/octet-stream"},
+                                        {"params", "{" + animation + "}", "", "application/json"}});
+  ASSERT_TRUE(sent);
+  ASSERT_EQ(sent->status, 200) << sent->body;
+  const std::string id = proto::Sha256Hex(plate, 32);
+  auto by_id =
+      c.Post("/v1/animate", R"({"model_id":")" + id + "\"," + animation + "}", "application/json");
+  ASSERT_TRUE(by_id);
+  ASSERT_EQ(by_id->status, 200) << by_id->body;
+  EXPECT_TRUE(by_id->body == sent->body);
+}
+
+TEST_F(ModelsTest, UnknownIdsAndConflictingRequestsAreClearErrors) {
+  auto c = Client();
+  // Never uploaded: 404 unknown_model, on every route that takes an id.
+  json p = Problem(
+      c.Post("/v1/deform", std::string(R"({"model_id":")") + kUnknown + "\"," + kSurface + "}",
+             "application/json"),
+      404, "unknown_model");
+  EXPECT_EQ(p.value("field", ""), "model_id");
+  EXPECT_NE(p.value("detail", "").find("/v1/models"), std::string::npos) << p.dump();
+  p = Problem(c.Get(std::string("/v1/models/") + kUnknown), 404, "unknown_model");
+  EXPECT_EQ(p.value("field", ""), "id");
+  auto traversal = c.Get("/v1/models/..%2F..%2Fetc%2Fpasswd");
+  ASSERT_TRUE(traversal);
+  EXPECT_EQ(traversal->status, 404);
+  // A model_id that is not an id's shape.
+  p = Problem(c.Post("/v1/deform", std::string(R"({"model_id":"bunny",)") + kSurface + "}",
+                     "application/json"),
+              422, "invalid_argument");
+  EXPECT_EQ(p.value("field", ""), "model_id");
+
+  const std::string plate = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+  ASSERT_TRUE(c.Post("/v1/models", plate, "application/octet-stream"));
+  const std::string id = proto::Sha256Hex(plate, 32);
+  // A mesh and an id at once.
+  p = Problem(c.Post("/v1/deform",
+                     httplib::MultipartFormDataItems{
+                         {"mesh", plate, "p.obj", "application/octet-stream"},
+                         {"params", R"({"model_id":")" + id + "\"," + kSurface + "}", "",
+                          "application/json"}}),
+              400, "malformed");
+  EXPECT_EQ(p.value("field", ""), "model_id");
+  // Neither: the error says how to name one.
+  p = Problem(c.Post("/v1/deform", std::string("{") + kSurface + "}", "application/json"), 400,
+              "malformed");
+  EXPECT_EQ(p.value("field", ""), "mesh");
+  EXPECT_NE(p.value("detail", "").find("model_id"), std::string::npos);
+  // The parameters twice: a JSON body and the header.
+  Problem(c.Post("/v1/deform", {{"X-Surfdeform-Params", "{}"}},
+                 R"({"model_id":")" + id + "\"," + kSurface + "}", "application/json"),
+          400, "malformed");
+
+  // Uploads: no bytes, bytes in no format, a wrong id header, a form with more.
+  Problem(c.Post("/v1/models", "", "application/octet-stream"), 400, "malformed");
+  Problem(c.Post("/v1/models", "\x89PNG\r\n\x1a\n not a mesh", "application/octet-stream"), 415,
+          "unsupported_format");
+  p = Problem(c.Post("/v1/models", {{"X-Surfdeform-Model-Id", kUnknown}}, plate,
+                     "application/octet-stream"),
+              400, "malformed");
+  EXPECT_EQ(p.value("field", ""), "X-Surfdeform-Model-Id");
+  Problem(
+      c.Post("/v1/models",
+             httplib::MultipartFormDataItems{{"mesh", plate, "p.obj", "application/octet-stream"},
+                                             {"params", "{}", "", "application/json"}}),
+      400, "malformed");
+}
+
+TEST_F(ModelsTest, TheBudgetIsPublishedAndTheCacheCounted) {
+  auto c = Client();
+  auto info = c.Get("/v1/info");
+  ASSERT_TRUE(info && info->status == 200);
+  EXPECT_EQ(json::parse(info->body).at("limits").at("model_cache_bytes"), 256u << 20);
+  const std::string square = "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nf 1 2 3 4\n";
+  const double before = ScrapeMetric(port(), "surfdeform_model_cache_misses_total");
+  ASSERT_TRUE(c.Post("/v1/models", square, "application/octet-stream"));
+  ASSERT_TRUE(c.Post("/v1/models", square, "application/octet-stream"));
+  EXPECT_EQ(ScrapeMetric(port(), "surfdeform_model_cache_misses_total"), before + 1);
+  EXPECT_GE(ScrapeMetric(port(), "surfdeform_model_cache_entries"), 1);
+}
+
+}  // namespace
+}  // namespace surfdeform::testing
