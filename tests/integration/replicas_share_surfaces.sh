@@ -119,6 +119,45 @@ for r in 0 1 2; do hits=$((hits + $(metric $r 'surfdeform_l2_lookups_total{resul
 ((hits >= 2)) || fail "the other replicas did not read the surface from Redis ($hits second-level hits)"
 echo "shared: 50 deformations by id through nginx all 200 with the same bytes; routed ones on one replica; $hits second-level hits"
 
+# 1b. A model uploaded once through nginx, routed by its id (the first 32 hex
+#     digits of its SHA-256), and deformed by id through nginx: routed, the
+#     upload and the deformations meet on one replica; unrouted, the other
+#     replicas read the model from Redis. Every reply the same bytes as
+#     sending the mesh.
+model_id=$(sha256sum "$plate" | cut -c1-32)
+inline="{\"surface\":{\"kind\":\"cylinder\",\"radius\":2,\"height\":3,\"angle_deg\":180},\"sampling\":{\"nu\":16,\"nv\":16},\"placement\":{\"scale\":\"fit\"}"
+[[ $(post "$inline}" "$out/with-mesh.drc") == 200 ]] || fail "the deformation with the mesh failed"
+uploads_on() { metric "$1" 'surfdeform_http_requests_total{route="/v1/models",method="POST",status="201"}'; }
+code=$(curl -s -o "$out/model.json" -w '%{http_code}' -H "X-Surfdeform-Model-Id: $model_id" \
+  -H 'Content-Type: application/octet-stream' --data-binary @"$plate" "$base/v1/models")
+[[ $code == 201 ]] || fail "POST /v1/models through nginx: $code $(cat "$out/model.json")"
+by_model() {  # output file, [routing header]: prints the status code
+  curl -s -o "$1" -w '%{http_code}' -H 'Content-Type: application/json' "${@:2}" \
+    -d "$inline,\"model_id\":\"$model_id\"}" "$base/v1/deform"
+}
+before=()
+for r in 0 1 2; do before+=("$(deforms_on $r)"); done
+for k in $(seq 10); do
+  code=$(by_model "$out/m.drc" -H "X-Surfdeform-Model-Id: $model_id")
+  [[ $code == 200 ]] || fail "deformation by model id through nginx: $code $(head -c 300 "$out/m.drc")"
+  cmp -s "$out/m.drc" "$out/with-mesh.drc" || fail "a deformation by model id differs from sending the mesh"
+done
+for r in 0 1 2; do
+  n=$(($(deforms_on $r) - before[r]))
+  ((n == 0 || n == 10)) || fail "10 requests routed by model id were spread: replica $((r + 1)) served $n"
+  ((n == 10)) && (($(uploads_on $r) != 1)) && fail "the routed deformations reached replica $((r + 1)), not the one that took the upload"
+done
+for k in $(seq 10); do
+  code=$(by_model "$out/m.drc")
+  [[ $code == 200 ]] || fail "unrouted deformation by model id: $code $(head -c 300 "$out/m.drc")"
+  cmp -s "$out/m.drc" "$out/with-mesh.drc" || fail "an unrouted deformation by model id differs"
+done
+for r in 0 1 2; do
+  [[ $(curl -s -o /dev/null -w '%{http_code}' "http://127.0.0.1:${ports[r]}/v1/models/$model_id") == 200 ]] \
+    || fail "replica $((r + 1)) does not find model $model_id (Redis)"
+done
+echo "models: uploaded once through nginx, 20 deformations by id all 200 with the bytes of sending the mesh; routed ones on the upload's replica"
+
 # 2. Redis killed under load (requests by id, routed, and with new inline
 #    surfaces), then back.
 client() {  # id: 3 s of requests
