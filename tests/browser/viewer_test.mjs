@@ -69,9 +69,14 @@ try {
   await page.setViewport({ width: 1400, height: 900 });
   const foreign = [];
   const pageErrors = [];
+  const posts = [];  // {path, type, body} of every POST the page sends
   page.on('request', (r) => {
     const url = r.url();
     if (!url.startsWith(base) && !url.startsWith('blob:') && !url.startsWith('data:')) foreign.push(url);
+    if (r.method() === 'POST') {
+      posts.push({ path: new URL(url).pathname, type: r.headers()['content-type'] || '',
+                   body: r.postData() || '' });
+    }
   });
   page.on('pageerror', (e) => pageErrors.push(String(e)));
   const shot = (name) => page.screenshot({ path: path.join(artifacts, `${name}.png`) });
@@ -166,6 +171,19 @@ try {
           `the footprint moved right (centre ${before.map((x) => x.toFixed(2))} -> ${center.map((x) => x.toFixed(2))})`);
     check(s.placement.scale === fitted / 2, `deformed at the scale the person chose (${s.placement.scale})`);
     await shot('plate-moved');
+  }
+
+  // Models travel once: the bunny and the plate were each uploaded once
+  // (POST /v1/models), and every deformation since names its model by id in
+  // a small JSON body.
+  {
+    const uploads = posts.filter((p) => p.path === '/v1/models').length;
+    const deforms = posts.filter((p) => p.path === '/v1/deform');
+    check(uploads === 2, `each model uploaded once (${uploads} uploads for the bunny and the plate)`);
+    check(deforms.length >= 4 && deforms.every((p) => p.type.startsWith('application/json') &&
+                                                     /"model_id":"[0-9a-f]{32}"/.test(p.body)),
+          `every deformation names its model by id (${deforms.length} deformations, ` +
+          `types ${[...new Set(deforms.map((p) => p.type))].join(', ')})`);
   }
 
   // Draw a mark on the sheet (three clicks across it): the server resamples

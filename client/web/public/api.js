@@ -49,26 +49,52 @@ export async function mapOnSurface(id, request) {
   return r.json();
 }
 
-// POST /v1/deform (multipart: mesh + params). Returns the bytes, the stats
-// header and the Server-Timing entries.
-export async function deform(meshBytes, meshName, params, accept) {
-  return post('/v1/deform', meshBytes, meshName, params, accept);
-}
-
-// POST /v1/animate: the same body, a GLB of morph targets back.
-export async function animate(meshBytes, meshName, params) {
-  return post('/v1/animate', meshBytes, meshName, params, 'model/gltf-binary');
-}
-
-async function post(path, meshBytes, meshName, params, accept) {
+// POST /v1/models: the mesh file's bytes, once; {id, format, vertices, ...}.
+export async function uploadModel(meshBytes, meshName) {
   const form = new FormData();
   form.append('mesh', new Blob([meshBytes]), meshName);
-  form.append('params', JSON.stringify(params));
-  const headers = accept ? { Accept: accept } : {};
-  // A load balancer routes by it (docker/nginx.conf), so that the replica
-  // that already holds this surface serves it.
+  const r = await checked(await fetch('/v1/models', { method: 'POST', body: form }));
+  return r.json();
+}
+
+// The server's id of each mesh this page has uploaded, by its bytes.
+const modelIds = new WeakMap();
+
+async function modelIdOf(meshBytes, meshName) {
+  if (!modelIds.has(meshBytes)) modelIds.set(meshBytes, (await uploadModel(meshBytes, meshName)).id);
+  return modelIds.get(meshBytes);
+}
+
+// POST /v1/deform with the mesh named by its id: uploaded on first use, and
+// again when the server no longer holds it (404 unknown_model). Returns the
+// bytes, the stats header and the Server-Timing entries.
+export async function deform(meshBytes, meshName, params, accept) {
+  return postByModel('/v1/deform', meshBytes, meshName, params, accept);
+}
+
+// POST /v1/animate: the same, a GLB of morph targets back.
+export async function animate(meshBytes, meshName, params) {
+  return postByModel('/v1/animate', meshBytes, meshName, params, 'model/gltf-binary');
+}
+
+async function postByModel(path, meshBytes, meshName, params, accept) {
+  try {
+    return await post(path, { ...params, model_id: await modelIdOf(meshBytes, meshName) }, accept);
+  } catch (e) {
+    if (!(e instanceof ApiError) || e.problem.code !== 'unknown_model') throw e;
+    modelIds.delete(meshBytes);  // evicted: upload again, once
+    return post(path, { ...params, model_id: await modelIdOf(meshBytes, meshName) }, accept);
+  }
+}
+
+async function post(path, params, accept) {
+  const headers = { 'Content-Type': 'application/json' };
+  if (accept) headers.Accept = accept;
+  // A load balancer routes by them (docker/nginx.conf), so that the replica
+  // that already holds this surface (or model) serves it.
   if (params.surface_id) headers['X-Surfdeform-Surface-Id'] = params.surface_id;
-  const r = await checked(await fetch(path, { method: 'POST', body: form, headers }));
+  if (params.model_id) headers['X-Surfdeform-Model-Id'] = params.model_id;
+  const r = await checked(await fetch(path, { method: 'POST', body: JSON.stringify(params), headers }));
   const stats = JSON.parse(r.headers.get('X-Surfdeform-Stats') || '{}');
   const timing = {};
   for (const part of (r.headers.get('Server-Timing') || '').split(',')) {
