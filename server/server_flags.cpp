@@ -63,6 +63,10 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
   Flag(app, "--max-triangles", l.max_triangles, "Largest input mesh, triangles", 1, 200'000'000);
   Flag(app, "--max-grid-side", l.max_grid_side,
        "Largest flattening grid, samples per side (2..512)", 2, 512);
+  Flag(app, "--max-field-side", l.max_field_side,
+       "Largest field of the sheet-to-surface map (GET /v1/surfaces/{id}/field), lattice points "
+       "per side",
+       2, 4096);
   Flag(app, "--max-output-vertices", l.max_output_vertices,
        "Largest deformed mesh after subdivision, vertices (over it: 413)", 1, 200'000'000);
   Flag(app, "--max-output-triangles", l.max_output_triangles,

@@ -275,6 +275,10 @@ struct HttpServer::Impl {
     const std::string etag = "\"" + reply.etag + "\"";
     res.set_header("ETag", etag);
     if (!reply.timings.empty()) res.set_header("Server-Timing", ServerTiming(reply.timings));
+    if (reply.immutable) {
+      res.set_header("Cache-Control", "public, max-age=31536000, immutable");
+      res.set_header("Vary", "Accept");
+    }
     if (!reply.stats_json.empty()) res.set_header("X-Surfdeform-Stats", ToAscii(reply.stats_json));
     t_context.cache_hit = reply.cache_hit;
     if (req.method == "GET" && req.get_header_value("If-None-Match") == etag) {
@@ -776,7 +780,7 @@ struct HttpServer::Impl {
                  "POST /v1/surfaces takes application/json, got \"" + type.substr(0, 64) + "\"",
                  "Content-Type"));
     }
-    auto reply = service.CreateSurface(req.body);
+    auto reply = service.CreateSurface(req.body, req.get_param_value("field"));
     if (!reply.ok()) return Fail(req, res, reply.status());
     res.set_header("Location", "/v1/surfaces/" + reply->surface_id);
     Send(req, res, *reply, reply->cache_hit ? 200 : 201);
@@ -796,6 +800,12 @@ struct HttpServer::Impl {
   }
   void SurfaceSvg(const httplib::Request& req, httplib::Response& res) {
     auto reply = service.GetSurfaceSvg(req.matches[1].str());
+    if (!reply.ok()) return Fail(req, res, reply.status());
+    Send(req, res, *reply);
+  }
+  void SurfaceField(const httplib::Request& req, httplib::Response& res) {
+    auto reply = service.GetSurfaceField(req.matches[1].str(), req.get_param_value("n"),
+                                         req.get_header_value("Accept"));
     if (!reply.ok()) return Fail(req, res, reply.status());
     Send(req, res, *reply);
   }
@@ -820,6 +830,8 @@ const HttpServer::Impl::Route HttpServer::Impl::kRoutes[] = {
     {"GET", "/v1/info", "/v1/info", &Impl::Info, nullptr},
     {"POST", "/v1/surfaces", "/v1/surfaces", &Impl::CreateSurface, nullptr},
     {"GET", R"(/v1/surfaces/([^/]+)/flat\.svg)", "/v1/surfaces/{id}/flat.svg", &Impl::SurfaceSvg,
+     nullptr},
+    {"GET", R"(/v1/surfaces/([^/]+)/field)", "/v1/surfaces/{id}/field", &Impl::SurfaceField,
      nullptr},
     {"GET", R"(/v1/surfaces/([^/]+))", "/v1/surfaces/{id}", &Impl::SurfaceSheet, nullptr},
     {"POST", "/v1/deform", "/v1/deform", nullptr, &Impl::DeformRoute},

@@ -49,6 +49,28 @@ Status CheckFrameVertices(const ServiceLimits& limits, size_t frames, size_t ver
                                static_cast<double>(frames * vertices));
 }
 
+Result<int> FieldSideOf(const ServiceLimits& limits, std::string_view text, const char* field,
+                        int default_side) {
+  if (text.empty()) return default_side;
+  long long n = 0;
+  for (char c : text) {
+    if (c < '0' || c > '9' || text.size() > 9) {
+      return Status(ErrorCode::kMalformed,
+                    "must be a whole number of lattice points per side, got \"" +
+                        std::string(text.substr(0, 32)) + "\"",
+                    field);
+    }
+    n = 10 * n + (c - '0');
+  }
+  if (n > limits.max_field_side) {
+    return Status::LimitExceeded("this server samples fields of at most " +
+                                     std::to_string(limits.max_field_side) +
+                                     " lattice points per side, asked for " + std::to_string(n),
+                                 field, limits.max_field_side, static_cast<double>(n));
+  }
+  return static_cast<int>(n);
+}
+
 ImportLimits ImportLimitsOf(const ServiceLimits& limits) {
   ImportLimits l;
   l.max_bytes = limits.max_body_bytes;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string_view>
 
 #include "base/status.hpp"
 #include "engine/sample_grid.hpp"
@@ -27,6 +28,12 @@ Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& r
 // Frames times the model's vertices: checked on the input's count before any
 // work, and again on the output's after the subdivision.
 Status CheckFrameVertices(const ServiceLimits& limits, size_t frames, size_t vertices);
+
+// The field's side from its query parameter `field` ("n" or "field"): the
+// default when empty, kMalformed for anything but decimal digits,
+// kLimitExceeded past limits.max_field_side (the engine refuses n < 2).
+Result<int> FieldSideOf(const ServiceLimits& limits, std::string_view text, const char* field,
+                        int default_side);
 
 // What an import may read (a glTF's JSON nests deeper than a request's).
 ImportLimits ImportLimitsOf(const ServiceLimits& limits);

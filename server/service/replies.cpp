@@ -1,6 +1,7 @@
 #include "service/replies.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 
@@ -215,6 +216,45 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   return reply;
 }
 
+json FieldJson(const SheetField& f) {
+  json positions = json::array(), normals = json::array(), on_sheet = json::array();
+  for (size_t k = 0; k < f.positions.size(); ++k) {
+    const Vec3& p = f.positions[k];
+    const Vec3& q = f.normals[k];
+    positions.push_back({p.x(), p.y(), p.z()});
+    normals.push_back({q.x(), q.y(), q.z()});
+    on_sheet.push_back(f.on_sheet[k] != 0);
+  }
+  return {{"n", f.n},
+          {"bounds", {{f.lo.x(), f.lo.y()}, {f.hi.x(), f.hi.y()}}},
+          {"positions", std::move(positions)},
+          {"normals", std::move(normals)},
+          {"on_sheet", std::move(on_sheet)}};
+}
+
+std::string FieldBinary(const SheetField& f) {
+  static_assert(std::endian::native == std::endian::little,
+                "the field's bytes are little-endian numbers as they are in memory");
+  std::string out("SDFD", 4);
+  auto u32 = [&out](uint32_t v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  auto f32 = [&out](double v) {
+    const float x = static_cast<float>(v);
+    out.append(reinterpret_cast<const char*>(&x), sizeof x);
+  };
+  const size_t count = f.positions.size();
+  out.reserve(32 + count * 25);
+  u32(kFieldFormatVersion);
+  u32(static_cast<uint32_t>(f.n));
+  u32(0);
+  for (double v : {f.lo.x(), f.lo.y(), f.hi.x(), f.hi.y()}) f32(v);
+  for (const Vec3& p : f.positions)
+    for (int c = 0; c < 3; ++c) f32(p[c]);
+  for (const Vec3& q : f.normals)
+    for (int c = 0; c < 3; ++c) f32(q[c]);
+  out.append(reinterpret_cast<const char*>(f.on_sheet.data()), f.on_sheet.size());
+  return out;
+}
+
 json ModelSummary(const StoredModel& m) {
   const ImportedMesh& in = m.imported;
   const Mesh& mesh = in.mesh;
@@ -257,6 +297,7 @@ std::string InfoJson(const ServiceLimits& l) {
               {"queue_timeout_ms", l.queue_timeout_ms},
               {"flatten_time_budget_ms", l.flatten_time_budget_ms},
               {"request_time_budget_ms", l.request_time_budget_ms},
+              {"max_field_side", l.max_field_side},
               {"cache_bytes", l.cache_bytes},
               {"model_cache_bytes", l.model_cache_bytes},
               {"max_map_points", kMapLimits.max_points},

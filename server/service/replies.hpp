@@ -12,6 +12,7 @@
 
 #include "base/status.hpp"
 #include "engine/deform.hpp"
+#include "engine/sheet_field.hpp"
 #include "meshio/animation_glb.hpp"
 #include "meshio/mesh_import.hpp"
 #include "proto/api.hpp"
@@ -59,6 +60,18 @@ nlohmann::json SheetJson(const StoredSurface& s);
 // format and size, the imported counts and bounds, and the axis that
 // "up": "auto" resolves to (placement.hpp's rule), with why.
 nlohmann::json ModelSummary(const StoredModel& m);
+
+// GET /v1/surfaces/{id}/field as JSON: {"n", "bounds": [[xmin, ymin], [xmax,
+// ymax]], "positions", "normals", "on_sheet"}, n * n entries each, x fastest.
+nlohmann::json FieldJson(const SheetField& f);
+
+// The same as bytes (application/octet-stream), all little-endian:
+//   0  "SDFD" (4 bytes), uint32 version (1), uint32 n, uint32 flags (0),
+//  16  float32 xmin, ymin, xmax, ymax,
+//  32  float32 positions[n * n][3], then float32 normals[n * n][3],
+//      then uint8 on_sheet[n * n] (1: on the sheet).
+inline constexpr uint32_t kFieldFormatVersion = 1;
+std::string FieldBinary(const SheetField& f);
 
 // The X-Surfdeform-Stats of a deformation.
 nlohmann::json DeformStatsHeader(const std::string& surface_id, const FlattenQuality& quality,

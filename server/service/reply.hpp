@@ -19,6 +19,9 @@ struct Reply {
   std::string stats_json;  // for a response header: counts, quality
   std::string etag;        // over the body bytes (deterministic)
   bool cache_hit = false;
+  // The body is a function of the URL and the Accept header alone (a content
+  // id's): cacheable forever, varying by Accept.
+  bool immutable = false;
   std::string surface_id;  // CreateSurface: the id of the flattened surface
   std::string model_id;    // UploadModel: the model's id
 };

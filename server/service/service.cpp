@@ -6,6 +6,7 @@
 #include "engine/deform.hpp"
 #include "engine/elapsed.hpp"
 #include "engine/parallel.hpp"
+#include "engine/sheet_field.hpp"
 #include "engine/sheet_marks.hpp"
 #include "meshio/animation_glb.hpp"
 #include "meshio/mesh_import.hpp"
@@ -25,6 +26,17 @@ namespace {
 
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
+
+// A field's lattice points per side when the request names none.
+constexpr int kDefaultFieldSide = 64;
+
+// Whether an Accept header prefers the field's bytes to its JSON: it names
+// application/octet-stream, before application/json if it names both.
+bool WantsBytes(std::string_view accept) {
+  const size_t bytes = accept.find("application/octet-stream");
+  const size_t text = accept.find("application/json");
+  return bytes != std::string_view::npos && (text == std::string_view::npos || bytes < text);
+}
 
 // Placements the memo keeps (~250 bytes each with their index).
 constexpr size_t kPlacementMemoEntries = 1024;
@@ -135,6 +147,14 @@ struct Service::Impl {
     return copy;
   }
 
+  // The field of a stored surface, with a slot from admission (up to
+  // max_field_side^2 surface evaluations).
+  Result<SheetField> FieldOf(const StoredSurface& entry, int side, RequestWork& work) {
+    SURFDEFORM_RETURN_IF_ERROR(work.Admit(admission, options.engine_threads));
+    const SheetMap map(*entry.surface, entry.sheet);
+    return SampleSheetField(map, side, work.threads());
+  }
+
   Result<AnimatedModel> PrepareAnimated(const proto::AnimationRequest& request, Mesh&& mesh,
                                         const PlacementOptions& placement,
                                         const SubdivisionOptions& subdivision_asked,
@@ -213,10 +233,11 @@ int Service::RetryAfterSeconds() const { return impl_->admission.RetryAfterSecon
 SharedTierStats Service::shared_tier_stats() const { return impl_->store.shared_tier_stats(); }
 std::string Service::InfoJson() const { return surfdeform::InfoJson(impl_->options.limits); }
 
-Result<Reply> Service::CreateSurface(std::string_view body) {
+Result<Reply> Service::CreateSurface(std::string_view body, std::string_view field_side) {
   // No ticket up front: parsing is bounded by the body's size and depth, and
   // only a flattening that this request must run itself is admitted.
   RequestWork work(impl_->options.limits);
+  SURFDEFORM_ASSIGN_OR_RETURN(int side, FieldSideOf(impl_->options.limits, field_side, "field", 0));
   SURFDEFORM_ASSIGN_OR_RETURN(auto parsed, work.ParseJson(body, "body"));
   SURFDEFORM_ASSIGN_OR_RETURN(auto request, proto::ParseSurfaceRequest(parsed));
   SURFDEFORM_RETURN_IF_ERROR(work.EndParse());
@@ -230,10 +251,20 @@ Result<Reply> Service::CreateSurface(std::string_view body) {
     entry = impl_->store.Flattened(request, clock, &hit, &impl_->admission);
   }
   if (!entry.ok()) return WithinBudget(clock, "flattening", entry.status());
-  SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(SheetSummary(**entry, hit)));
+  const double flatten_ms = MsSince(t1);
+  json summary = SheetSummary(**entry, hit);
+  double field_ms = 0.0;
+  if (side != 0) {
+    const auto t2 = Clock::now();
+    SURFDEFORM_ASSIGN_OR_RETURN(SheetField field, impl_->FieldOf(**entry, side, work));
+    summary["field"] = FieldJson(field);
+    field_ms = MsSince(t2);
+  }
+  SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(summary));
   reply.cache_hit = hit;
   reply.surface_id = (*entry)->id;
-  reply.timings = {{"parse", work.parse_ms()}, {"flatten", MsSince(t1)}};
+  reply.timings = {{"parse", work.parse_ms()}, {"flatten", flatten_ms}};
+  if (side != 0) reply.timings.push_back({"field", field_ms});
   reply.stats_json = Dump({{"surface_id", (*entry)->id}, {"cached", hit}});
   return reply;
 }
@@ -242,6 +273,27 @@ Result<Reply> Service::GetSurface(std::string_view id) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto entry, impl_->store.Find(id));
   SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(SheetJson(*entry)));
   reply.cache_hit = true;
+  return reply;
+}
+
+Result<Reply> Service::GetSurfaceField(std::string_view id, std::string_view side_text,
+                                       std::string_view accept) {
+  RequestWork work(impl_->options.limits);
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      int side, FieldSideOf(impl_->options.limits, side_text, "n", kDefaultFieldSide));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto entry, impl_->store.Find(id));
+  const auto t0 = Clock::now();
+  SURFDEFORM_ASSIGN_OR_RETURN(SheetField field, impl_->FieldOf(*entry, side, work));
+  Reply reply;
+  if (WantsBytes(accept)) {
+    reply = BytesReply(FieldBinary(field), "application/octet-stream");
+  } else {
+    SURFDEFORM_ASSIGN_OR_RETURN(reply, JsonReply(FieldJson(field)));
+  }
+  reply.cache_hit = true;
+  reply.surface_id = entry->id;
+  reply.immutable = true;
+  reply.timings = {{"field", MsSince(t0)}};
   return reply;
 }
 

@@ -46,9 +46,15 @@ class Service {
   Service(const Service&) = delete;
   Service& operator=(const Service&) = delete;
 
-  Result<Reply> CreateSurface(std::string_view body);  // POST /v1/surfaces
-  Result<Reply> GetSurface(std::string_view id);       // GET /v1/surfaces/{id}
-  Result<Reply> GetSurfaceSvg(std::string_view id);    // GET /v1/surfaces/{id}/flat.svg
+  // POST /v1/surfaces; with a `field_side` the reply carries the field of
+  // that side too ("field", as GetSurfaceField's JSON): one round trip.
+  Result<Reply> CreateSurface(std::string_view body, std::string_view field_side = {});
+  // GET /v1/surfaces/{id}/field?n=: JSON, or bytes for an Accept that prefers
+  // application/octet-stream (replies.hpp has the layout).
+  Result<Reply> GetSurfaceField(std::string_view id, std::string_view side,
+                                std::string_view accept);
+  Result<Reply> GetSurface(std::string_view id);     // GET /v1/surfaces/{id}
+  Result<Reply> GetSurfaceSvg(std::string_view id);  // GET /v1/surfaces/{id}/flat.svg
   // POST /v1/models: a mesh file's bytes. `routed_id` (the
   // X-Surfdeform-Model-Id header, which load balancers route by), when
   // given, must be the id the bytes have.

@@ -24,6 +24,8 @@ struct ServiceLimits {
   // past it the request fails (413). The encoding that follows is bounded by
   // the output size limits instead.
   double request_time_budget_ms = 60000;
+  // GET /v1/surfaces/{id}/field: lattice points per side (52 bytes each).
+  int max_field_side = 512;
   size_t cache_bytes = 256u << 20;
   // Uploaded models (POST /v1/models), imported: ~60 bytes a vertex for a
   // plain mesh, plus the file's size; 2.4 MB for the bunny.

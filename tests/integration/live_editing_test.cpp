@@ -1,10 +1,15 @@
-// Models uploaded once (POST /v1/models) and used by id, on the real server:
-// 201 then 200 for the same bytes, the summary, deformations and animations
-// by "model_id" byte-identical to sending the mesh, and the errors (404
-// unknown_model, a mesh and an id at once, an id the bytes do not have).
+// What a live editor (the viewer) stands on, on the real server. Models
+// uploaded once (POST /v1/models) and used by id: 201 then 200 for the same
+// bytes, the summary, deformations and animations by "model_id"
+// byte-identical to sending the mesh, and the errors (404 unknown_model, a
+// mesh and an id at once, an id the bytes do not have). The field of the
+// sheet-to-surface map (GET /v1/surfaces/{id}/field): JSON and bytes that
+// agree, cacheable forever, its limits, and with POST /v1/surfaces in one
+// round trip.
 #include <gtest/gtest.h>
 #include <httplib.h>
 
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -30,7 +35,7 @@ json Uncached(const std::string& stats) {
   return j;
 }
 
-class ModelsTest : public SharedServerTest<ModelsTest> {
+class LiveEditingTest : public SharedServerTest<LiveEditingTest> {
  public:
   static std::vector<std::string> Args() { return {"--log-level", "warn"}; }
 
@@ -57,7 +62,7 @@ class ModelsTest : public SharedServerTest<ModelsTest> {
   }
 };
 
-TEST_F(ModelsTest, TheFirstUploadCreatesTheSameBytesAgainFindIt) {
+TEST_F(LiveEditingTest, TheFirstUploadCreatesTheSameBytesAgainFindIt) {
   auto c = Client();
   const std::string bunny = Bunny();
   const std::string id = proto::Sha256Hex(bunny, 32);
@@ -94,7 +99,7 @@ TEST_F(ModelsTest, TheFirstUploadCreatesTheSameBytesAgainFindIt) {
   EXPECT_EQ(got->get_header_value("ETag"), first->get_header_value("ETag"));
 }
 
-TEST_F(ModelsTest, ADeformationByIdIsByteIdenticalToSendingTheMesh) {
+TEST_F(LiveEditingTest, ADeformationByIdIsByteIdenticalToSendingTheMesh) {
   auto c = Client();
   const std::string bunny = Bunny();
   auto up = c.Post("/v1/models", bunny, "application/octet-stream");
@@ -128,7 +133,7 @@ TEST_F(ModelsTest, ADeformationByIdIsByteIdenticalToSendingTheMesh) {
   }
 }
 
-TEST_F(ModelsTest, AnAnimationByIdIsByteIdenticalToSendingTheMesh) {
+TEST_F(LiveEditingTest, AnAnimationByIdIsByteIdenticalToSendingTheMesh) {
   auto c = Client();
   const std::string plate = "v -1 -0.5 0\nv 1 -0.5 0\nv 1 0.5 0\nv -1 0.5 0\nf 1 2 3 4\n";
   auto up = c.Post("/v1/models", plate, "application/octet-stream");
@@ -151,7 +156,7 @@ TEST_F(ModelsTest, AnAnimationByIdIsByteIdenticalToSendingTheMesh) {
   EXPECT_TRUE(by_id->body == sent->body);
 }
 
-TEST_F(ModelsTest, UnknownIdsAndConflictingRequestsAreClearErrors) {
+TEST_F(LiveEditingTest, UnknownIdsAndConflictingRequestsAreClearErrors) {
   auto c = Client();
   // Never uploaded: 404 unknown_model, on every route that takes an id.
   json p = Problem(
@@ -207,7 +212,7 @@ TEST_F(ModelsTest, UnknownIdsAndConflictingRequestsAreClearErrors) {
       400, "malformed");
 }
 
-TEST_F(ModelsTest, TheBudgetIsPublishedAndTheCacheCounted) {
+TEST_F(LiveEditingTest, TheBudgetIsPublishedAndTheCacheCounted) {
   auto c = Client();
   auto info = c.Get("/v1/info");
   ASSERT_TRUE(info && info->status == 200);
@@ -218,6 +223,105 @@ TEST_F(ModelsTest, TheBudgetIsPublishedAndTheCacheCounted) {
   ASSERT_TRUE(c.Post("/v1/models", square, "application/octet-stream"));
   EXPECT_EQ(ScrapeMetric(port(), "surfdeform_model_cache_misses_total"), before + 1);
   EXPECT_GE(ScrapeMetric(port(), "surfdeform_model_cache_entries"), 1);
+}
+
+std::string CreateSurface(httplib::Client& c, const std::string& query = "",
+                          json* reply = nullptr) {
+  auto r = c.Post("/v1/surfaces" + query, std::string("{") + kSurface + "}", "application/json");
+  EXPECT_TRUE(r && (r->status == 200 || r->status == 201)) << (r ? r->body : "no reply");
+  if (!r) return "";
+  const json j = json::parse(r->body);
+  if (reply != nullptr) *reply = j;
+  return j.at("id");
+}
+
+TEST_F(LiveEditingTest, TheFieldsJsonAndBytesAgreeAndAreCachedForever) {
+  auto c = Client();
+  const std::string id = CreateSurface(c);
+  auto text = c.Get("/v1/surfaces/" + id + "/field?n=9");
+  ASSERT_TRUE(text);
+  ASSERT_EQ(text->status, 200) << text->body;
+  EXPECT_EQ(text->get_header_value("Content-Type"), "application/json");
+  EXPECT_EQ(text->get_header_value("Cache-Control"), "public, max-age=31536000, immutable");
+  EXPECT_EQ(text->get_header_value("Vary"), "Accept");
+  const json j = json::parse(text->body);
+  ASSERT_EQ(j.at("n"), 9);
+  ASSERT_EQ(j.at("positions").size(), 81u);
+  ASSERT_EQ(j.at("normals").size(), 81u);
+  ASSERT_EQ(j.at("on_sheet").size(), 81u);
+
+  auto bytes = c.Get("/v1/surfaces/" + id + "/field?n=9", {{"Accept", "application/octet-stream"}});
+  ASSERT_TRUE(bytes);
+  ASSERT_EQ(bytes->status, 200);
+  EXPECT_EQ(bytes->get_header_value("Content-Type"), "application/octet-stream");
+  EXPECT_NE(bytes->get_header_value("ETag"), text->get_header_value("ETag"));
+  const std::string& b = bytes->body;
+  ASSERT_EQ(b.size(), 32u + 81u * 24u + 81u);  // the documented layout
+  EXPECT_EQ(b.substr(0, 4), "SDFD");
+  auto u32 = [&b](size_t at) {
+    uint32_t v;
+    std::memcpy(&v, b.data() + at, 4);
+    return v;
+  };
+  auto f32 = [&b](size_t at) {
+    float v;
+    std::memcpy(&v, b.data() + at, 4);
+    return static_cast<double>(v);
+  };
+  EXPECT_EQ(u32(4), 1u);
+  EXPECT_EQ(u32(8), 9u);
+  const json& bounds = j.at("bounds");
+  EXPECT_EQ(f32(16), static_cast<float>(bounds[0][0].get<double>()));
+  EXPECT_EQ(f32(28), static_cast<float>(bounds[1][1].get<double>()));
+  int on = 0;
+  for (size_t k = 0; k < 81; ++k) {
+    for (size_t c3 = 0; c3 < 3; ++c3) {
+      EXPECT_EQ(f32(32 + 12 * k + 4 * c3), static_cast<float>(j["positions"][k][c3].get<double>()));
+      EXPECT_EQ(f32(32 + 81 * 12 + 12 * k + 4 * c3),
+                static_cast<float>(j["normals"][k][c3].get<double>()));
+    }
+    EXPECT_EQ(b[32 + 81 * 24 + k] == 1, j["on_sheet"][k].get<bool>());
+    on += j["on_sheet"][k].get<bool>();
+  }
+  EXPECT_EQ(on, 81);  // an unrolled cylinder is its bounding box
+
+  // The same request again: 304 for the tag the client holds.
+  auto again = c.Get("/v1/surfaces/" + id + "/field?n=9",
+                     {{"If-None-Match", text->get_header_value("ETag")}});
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->status, 304);
+}
+
+TEST_F(LiveEditingTest, AnEditIsOneRoundTripAndTheFieldsLimitsAreClear) {
+  auto c = Client();
+  json created;
+  const std::string id = CreateSurface(c, "?field=16", &created);
+  ASSERT_TRUE(created.contains("field")) << created.dump().substr(0, 300);
+  auto alone = c.Get("/v1/surfaces/" + id + "/field?n=16");
+  ASSERT_TRUE(alone && alone->status == 200);
+  EXPECT_EQ(created["field"], json::parse(alone->body));
+  json plain;
+  CreateSurface(c, "", &plain);
+  EXPECT_FALSE(plain.contains("field"));
+
+  auto info = c.Get("/v1/info");
+  ASSERT_TRUE(info);
+  const int side = json::parse(info->body).at("limits").at("max_field_side");
+  EXPECT_GE(side, 512);
+  json p = Problem(c.Get("/v1/surfaces/" + id + "/field?n=" + std::to_string(side + 1)), 413,
+                   "limit_exceeded");
+  EXPECT_EQ(p.value("field", ""), "n");
+  EXPECT_EQ(p.value("limit", 0), side);
+  EXPECT_EQ(p.value("actual", 0), side + 1);
+  p = Problem(c.Get("/v1/surfaces/" + id + "/field?n=1"), 422, "invalid_argument");
+  EXPECT_EQ(p.value("field", ""), "n");
+  p = Problem(c.Get("/v1/surfaces/" + id + "/field?n=-3"), 400, "malformed");
+  EXPECT_EQ(p.value("field", ""), "n");
+  p = Problem(
+      c.Post("/v1/surfaces?field=99999", std::string("{") + kSurface + "}", "application/json"),
+      413, "limit_exceeded");
+  EXPECT_EQ(p.value("field", ""), "field");
+  Problem(c.Get(std::string("/v1/surfaces/") + kUnknown + "/field"), 404, "not_found");
 }
 
 }  // namespace
