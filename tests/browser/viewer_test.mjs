@@ -1,6 +1,11 @@
 // The web viewer in a real browser: Debian's Chromium (DevTools protocol) or
 // Firefox ESR (WebDriver BiDi), driven by puppeteer-core, loads the page from
-// the real server, deforms the bundled bunny, checks that the 3D canvas shows
+// the real server in a laptop's window, opens on a word in relief, edits live
+// with real pointer events (a footprint drag and a control-point drag change
+// the 3D view during the drag; the footprint's sends no request; a release
+// sends one exact request, whose result the preview was within 1e-3 of the
+// sheet's diagonal of; parts dragged off the sheet are tinted, with no banner
+// until the exact request fails), deforms the bundled bunny, checks that the 3D canvas shows
 // the model (its pixels, not the DOM), switches surface and model, colours
 // the model by its distortion map, draws a mark on the sheet and sees it on
 // the surface, drags the
@@ -66,18 +71,29 @@ const browser = await puppeteer.launch(launchOptions);
 try {
   console.log(`browser: ${await browser.version()}`);
   const page = await browser.newPage();
-  await page.setViewport({ width: 1400, height: 900 });
+  await page.setViewport({ width: 1280, height: 800 });  // a laptop's window
   const foreign = [];
   const pageErrors = [];
-  const posts = [];  // {path, type, body} of every POST the page sends
   page.on('request', (r) => {
     const url = r.url();
     if (!url.startsWith(base) && !url.startsWith('blob:') && !url.startsWith('data:')) foreign.push(url);
-    if (r.method() === 'POST') {
-      posts.push({ path: new URL(url).pathname, type: r.headers()['content-type'] || '',
-                   body: r.postData() || '' });
-    }
   });
+  // Every POST the page sends, {path, type, body}, recorded by the page's own
+  // fetch (WebDriver BiDi does not give request bodies).
+  await page.evaluateOnNewDocument(() => {
+    window.sentPosts = [];
+    const original = window.fetch;
+    window.fetch = (input, init = {}) => {
+      if ((init.method || 'GET') === 'POST') {
+        const headers = init.headers || {};
+        window.sentPosts.push({ path: new URL(String(input), location.href).pathname,
+                                type: headers['Content-Type'] || '',
+                                body: typeof init.body === 'string' ? init.body : '' });
+      }
+      return original(input, init);
+    };
+  });
+  const posts = () => page.evaluate(() => window.sentPosts);
   page.on('pageerror', (e) => pageErrors.push(String(e)));
   const shot = (name) => page.screenshot({ path: path.join(artifacts, `${name}.png`) });
   const text = (selector) => page.$eval(selector, (e) => e.textContent);
@@ -96,6 +112,31 @@ try {
   const coverage = () => page.evaluate(() => window.surfdeformViewer.modelCoverage());
 
   await page.goto(base + '/');
+  // The first thing a visitor sees: a word in relief lying on the surface
+  // (its thinnest axis up), in a 3D view that takes most of the window, the
+  // sheet beside it, every panel reachable.
+  if (await settled('ready', 'the word on Figure 10')) {
+    await sleep(300);
+    const s = await stats();
+    check(s && s.input_format === 'obj' && s.placement.up === '+z' && s.placement.up_reason === 'thinnest',
+          `the page opens on a word in relief lying on the surface (${s && s.placement.up}, ` +
+          `${s && s.placement.up_reason})`);
+    check(await coverage() > 0.01, `the word is on the canvas (${(100 * await coverage()).toFixed(1)}%)`);
+    const boxOf = (sel) => page.$eval(sel, (e) => {
+      const r = e.getBoundingClientRect();
+      return { x: r.x, y: r.y, w: r.width, h: r.height };
+    });
+    const view = await boxOf('#view3d'), sheet = await boxOf('#sheet');
+    check(view.w * view.h > 0.4 * 1280 * 800 && view.y + view.h <= 800,
+          `the 3D view takes most of the window (${Math.round(view.w)} x ${Math.round(view.h)})`);
+    check(sheet.x >= view.x + view.w && sheet.y < 800, 'the sheet stands beside the 3D view');
+    const panels = await page.$eval('#controls', (e) => ({ bottom: e.getBoundingClientRect().bottom,
+                                                           scrolls: getComputedStyle(e).overflowY }));
+    check(panels.bottom <= 800 && panels.scrolls === 'auto', 'every panel is reachable (the panels scroll)');
+    await shot('word-figure10');
+  }
+  await page.select('#sample', 'bunny');
+  await sleep(300);
   if (await settled('ready', 'the bunny on Figure 10')) {
     await sleep(300);  // a frame or two after the model arrived
     const s = await stats();
@@ -105,6 +146,124 @@ try {
     check(/stress/.test(await text('#quality')), 'flatten quality shown');
     await shot('bunny-figure10');
   }
+
+  // --- live editing, with real pointer events ------------------------------
+  const toTop = () => page.evaluate(() => window.scrollTo(0, 0));
+  const mask = () => page.evaluate(() => window.surfdeformViewer.modelMask());
+  const changed = (a, b) => a.reduce((n, x, k) => n + (x !== b[k]), 0);
+  const overlap = (a, b) => {
+    let both = 0, either = 0;
+    a.forEach((x, k) => { both += x && b[k]; either += x || b[k]; });
+    return either ? both / either : 0;
+  };
+  const viewer = (f, ...args) => page.evaluate(f, ...args);
+  // Half the fitted scale (room to move), subdivision off.
+  await page.$eval('#scale', (e) => {
+    e.value = String(window.surfdeformViewer.state.placement.scale / 2);
+    e.dispatchEvent(new Event('change'));
+  });
+  await sleep(300);
+  await settled('ready', 'the bunny at half its fitted scale');
+  await page.select('#subdivision', 'off');
+  await sleep(300);
+  await settled('ready', 'subdivision off');
+  {
+    // The footprint: the preview follows every move, no request; the release
+    // asks once, and the exact result lands where the preview was.
+    await toTop();
+    const box = await (await page.$('#sheet')).boundingBox();
+    const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
+    const m0 = await mask();
+    const sent = (await posts()).length;
+    await page.mouse.move(cx, cy);
+    await page.mouse.down();
+    for (let k = 1; k <= 6; ++k) {
+      await page.mouse.move(cx - 4 * k, cy + 3 * k);
+      await sleep(80);
+    }
+    const m1 = await mask();
+    const during = (await posts()).length - sent;
+    check(during === 0, `a footprint drag sends no request (${during} sent)`);
+    check(await viewer(() => window.surfdeformViewer.previewShown()), 'the GPU preview is shown during the drag');
+    check(changed(m0, m1) > 50, `the 3D view follows the footprint drag (${changed(m0, m1)} cells changed)`);
+    await shot('live-footprint-drag');
+    await page.mouse.up();
+    if (await settled('ready', 'the exact result after the footprint drag')) {
+      const after = (await posts()).slice(sent);
+      check(after.length === 1 && after[0].path === '/v1/deform',
+            `the release sends exactly one exact request (${after.map((p) => p.path).join(', ')})`);
+      check(!await viewer(() => window.surfdeformViewer.previewShown()), 'the exact result replaced the preview');
+      const m2 = await mask();
+      check(overlap(m1, m2) > 0.8, `the preview covered what the exact result covers (${overlap(m1, m2).toFixed(3)})`);
+      const p = await viewer(() => window.surfdeformViewer.state.lastPreview);
+      check(p && p.relative < 1e-3,
+            `the preview was within 1e-3 of the sheet's diagonal of the exact result (${p && p.relative.toExponential(2)})`);
+      check(/preview vs exact/.test(await text('#timings')), 'the page shows how far the preview was');
+    }
+  }
+  {
+    // A control point: the surface and the model follow during the drag,
+    // one surface request at a time; the release deforms exactly once.
+    const k = 5;  // an inner control point of the bicubic patch
+    const at = await viewer((i) => window.surfdeformViewer.handlePoint(i), k);
+    const m0 = await mask();
+    const sent = (await posts()).length;
+    const live0 = await viewer(() => window.surfdeformViewer.state.live.surfaces);
+    await page.mouse.move(at[0], at[1]);
+    await page.mouse.down();
+    for (let s = 1; s <= 8; ++s) {
+      await page.mouse.move(at[0], at[1] - 5 * s);
+      await sleep(150);
+    }
+    await sleep(300);
+    const m1 = await mask();
+    const live = (await viewer(() => window.surfdeformViewer.state.live.surfaces)) - live0;
+    const during = (await posts()).slice(sent);
+    check(live >= 1, `the surface and the model follow a control-point drag (${live} surfaces shown)`);
+    check(during.length >= 1 && during.every((p) => p.path === '/v1/surfaces'),
+          `only surfaces are asked for during it (${during.map((p) => p.path).join(', ')})`);
+    check(changed(m0, m1) > 50, `the 3D view changes during the control-point drag (${changed(m0, m1)} cells)`);
+    await shot('live-control-point-drag');
+    const before = (await posts()).length;
+    await page.mouse.up();
+    if (await settled('ready', 'the exact result after the control-point drag')) {
+      const deforms = (await posts()).slice(before).filter((p) => p.path === '/v1/deform').length;
+      check(deforms === 1, `the release sends one exact deformation (${deforms})`);
+    }
+  }
+  {
+    // Part of the footprint dragged off the sheet: tinted during the drag,
+    // no banner; the exact request's error on release, over the view
+    // (nothing moves under the pointer); dragged back, all is well.
+    await toTop();
+    const box = await (await page.$('#sheet')).boundingBox();
+    const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
+    const view0 = await page.$eval('#view3d', (e) => e.getBoundingClientRect().toJSON());
+    await page.mouse.move(cx, cy);
+    await page.mouse.down();
+    for (let k = 1; k <= 6; ++k) {
+      await page.mouse.move(cx + 0.08 * box.width * k, cy);
+      await sleep(60);
+    }
+    const n = await page.evaluate(() => window.surfdeformViewer.pixelCounts());
+    const banner = await page.$eval('#error', (e) => !e.hidden);
+    check(n.red > 100 && !banner, `the part off the sheet is tinted, no banner (${n.red} red pixels)`);
+    await shot('live-off-the-sheet');
+    await page.mouse.up();
+    if (await settled('error', 'the exact request off the sheet')) {
+      check(/outside the flat sheet/.test(await text('#error')), 'the exact request\'s error is shown');
+      const view1 = await page.$eval('#view3d', (e) => e.getBoundingClientRect().toJSON());
+      check(view1.x === view0.x && view1.y === view0.y, 'the banner does not move the views');
+    }
+    await page.mouse.move(cx + 0.48 * box.width, cy);
+    await page.mouse.down();
+    await page.mouse.move(cx, cy, { steps: 4 });
+    await page.mouse.up();
+    await settled('ready', 'dragged back onto the sheet');
+  }
+  await page.select('#subdivision', 'adaptive');
+  await sleep(300);
+  await settled('ready', 'subdivision back on');
 
   await page.select('#preset', 'cylinder');
   await page.select('#sample', 'plate');
@@ -141,7 +300,6 @@ try {
   check(await coverage() > 0.005, 'the plain colour is back');
   // Clicking the controls may have scrolled the page (Firefox does): mouse
   // positions below are taken with the views in sight.
-  const toTop = () => page.evaluate(() => window.scrollTo(0, 0));
   await toTop();
 
   // Halve the scale (the fit fills the sheet), typed into the field as a
@@ -173,13 +331,14 @@ try {
     await shot('plate-moved');
   }
 
-  // Models travel once: the bunny and the plate were each uploaded once
-  // (POST /v1/models), and every deformation since names its model by id in
-  // a small JSON body.
+  // Models travel once: the word, the bunny and the plate were each uploaded
+  // once (POST /v1/models), and every deformation since names its model by
+  // id in a small JSON body.
   {
-    const uploads = posts.filter((p) => p.path === '/v1/models').length;
-    const deforms = posts.filter((p) => p.path === '/v1/deform');
-    check(uploads === 2, `each model uploaded once (${uploads} uploads for the bunny and the plate)`);
+    const all = await posts();
+    const uploads = all.filter((p) => p.path === '/v1/models').length;
+    const deforms = all.filter((p) => p.path === '/v1/deform');
+    check(uploads === 3, `each model uploaded once (${uploads} uploads for the word, the bunny and the plate)`);
     check(deforms.length >= 4 && deforms.every((p) => p.type.startsWith('application/json') &&
                                                      /"model_id":"[0-9a-f]{32}"/.test(p.body)),
           `every deformation names its model by id (${deforms.length} deformations, ` +

@@ -27,9 +27,11 @@ async function checked(response) {
   throw new ApiError(response.status, problem);
 }
 
-// POST /v1/surfaces: {id, cached, grid, method, quality, timing_ms}.
-export async function createSurface(request) {
-  const r = await checked(await fetch('/v1/surfaces', {
+// POST /v1/surfaces: {id, cached, grid, method, quality, timing_ms}, and
+// with fieldSide the field of that side ({n, bounds, positions, normals,
+// on_sheet}) in the same reply.
+export async function createSurface(request, fieldSide = 0) {
+  const r = await checked(await fetch(fieldSide ? `/v1/surfaces?field=${fieldSide}` : '/v1/surfaces', {
     method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(request),
   }));
   return r.json();

@@ -1,23 +1,36 @@
 // The surfdeform viewer: pick or edit a surface, see its flat sheet and the
 // model's footprint on it, place the model, see it deformed in 3D.
 //
-// Flow: surface spec -> POST /v1/surfaces (flattened once, cached by the
-// server) -> GET /v1/surfaces/{id} (sheet and samples) -> POST /v1/deform by
-// id with the placement -> GLB with Draco -> three.js. Edits coalesce: while
-// a request runs, later edits wait and only the newest is sent.
+// Flow: surface spec -> POST /v1/surfaces?field=64 (flattened once, cached
+// by the server; with the field of its map) -> GET /v1/surfaces/{id} (sheet
+// and samples) -> POST /v1/deform by surface and model id with the placement
+// -> GLB with Draco -> three.js. Edits coalesce: while a request runs, later
+// edits wait and only the newest is sent.
+//
+// Live editing: while the person drags, the model is a GPU preview bent by
+// the field (preview.js). Dragging, wheel-scaling or rotating the footprint
+// sends no request; dragging a control point sends one POST /v1/surfaces
+// per move (at most one in flight, the newest pose wins) for the new field.
+// The exact deformation replaces the preview on release (for the wheel, 150
+// ms after its last event; never while a button is held).
+//
 // document.body.dataset.state is "loading", "ready" or "error" (tests wait on
 // it): "loading" from the moment an edit schedules work until the newest
-// deformation is on screen, so "ready" always shows the current inputs.
+// exact deformation is on screen, so "ready" always shows the current inputs.
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 
 import { createSurface, deform, getSurface, mapOnSurface } from './api.js';
 import { AnimationPanel } from './animation_panel.js';
-import { dracoLoader, footprint, readPositions } from './footprint.js';
+import { dracoLoader, footprint, placementFrame, readModel } from './footprint.js';
 import { ModelView } from './model_view.js';
+import { FieldPreview, nearestDistances, previewPositions } from './preview.js';
 import { sampleModel, surfacePreset } from './samples.js';
 import { SheetView } from './sheet_view.js';
 
 const $ = (id) => document.getElementById(id);
+
+// Lattice points per side of the field the preview samples.
+const kFieldSide = 64;
 
 const state = {
   spec: null,            // the surface spec being shown
@@ -32,17 +45,31 @@ const state = {
   lastError: null,
   lastMark: null,        // the mark on the surface, as /map returned it
   upResolved: null,      // the axis "auto" chose for the current model
+  field: null,           // the current surface's field (preview.js)
+  specVersion: 0,        // bumped by every control-point move
+  fieldVersion: -1,      // the spec version the field shows
+  live: { surfaces: 0, previews: 0 },  // live edits: surfaces fetched, previews shown
+  lastPreview: null,     // how far the last preview was from the exact result
 };
 
-const sheetView = new SheetView($('sheet'), (placement, final) => {
+const preview = new FieldPreview();
+
+const sheetView = new SheetView($('sheet'), (placement, final, how) => {
   state.placement = placement;
   showPlacement();
-  scheduleDeform(final ? 0 : 120);
+  if (final) return scheduleDeform(0);
+  showLivePreview();
+  // The wheel has no release: the exact result 150 ms after its last event.
+  if (how === 'wheel') scheduleDeform(150);
+  else holdDeform();
 });
 const modelView = new ModelView($('view3d'), (index, point, final) => {
   state.spec.control_points[index] = point.map((x) => Math.round(x * 1e6) / 1e6);
+  ++state.specVersion;
   if (final) scheduleSurface();
+  else liveSurface();
 });
+modelView.setPreview(preview.mesh);
 const gltf = new GLTFLoader().setDRACOLoader(dracoLoader());
 
 function setState(s) { document.body.dataset.state = s; }
@@ -84,6 +111,57 @@ function updateFootprint() {
   sheetView.setFootprint(state.model ? footprint(state.model.positions, effectiveUp()) : null);
 }
 
+// --- live preview ---------------------------------------------------------
+
+// The preview at the current placement, in place of the exact model; false
+// when it cannot be shown (no field yet, a model the browser cannot read, a
+// scale still to be fitted).
+function showLivePreview() {
+  const m = state.model;
+  if (!m || !m.positions || !state.field || typeof state.placement.scale !== 'number') return false;
+  preview.setPlacement(placementFrame(m.positions, effectiveUp(), $('anchor').value), state.placement);
+  if (!preview.ready()) return false;
+  modelView.showPreview(true);
+  ++state.live.previews;
+  return true;
+}
+
+function useField(field, version) {
+  state.field = field;
+  state.fieldVersion = version;
+  preview.setField(field);
+}
+
+// A control point moved: the new surface's field, one request at a time,
+// the newest pose each time. Errors wait for the release (the exact request
+// shows them).
+let liveBusy = false, liveAgain = false;
+async function liveSurface() {
+  if (liveBusy) {
+    liveAgain = true;
+    return;
+  }
+  liveBusy = true;
+  holdDeform();
+  try {
+    do {
+      liveAgain = false;
+      const version = state.specVersion;
+      const request = { surface: state.spec, sampling: { nu: state.grid, nv: state.grid } };
+      const summary = await createSurface(JSON.parse(JSON.stringify(request)), kFieldSide);
+      if (version <= state.fieldVersion) continue;  // the release's surface came first
+      useField(summary.field, version);
+      modelView.setSurfaceFromField(summary.field);
+      ++state.live.surfaces;
+      showLivePreview();
+    } while (liveAgain);
+  } catch {
+    // The release flattens the surface again and shows what went wrong.
+  } finally {
+    liveBusy = false;
+  }
+}
+
 // --- surface -------------------------------------------------------------
 
 let surfaceRun = 0;
@@ -91,10 +169,12 @@ async function refreshSurface() {
   const run = ++surfaceRun;
   setState('loading');
   try {
+    const version = state.specVersion;
     const request = { surface: state.spec, sampling: { nu: state.grid, nv: state.grid } };
-    const summary = await createSurface(request);
+    const summary = await createSurface(request, kFieldSide);
     const sheet = await getSurface(summary.id);
     if (run !== surfaceRun) return;  // a newer edit is on its way
+    useField(summary.field, version);
     state.surfaceId = summary.id;
     state.surfacePending = false;
     const q = summary.quality;
@@ -162,7 +242,27 @@ function scheduleDeform(delay) {
   deformTimer = setTimeout(runDeform, delay);
 }
 
+// An edit in progress: the exact deformation waits for its release.
+function holdDeform() {
+  setState('loading');
+  clearTimeout(deformTimer);
+}
+
+// How far the preview of `placement` was from the exact result now shown.
+function measurePreview(placement) {
+  const m = state.model;
+  if (!m || !m.positions || !state.field || typeof placement.scale !== 'number') return null;
+  const frame = placementFrame(m.positions, effectiveUp(), $('anchor').value);
+  const shown = previewPositions(m.positions, frame, placement, state.field);
+  const [lo, hi] = state.field.bounds;
+  const diagonal = Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
+  const d = nearestDistances(shown, modelView.shownPositions(), diagonal / 100);
+  return { max: d.max, mean: d.mean, diagonal, relative: d.max / diagonal };
+}
+
 async function runDeform() {
+  // Never while a button is held: the release asks again.
+  if (sheetView.drag || modelView.drag) return;
   // Without a model or a surface, or while a new surface is on its way (which
   // deforms when it arrives), there is nothing to send.
   if (!state.surfaceId || !state.model || state.surfacePending) {
@@ -177,10 +277,12 @@ async function runDeform() {
   setState('loading');
   try {
     const t0 = performance.now();
+    const asked = state.fitNext ? null : { ...state.placement, center: [...state.placement.center] };
     const { bytes, stats, timing } = await deform(state.model.bytes, state.model.name,
                                                   deformParams('glb'), 'model/gltf-binary');
     const scene = (await gltf.parseAsync(bytes, '')).scene;
     modelView.setModel(scene, { distortion: $('distortion').checked });
+    state.lastPreview = asked ? measurePreview(asked) : null;
     if (state.fitNext) {
       state.fitNext = false;
       state.placement.scale = stats.placement.scale;
@@ -200,6 +302,8 @@ async function runDeform() {
         `${fmt(stats.distortion.p95, 3)}, mean ${fmt(stats.distortion.mean, 3)}`]] : []),
       ...['parse', 'flatten', 'deform', 'subdivide', 'encode'].map((k) => [k, `${fmt(timing[k] || 0, 3)} ms`]),
       ['round trip', `${fmt(performance.now() - t0, 3)} ms, ${bytes.byteLength} bytes`],
+      ...(state.lastPreview ? [['preview vs exact', `${fmt(state.lastPreview.max, 2)} ` +
+        `(${fmt(100 * state.lastPreview.relative, 2)}% of the sheet)`]] : []),
     ]);
     showError(null);
     setState('ready');
@@ -262,7 +366,9 @@ $('clear-marks').addEventListener('click', () => {
 // --- models --------------------------------------------------------------
 
 async function useModel(name, bytes) {
-  state.model = { name, bytes, positions: await readPositions(name, bytes) };
+  const read = await readModel(name, bytes);
+  state.model = { name, bytes, positions: read.positions };
+  preview.setGeometry(read.geometry);
   state.upResolved = null;
   $('model-name').textContent = `${name} (${bytes.byteLength} bytes)` +
       (state.model.positions ? '' : ' — the browser cannot outline it; the server reads it');
@@ -325,8 +431,10 @@ document.addEventListener('drop', (e) => {
 $('rotation').addEventListener('input', () => {
   state.placement.rotation_deg = Number($('rotation').value);
   showPlacement();
-  scheduleDeform(120);
+  showLivePreview();
+  holdDeform();
 });
+$('rotation').addEventListener('change', () => scheduleDeform(0));
 $('scale').addEventListener('change', () => {
   const s = Number($('scale').value);
   if (s > 0) {
@@ -361,8 +469,11 @@ const animationPanel = new AnimationPanel(modelView, () => ({
 }), showError);
 
 // For tests and the curious: the state and the model's share of the 3D canvas.
-window.surfdeformViewer = { state, animation: animationPanel,
+window.surfdeformViewer = { state, animation: animationPanel, preview,
                             modelCoverage: () => modelView.modelCoverage(),
+                            modelMask: () => modelView.modelMask(),
+                            handlePoint: (k) => modelView.handleClientPoint(k),
+                            previewShown: () => preview.mesh.visible,
                             pixelCounts: () => modelView.pixelCounts(),
                             texturedMeshes: () => modelView.texturedMeshes() };
 

@@ -8,6 +8,7 @@ import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { OBJLoader } from 'three/addons/loaders/OBJLoader.js';
 import { PLYLoader } from 'three/addons/loaders/PLYLoader.js';
 import { STLLoader } from 'three/addons/loaders/STLLoader.js';
+import { mergeGeometries } from 'three/addons/utils/BufferGeometryUtils.js';
 
 let draco = null;
 export function dracoLoader() {
@@ -33,6 +34,24 @@ function positionsOf(object) {
   return out;
 }
 
+// One geometry of every mesh in `object`, in world space, with positions
+// and normals only (what the preview bends), indexed; null for none.
+function mergedGeometry(object) {
+  object.updateMatrixWorld(true);
+  const parts = [];
+  object.traverse((o) => {
+    if (!o.isMesh || !o.geometry.getAttribute('position')) return;
+    let g = new THREE.BufferGeometry();
+    g.setAttribute('position', o.geometry.getAttribute('position').clone());
+    if (o.geometry.index) g.setIndex(o.geometry.index.clone());
+    g.applyMatrix4(o.matrixWorld);
+    if (!g.index) g = g.toNonIndexed();
+    g.computeVertexNormals();
+    parts.push(g);
+  });
+  return parts.length ? mergeGeometries(parts) : null;
+}
+
 function offPositions(text) {
   const words = text.replace(/#[^\n]*/g, ' ').split(/\s+/).filter(Boolean);
   if (!/OFF$/.test(words[0])) return [];
@@ -40,35 +59,45 @@ function offPositions(text) {
   return words.slice(4, 4 + 3 * n).map(Number);
 }
 
-// Vertex positions [x, y, z, ...] of a mesh file, or null when the browser
-// cannot read it (the server may still: its errors are shown then).
-export async function readPositions(name, bytes) {
+// Three.js's reading of a mesh file: an object, or null when the browser
+// cannot read it (OFF: positions only).
+async function readObject(ext, bytes) {
+  switch (ext) {
+    case 'ply': return new THREE.Mesh(new PLYLoader().parse(bytes));
+    case 'stl': return new THREE.Mesh(new STLLoader().parse(bytes));
+    case 'obj': return new OBJLoader().parse(new TextDecoder().decode(bytes));
+    case 'glb': case 'gltf': {
+      const loader = new GLTFLoader().setDRACOLoader(dracoLoader());
+      return (await loader.parseAsync(bytes, '')).scene;
+    }
+    case 'drc': {
+      const geometry = await new Promise((resolve, reject) => {
+        dracoLoader().parse(bytes, resolve, reject);
+      });
+      return new THREE.Mesh(geometry);
+    }
+    default: return null;
+  }
+}
+
+// A mesh file as the browser reads it: {positions: [x, y, z, ...] or null,
+// geometry: the merged triangles (for the preview) or null}. Null parts are
+// what the browser cannot read (the server may still: its errors are shown
+// then).
+export async function readModel(name, bytes) {
   const ext = name.toLowerCase().split('.').pop();
   try {
-    switch (ext) {
-      case 'ply': return positionsOf(new THREE.Mesh(new PLYLoader().parse(bytes)));
-      case 'stl': return positionsOf(new THREE.Mesh(new STLLoader().parse(bytes)));
-      case 'obj': return positionsOf(new OBJLoader().parse(new TextDecoder().decode(bytes)));
-      case 'off': return offPositions(new TextDecoder().decode(bytes));
-      case 'glb': case 'gltf': {
-        const loader = new GLTFLoader().setDRACOLoader(dracoLoader());
-        return positionsOf((await loader.parseAsync(bytes, '')).scene);
-      }
-      case 'drc': {
-        const geometry = await new Promise((resolve, reject) => {
-          dracoLoader().parse(bytes, resolve, reject);
-        });
-        return positionsOf(new THREE.Mesh(geometry));
-      }
-      default: return null;
-    }
+    if (ext === 'off') return { positions: offPositions(new TextDecoder().decode(bytes)), geometry: null };
+    const object = await readObject(ext, bytes);
+    if (!object) return { positions: null, geometry: null };
+    return { positions: positionsOf(object), geometry: mergedGeometry(object) };
   } catch {
-    return null;
+    return { positions: null, geometry: null };
   }
 }
 
 // Model axis -> (a, b, h), rows as the server's AxisBasis.
-const kBasis = {
+export const kBasis = {
   '+z': [[1, 0, 0], [0, 1, 0], [0, 0, 1]], '-z': [[1, 0, 0], [0, -1, 0], [0, 0, -1]],
   '+x': [[0, 1, 0], [0, 0, 1], [1, 0, 0]], '-x': [[0, 1, 0], [0, 0, -1], [-1, 0, 0]],
   '+y': [[0, 0, 1], [1, 0, 0], [0, 1, 0]], '-y': [[0, 0, 1], [-1, 0, 0], [0, -1, 0]],
@@ -103,4 +132,23 @@ export function footprint(positions, up) {
   }
   const hull = lower.slice(0, -1).concat(upper.slice(0, -1));
   return { hull, centre: [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2] };
+}
+
+// The part of the server's placement (engine/placement.cpp) that depends on
+// the model alone: the basis (rows: model -> a, b, h), the footprint's centre
+// (the middle of its box in (a, b)) and the height h0 that lands on the
+// surface (anchor bottom, center or top of the box along up).
+export function placementFrame(positions, up, anchor) {
+  if (!positions || positions.length < 3) return null;
+  const m = kBasis[up] || kBasis['+z'];
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  for (let k = 0; k < positions.length; k += 3) {
+    for (let r = 0; r < 3; ++r) {
+      const q = m[r][0] * positions[k] + m[r][1] * positions[k + 1] + m[r][2] * positions[k + 2];
+      lo[r] = Math.min(lo[r], q);
+      hi[r] = Math.max(hi[r], q);
+    }
+  }
+  const h0 = anchor === 'bottom' ? lo[2] : anchor === 'top' ? hi[2] : (lo[2] + hi[2]) / 2;
+  return { basis: m, centre: [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2], h0 };
 }

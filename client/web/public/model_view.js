@@ -71,14 +71,15 @@ export class ModelView {
 
   resize() {
     const w = this.container.clientWidth || 480;
-    const h = Math.round((w * 3) / 4);
+    const h = this.container.clientHeight || Math.round((w * 3) / 4);
     this.renderer.setSize(w, h);
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
   }
 
-  // The sampled surface (points u fastest), a translucent sheet.
-  setSurface(points, nu, nv) {
+  // The sampled surface (points u fastest), a translucent sheet; `keep`
+  // (optional, per quad) leaves quads out.
+  setSurface(points, nu, nv, keep = null) {
     if (this.surface) this.scene.remove(this.surface);
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.Float32BufferAttribute(points.flat(), 3));
@@ -86,7 +87,7 @@ export class ModelView {
     for (let j = 0; j + 1 < nv; ++j) {
       for (let i = 0; i + 1 < nu; ++i) {
         const a = i + nu * j, b = a + 1, c = a + nu + 1, d = a + nu;
-        index.push(a, b, c, a, c, d);
+        if (!keep || keep(a, b, c, d)) index.push(a, b, c, a, c, d);
       }
     }
     geometry.setIndex(index);
@@ -97,6 +98,28 @@ export class ModelView {
     }));
     this.scene.add(this.surface);
     if (!this.framed) this.frame(this.surface);
+  }
+
+  // The surface from a field (GET /v1/surfaces/{id}/field): its lattice
+  // cells on the sheet. Drawn while a control point is dragged, before the
+  // sheet's own samples arrive.
+  setSurfaceFromField(field) {
+    const on = field.on_sheet;
+    this.setSurface(field.positions, field.n, field.n, (a, b, c, d) => on[a] && on[b] && on[c] && on[d]);
+  }
+
+  // The live preview's mesh (preview.js): added once, shown in place of the
+  // exact model while the person edits.
+  setPreview(mesh) {
+    this.preview = mesh;
+    mesh.visible = false;
+    this.scene.add(mesh);
+  }
+
+  showPreview(on) {
+    if (!this.preview) return;
+    this.preview.visible = on;
+    if (this.model) this.model.visible = !on;
   }
 
   // Marks on the surface: polylines of {point, normal}, drawn a hair above
@@ -138,6 +161,7 @@ export class ModelView {
   setModel(object, { distortion = false, mixer = null } = {}) {
     if (this.model) this.scene.remove(this.model);
     this.model = object;
+    if (this.preview) this.preview.visible = false;  // the exact result replaces the preview
     this.mixer = mixer;  // null stops an animation that was playing
     // The static surface does not move with an animation: hidden meanwhile.
     for (const o of [this.surface, this.handles, this.marks]) if (o) o.visible = !mixer;
@@ -262,17 +286,22 @@ export class ModelView {
     this.onControlPoint(h.userData.index, h.position.toArray(), true);
   }
 
-  // Counts of the canvas's pixels by hue: {warm, red, blue, green, total}.
-  // warm is the model's plain colour; red and blue the distortion map's
-  // ends; green the marks.
-  pixelCounts() {
+  // The canvas's RGBA pixels as drawn last.
+  canvasPixels() {
     const src = this.renderer.domElement;
     const c = document.createElement('canvas');
     c.width = src.width;
     c.height = src.height;
     const ctx = c.getContext('2d');
     ctx.drawImage(src, 0, 0);
-    const px = ctx.getImageData(0, 0, c.width, c.height).data;
+    return { px: ctx.getImageData(0, 0, c.width, c.height).data, width: c.width, height: c.height };
+  }
+
+  // Counts of the canvas's pixels by hue: {warm, red, blue, green, total}.
+  // warm is the model's plain colour; red and blue the distortion map's
+  // ends; green the marks.
+  pixelCounts() {
+    const { px, width, height } = this.canvasPixels();
     const n = { warm: 0, red: 0, blue: 0, green: 0, total: px.length / 4 };
     for (let k = 0; k < px.length; k += 4) {
       const [r, g, b] = [px[k], px[k + 1], px[k + 2]];
@@ -282,6 +311,30 @@ export class ModelView {
       if (g - r > 60 && g - b > 60) ++n.green;
     }
     return n;
+  }
+
+  // Where control point k is drawn, in client (CSS pixel) coordinates; null
+  // without one.
+  handleClientPoint(k) {
+    const h = this.handles.children[k];
+    if (!h) return null;
+    const v = h.position.clone().project(this.camera);
+    const r = this.renderer.domElement.getBoundingClientRect();
+    return [r.left + ((v.x + 1) / 2) * r.width, r.top + ((1 - v.y) / 2) * r.height];
+  }
+
+  // Which pixels show the model (its warm colour, or the preview's tint),
+  // every `step`-th pixel each way: an array of 0 and 1.
+  modelMask(step = 4) {
+    const { px, width, height } = this.canvasPixels();
+    const mask = [];
+    for (let y = 0; y < height; y += step) {
+      for (let x = 0; x < width; x += step) {
+        const k = 4 * (x + width * y);
+        mask.push(px[k] - px[k + 2] > 30 ? 1 : 0);
+      }
+    }
+    return mask;
   }
 
   // Meshes of the model drawn with a texture whose image three.js decoded.

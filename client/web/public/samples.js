@@ -30,7 +30,8 @@ export async function sampleModel(name) {
   if (name === 'plate') {
     return { name: 'thin-plate.obj', bytes: new TextEncoder().encode(thinPlateObj()).buffer };
   }
-  const r = await fetch('/samples/bunny.ply');
-  if (!r.ok) throw new Error('cannot load the bunny sample');
-  return { name: 'bunny.ply', bytes: await r.arrayBuffer() };
+  const file = name === 'word' ? 'word.obj' : 'bunny.ply';
+  const r = await fetch(`/samples/${file}`);
+  if (!r.ok) throw new Error(`cannot load the sample ${file}`);
+  return { name: file, bytes: await r.arrayBuffer() };
 }

@@ -14,7 +14,9 @@ function cellArea(p, q, r, s) {  // quad p q r s, as two triangles (2D or 3D)
 }
 
 export class SheetView {
-  // onPlacement({center, rotation_deg, scale}) is called while the person edits.
+  // onPlacement({center, rotation_deg, scale}, final, how) is called while
+  // the person edits: final on releasing a drag; how is "drag" or "wheel"
+  // (wheel events never end: the caller decides when the person stopped).
   constructor(canvas, onPlacement) {
     this.canvas = canvas;
     this.ctx = canvas.getContext('2d');
@@ -171,14 +173,14 @@ export class SheetView {
     this.placement.center = [this.drag.center[0] + p[0] - this.drag.start[0],
                              this.drag.center[1] + p[1] - this.drag.start[1]];
     this.draw();
-    this.onPlacement(this.placement, false);
+    this.onPlacement(this.placement, false, 'drag');
   }
 
   up() {
     if (!this.drag) return;
     this.drag = null;
     this.canvas.style.cursor = 'grab';
-    this.onPlacement(this.placement, true);
+    this.onPlacement(this.placement, true, 'drag');
   }
 
   wheel(e) {
@@ -190,6 +192,6 @@ export class SheetView {
       this.placement.scale *= e.deltaY < 0 ? 1.05 : 1 / 1.05;
     }
     this.draw();
-    this.onPlacement(this.placement, true);
+    this.onPlacement(this.placement, false, 'wheel');
   }
 }

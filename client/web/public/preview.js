@@ -1,0 +1,214 @@
+// The live preview: the model bent on the GPU while a person drags, from the
+// field of the sheet-to-surface map (GET /v1/surfaces/{id}/field). Each
+// vertex is placed on the sheet exactly as the server places it (up axis,
+// anchor, centre, rotation, scale: engine/placement.cpp), then a vertex
+// shader samples the field: position = P(a, b) + h N(a, b), P and N
+// interpolated bilinearly between lattice points (past the lattice, the
+// border cell's map continues). Vertices whose cell has a lattice point off
+// the sheet are tinted: that part would leave the sheet. Moving, scaling or
+// rotating the footprint changes uniforms only; a new surface, two textures.
+//
+// previewPositions() is the same computation on the CPU, for measuring the
+// preview against the exact result.
+import * as THREE from 'three';
+
+// (a, b, h) of model point (x, y, z): `frame` from placementFrame(), and the
+// placement's centre (the sheet point the footprint's centre goes to),
+// rotation_deg and scale.
+export function placePoint(x, y, z, frame, placement) {
+  const m = frame.basis;
+  const qa = m[0][0] * x + m[0][1] * y + m[0][2] * z - frame.centre[0];
+  const qb = m[1][0] * x + m[1][1] * y + m[1][2] * z - frame.centre[1];
+  const qh = m[2][0] * x + m[2][1] * y + m[2][2] * z;
+  const t = (placement.rotation_deg * Math.PI) / 180;
+  const c = Math.cos(t), s = Math.sin(t), k = placement.scale;
+  return [placement.center[0] + k * (c * qa - s * qb), placement.center[1] + k * (s * qa + c * qb),
+          k * (qh - frame.h0)];
+}
+
+// The field's P, N at sheet point (a, b), bilinear, and whether the cell's
+// lattice points are all on the sheet (as the shader computes them).
+export function sampleField(field, a, b) {
+  const n = field.n, [lo, hi] = field.bounds;
+  const tx = ((a - lo[0]) / (hi[0] - lo[0])) * (n - 1), ty = ((b - lo[1]) / (hi[1] - lo[1])) * (n - 1);
+  const ix = Math.min(Math.max(Math.floor(tx), 0), n - 2), iy = Math.min(Math.max(Math.floor(ty), 0), n - 2);
+  const fx = tx - ix, fy = ty - iy;
+  const k00 = ix + n * iy, k10 = k00 + 1, k01 = k00 + n, k11 = k01 + 1;
+  const lerp = (arr, c) => (1 - fy) * ((1 - fx) * arr[k00][c] + fx * arr[k10][c]) +
+                           fy * ((1 - fx) * arr[k01][c] + fx * arr[k11][c]);
+  const p = [0, 1, 2].map((c) => lerp(field.positions, c));
+  const nr = [0, 1, 2].map((c) => lerp(field.normals, c));
+  const len = Math.hypot(...nr);
+  const inside = tx >= 0 && ty >= 0 && tx <= n - 1 && ty <= n - 1;
+  const on = inside && [k00, k10, k01, k11].every((k) => field.on_sheet[k]);
+  return { p, n: nr.map((x) => x / len), on };
+}
+
+// The preview's position of every model vertex (`positions`: x, y, z, ...).
+export function previewPositions(positions, frame, placement, field) {
+  const out = new Float64Array(positions.length);
+  for (let k = 0; k < positions.length; k += 3) {
+    const [a, b, h] = placePoint(positions[k], positions[k + 1], positions[k + 2], frame, placement);
+    const f = sampleField(field, a, b);
+    for (let c = 0; c < 3; ++c) out[k + c] = f.p[c] + h * f.n[c];
+  }
+  return out;
+}
+
+// The largest and mean distance from (up to `samples` of) the points `from`
+// to their nearest point in `to` (flat x, y, z arrays): how far the preview
+// was from the exact result, whose vertices include the model's own (the
+// subdivision adds, never moves). A uniform grid of cell `cell` finds them.
+export function nearestDistances(from, to, cell, samples = 4000) {
+  const grid = new Map();
+  const key = (x, y, z) => `${Math.floor(x / cell)},${Math.floor(y / cell)},${Math.floor(z / cell)}`;
+  for (let k = 0; k < to.length; k += 3) {
+    const id = key(to[k], to[k + 1], to[k + 2]);
+    if (!grid.has(id)) grid.set(id, []);
+    grid.get(id).push(k);
+  }
+  const count = from.length / 3, stride = Math.max(1, Math.floor(count / samples));
+  let worst = 0, sum = 0, n = 0;
+  for (let v = 0; v < count; v += stride) {
+    const x = from[3 * v], y = from[3 * v + 1], z = from[3 * v + 2];
+    let best = Infinity;
+    for (let ring = 1; ring <= 4 && best === Infinity; ++ring) {
+      const [cx, cy, cz] = [x, y, z].map((c) => Math.floor(c / cell));
+      for (let i = -ring; i <= ring; ++i) for (let j = -ring; j <= ring; ++j) for (let l = -ring; l <= ring; ++l) {
+        for (const k of grid.get(`${cx + i},${cy + j},${cz + l}`) || []) {
+          best = Math.min(best, Math.hypot(to[k] - x, to[k + 1] - y, to[k + 2] - z));
+        }
+      }
+    }
+    worst = Math.max(worst, best);
+    sum += best;
+    ++n;
+  }
+  return { max: worst, mean: n ? sum / n : 0 };
+}
+
+const kVertexHead = /* glsl */ `
+uniform sampler2D sdFieldP;  // xyz: surface point, w: 1 on the sheet
+uniform sampler2D sdFieldN;  // xyz: unit normal
+uniform vec2 sdLo;
+uniform vec2 sdHi;
+uniform float sdN;
+uniform mat3 sdBasis;
+uniform vec2 sdCentre;
+uniform float sdH0;
+uniform vec2 sdRotation;  // cos, sin
+uniform float sdScale;
+uniform vec2 sdTarget;
+varying float sdOff;
+`;
+
+const kVertexPlace = /* glsl */ `
+vec3 sdQ = sdBasis * position;
+vec2 sdQab = sdQ.xy - sdCentre;
+vec2 sdAB = sdTarget + sdScale * vec2(sdRotation.x * sdQab.x - sdRotation.y * sdQab.y,
+                                      sdRotation.y * sdQab.x + sdRotation.x * sdQab.y);
+float sdH = sdScale * (sdQ.z - sdH0);
+vec2 sdT = (sdAB - sdLo) / (sdHi - sdLo) * (sdN - 1.0);
+vec2 sdI = clamp(floor(sdT), vec2(0.0), vec2(sdN - 2.0));
+vec2 sdF = sdT - sdI;  // past the lattice, the border cell's map continues
+ivec2 sdC = ivec2(sdI);
+vec4 sdP00 = texelFetch(sdFieldP, sdC, 0);
+vec4 sdP10 = texelFetch(sdFieldP, sdC + ivec2(1, 0), 0);
+vec4 sdP01 = texelFetch(sdFieldP, sdC + ivec2(0, 1), 0);
+vec4 sdP11 = texelFetch(sdFieldP, sdC + ivec2(1, 1), 0);
+vec3 sdN00 = texelFetch(sdFieldN, sdC, 0).xyz;
+vec3 sdN10 = texelFetch(sdFieldN, sdC + ivec2(1, 0), 0).xyz;
+vec3 sdN01 = texelFetch(sdFieldN, sdC + ivec2(0, 1), 0).xyz;
+vec3 sdN11 = texelFetch(sdFieldN, sdC + ivec2(1, 1), 0).xyz;
+vec3 sdP = mix(mix(sdP00.xyz, sdP10.xyz, sdF.x), mix(sdP01.xyz, sdP11.xyz, sdF.x), sdF.y);
+vec3 sdNrm = normalize(mix(mix(sdN00, sdN10, sdF.x), mix(sdN01, sdN11, sdF.x), sdF.y));
+vec3 sdPa = normalize(mix(sdP10.xyz - sdP00.xyz, sdP11.xyz - sdP01.xyz, sdF.y));
+vec3 sdPb = normalize(mix(sdP01.xyz - sdP00.xyz, sdP11.xyz - sdP10.xyz, sdF.x));
+bool sdInside = all(greaterThanEqual(sdT, vec2(0.0))) && all(lessThanEqual(sdT, vec2(sdN - 1.0)));
+sdOff = (sdInside && min(min(sdP00.w, sdP10.w), min(sdP01.w, sdP11.w)) > 0.5) ? 0.0 : 1.0;
+// The model's normal turns with the sheet's frame (the map keeps lengths).
+vec3 sdNq = sdBasis * normal;
+vec2 sdNab = vec2(sdRotation.x * sdNq.x - sdRotation.y * sdNq.y, sdRotation.y * sdNq.x + sdRotation.x * sdNq.y);
+vec3 objectNormal = normalize(sdNab.x * sdPa + sdNab.y * sdPb + sdNq.z * sdNrm);
+vec3 sdTransformed = sdP + sdH * sdNrm;
+`;
+
+function fieldTexture(data, n) {
+  const t = new THREE.DataTexture(data, n, n, THREE.RGBAFormat, THREE.FloatType);
+  t.minFilter = t.magFilter = THREE.NearestFilter;
+  t.needsUpdate = true;
+  return t;
+}
+
+export class FieldPreview {
+  constructor() {
+    this.uniforms = {
+      sdFieldP: { value: null }, sdFieldN: { value: null },
+      sdLo: { value: new THREE.Vector2() }, sdHi: { value: new THREE.Vector2(1, 1) },
+      sdN: { value: 2 }, sdBasis: { value: new THREE.Matrix3() },
+      sdCentre: { value: new THREE.Vector2() }, sdH0: { value: 0 },
+      sdRotation: { value: new THREE.Vector2(1, 0) }, sdScale: { value: 1 },
+      sdTarget: { value: new THREE.Vector2() },
+    };
+    this.material = new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
+                                                     side: THREE.DoubleSide });
+    this.material.onBeforeCompile = (shader) => {
+      Object.assign(shader.uniforms, this.uniforms);
+      shader.vertexShader = kVertexHead + shader.vertexShader
+        .replace('#include <beginnormal_vertex>', kVertexPlace)
+        .replace('#include <begin_vertex>', 'vec3 transformed = sdTransformed;');
+      shader.fragmentShader = 'varying float sdOff;\n' + shader.fragmentShader.replace(
+        '#include <color_fragment>',
+        '#include <color_fragment>\n  diffuseColor.rgb = mix(diffuseColor.rgb, vec3(1.0, 0.12, 0.05), step(0.5, sdOff));');
+    };
+    this.mesh = new THREE.Mesh(new THREE.BufferGeometry(), this.material);
+    this.mesh.frustumCulled = false;  // its geometry is the model before bending
+    this.field = null;
+    this.frame = null;
+    this.placement = null;
+  }
+
+  // The field as GET /v1/surfaces/{id}/field returns it in JSON.
+  setField(field) {
+    const n = field.n, count = n * n;
+    const p = new Float32Array(4 * count), q = new Float32Array(4 * count);
+    for (let k = 0; k < count; ++k) {
+      p.set(field.positions[k], 4 * k);
+      p[4 * k + 3] = field.on_sheet[k] ? 1 : 0;
+      q.set(field.normals[k], 4 * k);
+    }
+    this.uniforms.sdFieldP.value?.dispose();
+    this.uniforms.sdFieldN.value?.dispose();
+    this.uniforms.sdFieldP.value = fieldTexture(p, n);
+    this.uniforms.sdFieldN.value = fieldTexture(q, n);
+    this.uniforms.sdLo.value.set(...field.bounds[0]);
+    this.uniforms.sdHi.value.set(...field.bounds[1]);
+    this.uniforms.sdN.value = n;
+    this.field = field;
+  }
+
+  // The model as the browser read it (positions and normals, model space).
+  setGeometry(geometry) {
+    this.mesh.geometry = geometry || new THREE.BufferGeometry();
+  }
+
+  // placementFrame()'s result and the placement {center, rotation_deg, scale}.
+  setPlacement(frame, placement) {
+    const m = frame.basis;
+    this.uniforms.sdBasis.value.set(...m[0], ...m[1], ...m[2]);
+    this.uniforms.sdCentre.value.set(...frame.centre);
+    this.uniforms.sdH0.value = frame.h0;
+    const t = (placement.rotation_deg * Math.PI) / 180;
+    this.uniforms.sdRotation.value.set(Math.cos(t), Math.sin(t));
+    this.uniforms.sdScale.value = placement.scale;
+    this.uniforms.sdTarget.value.set(...placement.center);
+    this.frame = frame;
+    this.placement = { ...placement, center: [...placement.center] };
+  }
+
+  // Whether there is everything a preview needs.
+  ready() {
+    return Boolean(this.field && this.frame && this.placement && this.mesh.geometry.getAttribute('position') &&
+                   typeof this.placement.scale === 'number');
+  }
+}
