@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
+#include <sstream>
 #include <thread>
 
 #include <time.h>
@@ -302,6 +303,25 @@ struct HttpServer::Impl {
     res.set_header("X-Request-Id", t_context.id);
   }
 
+  // Accept-Encoding without its "br" entries (a header with nothing else
+  // left is dropped: identity).
+  static void WithoutBrotli(httplib::Headers* headers) {
+    auto it = headers->find("Accept-Encoding");
+    if (it == headers->end()) return;
+    std::string kept;
+    std::stringstream entries(it->second);
+    for (std::string entry; std::getline(entries, entry, ',');) {
+      const size_t first = entry.find_first_not_of(' ');
+      if (first == std::string::npos || entry.compare(first, 2, "br") == 0) continue;
+      kept += (kept.empty() ? "" : ", ") + entry.substr(first);
+    }
+    if (kept.empty()) {
+      headers->erase(it);
+    } else {
+      it->second = kept;
+    }
+  }
+
   // Before the body is read: request id, CORS preflight, framing checks.
   httplib::Server::HandlerResponse PreRouting(const httplib::Request& req, httplib::Response& res) {
     BeginRequest(req, res);
@@ -324,6 +344,11 @@ struct HttpServer::Impl {
     // Range requests are ignored (RFC 9110 allows it): httplib 0.11.4 would
     // multiply overlapping ranges into a huge response.
     const_cast<httplib::Request&>(req).ranges.clear();
+    // Brotli is never offered: httplib 0.11.4 compresses at quality 11,
+    // 0.7 s of a worker for a 0.5 MB JSON reply (gzip: 30 ms), and seconds
+    // for a large sheet, which a short request could ask for again and
+    // again. gzip stays.
+    WithoutBrotli(&const_cast<httplib::Request&>(req).headers);
 
     if (rejection) {
       metrics.Rejected(std::to_string(rejection->http_status));

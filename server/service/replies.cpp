@@ -4,6 +4,8 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "engine/elapsed.hpp"
 #include "engine/flatten.hpp"
@@ -216,20 +218,34 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   return reply;
 }
 
+namespace {
+
+// x at float32's precision, as the double that prints shortest (9
+// significant digits, which give the float back): the field's JSON is as
+// exact as its bytes, at about half the text of full doubles.
+double AsFloat(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", static_cast<double>(static_cast<float>(x)));
+  return std::strtod(text, nullptr);
+}
+
+}  // namespace
+
 json FieldJson(const SheetField& f) {
   json positions = json::array(), normals = json::array(), on_sheet = json::array();
   for (size_t k = 0; k < f.positions.size(); ++k) {
     const Vec3& p = f.positions[k];
     const Vec3& q = f.normals[k];
-    positions.push_back({p.x(), p.y(), p.z()});
-    normals.push_back({q.x(), q.y(), q.z()});
+    positions.push_back({AsFloat(p.x()), AsFloat(p.y()), AsFloat(p.z())});
+    normals.push_back({AsFloat(q.x()), AsFloat(q.y()), AsFloat(q.z())});
     on_sheet.push_back(f.on_sheet[k] != 0);
   }
-  return {{"n", f.n},
-          {"bounds", {{f.lo.x(), f.lo.y()}, {f.hi.x(), f.hi.y()}}},
-          {"positions", std::move(positions)},
-          {"normals", std::move(normals)},
-          {"on_sheet", std::move(on_sheet)}};
+  return {
+      {"n", f.n},
+      {"bounds", {{AsFloat(f.lo.x()), AsFloat(f.lo.y())}, {AsFloat(f.hi.x()), AsFloat(f.hi.y())}}},
+      {"positions", std::move(positions)},
+      {"normals", std::move(normals)},
+      {"on_sheet", std::move(on_sheet)}};
 }
 
 std::string FieldBinary(const SheetField& f) {

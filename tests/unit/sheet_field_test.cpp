@@ -107,7 +107,7 @@ TEST(SheetField, PointsOffACurvedSheetAreFlaggedAndContinueTheMapSmoothly) {
       }
     }
   }
-  EXPECT_GT(off, n);          // the sector's corners
+  EXPECT_GT(off, n);              // the sector's corners
   EXPECT_LT(off, n * n * 3 / 4);  // a 127-degree sector of a ring fills about half its box
   // A continuous continuation: neighbours at most a few steps apart on the
   // surface (a jump across the border would be a fraction of the sheet).
