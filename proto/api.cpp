@@ -427,6 +427,19 @@ Result<SurfaceRequest> ParseSurfaceRequest(const json& body) {
   return request;
 }
 
+Result<CreateSurfaceRequest> ParseCreateSurfaceRequest(const json& body) {
+  SURFDEFORM_ASSIGN_OR_RETURN(auto o, JsonObject::Open(body, ""));
+  CreateSurfaceRequest out;
+  SURFDEFORM_RETURN_IF_ERROR(o.String("warm_start", &out.warm_start));
+  if (!out.warm_start.empty() && !IsSurfaceIdShaped(out.warm_start)) {
+    return InvalidArgument("must be an id returned by POST /v1/surfaces (32 hex digits)",
+                           "warm_start");
+  }
+  SURFDEFORM_RETURN_IF_ERROR(ReadSurfaceParts(o, &out.request));
+  SURFDEFORM_RETURN_IF_ERROR(o.Finish());
+  return out;
+}
+
 Result<DeformParams> ParseDeformParams(const json& body) {
   SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(body, ""));
   DeformParams params;

@@ -91,6 +91,14 @@ struct AnimateParams {
   OutputOptions output;
 };
 
+// POST /v1/surfaces's body: the surface request, and the id of a flattened
+// surface to start from ("warm_start": an edit of it; not part of the id).
+struct CreateSurfaceRequest {
+  SurfaceRequest request;
+  std::string warm_start;
+};
+Result<CreateSurfaceRequest> ParseCreateSurfaceRequest(const nlohmann::json& body);
+
 // Parse the request bodies. `body` is an object with "surface", "sampling"
 // and "flatten" (POST /v1/surfaces), or the deform parameters.
 Result<SurfaceRequest> ParseSurfaceRequest(const nlohmann::json& body);

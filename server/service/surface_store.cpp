@@ -73,7 +73,7 @@ SharedTierStats SurfaceStore::shared_tier_stats() const {
 
 Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flattened(
     const proto::SurfaceRequest& request, const RequestClock& clock, bool* hit,
-    Admission* admission) {
+    Admission* admission, const FlatSheet* warm) {
   SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling));
   const std::string id = proto::SurfaceId(request);
   bool from_shared = false;  // computed here, but read from the second level
@@ -103,7 +103,7 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flattened(
               break;
           }
         }
-        return Flatten(id, request, clock, admission);
+        return Flatten(id, request, clock, admission, warm);
       },
       hit);
   if (from_shared) *hit = true;
@@ -112,7 +112,7 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flattened(
 
 Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
     const std::string& id, const proto::SurfaceRequest& request, const RequestClock& clock,
-    Admission* admission) {
+    Admission* admission, const FlatSheet* warm) {
   std::optional<Admission::Ticket> ticket;
   if (admission != nullptr) {
     SURFDEFORM_ASSIGN_OR_RETURN(auto t, admission->Enter(clock.remaining_ms()));
@@ -124,7 +124,10 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
   FlattenOptions flatten = request.flatten;
   flatten.threads = ticket ? ThreadsFor(*ticket, engine_threads_) : engine_threads_;
   flatten.time_budget_ms = clock.BudgetFor(limits_.flatten_time_budget_ms);
-  auto sheet = FlattenSurface(**surface, request.sampling, flatten);
+  Flattener flattener(flatten);
+  const bool fits =
+      warm != nullptr && warm->nu == request.sampling.nu && warm->nv == request.sampling.nv;
+  auto sheet = flattener.Flatten(**surface, request.sampling, fits ? warm : nullptr);
   if (!sheet.ok()) {
     const Status& s = sheet.status();
     // Sampling errors name a sample of the surface.

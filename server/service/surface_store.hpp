@@ -63,9 +63,12 @@ class SurfaceStore {
   // (then written to the second level). *hit says it was not flattened here.
   // With `admission`, the flattening takes a slot from it first, and as many
   // threads as the slot allows.
+  // `warm`, when given, is the layout a flattening here starts from (a
+  // sheet of the same grid: an edit's previous surface).
   Result<std::shared_ptr<const StoredSurface>> Flattened(const proto::SurfaceRequest& request,
                                                          const RequestClock& clock, bool* hit,
-                                                         Admission* admission = nullptr);
+                                                         Admission* admission = nullptr,
+                                                         const FlatSheet* warm = nullptr);
 
   // The surface with this id, from either level; kNotFound (field "id") for
   // an id of the wrong shape or one neither level holds.
@@ -90,7 +93,7 @@ class SurfaceStore {
   Result<std::shared_ptr<const StoredSurface>> Flatten(const std::string& id,
                                                        const proto::SurfaceRequest& request,
                                                        const RequestClock& clock,
-                                                       Admission* admission);
+                                                       Admission* admission, const FlatSheet* warm);
 
   const ServiceLimits limits_;
   const int engine_threads_;

@@ -15,10 +15,11 @@
 // Usage: node viewer_test.mjs SERVER_BINARY ARTIFACT_DIR [chromium|firefox]
 // Firefox needs a display for WebGL (headless Firefox has no GL driver here):
 // ctest runs it under xvfb-run.
-import { spawn } from 'node:child_process';
 import { mkdirSync, writeFileSync } from 'node:fs';
 import path from 'node:path';
 import puppeteer from 'puppeteer-core';
+
+import { startServer } from './start_server.mjs';
 
 const [serverBin, artifacts, browserName = 'chromium'] = process.argv.slice(2);
 mkdirSync(artifacts, { recursive: true });
@@ -53,18 +54,7 @@ if (!launchOptions) {
   process.exit(2);
 }
 
-const server = spawn(serverBin, ['--host', '127.0.0.1', '--port', '0', '--log-level', 'warn'],
-                     { stdio: ['ignore', 'pipe', 'inherit'] });
-const port = await new Promise((resolve, reject) => {
-  let out = '';
-  server.stdout.on('data', (d) => {
-    out += d;
-    const m = out.match(/"listening".*"port":(\d+)/);
-    if (m) resolve(Number(m[1]));
-  });
-  server.on('exit', (code) => reject(new Error(`the server exited (${code})`)));
-  setTimeout(() => reject(new Error('the server did not start')), 20000);
-});
+const { server, port } = await startServer(serverBin);
 const base = `http://127.0.0.1:${port}`;
 
 const browser = await puppeteer.launch(launchOptions);

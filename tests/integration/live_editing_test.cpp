@@ -333,5 +333,47 @@ TEST_F(LiveEditingTest, AnEditIsOneRoundTripAndTheFieldsLimitsAreClear) {
   Problem(c.Get(std::string("/v1/surfaces/") + kUnknown + "/field"), 404, "not_found");
 }
 
+TEST_F(LiveEditingTest, AnEditStartsWarmFromTheSurfaceItNamesOrSaysWhyNot) {
+  auto c = Client();
+  const std::string bezier =
+      R"("surface":{"kind":"bezier","degree_u":2,"degree_v":2,"control_points":[[0,0,0],[1,0,0.3],[2,0,0],[0,1,0.2],[1,1,LIFT],[2,1,0.2],[0,2,0],[1,2,0.3],[2,2,0]]},"sampling":{"nu":12,"nv":12})";
+  auto with = [&](const std::string& lift, const std::string& extra) {
+    std::string s = bezier;
+    s.replace(s.find("LIFT"), 4, lift);
+    return "{" + s + extra + "}";
+  };
+  auto post = [&](const std::string& body, int status) {
+    auto r = c.Post("/v1/surfaces", body, "application/json");
+    EXPECT_TRUE(r && r->status == status) << (r ? r->body : "no reply");
+    return r ? json::parse(r->body, nullptr, false) : json();
+  };
+  const json first = post(with("0.5", ""), 201);
+  EXPECT_FALSE(first.contains("warm_start"));
+  const std::string id = first.at("id");
+  const json edit = post(with("0.52", R"(,"warm_start":")" + id + "\""), 201);
+  const json& w = edit.at("warm_start");
+  EXPECT_EQ(w.at("from"), id);
+  EXPECT_EQ(w.at("used"), true) << w.dump();
+  EXPECT_LT(w.at("iterations").get<int>(), first.at("quality").at("iterations").get<int>());
+  EXPECT_GT(w.at("iterations_saved_estimate").get<int>(), 0);
+  // Not an error when it cannot be used: a cold start, and why.
+  const json unknown = post(with("0.54", R"(,"warm_start":")" + std::string(kUnknown) + "\""), 201);
+  EXPECT_EQ(unknown.at("warm_start").at("used"), false);
+  EXPECT_NE(unknown.at("warm_start").at("reason").get<std::string>().find("unknown"),
+            std::string::npos);
+  std::string other_grid = with("0.56", R"(,"warm_start":")" + id + "\"");
+  other_grid.replace(other_grid.find("\"nu\":12"), 7, "\"nu\":14");
+  const json grid = post(other_grid, 201);
+  EXPECT_EQ(grid.at("warm_start").at("used"), false);
+  EXPECT_NE(grid.at("warm_start").at("reason").get<std::string>().find("grid"), std::string::npos);
+  const json cached = post(with("0.52", R"(,"warm_start":")" + id + "\""), 200);
+  EXPECT_EQ(cached.at("warm_start").at("used"), false);
+  EXPECT_EQ(cached.at("id"), edit.at("id"));  // the id names the surface alone
+  json p =
+      Problem(c.Post("/v1/surfaces", with("0.5", R"(,"warm_start":"nope")"), "application/json"),
+              422, "invalid_argument");
+  EXPECT_EQ(p.value("field", ""), "warm_start");
+}
+
 }  // namespace
 }  // namespace surfdeform::testing

@@ -13,6 +13,7 @@
 #include "proto/api.hpp"
 #include "service/sheet_codec.hpp"
 #include "support/redis_process.hpp"
+#include "support/surface_file.hpp"
 
 namespace surfdeform {
 namespace {
@@ -206,6 +207,43 @@ TEST(SurfaceStore, TheSecondLevelServesAnotherStoreAndIgnoresWhatFailsItsChecks)
   ASSERT_TRUE(rebuilt.ok());
   EXPECT_FALSE(hit);
   EXPECT_EQ(d.surface_stats().misses, 2u);  // the failed read, then the flattening
+}
+
+// An edit started from the previous sheet (a live edit's warm start): the
+// same surface within 1e-6 of a cold flattening's stress, in fewer
+// iterations; a sheet of another grid is not used.
+TEST(SurfaceStore, AWarmStartFromTheSheetBeforeAnEditMatchesAColdStartInFewerIterations) {
+  const BezierSpec figure10 = testing::LoadBezierFile(testing::DataPath("figure10.json"));
+  auto request = [&](double lift, int n) {
+    proto::SurfaceRequest r;
+    BezierSpec b = figure10;
+    b.control_points[5].z() += lift;  // 1% of the 10-unit patch per 0.1
+    r.surface = b;
+    r.sampling = {n, n};
+    return r;
+  };
+  const RequestClock clock(60000);
+  bool hit = false;
+  for (int n : {16, 32}) {
+    SurfaceStore warm_store(Limits(), 1, nullptr), cold_store(Limits(), 1, nullptr);
+    auto before = warm_store.Flattened(request(0.0, n), clock, &hit);
+    ASSERT_TRUE(before.ok());
+    auto warm = warm_store.Flattened(request(0.1, n), clock, &hit, nullptr, &(*before)->sheet);
+    auto cold = cold_store.Flattened(request(0.1, n), clock, &hit);
+    ASSERT_TRUE(warm.ok() && cold.ok());
+    const FlattenQuality& w = (*warm)->sheet.quality;
+    const FlattenQuality& c = (*cold)->sheet.quality;
+    EXPECT_NEAR(w.stress, c.stress, 1e-6 * c.stress) << n;
+    EXPECT_LT(w.iterations, c.iterations) << n;
+    EXPECT_EQ((*warm)->id, (*cold)->id);  // the id names the surface, not the path to it
+  }
+  // A sheet of another grid is no start: the result is the cold one.
+  SurfaceStore a(Limits(), 1, nullptr), b(Limits(), 1, nullptr);
+  auto other_grid = a.Flattened(request(0.0, 16), clock, &hit);
+  auto ignored = a.Flattened(request(0.1, 24), clock, &hit, nullptr, &(*other_grid)->sheet);
+  auto cold = b.Flattened(request(0.1, 24), clock, &hit);
+  ASSERT_TRUE(ignored.ok() && cold.ok());
+  EXPECT_EQ((*ignored)->sheet.flat, (*cold)->sheet.flat);
 }
 
 }  // namespace

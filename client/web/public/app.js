@@ -66,7 +66,7 @@ const sheetView = new SheetView($('sheet'), (placement, final, how) => {
 const modelView = new ModelView($('view3d'), (index, point, final) => {
   state.spec.control_points[index] = point.map((x) => Math.round(x * 1e6) / 1e6);
   ++state.specVersion;
-  if (final) scheduleSurface();
+  if (final) releaseControlPoint();
   else liveSurface();
 });
 modelView.setPreview(preview.mesh);
@@ -147,36 +147,70 @@ async function liveSurface() {
     do {
       liveAgain = false;
       const version = state.specVersion;
-      const request = { surface: state.spec, sampling: { nu: state.grid, nv: state.grid } };
+      // Each pose starts from the sheet of the one before (warm_start).
+      const request = { surface: state.spec, sampling: { nu: state.grid, nv: state.grid },
+                        warm_start: state.liveSummary?.summary.id || state.surfaceId };
+      const t0 = performance.now();
       const summary = await createSurface(JSON.parse(JSON.stringify(request)), kFieldSide);
+      const t1 = performance.now();
       if (version <= state.fieldVersion) continue;  // the release's surface came first
       useField(summary.field, version);
       modelView.setSurfaceFromField(summary.field);
       ++state.live.surfaces;
       showLivePreview();
+      state.live.last = { request_ms: t1 - t0, apply_ms: performance.now() - t1 };
+      state.liveSummary = { summary, version };
     } while (liveAgain);
   } catch {
     // The release flattens the surface again and shows what went wrong.
   } finally {
     liveBusy = false;
+    settleRelease();
   }
+}
+
+// A control point let go: the exact result of its last pose, from the live
+// edit's surface when that is the last pose (no second flattening), once
+// the live request in flight is back.
+let releasePending = false;
+function releaseControlPoint() {
+  performance.mark('surfdeform:release-control-point');
+  releasePending = true;
+  state.surfacePending = true;
+  holdDeform();
+  if (!liveBusy) settleRelease();
+}
+
+function settleRelease() {
+  if (!releasePending) return;
+  performance.mark('surfdeform:settle-release');
+  releasePending = false;
+  const live = state.liveSummary;
+  refreshSurface(live && live.version === state.specVersion ? live : null);
 }
 
 // --- surface -------------------------------------------------------------
 
 let surfaceRun = 0;
-async function refreshSurface() {
+// The surface of state.spec: flattened (POST, with its field), or `known`
+// ({summary, version}: a live edit's reply for this very spec); then its
+// sheet. Where the placement stays, the exact deformation starts at once and
+// the sheet comes alongside.
+async function refreshSurface(known = null) {
   const run = ++surfaceRun;
   setState('loading');
   try {
-    const version = state.specVersion;
+    const version = known ? known.version : state.specVersion;
     const request = { surface: state.spec, sampling: { nu: state.grid, nv: state.grid } };
-    const summary = await createSurface(request, kFieldSide);
-    const sheet = await getSurface(summary.id);
+    const summary = known ? known.summary : await createSurface(request, kFieldSide);
     if (run !== surfaceRun) return;  // a newer edit is on its way
     useField(summary.field, version);
     state.surfaceId = summary.id;
     state.surfacePending = false;
+    const early = Boolean(state.placement.center) && !state.recentre;
+    if (early) scheduleDeform(0);
+    const sheet = await getSurface(summary.id);
+    if (run !== surfaceRun) return;
     const q = summary.quality;
     state.surfaceInfo = [
       ['surface id', summary.id.slice(0, 12) + '…'],
@@ -197,8 +231,10 @@ async function refreshSurface() {
       state.recentre = false;
     }
     showPlacement();
-    showError(null);
-    scheduleDeform(0);
+    if (!early) {
+      showError(null);
+      scheduleDeform(0);
+    }
   } catch (e) {
     if (run === surfaceRun) {
       state.surfacePending = false;
@@ -263,6 +299,7 @@ function measurePreview(placement) {
 async function runDeform() {
   // Never while a button is held: the release asks again.
   if (sheetView.drag || modelView.drag) return;
+  performance.mark('surfdeform:run-deform');
   // Without a model or a surface, or while a new surface is on its way (which
   // deforms when it arrives), there is nothing to send.
   if (!state.surfaceId || !state.model || state.surfacePending) {
@@ -280,8 +317,14 @@ async function runDeform() {
     const asked = state.fitNext ? null : { ...state.placement, center: [...state.placement.center] };
     const { bytes, stats, timing } = await deform(state.model.bytes, state.model.name,
                                                   deformParams('glb'), 'model/gltf-binary');
+    const t1 = performance.now();
+    performance.mark('surfdeform:exact-received');
     const scene = (await gltf.parseAsync(bytes, '')).scene;
     modelView.setModel(scene, { distortion: $('distortion').checked });
+    // What the exact result cost: the round trip, the server's part of it,
+    // and decoding here (bench/viewer_feel.mjs reads it).
+    state.lastExact = { round_trip_ms: t1 - t0, server_ms: timing.total || 0,
+                        decode_ms: performance.now() - t1, done_at: performance.now() };
     state.lastPreview = asked ? measurePreview(asked) : null;
     if (state.fitNext) {
       state.fitNext = false;

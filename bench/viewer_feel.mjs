@@ -1,0 +1,176 @@
+// viewer_feel: live editing in the viewer as a person feels it, in Debian's
+// Chromium (software WebGL, as on this machine) driven by puppeteer-core, for
+// the bunny and for a model of about a million triangles. For each: the
+// page's frame rate while idle and during a footprint drag and a
+// control-point drag, the share of frames in which the model moved, how long
+// pointer moves waited for the page, and the time from release to the exact
+// result against the server's time plus the page's decoding. Ratios to the
+// page's own idle frame rate in the same run are what hold on a shared
+// machine.
+// Usage: node bench/viewer_feel.mjs SERVER_BINARY [seconds per phase, default 4]
+// (puppeteer-core comes from tests/browser/node_modules: scripts/setup.sh).
+import { mkdtempSync, writeFileSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const require = createRequire(path.join(here, '../tests/browser/package.json'));
+const puppeteer = require('puppeteer-core');
+const [serverBin, secondsArg = '4'] = process.argv.slice(2);
+const seconds = Number(secondsArg);
+const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+
+// A relief of about a million triangles (binary PLY): a 708 x 708 grid of
+// vertices, 0.4 high over 10 x 10, gently waved.
+function millionTriangles() {
+  const n = 708, verts = n * n, tris = 2 * (n - 1) * (n - 1);
+  const header = `ply\nformat binary_little_endian 1.0\nelement vertex ${verts}\n` +
+    'property float x\nproperty float y\nproperty float z\n' +
+    `element face ${tris}\nproperty list uchar int vertex_indices\nend_header\n`;
+  const body = Buffer.alloc(12 * verts + 13 * tris);
+  let o = 0;
+  for (let j = 0; j < n; ++j) {
+    for (let i = 0; i < n; ++i) {
+      const x = (10 * i) / (n - 1), y = (10 * j) / (n - 1);
+      body.writeFloatLE(x, o);
+      body.writeFloatLE(y, o + 4);
+      body.writeFloatLE(0.2 + 0.1 * Math.sin(2 * x) * Math.cos(3 * y), o + 8);
+      o += 12;
+    }
+  }
+  for (let j = 0; j + 1 < n; ++j) {
+    for (let i = 0; i + 1 < n; ++i) {
+      const a = i + n * j, b = a + 1, c = a + n + 1, d = a + n;
+      for (const [p, q, r] of [[a, b, c], [a, c, d]]) {
+        body.writeUInt8(3, o);
+        body.writeInt32LE(p, o + 1);
+        body.writeInt32LE(q, o + 5);
+        body.writeInt32LE(r, o + 9);
+        o += 13;
+      }
+    }
+  }
+  return Buffer.concat([Buffer.from(header), body]);
+}
+
+const { startServer } = await import(path.join(here, '../tests/browser/start_server.mjs'));
+const { server, port } = await startServer(serverBin);
+const browser = await puppeteer.launch({
+  browser: 'chrome', executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+         '--no-first-run', '--disable-background-networking'],
+  protocolTimeout: 600000,
+});
+const results = [];
+try {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1280, height: 800 });
+  // Every frame: when, and what the model showed (the preview's uniforms
+  // and field, which model object); every pointer move: how long it waited.
+  await page.evaluateOnNewDocument(() => {
+    window.feel = { frames: [], waits: [] };
+    const loop = () => {
+      const v = window.surfdeformViewer;
+      let shown = '';
+      if (v) {
+        const u = v.preview.uniforms;
+        shown = [u.sdTarget.value.x, u.sdTarget.value.y, u.sdScale.value, u.sdRotation.value.x,
+                 u.sdFieldP.value && u.sdFieldP.value.uuid, v.preview.mesh.visible,
+                 v.state.lastExact && v.state.lastExact.done_at].join();
+      }
+      window.feel.frames.push([performance.now(), shown]);
+      requestAnimationFrame(loop);
+    };
+    requestAnimationFrame(loop);
+    window.addEventListener('pointermove', (e) => window.feel.waits.push(performance.now() - e.timeStamp),
+                            true);
+  });
+  const ready = (what) => page.waitForFunction(() => document.body.dataset.state === 'ready',
+                                               { timeout: 600000 }).catch(() => {
+    throw new Error(`${what}: the page did not settle`);
+  });
+  const reset = () => page.evaluate(() => { window.feel.frames = []; window.feel.waits = []; });
+  const collect = () => page.evaluate(() => {
+    const f = window.feel.frames;
+    let moved = 0;
+    for (let k = 1; k < f.length; ++k) moved += f[k][1] !== f[k - 1][1];
+    const span = f.length > 1 ? (f[f.length - 1][0] - f[0][0]) / 1000 : 0;
+    const w = [...window.feel.waits].sort((a, b) => a - b);
+    return { fps: span ? (f.length - 1) / span : 0, moved: f.length > 1 ? moved / (f.length - 1) : 0,
+             wait_median: w.length ? w[Math.floor(w.length / 2)] : 0,
+             wait_p95: w.length ? w[Math.floor(0.95 * (w.length - 1))] : 0, moves: w.length };
+  });
+  // Pointer moves every 16 ms (or as fast as the page takes them) for the
+  // phase's length, along `path(t)`; then the release, and the time until
+  // the exact result is on screen.
+  const drag = async (from, pathAt) => {
+    await page.mouse.move(...from);
+    await page.mouse.down();
+    await reset();
+    const t0 = Date.now();
+    while (Date.now() - t0 < seconds * 1000) {
+      const p = pathAt((Date.now() - t0) / 1000);
+      await page.mouse.move(from[0] + p[0], from[1] + p[1]);
+      await sleep(16);
+    }
+    const during = await collect();
+    const released = await page.evaluate(() => performance.now());
+    await page.mouse.up();
+    await ready('after the release');
+    const exact = await page.evaluate(() => window.surfdeformViewer.state.lastExact);
+    // The page's marks since the release (app.js), ms after it.
+    const marks = await page.evaluate((t) => performance.getEntriesByType('mark')
+      .filter((m) => m.startTime >= t).map((m) => `${m.name.replace('surfdeform:', '')} +${Math.round(m.startTime - t)}`),
+    released);
+    return { ...during, release_ms: exact.done_at - released, exact, marks };
+  };
+
+  await page.goto(`http://127.0.0.1:${port}/`);
+  await ready('the page');
+  const dir = mkdtempSync(path.join(os.tmpdir(), 'viewer-feel-'));
+  const big = path.join(dir, 'relief-1m.ply');
+  writeFileSync(big, millionTriangles());
+  for (const model of ['bunny', 'relief-1m']) {
+    if (model === 'bunny') {
+      await page.select('#sample', 'bunny');
+    } else {
+      await (await page.$('#upload')).uploadFile(big);
+    }
+    await sleep(300);
+    await ready(model);
+    await page.$eval('#scale', (e) => {
+      e.value = String(window.surfdeformViewer.state.placement.scale / 2);
+      e.dispatchEvent(new Event('change'));
+    });
+    await sleep(300);
+    await ready(`${model} at half scale`);
+    const triangles = await page.evaluate(() => window.surfdeformViewer.state.lastStats.triangles);
+    await reset();
+    await sleep(seconds * 1000);
+    const idle = await collect();
+    const box = await (await page.$('#sheet')).boundingBox();
+    const centre = [box.x + box.width / 2, box.y + box.height / 2];
+    const r = 0.06 * box.width;
+    const footprint = await drag(centre, (t) => [r * Math.sin(3 * t), r * (1 - Math.cos(3 * t))]);
+    const handle = await page.evaluate(() => window.surfdeformViewer.handlePoint(5));
+    const control = await drag(handle, (t) => [0, -40 * Math.sin(2 * t)]);
+    results.push({ model, triangles, idle, footprint, control });
+    const line = (name, d) => `  ${name.padEnd(18)} ${d.fps.toFixed(1).padStart(5)} fps ` +
+      `(${(d.fps / idle.fps).toFixed(2)} of idle), model moved in ${(100 * d.moved).toFixed(0)}% of frames, ` +
+      `pointer wait median ${d.wait_median.toFixed(0)} ms, p95 ${d.wait_p95.toFixed(0)} ms` +
+      (d.exact ? `; release to exact ${d.release_ms.toFixed(0)} ms = ` +
+        `${(d.release_ms / (d.exact.server_ms + d.exact.decode_ms)).toFixed(2)}x (server ` +
+        `${d.exact.server_ms.toFixed(0)} ms + decode ${d.exact.decode_ms.toFixed(0)} ms)` : '');
+    console.log(`${model} (${triangles} triangles shown exact)`);
+    console.log(`  idle               ${idle.fps.toFixed(1).padStart(5)} fps`);
+    console.log(line('footprint drag', footprint));
+    console.log(line('control-point drag', control));
+    console.log(`  after the releases: footprint ${footprint.marks.join(', ')}; control point ${control.marks.join(', ')}`);
+  }
+  console.log(JSON.stringify(results));
+} finally {
+  await browser.close();
+  server.kill('SIGTERM');
+}
