@@ -212,6 +212,8 @@ try {
     check(live >= 1, `the surface and the model follow a control-point drag (${live} surfaces shown)`);
     check(during.length >= 1 && during.every((p) => p.path === '/v1/surfaces'),
           `only surfaces are asked for during it (${during.map((p) => p.path).join(', ')})`);
+    check(during.every((p) => /"warm_start":"[0-9a-f]{32}"/.test(p.body)),
+          'each pose starts from the surface before it (warm_start)');
     check(changed(m0, m1) > 50, `the 3D view changes during the control-point drag (${changed(m0, m1)} cells)`);
     await shot('live-control-point-drag');
     const before = (await posts()).length;
