@@ -8,6 +8,7 @@
 // page's own idle frame rate in the same run are what hold on a shared
 // machine.
 // Usage: node bench/viewer_feel.mjs SERVER_BINARY [seconds per phase, default 4]
+//        [models, default bunny,relief-1m]
 // (puppeteer-core comes from tests/browser/node_modules: scripts/setup.sh).
 import { mkdtempSync, writeFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
@@ -18,7 +19,7 @@ import { fileURLToPath } from 'node:url';
 const here = path.dirname(fileURLToPath(import.meta.url));
 const require = createRequire(path.join(here, '../tests/browser/package.json'));
 const puppeteer = require('puppeteer-core');
-const [serverBin, secondsArg = '4'] = process.argv.slice(2);
+const [serverBin, secondsArg = '4', modelsArg = 'bunny,relief-1m'] = process.argv.slice(2);
 const seconds = Number(secondsArg);
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
@@ -116,6 +117,7 @@ try {
       await sleep(16);
     }
     const during = await collect();
+    during.live = await page.evaluate(() => window.surfdeformViewer.state.live);
     const released = await page.evaluate(() => performance.now());
     await page.mouse.up();
     await ready('after the release');
@@ -132,7 +134,7 @@ try {
   const dir = mkdtempSync(path.join(os.tmpdir(), 'viewer-feel-'));
   const big = path.join(dir, 'relief-1m.ply');
   writeFileSync(big, millionTriangles());
-  for (const model of ['bunny', 'relief-1m']) {
+  for (const model of modelsArg.split(',')) {
     if (model === 'bunny') {
       await page.select('#sample', 'bunny');
     } else {
@@ -167,6 +169,7 @@ try {
     console.log(`  idle               ${idle.fps.toFixed(1).padStart(5)} fps`);
     console.log(line('footprint drag', footprint));
     console.log(line('control-point drag', control));
+    console.log(`  live surfaces during the control-point drag: ${JSON.stringify(control.live)}`);
     console.log(`  after the releases: footprint ${footprint.marks.join(', ')}; control point ${control.marks.join(', ')}`);
   }
   console.log(JSON.stringify(results));

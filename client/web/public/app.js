@@ -29,8 +29,11 @@ import { SheetView } from './sheet_view.js';
 
 const $ = (id) => document.getElementById(id);
 
-// Lattice points per side of the field the preview samples.
+// Lattice points per side of the field the preview samples: a settled
+// surface's, and a control-point drag's (a quarter of the bytes and the
+// page's work per pose; the exact result replaces it on release).
 const kFieldSide = 64;
+const kLiveFieldSide = 32;
 
 const state = {
   spec: null,            // the surface spec being shown
@@ -64,8 +67,10 @@ const sheetView = new SheetView($('sheet'), (placement, final, how) => {
   else holdDeform();
 });
 const modelView = new ModelView($('view3d'), (index, point, final) => {
-  state.spec.control_points[index] = point.map((x) => Math.round(x * 1e6) / 1e6);
-  ++state.specVersion;
+  const rounded = point.map((x) => Math.round(x * 1e6) / 1e6);
+  // A release where the last move left the point: the same surface.
+  if (rounded.some((x, c) => x !== state.spec.control_points[index][c])) ++state.specVersion;
+  state.spec.control_points[index] = rounded;
   if (final) releaseControlPoint();
   else liveSurface();
 });
@@ -151,7 +156,7 @@ async function liveSurface() {
       const request = { surface: state.spec, sampling: { nu: state.grid, nv: state.grid },
                         warm_start: state.liveSummary?.summary.id || state.surfaceId };
       const t0 = performance.now();
-      const summary = await createSurface(JSON.parse(JSON.stringify(request)), kFieldSide);
+      const summary = await createSurface(JSON.parse(JSON.stringify(request)), kLiveFieldSide);
       const t1 = performance.now();
       if (version <= state.fieldVersion) continue;  // the release's surface came first
       useField(summary.field, version);
