@@ -20,6 +20,7 @@
 #include "service/replies.hpp"
 #include "service/request_work.hpp"
 #include "service/surface_store.hpp"
+#include "service/warm_start.hpp"
 
 namespace surfdeform {
 namespace {
@@ -37,36 +38,6 @@ bool WantsBytes(std::string_view accept) {
   const size_t text = accept.find("application/json");
   return bytes != std::string_view::npos && (text == std::string_view::npos || bytes < text);
 }
-
-// Whether two surfaces have one shape (kind, degrees, control grid): an edit
-// of one starts well from the other's sheet.
-bool SameShape(const SurfaceSpec& a, const SurfaceSpec& b) {
-  if (a.index() != b.index()) return false;
-  if (const auto* x = std::get_if<BezierSpec>(&a)) {
-    const auto& y = std::get<BezierSpec>(b);
-    return x->degree_u == y.degree_u && x->degree_v == y.degree_v &&
-           x->control_points.size() == y.control_points.size();
-  }
-  if (const auto* x = std::get_if<BSplineSpec>(&a)) {
-    const auto& y = std::get<BSplineSpec>(b);
-    return x->degree_u == y.degree_u && x->degree_v == y.degree_v && x->count_u == y.count_u &&
-           x->count_v == y.count_v;
-  }
-  if (const auto* x = std::get_if<GridSpec>(&a)) {
-    const auto& y = std::get<GridSpec>(b);
-    return x->nu == y.nu && x->nv == y.nv;
-  }
-  return true;
-}
-
-// A POST /v1/surfaces's "warm_start": the surface it names, when the new
-// one can start from its sheet, and else why not (the flattening is then
-// cold; never an error).
-struct WarmStart {
-  std::string from;
-  std::shared_ptr<const StoredSurface> entry;  // null: a cold start
-  std::string reason;
-};
 
 // Placements the memo keeps (~250 bytes each with their index).
 constexpr size_t kPlacementMemoEntries = 1024;
@@ -123,29 +94,6 @@ Status CheckRoutedSurface(const std::string& routed, const proto::DeformParams& 
                 "X-Surfdeform-Surface-Id");
 }
 
-// The reply's account of a warm start: used or not and why, and the
-// iterations it saved (estimated: those of the sheet it started from, which
-// a cold start of a nearby surface takes about as many of).
-json WarmStartJson(const WarmStart& w, const StoredSurface& made, bool hit) {
-  json j = {{"from", w.from}};
-  const FlattenQuality& q = made.sheet.quality;
-  std::string reason = w.reason;
-  if (hit) {
-    reason = "the surface was flattened already";
-  } else if (made.sheet.method == "exact") {
-    reason = "unrolled in closed form: nothing to iterate";
-  }
-  const bool used = w.entry != nullptr && reason.empty();
-  j["used"] = used;
-  if (!used) {
-    j["reason"] = reason;
-    return j;
-  }
-  j["iterations"] = q.iterations;
-  j["iterations_saved_estimate"] = std::max(0, w.entry->sheet.quality.iterations - q.iterations);
-  return j;
-}
-
 }  // namespace
 
 struct Service::Impl {
@@ -181,29 +129,6 @@ struct Service::Impl {
     }
     *hit = true;
     return found;
-  }
-
-  WarmStart WarmStartFor(const proto::CreateSurfaceRequest& create) {
-    WarmStart w;
-    w.from = create.warm_start;
-    if (w.from.empty()) return w;
-    auto found = store.Find(w.from);
-    if (!found.ok()) {
-      w.reason = "unknown surface (never flattened here, or evicted)";
-      return w;
-    }
-    const proto::SurfaceRequest& was = (*found)->request;
-    const proto::SurfaceRequest& now = create.request;
-    if (!SameShape(was.surface, now.surface)) {
-      w.reason = "another kind or shape (degrees, control grid)";
-    } else if (was.sampling.nu != now.sampling.nu || was.sampling.nv != now.sampling.nv) {
-      w.reason = "another sampling grid";
-    } else if (proto::CanonicalJson(was)["flatten"] != proto::CanonicalJson(now)["flatten"]) {
-      w.reason = "other flattening options";
-    } else {
-      w.entry = *found;
-    }
-    return w;
   }
 
   // The request's mesh: the uploaded model it names (a copy: the work
@@ -320,7 +245,7 @@ Result<Reply> Service::CreateSurface(std::string_view body, std::string_view fie
   SURFDEFORM_RETURN_IF_ERROR(work.EndParse());
   const RequestClock& clock = work.clock();
   const auto t1 = Clock::now();
-  const WarmStart warm = impl_->WarmStartFor(create);
+  const WarmStart warm = WarmStartFor(create, impl_->store);
   const FlatSheet* start = warm.entry != nullptr ? &warm.entry->sheet : nullptr;
   bool hit = false;
   auto entry = impl_->store.Flattened(request, clock, &hit, &impl_->admission, start);

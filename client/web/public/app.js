@@ -280,7 +280,9 @@ let deforming = false, pending = false, deformTimer = 0;
 function scheduleDeform(delay) {
   setState('loading');
   clearTimeout(deformTimer);
-  deformTimer = setTimeout(runDeform, delay);
+  // Now, not a task later: on a busy page a task waits for the next frame.
+  if (delay === 0) runDeform();
+  else deformTimer = setTimeout(runDeform, delay);
 }
 
 // An edit in progress: the exact deformation waits for its release.
