@@ -73,6 +73,15 @@ Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat
                 "Accept");
 }
 
+bool PrefersBytesToJson(std::string_view accept) {
+  bool bytes = false;
+  FirstAccepted(accept, [&bytes](const std::string& type) {
+    bytes = type == "application/octet-stream";
+    return bytes || type == "application/json";
+  });
+  return bytes;
+}
+
 Status AcceptGlbOnly(std::string_view accept) {
   if (Trim(accept).empty()) return Status::Ok();
   // What ChooseOutputFormat reads as a GLB, and */* (which it gives Draco).

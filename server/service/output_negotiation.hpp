@@ -23,6 +23,11 @@ Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat
 // with q=0); else kNotAcceptable naming the header.
 Status AcceptGlbOnly(std::string_view accept);
 
+// For answers in JSON or bytes (GET /v1/surfaces/{id}/field): true when the
+// first of application/octet-stream and application/json that the Accept
+// header accepts (not with q=0) is application/octet-stream; JSON otherwise.
+bool PrefersBytesToJson(std::string_view accept);
+
 // output.distortion travels only in formats that name custom attributes
 // (glb, glb_plain, ply); else kInvalidArgument naming the field.
 Status CheckDistortionFormat(const proto::OutputOptions& output, proto::OutputFormat format);

@@ -31,14 +31,6 @@ using Clock = std::chrono::steady_clock;
 // A field's lattice points per side when the request names none.
 constexpr int kDefaultFieldSide = 64;
 
-// Whether an Accept header prefers the field's bytes to its JSON: it names
-// application/octet-stream, before application/json if it names both.
-bool WantsBytes(std::string_view accept) {
-  const size_t bytes = accept.find("application/octet-stream");
-  const size_t text = accept.find("application/json");
-  return bytes != std::string_view::npos && (text == std::string_view::npos || bytes < text);
-}
-
 // Placements the memo keeps (~250 bytes each with their index).
 constexpr size_t kPlacementMemoEntries = 1024;
 
@@ -290,7 +282,7 @@ Result<Reply> Service::GetSurfaceField(std::string_view id, std::string_view sid
   const auto t0 = Clock::now();
   SURFDEFORM_ASSIGN_OR_RETURN(SheetField field, impl_->FieldOf(*entry, side, work));
   Reply reply;
-  if (WantsBytes(accept)) {
+  if (PrefersBytesToJson(accept)) {
     reply = BytesReply(FieldBinary(field), "application/octet-stream");
   } else {
     SURFDEFORM_ASSIGN_OR_RETURN(reply, JsonReply(FieldJson(field)));
@@ -325,7 +317,7 @@ Result<Reply> Service::UploadModel(std::string_view mesh, std::string_view route
   // Importing is work like any other: a slot first.
   SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
   bool known = false;
-  SURFDEFORM_ASSIGN_OR_RETURN(auto model, impl_->models.Put(mesh, &known));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto model, impl_->models.Put(id, mesh, &known));
   SURFDEFORM_RETURN_IF_ERROR(work.EndParse());
   SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(ModelSummary(*model)));
   reply.cache_hit = known;

@@ -49,5 +49,18 @@ TEST(OutputNegotiation, GlbOnlyAnswersReadTheSameHeader) {
   }
 }
 
+TEST(OutputNegotiation, JsonOrBytesAnswersTakeTheFirstOfTheTwoAccepted) {
+  for (const char* bytes : {"application/octet-stream", "Application/Octet-Stream",
+                            "application/octet-stream, application/json",
+                            "application/json;q=0, application/octet-stream"}) {
+    EXPECT_TRUE(PrefersBytesToJson(bytes)) << bytes;
+  }
+  for (const char* text :
+       {"", "*/*", "application/json", "application/json, application/octet-stream",
+        "application/octet-stream;q=0", "image/png"}) {
+    EXPECT_FALSE(PrefersBytesToJson(text)) << text;
+  }
+}
+
 }  // namespace
 }  // namespace surfdeform
