@@ -37,8 +37,8 @@ Result<std::shared_ptr<const StoredModel>> ModelStore::Import(const std::string&
   return std::shared_ptr<const StoredModel>(std::move(entry));
 }
 
-Result<std::shared_ptr<const StoredModel>> ModelStore::Put(std::string_view file, bool* known) {
-  const std::string id = proto::ModelId(file);
+Result<std::shared_ptr<const StoredModel>> ModelStore::Put(const std::string& id,
+                                                           std::string_view file, bool* known) {
   bool in_shared = false;
   auto result = models_.GetOrCompute(
       id,

@@ -42,10 +42,13 @@ class ModelStore {
   ModelStore& operator=(const ModelStore&) = delete;
 
   // The model in `file` (a mesh file's bytes, within the service's import
-  // limits), imported now unless the first level holds it, and written to
-  // the second level unless that holds it. *known says either level held it
-  // (the upload was not needed). Import errors as ImportMesh gives them.
-  Result<std::shared_ptr<const StoredModel>> Put(std::string_view file, bool* known);
+  // limits), whose id is `id` (proto::ModelId(file): the caller has it
+  // already, to check a routing header against, and SHA-256 of a large file
+  // is not free), imported now unless the first level holds it, and written
+  // to the second level unless that holds it. *known says either level held
+  // it (the upload was not needed). Import errors as ImportMesh gives them.
+  Result<std::shared_ptr<const StoredModel>> Put(const std::string& id, std::string_view file,
+                                                 bool* known);
 
   // The model with this id, from either level; kUnknownModel (field
   // "model_id") for one neither holds.

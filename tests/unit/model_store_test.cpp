@@ -30,7 +30,7 @@ TEST(ModelStore, AnUploadIsImportedOnceAndFoundByTheHashOfItsBytes) {
   ModelStore store(ServiceLimits{}, nullptr);
   const std::string obj = SquareObj();
   bool known = true;
-  auto first = store.Put(obj, &known);
+  auto first = store.Put(proto::ModelId(obj), obj, &known);
   ASSERT_TRUE(first.ok()) << first.status().ToString();
   EXPECT_FALSE(known);
   EXPECT_EQ((*first)->id, proto::ModelId(obj));
@@ -40,7 +40,7 @@ TEST(ModelStore, AnUploadIsImportedOnceAndFoundByTheHashOfItsBytes) {
   EXPECT_EQ((*first)->imported.format, MeshFormat::kObj);
   EXPECT_GE((*first)->bytes, obj.size() + 4 * sizeof(Vec3));
 
-  auto again = store.Put(obj, &known);
+  auto again = store.Put(proto::ModelId(obj), obj, &known);
   ASSERT_TRUE(again.ok());
   EXPECT_TRUE(known);
   EXPECT_EQ(again->get(), first->get());
@@ -49,7 +49,7 @@ TEST(ModelStore, AnUploadIsImportedOnceAndFoundByTheHashOfItsBytes) {
   EXPECT_EQ(found->get(), first->get());
 
   // Other bytes, another id, though the mesh is the same.
-  auto other = store.Put(SquareObj(1), &known);
+  auto other = store.Put(proto::ModelId(SquareObj(1)), SquareObj(1), &known);
   ASSERT_TRUE(other.ok());
   EXPECT_FALSE(known);
   EXPECT_NE((*other)->id, (*first)->id);
@@ -65,14 +65,14 @@ TEST(ModelStore, UnknownIdsAndBadMeshesAreErrorsThatKeepNothing) {
     EXPECT_EQ(found.status().field(), "model_id");
   }
   bool known = true;
-  auto bad = store.Put("v 0 0 0\nf 1 2 3\n", &known);
+  auto bad = store.Put(proto::ModelId("v 0 0 0\nf 1 2 3\n"), "v 0 0 0\nf 1 2 3\n", &known);
   ASSERT_FALSE(bad.ok());
   EXPECT_EQ(bad.status().code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(store.stats().entries, 0u);
   ServiceLimits small;
   small.max_vertices = 3;
   ModelStore strict(small, nullptr);
-  auto big = strict.Put(SquareObj(), &known);
+  auto big = strict.Put(proto::ModelId(SquareObj()), SquareObj(), &known);
   ASSERT_FALSE(big.ok());
   EXPECT_EQ(big.status().code(), ErrorCode::kLimitExceeded);
 }
@@ -80,13 +80,13 @@ TEST(ModelStore, UnknownIdsAndBadMeshesAreErrorsThatKeepNothing) {
 TEST(ModelStore, TheFirstLevelKeepsWithinItsOwnBudget) {
   ModelStore probe(ServiceLimits{}, nullptr);
   bool known = false;
-  const size_t one = (*probe.Put(SquareObj(), &known))->bytes;
+  const size_t one = (*probe.Put(proto::ModelId(SquareObj()), SquareObj(), &known))->bytes;
   ServiceLimits limits;
   limits.model_cache_bytes = one + one / 2;  // room for one
   limits.cache_bytes = 1;                    // the surfaces' budget is not the models'
   ModelStore store(limits, nullptr);
-  ASSERT_TRUE(store.Put(SquareObj(0), &known).ok());
-  ASSERT_TRUE(store.Put(SquareObj(1), &known).ok());
+  ASSERT_TRUE(store.Put(proto::ModelId(SquareObj(0)), SquareObj(0), &known).ok());
+  ASSERT_TRUE(store.Put(proto::ModelId(SquareObj(1)), SquareObj(1), &known).ok());
   EXPECT_EQ(store.stats().entries, 1u);
   EXPECT_EQ(store.stats().evictions, 1u);
   auto evicted = store.Find(proto::ModelId(SquareObj(0)));
@@ -119,7 +119,7 @@ TEST(ModelStore, TheSecondLevelServesAnotherStoreAndIgnoresWhatFailsItsChecks) {
   auto tier_a = testing::SharedTierAt(redis.url());
   ModelStore a(ServiceLimits{}, tier_a);
   bool known = true;
-  auto up = a.Put(SquareObj(), &known);
+  auto up = a.Put(proto::ModelId(SquareObj()), SquareObj(), &known);
   ASSERT_TRUE(up.ok());
   EXPECT_FALSE(known);
   EXPECT_EQ(tier_a->stats().writes, 1u);
@@ -133,7 +133,7 @@ TEST(ModelStore, TheSecondLevelServesAnotherStoreAndIgnoresWhatFailsItsChecks) {
   // The same upload on C: known (the second level holds it), not written again.
   auto tier_c = testing::SharedTierAt(redis.url());
   ModelStore c(ServiceLimits{}, tier_c);
-  ASSERT_TRUE(c.Put(SquareObj(), &known).ok());
+  ASSERT_TRUE(c.Put(proto::ModelId(SquareObj()), SquareObj(), &known).ok());
   EXPECT_TRUE(known);
   EXPECT_EQ(tier_c->stats().writes, 0u);
 
