@@ -290,6 +290,21 @@ struct HttpServer::Impl {
     res.set_content(reply.body, reply.content_type.c_str());
   }
 
+  // A service call's answer: its problem, or its reply.
+  void Answer(const httplib::Request& req, httplib::Response& res, const Result<Reply>& reply) {
+    if (!reply.ok()) return Fail(req, res, reply.status());
+    Send(req, res, *reply);
+  }
+
+  // The answer of a call that creates a resource by content id: 201 with its
+  // Location (`collection` + the id), or 200 for one that existed.
+  void Created(const httplib::Request& req, httplib::Response& res, const Result<Reply>& reply,
+               const char* collection, std::string Reply::*id) {
+    if (!reply.ok()) return Fail(req, res, reply.status());
+    res.set_header("Location", collection + (*reply).*id);
+    Send(req, res, *reply, reply->cache_hit ? 200 : 201);
+  }
+
   // A request's context, its id and its count in flight, from the moment
   // its head is parsed (or found unparsable).
   void BeginRequest(const httplib::Request& req, httplib::Response& res) {
@@ -618,10 +633,8 @@ struct HttpServer::Impl {
       }
       mesh = body.parts.begin()->second.content;
     }
-    auto reply = service.UploadModel(mesh, req.get_header_value("X-Surfdeform-Model-Id"));
-    if (!reply.ok()) return Fail(req, res, reply.status());
-    res.set_header("Location", "/v1/models/" + reply->model_id);
-    Send(req, res, *reply, reply->cache_hit ? 200 : 201);
+    Created(req, res, service.UploadModel(mesh, req.get_header_value("X-Surfdeform-Model-Id")),
+            "/v1/models/", &Reply::model_id);
   }
 
   // POST /v1/deform and POST /v1/animate: one mesh and its parameters, in the
@@ -696,9 +709,7 @@ struct HttpServer::Impl {
     d.routed_surface_id = req.has_param("surface_id")
                               ? req.get_param_value("surface_id")
                               : req.get_header_value("X-Surfdeform-Surface-Id");
-    auto reply = (service.*call)(d);
-    if (!reply.ok()) return Fail(req, res, reply.status());
-    Send(req, res, *reply);
+    Answer(req, res, (service.*call)(d));
   }
 
   // The viewer's static files (GET and HEAD only; httplib refuses paths
@@ -805,10 +816,8 @@ struct HttpServer::Impl {
                  "POST /v1/surfaces takes application/json, got \"" + type.substr(0, 64) + "\"",
                  "Content-Type"));
     }
-    auto reply = service.CreateSurface(req.body, req.get_param_value("field"));
-    if (!reply.ok()) return Fail(req, res, reply.status());
-    res.set_header("Location", "/v1/surfaces/" + reply->surface_id);
-    Send(req, res, *reply, reply->cache_hit ? 200 : 201);
+    Created(req, res, service.CreateSurface(req.body, req.get_param_value("field")),
+            "/v1/surfaces/", &Reply::surface_id);
   }
   void MapOnSurface(const httplib::Request& req, httplib::Response& res) {
     const std::string type = req.get_header_value("Content-Type");
@@ -819,30 +828,21 @@ struct HttpServer::Impl {
                              type.substr(0, 64) + "\"",
                          "Content-Type"));
     }
-    auto reply = service.MapOnSurface(req.matches[1].str(), req.body);
-    if (!reply.ok()) return Fail(req, res, reply.status());
-    Send(req, res, *reply);
+    Answer(req, res, service.MapOnSurface(req.matches[1].str(), req.body));
   }
   void SurfaceSvg(const httplib::Request& req, httplib::Response& res) {
-    auto reply = service.GetSurfaceSvg(req.matches[1].str());
-    if (!reply.ok()) return Fail(req, res, reply.status());
-    Send(req, res, *reply);
+    Answer(req, res, service.GetSurfaceSvg(req.matches[1].str()));
   }
   void SurfaceField(const httplib::Request& req, httplib::Response& res) {
-    auto reply = service.GetSurfaceField(req.matches[1].str(), req.get_param_value("n"),
-                                         req.get_header_value("Accept"));
-    if (!reply.ok()) return Fail(req, res, reply.status());
-    Send(req, res, *reply);
+    Answer(req, res,
+           service.GetSurfaceField(req.matches[1].str(), req.get_param_value("n"),
+                                   req.get_header_value("Accept")));
   }
   void ModelSummary(const httplib::Request& req, httplib::Response& res) {
-    auto reply = service.GetModel(req.matches[1].str());
-    if (!reply.ok()) return Fail(req, res, reply.status());
-    Send(req, res, *reply);
+    Answer(req, res, service.GetModel(req.matches[1].str()));
   }
   void SurfaceSheet(const httplib::Request& req, httplib::Response& res) {
-    auto reply = service.GetSurface(req.matches[1].str());
-    if (!reply.ok()) return Fail(req, res, reply.status());
-    Send(req, res, *reply);
+    Answer(req, res, service.GetSurface(req.matches[1].str()));
   }
 };
 
