@@ -373,11 +373,18 @@ Status ReadAnimationParts(JsonObject& parent, AnimationRequest* out) {
   return ReadFlatten(parent, &out->flatten);
 }
 
-// The optional "model_id": an id's shape, or an error naming it.
-Status ReadModelId(JsonObject& o, std::string* out) {
-  SURFDEFORM_RETURN_IF_ERROR(o.String("model_id", out));
-  if (!out->empty() && !IsSurfaceIdShaped(*out)) {
-    return InvalidArgument("must be an id returned by POST /v1/models (32 hex digits)", "model_id");
+// An optional id field ("surface_id", "model_id", "warm_start"): when
+// present, a string of an id's shape, or an error naming the field and the
+// route (`minted_by`) whose ids it takes.
+Status ReadId(JsonObject& o, const char* key, const char* minted_by, std::string* out) {
+  const json* v = o.Find(key);
+  if (v == nullptr) return Status::Ok();
+  if (!v->is_string()) return Malformed("must be a string, got " + JsonTypeName(*v), o.PathOf(key));
+  *out = v->get<std::string>();
+  if (!IsSurfaceIdShaped(*out)) {
+    return InvalidArgument(
+        std::string("must be an id returned by POST ") + minted_by + " (32 hex digits)",
+        o.PathOf(key));
   }
   return Status::Ok();
 }
@@ -430,11 +437,7 @@ Result<SurfaceRequest> ParseSurfaceRequest(const json& body) {
 Result<CreateSurfaceRequest> ParseCreateSurfaceRequest(const json& body) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto o, JsonObject::Open(body, ""));
   CreateSurfaceRequest out;
-  SURFDEFORM_RETURN_IF_ERROR(o.String("warm_start", &out.warm_start));
-  if (!out.warm_start.empty() && !IsSurfaceIdShaped(out.warm_start)) {
-    return InvalidArgument("must be an id returned by POST /v1/surfaces (32 hex digits)",
-                           "warm_start");
-  }
+  SURFDEFORM_RETURN_IF_ERROR(ReadId(o, "warm_start", "/v1/surfaces", &out.warm_start));
   SURFDEFORM_RETURN_IF_ERROR(ReadSurfaceParts(o, &out.request));
   SURFDEFORM_RETURN_IF_ERROR(o.Finish());
   return out;
@@ -443,7 +446,7 @@ Result<CreateSurfaceRequest> ParseCreateSurfaceRequest(const json& body) {
 Result<DeformParams> ParseDeformParams(const json& body) {
   SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(body, ""));
   DeformParams params;
-  SURFDEFORM_RETURN_IF_ERROR(ReadModelId(o, &params.model_id));
+  SURFDEFORM_RETURN_IF_ERROR(ReadId(o, "model_id", "/v1/models", &params.model_id));
   const bool inline_surface = o.Find("surface") != nullptr;
   const json* id = o.Find("surface_id");
   const bool animated = o.Find("animation") != nullptr;
@@ -476,14 +479,7 @@ Result<DeformParams> ParseDeformParams(const json& body) {
     SURFDEFORM_RETURN_IF_ERROR(ReadSurfaceParts(o, &request));
     params.surface = std::move(request);
   } else {
-    if (!id->is_string()) {
-      return Malformed("must be a string, got " + JsonTypeName(*id), "surface_id");
-    }
-    params.surface_id = id->get<std::string>();
-    if (!IsSurfaceIdShaped(params.surface_id)) {
-      return InvalidArgument("must be an id returned by POST /v1/surfaces (32 hex digits)",
-                             "surface_id");
-    }
+    SURFDEFORM_RETURN_IF_ERROR(ReadId(o, "surface_id", "/v1/surfaces", &params.surface_id));
     if (o.Find("sampling") != nullptr || o.Find("flatten") != nullptr) {
       return Malformed(
           "sampling and flatten belong to the surface named by surface_id; leave "
@@ -505,7 +501,7 @@ Result<DeformParams> ParseDeformParams(const json& body) {
 Result<AnimateParams> ParseAnimateParams(const json& body) {
   SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(body, ""));
   AnimateParams params;
-  SURFDEFORM_RETURN_IF_ERROR(ReadModelId(o, &params.model_id));
+  SURFDEFORM_RETURN_IF_ERROR(ReadId(o, "model_id", "/v1/models", &params.model_id));
   for (const char* other : {"surface", "surface_id", "frame"}) {
     if (o.Find(other) != nullptr) {
       return Malformed(std::string("does not belong to an animation: give \"animation\" with "
