@@ -303,6 +303,7 @@ Status ReadOutput(JsonObject& parent, OutputOptions* out) {
     out->format = format;
   }
   if (const json* d = o.Find("draco"); d != nullptr) {
+    out->draco_given = true;
     SURFDEFORM_ASSIGN_OR_RETURN(auto dj, JsonObject::Open(*d, o.PathOf("draco")));
     SURFDEFORM_RETURN_IF_ERROR(dj.Integer("position_bits", &out->draco.position_bits));
     SURFDEFORM_RETURN_IF_ERROR(dj.Integer("normal_bits", &out->draco.normal_bits));
@@ -315,9 +316,8 @@ Status ReadOutput(JsonObject& parent, OutputOptions* out) {
   }
   SURFDEFORM_RETURN_IF_ERROR(o.Boolean("distortion", &out->distortion));
   if (o.Find("compression") != nullptr) {
-    AnimationCompression c = AnimationCompression::kMeshopt;
-    SURFDEFORM_RETURN_IF_ERROR(
-        o.Choice<AnimationCompression>("compression", kAnimationCompressions, &c));
+    GlbCompression c = GlbCompression::kDraco;
+    SURFDEFORM_RETURN_IF_ERROR(o.Choice<GlbCompression>("compression", kGlbCompressions, &c));
     out->compression = c;
   }
   return o.Finish();
@@ -385,6 +385,27 @@ Status ReadId(JsonObject& o, const char* key, const char* minted_by, std::string
     return InvalidArgument(
         std::string("must be an id returned by POST ") + minted_by + " (32 hex digits)",
         o.PathOf(key));
+  }
+  return Status::Ok();
+}
+
+// output.compression on POST /v1/deform: a GLB's (the format when none is
+// given); output.draco only with Draco.
+Status CheckGlbCompression(OutputOptions* out) {
+  if (!out->compression) return Status::Ok();
+  if (!out->format) out->format = OutputFormat::kGlb;
+  if (*out->format != OutputFormat::kGlb) {
+    return InvalidArgument(
+        std::string("compresses a GLB (output.format \"glb\"); the format is \"") +
+            OutputFormatName(*out->format) + "\"",
+        "output.compression");
+  }
+  if (out->draco_given && *out->compression != GlbCompression::kDraco) {
+    return InvalidArgument(
+        std::string("output.draco sets Draco's encoder, and output.compression is \"") +
+            std::string(NameOf<GlbCompression>(kGlbCompressions, *out->compression)) +
+            "\": leave one out",
+        "output.draco");
   }
   return Status::Ok();
 }
@@ -491,9 +512,7 @@ Result<DeformParams> ParseDeformParams(const json& body) {
   SURFDEFORM_RETURN_IF_ERROR(ReadPlacement(o, &params.placement));
   SURFDEFORM_RETURN_IF_ERROR(ReadSubdivision(o, &params.subdivision));
   SURFDEFORM_RETURN_IF_ERROR(ReadOutput(o, &params.output));
-  if (params.output.compression) {
-    return Malformed("belongs to POST /v1/animate (a GLB of every frame)", "output.compression");
-  }
+  SURFDEFORM_RETURN_IF_ERROR(CheckGlbCompression(&params.output));
   SURFDEFORM_RETURN_IF_ERROR(o.Finish());
   return params;
 }
@@ -520,6 +539,12 @@ Result<AnimateParams> ParseAnimateParams(const json& body) {
     return InvalidArgument(std::string("an animation is a GLB of morph targets; got \"") +
                                OutputFormatName(*out.format) + "\"",
                            "output.format");
+  }
+  if (out.compression == GlbCompression::kDraco) {
+    return InvalidArgument(
+        "an animation's morph targets are written with meshopt or none (Draco compresses no "
+        "morph targets)",
+        "output.compression");
   }
   if (out.distortion) {
     return InvalidArgument(

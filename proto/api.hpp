@@ -51,12 +51,29 @@ const char* OutputFormatName(OutputFormat format);  // from kOutputFormats
 const char* OutputMediaType(OutputFormat format);
 MeshFormat OutputMeshFormat(OutputFormat format);
 
+// output.compression: how a GLB's vertex data are compressed.
+enum class GlbCompression { kDraco, kMeshopt, kNone };
+inline constexpr EnumEntry<GlbCompression> kGlbCompressions[] = {
+    {GlbCompression::kDraco, "draco",
+     "KHR_draco_mesh_compression on each primitive (POST /v1/deform's default; not for "
+     "animations)"},
+    {GlbCompression::kMeshopt, "meshopt",
+     "quantized attributes (KHR_mesh_quantization) in buffer views compressed with "
+     "EXT_meshopt_compression (POST /v1/animate's default): some 10x faster to encode than "
+     "Draco; three.js decodes it with MeshoptDecoder"},
+    {GlbCompression::kNone, "none",
+     "meshopt's layout uncompressed (quantized attributes), for validators and tools that do not "
+     "know EXT_meshopt_compression"},
+};
+
 struct OutputOptions {
   std::optional<OutputFormat> format;  // unset: from the Accept header, else drc
   DracoOptions draco;
-  bool distortion = false;  // per-vertex distortion of the map (glb, glb_plain, ply only)
-  // POST /v1/animate only: how the GLB's buffers are compressed.
-  std::optional<AnimationCompression> compression;
+  bool draco_given = false;  // "draco" was in the request (it belongs to Draco output)
+  bool distortion = false;   // per-vertex distortion of the map (glb, glb_plain, ply only)
+  // How a GLB's vertex data are compressed: on POST /v1/deform draco unless
+  // given (then the format is glb); on POST /v1/animate meshopt or none.
+  std::optional<GlbCompression> compression;
 };
 
 // An animated surface: its keyframes, and the sampling and flattening of

@@ -54,6 +54,10 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
        1 << 20);
   Flag(app, "--model-cache-mib", c->model_cache_mib,
        "Byte budget of the uploaded-model cache (POST /v1/models), MiB", 1, 1 << 20);
+  Flag(app, "--answer-cache-mib", c->answer_cache_mib,
+       "Byte budget of the encoded answers of POST /v1/deform kept by their key (a repeated "
+       "request is answered without work), MiB; 0: none kept (load tests of the work itself)",
+       0, 1 << 20);
   Flag(app, "--footprint-memo-mib", c->footprint_mib,
        "Byte budget for where the vertices of models that come back lie on their sheets (24 "
        "bytes a vertex), MiB; 0: none kept",
@@ -137,6 +141,7 @@ void ResolveServerConfig(ServerConfig* c) {
   l.model_cache_bytes = c->model_cache_mib << 20;
   l.max_body_bytes = c->body_mib << 20;
   l.footprint_memo_bytes = c->footprint_mib << 20;
+  l.answer_cache_bytes = c->answer_cache_mib << 20;
   l.request_memory_bytes = c->request_memory_mib << 20;
   c->http.log_level = ParseLogLevel(c->log_level);
   c->shared.lock_ms = std::max(c->shared.wait_ms, l.flatten_time_budget_ms) + 1000;

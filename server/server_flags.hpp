@@ -24,6 +24,7 @@ struct ServerConfig {
   size_t model_cache_mib = ServiceLimits{}.model_cache_bytes >> 20;
   size_t body_mib = ServiceLimits{}.max_body_bytes >> 20;
   size_t footprint_mib = ServiceLimits{}.footprint_memo_bytes >> 20;
+  size_t answer_cache_mib = ServiceLimits{}.answer_cache_bytes >> 20;
   size_t request_memory_mib = ServiceLimits{}.request_memory_bytes >> 20;
 };
 

@@ -282,7 +282,10 @@ struct HttpServer::Impl {
     }
     if (!reply.stats_json.empty()) res.set_header("X-Surfdeform-Stats", ToAscii(reply.stats_json));
     t_context.cache_hit = reply.cache_hit;
-    if (req.method == "GET" && req.get_header_value("If-None-Match") == etag) {
+    // An answer the client holds (the service decided, for POST /v1/deform
+    // before any work), or a GET of the representation it holds.
+    if (reply.not_modified ||
+        (req.method == "GET" && req.get_header_value("If-None-Match") == etag)) {
       res.status = 304;
       return;
     }
@@ -644,6 +647,7 @@ struct HttpServer::Impl {
     ThrowIfArmed();  // the body is in: the connection can go on
     DeformRequest d;
     d.accept = req.get_header_value("Accept");
+    d.if_none_match = req.get_header_value("If-None-Match");
     std::string params;
     // The parameters come from one place, once: a second copy would be
     // ignored without a word.
@@ -791,7 +795,8 @@ struct HttpServer::Impl {
   void MetricsText(const httplib::Request&, httplib::Response& res) {
     res.set_content(metrics.Render(service.cache_stats(), service.shared_tier_stats(),
                                    service.admission_stats(), server.connection_stats(),
-                                   service.placement_memo_stats(), service.model_cache_stats()),
+                                   service.placement_memo_stats(), service.model_cache_stats(),
+                                   service.answer_cache_stats()),
                     "text/plain; version=0.0.4");
   }
   void OpenApi(const httplib::Request&, httplib::Response& res) {

@@ -14,8 +14,20 @@
 namespace surfdeform::meshio {
 
 // GLB with one node, one mesh and one primitive per MeshGroup, the primitives
-// sharing the vertex accessors (plain) or each compressed with
-// KHR_draco_mesh_compression (options.glb_draco).
+// sharing the vertex accessors (plain, quantized, meshopt) or each
+// compressed with KHR_draco_mesh_compression, as options.glb says.
 Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& options);
+
+// GlbEncoding::kMeshopt (compress) and kQuantized: the layout of one frame
+// of an animation (animation_glb.hpp), without morph targets:
+//  - POSITION as 16-bit normalized integers over the bounding box (error at
+//    most 1 / 131068 of its largest side), the node's translation and
+//    uniform scale undoing it;
+//  - NORMAL and TANGENT as 8-bit normalized integers (as gltfpack's
+//    default); TEXCOORD_n as 16-bit normalized integers when they lie in
+//    [0, 1], else floats; COLOR_0 as 8-bit; _DISTORTION as floats;
+//  - triangles as 32-bit indices in the order meshoptimizer's codec decodes.
+Result<std::string> WriteQuantizedGlb(const Mesh& mesh, const ExportOptions& options,
+                                      bool compress);
 
 }  // namespace surfdeform::meshio

@@ -152,6 +152,10 @@ void AddMaterials(tinygltf::Model* m, const ExportOptions& o) {
 }
 
 Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
+  if (o.glb == GlbEncoding::kMeshopt || o.glb == GlbEncoding::kQuantized) {
+    return WriteQuantizedGlb(mesh, o, o.glb == GlbEncoding::kMeshopt);
+  }
+  const bool draco = o.glb == GlbEncoding::kDraco;
   tinygltf::Model m;
   m.asset.version = "2.0";
   m.asset.generator = "surfdeform";
@@ -163,13 +167,13 @@ Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
   tinygltf::Mesh gm;
   gm.name = groups.front().name.empty() ? "mesh" : groups.front().name;
   std::map<std::string, int> shared;
-  if (!o.glb_draco) shared = AddAttributes(&m, mesh, true);
+  if (!draco) shared = AddAttributes(&m, mesh, true);
   for (const MeshGroup& g : groups) {
     tinygltf::Primitive prim;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
     prim.material =
         g.material >= 0 && g.material < static_cast<int>(m.materials.size()) ? g.material : -1;
-    if (!o.glb_draco) {
+    if (!draco) {
       prim.attributes = shared;
       std::vector<uint32_t> idx;
       idx.reserve(3 * g.triangle_count);
@@ -199,7 +203,7 @@ Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
     }
     gm.primitives.push_back(prim);
   }
-  if (o.glb_draco) {
+  if (draco) {
     m.extensionsUsed.push_back("KHR_draco_mesh_compression");
     m.extensionsRequired.push_back("KHR_draco_mesh_compression");
   }

@@ -29,13 +29,41 @@ struct DracoOptions {
   bool sequential = false;  // keep the vertex order (larger files)
 };
 
+// How a GLB carries its vertex data.
+enum class GlbEncoding {
+  kDraco,      // each primitive with KHR_draco_mesh_compression (the default)
+  kPlain,      // float attributes, uncompressed
+  kMeshopt,    // quantized (KHR_mesh_quantization), views with EXT_meshopt_compression
+  kQuantized,  // kMeshopt's uncompressed twin: the same data, for validators
+};
+
+// The order meshoptimizer's codecs compress best (GlbEncoding::kMeshopt and
+// kQuantized): each group's triangles ordered for the vertex cache
+// (meshopt_optimizeVertexCache) and as the index codec decodes them, and
+// the vertices renumbered in the order those triangles first use them
+// (meshopt_optimizeVertexFetchRemap), so that neighbours in the buffer are
+// neighbours on the mesh; vertices no triangle uses follow, in their order.
+// A function of the vertex count, triangles and groups alone: the costly
+// part of a meshopt GLB (some 0.5 us per triangle), which a service keeps
+// per topology (ExportOptions::meshopt_order).
+struct MeshoptOrder {
+  std::vector<uint32_t> vertex;                // new index -> the mesh's index
+  std::vector<std::vector<uint32_t>> indices;  // per group, in the new numbering
+  size_t bytes() const;
+};
+Result<MeshoptOrder> ComputeMeshoptOrder(const Mesh& mesh);
+
 struct ExportOptions {
   DracoOptions draco;
-  bool glb_draco = true;               // GLB: compress primitives with KHR_draco_mesh_compression
+  GlbEncoding glb = GlbEncoding::kDraco;
   std::vector<std::string> materials;  // names for MeshGroup::material (OBJ usemtl, glTF)
   // GLB: the input's glTF materials, textures and images (ImportedMesh::look),
   // written instead of plain materials named by `materials`.
   std::shared_ptr<const meshio::GltfLook> look;
+  int threads = 1;  // for encoders that split their work (meshopt's buffer views)
+  // The mesh's ComputeMeshoptOrder, when the caller keeps it (null, or one
+  // that does not fit the mesh: computed).
+  std::shared_ptr<const MeshoptOrder> meshopt_order;
 };
 
 // Errors: kInvalidArgument for a malformed mesh, non-finite values or bad

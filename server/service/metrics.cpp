@@ -42,7 +42,8 @@ void Metrics::Rejected(const std::string& reason) {
 
 std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shared,
                             const AdmissionStats& admission, const ConnectionStats& connections,
-                            const PlacementMemoStats& placements, const CacheStats& models) const {
+                            const PlacementMemoStats& placements, const CacheStats& models,
+                            const CacheStats& answers) const {
   std::string out;
   auto line = [&out](const std::string& text) { out += text + "\n"; };
   std::lock_guard lock(mutex_);
@@ -114,22 +115,36 @@ std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shar
   gauge("bytes", "Bytes held by cached flattened surfaces.", cache.bytes);
   gauge("entries", "Flattened surfaces in the cache.", cache.entries);
   gauge("capacity_bytes", "The cache's byte budget.", cache.capacity_bytes);
-  // The uploaded models' cache (POST /v1/models), the same counters.
-  auto model_line = [&](const char* name, const char* type, const char* help, uint64_t value) {
-    const std::string full = std::string("surfdeform_model_cache_") + name;
-    line("# HELP " + full + " " + help);
-    line("# TYPE " + full + " " + type);
-    line(full + " " + std::to_string(value));
+  // The uploaded models' cache (POST /v1/models) and the answers kept
+  // (POST /v1/deform), the same counters each.
+  struct CacheHelp {
+    const char* hits;
+    const char* misses;
+    const char* items;  // what an entry is, plural
   };
-  model_line("hits_total", "counter", "Model lookups and uploads served from the cache.",
-             models.hits);
-  model_line("misses_total", "counter", "Model lookups and uploads that had to import.",
-             models.misses);
-  model_line("evictions_total", "counter", "Models evicted to stay within the byte budget.",
-             models.evictions);
-  model_line("bytes", "gauge", "Bytes held by uploaded models (estimated).", models.bytes);
-  model_line("entries", "gauge", "Uploaded models in the cache.", models.entries);
-  model_line("capacity_bytes", "gauge", "The model cache's byte budget.", models.capacity_bytes);
+  auto cache_family = [&](const std::string& prefix, const CacheStats& s, const CacheHelp& help) {
+    auto one = [&](const char* name, const char* type, const std::string& text, uint64_t value) {
+      const std::string full = prefix + name;
+      line("# HELP " + full + " " + text);
+      line("# TYPE " + full + " " + type);
+      line(full + " " + std::to_string(value));
+    };
+    one("hits_total", "counter", help.hits, s.hits);
+    one("misses_total", "counter", help.misses, s.misses);
+    one("evictions_total", "counter",
+        std::string("Entries (") + help.items + ") evicted to stay within the byte budget.",
+        s.evictions);
+    one("bytes", "gauge", std::string("Bytes held by ") + help.items + " (estimated).", s.bytes);
+    one("entries", "gauge", std::string("Entries (") + help.items + ") in the cache.", s.entries);
+    one("capacity_bytes", "gauge", "The cache's byte budget.", s.capacity_bytes);
+  };
+  cache_family("surfdeform_model_cache_", models,
+               {"Model lookups and uploads served from the cache.",
+                "Model lookups and uploads that had to import.", "uploaded models"});
+  cache_family("surfdeform_answer_cache_", answers,
+               {"Answers of POST /v1/deform served from the cache (or from a concurrent "
+                "request's making of the same answer).",
+                "Answers that had to be made (parse, deformation, encoding).", "kept answers"});
 
   auto plain = [&](const std::string& name, const char* type, const char* help,
                    const std::string& value) {

@@ -53,8 +53,8 @@ class Metrics {
   // And the process's CPU time, for CPU per request under load.
   std::string Render(const CacheStats& cache, const SharedTierStats& shared = {},
                      const AdmissionStats& admission = {}, const ConnectionStats& connections = {},
-                     const PlacementMemoStats& placements = {},
-                     const CacheStats& models = {}) const;
+                     const PlacementMemoStats& placements = {}, const CacheStats& models = {},
+                     const CacheStats& answers = {}) const;
 
  private:
   struct Histogram {

@@ -95,6 +95,23 @@ Reply BytesReply(std::string body, std::string content_type) {
   return reply;
 }
 
+void MarkKept(Reply* reply) {
+  reply->cache_hit = true;
+  reply->timings.clear();
+  json stats = json::parse(reply->stats_json, nullptr, false);
+  if (!stats.is_object()) return;
+  stats["answer_kept"] = true;
+  stats["cached"] = true;
+  reply->stats_json = Dump(stats);
+}
+
+Reply NotModified(std::string etag) {
+  Reply reply;
+  reply.etag = std::move(etag);
+  reply.not_modified = true;
+  return reply;
+}
+
 Result<Reply> JsonReply(const json& body) {
   SURFDEFORM_ASSIGN_OR_RETURN(std::string text, DumpFinite(body, "reply"));
   return BytesReply(std::move(text), "application/json");
@@ -199,22 +216,41 @@ json AnimationStatsHeader(const StoredAnimation& animation, bool hit, double fps
   return stats;
 }
 
+GlbEncoding GlbEncodingOf(const proto::OutputOptions& output, proto::OutputFormat format) {
+  if (format == proto::OutputFormat::kGlbPlain) return GlbEncoding::kPlain;
+  switch (output.compression.value_or(proto::GlbCompression::kDraco)) {
+    case proto::GlbCompression::kMeshopt:
+      return GlbEncoding::kMeshopt;
+    case proto::GlbCompression::kNone:
+      return GlbEncoding::kQuantized;
+    case proto::GlbCompression::kDraco:
+      break;
+  }
+  return GlbEncoding::kDraco;
+}
+
 Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
                         proto::OutputFormat format, const ImportedMesh& imported, bool hit,
-                        std::vector<Timing> timings, const json& stats) {
+                        std::vector<Timing> timings, json stats,
+                        std::shared_ptr<const MeshoptOrder> meshopt_order) {
   const auto t0 = Clock::now();
   ExportOptions export_options;
   export_options.draco = output.draco;
-  export_options.glb_draco = format == proto::OutputFormat::kGlb;
+  export_options.glb = GlbEncodingOf(output, format);
   export_options.materials = imported.materials;
   export_options.look = imported.look;
+  export_options.meshopt_order = std::move(meshopt_order);
   SURFDEFORM_ASSIGN_OR_RETURN(auto bytes,
                               ExportMesh(mesh, proto::OutputMeshFormat(format), export_options));
   timings.push_back({"encode", MsSince(t0)});
   Reply reply = BytesReply(std::move(bytes), proto::OutputMediaType(format));
   reply.cache_hit = hit;
   reply.timings = std::move(timings);
-  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, StatsHeader(stats));
+  if (format == proto::OutputFormat::kGlb) {
+    stats["compression"] = NameOf<proto::GlbCompression>(
+        proto::kGlbCompressions, output.compression.value_or(proto::GlbCompression::kDraco));
+  }
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, StatsHeader(std::move(stats)));
   return reply;
 }
 
@@ -316,6 +352,7 @@ std::string InfoJson(const ServiceLimits& l) {
               {"max_field_side", l.max_field_side},
               {"cache_bytes", l.cache_bytes},
               {"model_cache_bytes", l.model_cache_bytes},
+              {"answer_cache_bytes", l.answer_cache_bytes},
               {"max_map_points", kMapLimits.max_points},
               {"max_map_surface_points", kMapLimits.max_surface_points},
               {"max_map_output_points", MaxMapOutputPoints(l)},
@@ -344,7 +381,7 @@ std::string InfoJson(const ServiceLimits& l) {
   publish("output.format", proto::kOutputFormats);
   publish("subdivision.mode", kSubdivisionModes);
   publish("animation.interpolation", kInterpolations);
-  publish("output.compression", kAnimationCompressions);
+  publish("output.compression", proto::kGlbCompressions);
   for (const auto& e : kErrorCodes) {  // problem+json's "code"
     if (e.value != ErrorCode::kOk)
       enums["problem.code"].push_back({{"name", e.name}, {"description", e.description}});

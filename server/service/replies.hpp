@@ -85,11 +85,23 @@ nlohmann::json AnimationStatsHeader(const StoredAnimation& animation, bool hit, 
                                     const PreparedModel& model, AnimationCompression compression,
                                     const ImportedMesh& imported, const DeformStats& first_frame);
 
+// How a GLB in `format` is encoded for these output options.
+GlbEncoding GlbEncodingOf(const proto::OutputOptions& output, proto::OutputFormat format);
+
 // A deformed mesh encoded as asked, and the reply around it: `timings` gain
-// the encoding's.
+// the encoding's; a GLB's stats its compression.
 Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
                         proto::OutputFormat format, const ImportedMesh& imported, bool hit,
-                        std::vector<Timing> timings, const nlohmann::json& stats);
+                        std::vector<Timing> timings, nlohmann::json stats,
+                        std::shared_ptr<const MeshoptOrder> meshopt_order = nullptr);
+
+// An answer served from the kept ones: its stats as it was made, with
+// "answer_kept" and "cached" (nothing was flattened for it) true, and no
+// timings of the work it did not do.
+void MarkKept(Reply* reply);
+
+// 304 for an answer whose ETag the request's If-None-Match names.
+Reply NotModified(std::string etag);
 
 // GET /v1/info: the limits, the formats, every named choice of the request.
 std::string InfoJson(const ServiceLimits& limits);

@@ -24,6 +24,8 @@ struct Reply {
   bool immutable = false;
   std::string surface_id;  // CreateSurface: the id of the flattened surface
   std::string model_id;    // UploadModel: the model's id
+  // The request's If-None-Match named `etag`: 304, no body.
+  bool not_modified = false;
 };
 
 }  // namespace surfdeform

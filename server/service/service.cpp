@@ -10,10 +10,13 @@
 #include "engine/sheet_marks.hpp"
 #include "meshio/animation_glb.hpp"
 #include "meshio/mesh_import.hpp"
+#include "proto/answer_key.hpp"
 #include "proto/api.hpp"
 #include "proto/map_api.hpp"
+#include "service/answer_cache.hpp"
 #include "service/flat_sheet_svg.hpp"
 #include "service/limit_checks.hpp"
+#include "service/meshopt_orders.hpp"
 #include "service/model_store.hpp"
 #include "service/output_negotiation.hpp"
 #include "service/placement_memo.hpp"
@@ -86,6 +89,15 @@ Status CheckRoutedSurface(const std::string& routed, const proto::DeformParams& 
                 "X-Surfdeform-Surface-Id");
 }
 
+// A request's mesh comes by model_id or in its body, not both.
+Status CheckOneMesh(const std::string& model_id, std::string_view body) {
+  if (model_id.empty() || body.empty()) return Status::Ok();
+  return Status(ErrorCode::kMalformed,
+                "the parameters name a model_id and the request carries a mesh too: send "
+                "one of them",
+                "model_id");
+}
+
 }  // namespace
 
 struct Service::Impl {
@@ -128,12 +140,7 @@ struct Service::Impl {
   Result<ImportedMesh> MeshOf(const std::string& model_id, std::string_view body,
                               RequestWork& work) {
     if (model_id.empty()) return work.Import(body);
-    if (!body.empty()) {
-      return Status(ErrorCode::kMalformed,
-                    "the parameters name a model_id and the request carries a mesh too: send "
-                    "one of them",
-                    "model_id");
-    }
+    SURFDEFORM_RETURN_IF_ERROR(CheckOneMesh(model_id, body));
     SURFDEFORM_ASSIGN_OR_RETURN(auto model, models.Find(model_id));
     ImportedMesh copy = model->imported;
     SURFDEFORM_RETURN_IF_ERROR(work.EndParse());
@@ -177,6 +184,49 @@ struct Service::Impl {
     return a;
   }
 
+  // POST /v1/deform on a sheet: the model placed, refined and mapped, and
+  // its answer encoded.
+  Result<Reply> DeformOnSheet(const proto::DeformParams& params, const StoredSurface& entry,
+                              bool hit, proto::OutputFormat format, ImportedMesh imported,
+                              const RequestWork& work, double flatten_ms) {
+    const ServiceLimits& limits = options.limits;
+    const auto t2 = Clock::now();
+    const PlacementOptions placement = PlacementFor(params.placement, imported, work.threads());
+    const SubdivisionOptions subdivision = SubdivisionFor(params.subdivision, limits, work);
+    DeformExtras extras;
+    extras.distortion = params.output.distortion;
+    PlacementMemo::Use memo(placements, entry.id, placement, subdivision, imported.mesh, &extras);
+    auto deformed = DeformMesh(*entry.surface, entry.sheet, std::move(imported.mesh), placement,
+                               subdivision, extras);
+    if (!deformed.ok()) return WithinBudget(work.clock(), "subdivision", deformed.status());
+    memo.Learn(*deformed);
+    const double subdivide_ms = deformed->stats.subdivide_ms;
+    const double deform_ms = MsSince(t2) - subdivide_ms;
+    SURFDEFORM_RETURN_IF_ERROR(work.clock().Check("deformation"));
+    SURFDEFORM_ASSIGN_OR_RETURN(auto order, MeshoptOrderFor(deformed->mesh, params.output, format));
+    return MeshReply(
+        deformed->mesh, params.output, format, imported, hit,
+        {{"parse", work.parse_ms()},
+         {"flatten", flatten_ms},
+         {"deform", deform_ms},
+         {"subdivide", subdivide_ms}},
+        DeformStatsHeader(entry.id, entry.sheet.quality, hit, format, imported, deformed->stats,
+                          memo.placement_reused(), memo.subdivision_reused()),
+        std::move(order));
+  }
+
+  // The vertex order of a meshopt answer, kept per topology; null for others.
+  Result<std::shared_ptr<const MeshoptOrder>> MeshoptOrderFor(const Mesh& mesh,
+                                                              const proto::OutputOptions& output,
+                                                              proto::OutputFormat format) {
+    const GlbEncoding glb = GlbEncodingOf(output, format);
+    if (format != proto::OutputFormat::kGlb ||
+        (glb != GlbEncoding::kMeshopt && glb != GlbEncoding::kQuantized)) {
+      return std::shared_ptr<const MeshoptOrder>();
+    }
+    return orders.For(mesh);
+  }
+
   // POST /v1/deform with an animation: frame k alone, the same computation
   // as frame k of POST /v1/animate.
   Result<Reply> DeformFrame(const proto::DeformParams& params, ImportedMesh imported,
@@ -196,12 +246,13 @@ struct Service::Impl {
     json stats = DeformStatsHeader(a.entry->id, f.quality, a.hit, format, imported, deformed.stats);
     stats["animation"] = {
         {"frame", params.frame}, {"frames", params.animation->animation.frames}, {"time", f.time}};
+    SURFDEFORM_ASSIGN_OR_RETURN(auto order, MeshoptOrderFor(deformed.mesh, params.output, format));
     return MeshReply(deformed.mesh, params.output, format, imported, a.hit,
                      {{"parse", work.parse_ms()},
                       {"flatten", a.flatten_ms},
                       {"deform", deform_ms},
                       {"subdivide", a.subdivide_ms}},
-                     stats);
+                     std::move(stats), std::move(order));
   }
 
   const ServiceOptions options;
@@ -211,6 +262,8 @@ struct Service::Impl {
   // Placements and footprints of models that come back, by surface, options
   // and positions.
   PlacementMemo placements{kPlacementMemoEntries, options.limits.footprint_memo_bytes};
+  AnswerCache answers{options.limits.answer_cache_bytes};
+  MeshoptOrders orders;
 };
 
 Service::Service(ServiceOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
@@ -219,6 +272,7 @@ Service::~Service() = default;
 const ServiceLimits& Service::limits() const { return impl_->options.limits; }
 CacheStats Service::cache_stats() const { return impl_->store.surface_stats(); }
 CacheStats Service::model_cache_stats() const { return impl_->models.stats(); }
+CacheStats Service::answer_cache_stats() const { return impl_->answers.stats(); }
 PlacementMemoStats Service::placement_memo_stats() const { return impl_->placements.stats(); }
 AdmissionStats Service::admission_stats() const { return impl_->admission.stats(); }
 bool Service::Saturated() const { return impl_->admission.Full(); }
@@ -372,9 +426,7 @@ Result<Reply> Service::MapOnSurface(std::string_view id, std::string_view body) 
 }
 
 Result<Reply> Service::Deform(const DeformRequest& request) {
-  const ServiceLimits& limits = impl_->options.limits;
-  RequestWork work(limits);
-  SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+  RequestWork work(impl_->options.limits);
   SURFDEFORM_ASSIGN_OR_RETURN(auto parsed, work.ParseJson(request.params, "params"));
   RouteSurfaceId(request.routed_surface_id, &parsed);
   // Errors name their fields by JSON path in the parameters.
@@ -383,42 +435,52 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto format,
                               ChooseOutputFormat(params.output.format, request.accept));
   SURFDEFORM_RETURN_IF_ERROR(CheckDistortionFormat(params.output, format));
-  SURFDEFORM_ASSIGN_OR_RETURN(auto imported, impl_->MeshOf(params.model_id, request.mesh, work));
+  SURFDEFORM_RETURN_IF_ERROR(CheckOneMesh(params.model_id, request.mesh));
   if (params.animation) {
+    SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+    SURFDEFORM_ASSIGN_OR_RETURN(auto imported, impl_->MeshOf(params.model_id, request.mesh, work));
     return impl_->DeformFrame(params, std::move(imported), format, work);
   }
-  const RequestClock& clock = work.clock();
 
+  // The sheet: held (by id), or flattened now with this request's slot.
   const auto t1 = Clock::now();
-  bool hit = false;
-  SURFDEFORM_ASSIGN_OR_RETURN(const std::shared_ptr<const StoredSurface> entry,
-                              impl_->SurfaceOf(params, clock, &hit));
+  bool hit = true;
+  std::shared_ptr<const StoredSurface> entry;
+  if (params.surface) {
+    SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+    SURFDEFORM_ASSIGN_OR_RETURN(entry, impl_->SurfaceOf(params, work.clock(), &hit));
+  } else {
+    SURFDEFORM_ASSIGN_OR_RETURN(entry, impl_->SurfaceOf(params, work.clock(), &hit));
+  }
   const double flatten_ms = MsSince(t1);
-  SURFDEFORM_RETURN_IF_ERROR(clock.Check("flattening"));
 
-  const auto t2 = Clock::now();
-  const PlacementOptions placement = PlacementFor(params.placement, imported, work.threads());
-  const SubdivisionOptions subdivision = SubdivisionFor(params.subdivision, limits, work);
-  DeformExtras extras;
-  extras.distortion = params.output.distortion;
-  PlacementMemo::Use memo(impl_->placements, entry->id, placement, subdivision, imported.mesh,
-                          &extras);
-  auto deformed = DeformMesh(*entry->surface, entry->sheet, std::move(imported.mesh), placement,
-                             subdivision, extras);
-  if (!deformed.ok()) return WithinBudget(clock, "subdivision", deformed.status());
-  memo.Learn(*deformed);
-  const double subdivide_ms = deformed->stats.subdivide_ms;
-  const double deform_ms = MsSince(t2) - subdivide_ms;
-  SURFDEFORM_RETURN_IF_ERROR(clock.Check("deformation"));
-
-  return MeshReply(
-      deformed->mesh, params.output, format, imported, hit,
-      {{"parse", work.parse_ms()},
-       {"flatten", flatten_ms},
-       {"deform", deform_ms},
-       {"subdivide", subdivide_ms}},
-      DeformStatsHeader(entry->id, entry->sheet.quality, hit, format, imported, deformed->stats,
-                        memo.placement_reused(), memo.subdivision_reused()));
+  // The answer's key and ETag, before any work on the model.
+  const std::string model =
+      params.model_id.empty() ? proto::ModelId(request.mesh) : params.model_id;
+  const std::string sheet = entry->id + "/" + SheetDigest(entry->sheet);
+  const std::string key = proto::AnswerKey(
+      {model, sheet, &params.placement, &params.subdivision, &params.output, format});
+  const std::string etag = proto::AnswerEtag(key);
+  if (proto::IfNoneMatchNames(request.if_none_match, etag)) return NotModified(etag);
+  bool kept = false;
+  auto answer = impl_->answers.GetOrMake(
+      key,
+      [&]() -> Result<Reply> {
+        if (work.threads() == 0) {
+          SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+        }
+        SURFDEFORM_ASSIGN_OR_RETURN(auto imported,
+                                    impl_->MeshOf(params.model_id, request.mesh, work));
+        SURFDEFORM_RETURN_IF_ERROR(work.clock().Check("flattening"));
+        SURFDEFORM_ASSIGN_OR_RETURN(
+            Reply reply, impl_->DeformOnSheet(params, *entry, hit, format, std::move(imported),
+                                              work, flatten_ms));
+        reply.etag = etag;
+        return reply;
+      },
+      &kept);
+  if (answer.ok() && kept) MarkKept(&*answer);
+  return answer;
 }
 
 Result<Reply> Service::Animate(const DeformRequest& request) {
@@ -473,7 +535,9 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
 
   const auto t3 = Clock::now();
   AnimationGlbOptions glb;
-  glb.compression = params.output.compression.value_or(AnimationCompression::kMeshopt);
+  glb.compression = params.output.compression == proto::GlbCompression::kNone
+                        ? AnimationCompression::kNone
+                        : AnimationCompression::kMeshopt;
   glb.look.materials = imported.materials;
   glb.look.look = imported.look;
   glb.threads = work.threads();

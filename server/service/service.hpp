@@ -37,6 +37,9 @@ struct DeformRequest {
   // load balancers route by: the surface when the parameters name none, and
   // otherwise it must be the one they name.
   std::string routed_surface_id{};
+  // The If-None-Match header: an answer whose ETag it names is 304 (Reply::
+  // not_modified), decided before any work on the model.
+  std::string if_none_match{};
 };
 
 class Service {
@@ -68,6 +71,7 @@ class Service {
   std::string InfoJson() const;  // GET /v1/info
   CacheStats cache_stats() const;
   CacheStats model_cache_stats() const;
+  CacheStats answer_cache_stats() const;
   PlacementMemoStats placement_memo_stats() const;
   SharedTierStats shared_tier_stats() const;  // enabled = false without one
   AdmissionStats admission_stats() const;

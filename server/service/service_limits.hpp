@@ -33,6 +33,9 @@ struct ServiceLimits {
   // Where the vertices of models that come back lie on their sheets
   // (service/placement_memo.hpp): 24 bytes a vertex, 0.9 MB for the bunny.
   size_t footprint_memo_bytes = 64u << 20;
+  // Encoded answers of POST /v1/deform kept by their key (answer_cache.hpp);
+  // 0: none kept.
+  size_t answer_cache_bytes = 256u << 20;
   // Animations (POST /v1/animate, and /v1/deform with a frame): frames, and
   // frames times the model's vertices after subdivision (the frames are held
   // in memory, 24 bytes per vertex), and the GLB's size.

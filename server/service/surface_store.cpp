@@ -1,5 +1,7 @@
 #include "service/surface_store.hpp"
 
+#include <xxhash.h>
+
 #include <algorithm>
 #include <chrono>
 #include <optional>
@@ -11,6 +13,7 @@
 #include "engine/surface_spec.hpp"
 #include "proto/content_hash.hpp"
 #include "proto/json_object.hpp"
+#include "service/digest_hex.hpp"
 #include "service/limit_checks.hpp"
 #include "service/sheet_codec.hpp"
 
@@ -25,6 +28,21 @@ size_t EstimateBytes(const StoredAnimation& a) {
   // much as a key's spec (a Bezier's control points, a grid's points).
   return sizeof(StoredAnimation) + samples * (24 + 24 + 16) + a.sheets.surfaces.size() * 4096 +
          1024;
+}
+
+std::string SheetDigest(const FlatSheet& sheet) {
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_128bits_reset(state);
+  const int layout[2] = {sheet.nu, sheet.nv};
+  XXH3_128bits_update(state, layout, sizeof layout);
+  XXH3_128bits_update(state, sheet.flat.data(), sheet.flat.size() * sizeof(Vec2));
+  XXH3_128bits_update(state, sheet.points.data(), sheet.points.size() * sizeof(Vec3));
+  XXH3_128bits_update(state, sheet.frame_linear.data(), 4 * sizeof(double));
+  XXH3_128bits_update(state, sheet.frame_offset.data(), 2 * sizeof(double));
+  XXH3_128bits_update(state, sheet.method.data(), sheet.method.size());
+  const XXH128_hash_t digest = XXH3_128bits_digest(state);
+  XXH3_freeState(state);
+  return DigestHex(digest);
 }
 
 size_t EstimateBytes(const StoredSurface& s) {

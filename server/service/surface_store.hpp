@@ -47,6 +47,11 @@ struct StoredAnimation {
   size_t bytes = 0;
 };
 
+// A digest of the sheet's points and layout (32 hex digits): sheets with
+// one id may differ (a warm start from an edit ends within the solver's
+// tolerance of a cold flattening), and answers are keyed by the sheet.
+std::string SheetDigest(const FlatSheet& sheet);
+
 // What the store's entries take in memory, estimated (for the LRU's budget).
 size_t EstimateBytes(const StoredSurface& s);
 size_t EstimateBytes(const StoredAnimation& a);

@@ -37,7 +37,11 @@ json Uncached(const std::string& stats) {
 
 class LiveEditingTest : public SharedServerTest<LiveEditingTest> {
  public:
-  static std::vector<std::string> Args() { return {"--log-level", "warn"}; }
+  // Every answer made, none kept: these tests compare the work done by id
+  // and inline (answers_test.cpp tests the kept ones).
+  static std::vector<std::string> Args() {
+    return {"--log-level", "warn", "--answer-cache-mib", "0"};
+  }
 
  protected:
   static httplib::Client Client() {

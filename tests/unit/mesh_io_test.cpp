@@ -113,7 +113,7 @@ void ExpectSameOrdered(const Mesh& a, const Mesh& b, double tol, bool colors = t
 TEST(MeshFormat, DetectedFromContentNotName) {
   const Mesh m = RichMesh();
   ExportOptions plain;
-  plain.glb_draco = false;
+  plain.glb = GlbEncoding::kPlain;
   EXPECT_EQ(DetectMeshFormat(*ExportMesh(m, MeshFormat::kObj)), MeshFormat::kObj);
   EXPECT_EQ(DetectMeshFormat(*ExportMesh(m, MeshFormat::kPly)), MeshFormat::kPly);
   EXPECT_EQ(DetectMeshFormat(*ExportMesh(m, MeshFormat::kDraco)), MeshFormat::kDraco);
@@ -173,7 +173,7 @@ TEST(MeshExport, TexturedGltfKeepsItsImagesByteForByte) {
     ASSERT_NE(in.look, nullptr) << input;
     for (bool draco : {false, true}) {
       ExportOptions o;
-      o.glb_draco = draco;
+      o.glb = draco ? GlbEncoding::kDraco : GlbEncoding::kPlain;
       o.materials = in.materials;
       o.look = in.look;
       const std::string glb = *ExportMesh(in.mesh, MeshFormat::kGlb, o);
@@ -208,7 +208,7 @@ TEST(HostileInput, ImagesAreCheckedByTheirBytesAndCounted) {
   ASSERT_FALSE(in.warnings.empty());
   EXPECT_NE(in.warnings.back().find("not embedded PNG or JPEG"), std::string::npos);
   ExportOptions o;
-  o.glb_draco = false;
+  o.glb = GlbEncoding::kPlain;
   o.look = in.look;
   const std::string out = *ExportMesh(in.mesh, MeshFormat::kGlb, o);
   EXPECT_TRUE(GlbImages(out).empty());
@@ -240,7 +240,7 @@ TEST(HostileInput, ImagesAreNeverDecoded) {
   const ImportedMesh in = ImportOk(glb);
   ASSERT_NE(in.look, nullptr);
   ExportOptions o;
-  o.glb_draco = false;
+  o.glb = GlbEncoding::kPlain;
   o.look = in.look;
   const auto images = GlbImages(*ExportMesh(in.mesh, MeshFormat::kGlb, o));
   ASSERT_EQ(images.size(), 1u);
@@ -322,7 +322,7 @@ TEST(MeshExport, TheDistortionMapIsTwoPlyProperties) {
 TEST(MeshExport, TheDistortionMapIsTheGlbAttributeDistortion) {
   const Mesh m = WithDistortion();
   ExportOptions o;
-  o.glb_draco = false;
+  o.glb = GlbEncoding::kPlain;
   const std::string glb = *ExportMesh(m, MeshFormat::kGlb, o);
   uint32_t json_length;
   std::memcpy(&json_length, glb.data() + 12, 4);
@@ -342,7 +342,7 @@ TEST(MeshExport, TheDistortionMapIsTheGlbAttributeDistortion) {
     EXPECT_FLOAT_EQ(v[1], static_cast<float>(m.distortion[k].y())) << k;
   }
   // The Draco-compressed primitive names it among its attributes too.
-  o.glb_draco = true;
+  o.glb = GlbEncoding::kDraco;
   const std::string draco = *ExportMesh(m, MeshFormat::kGlb, o);
   std::memcpy(&json_length, draco.data() + 12, 4);
   const nlohmann::json dj = nlohmann::json::parse(draco.substr(20, json_length));
@@ -354,7 +354,7 @@ TEST(MeshExport, TheDistortionMapIsTheGlbAttributeDistortion) {
 TEST(MeshRoundTrip, PlainGlbKeepsOrderAttributesAndGroups) {
   const Mesh m = RichMesh();
   ExportOptions o;
-  o.glb_draco = false;
+  o.glb = GlbEncoding::kPlain;
   o.materials = {"red", "blue"};
   const ImportedMesh back = ImportOk(*ExportMesh(m, MeshFormat::kGlb, o));
   ExpectSameOrdered(m, back.mesh, 1e-6);
@@ -409,7 +409,7 @@ TEST(MeshExport, DegenerateTrianglesAreWrittenInEveryFormat) {
   m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
   m.triangles = {{0, 0, 1}, {1, 1, 2}};
   ExportOptions plain;
-  plain.glb_draco = false;
+  plain.glb = GlbEncoding::kPlain;
   for (const auto& [format, o] :
        {std::pair{MeshFormat::kDraco, ExportOptions{}},
         std::pair{MeshFormat::kGlb, ExportOptions{}}, std::pair{MeshFormat::kGlb, plain},
@@ -733,7 +733,7 @@ TEST(HostileInput, DeepJsonIsRejectedBeforeParsing) {
 
 TEST(HostileInput, TruncatedAndLyingGlb) {
   ExportOptions o;
-  o.glb_draco = false;
+  o.glb = GlbEncoding::kPlain;
   const std::string glb = *ExportMesh(RichMesh(), MeshFormat::kGlb, o);
   for (size_t cut : {size_t{12}, size_t{30}, glb.size() / 2, glb.size() - 1}) {
     EXPECT_FALSE(ImportMesh(glb.substr(0, cut)).ok()) << cut;

@@ -10,6 +10,7 @@
 
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
+#include "service/answer_cache.hpp"
 #include "support/test_meshes.hpp"
 
 namespace surfdeform {
@@ -19,6 +20,13 @@ using nlohmann::json;
 
 const char kCylinder[] =
     R"({"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180},"sampling":{"nu":8,"nv":8}})";
+
+// No answers kept: for tests of the work a repeated request does.
+ServiceOptions EveryAnswerMade() {
+  ServiceOptions o;
+  o.limits.answer_cache_bytes = 0;
+  return o;
+}
 
 std::string PlateObj() {
   auto bytes = ExportMesh(testing::ThinPlate(1.0, 0.5, 0.05), MeshFormat::kObj);
@@ -113,7 +121,7 @@ TEST(Service, DeformsInlineAndById) {
 // model on the same surface with the same placement options does; the bytes
 // are those of a service that computed it afresh.
 TEST(Service, ReusesThePlacementOfAModelThatComesBack) {
-  Service service({});
+  Service service(EveryAnswerMade());
   const std::string plate = PlateObj();
   const auto created = service.CreateSurface(kCylinder);
   ASSERT_TRUE(created.ok());
@@ -220,7 +228,7 @@ TEST(Service, SkipsASubdivisionThatAddedNothingToAModelThatComesBack) {
       R"({"surface":{"kind":"bezier","degree_u":2,"degree_v":2,"control_points":)"
       R"([[0,0,0],[2,0,1],[4,0,0],[0,2,1],[2,2,0],[4,2,1],[0,4,0],[2,4,1],[4,4,0]]},)"
       R"("sampling":{"nu":12,"nv":12}})";
-  Service service({}), fresh({});
+  Service service(EveryAnswerMade()), fresh(EveryAnswerMade());
   std::string id;
   for (Service* s : {&service, &fresh}) {
     auto created = s->CreateSurface(saddle);
@@ -283,7 +291,7 @@ TEST(Service, SkipsASubdivisionThatAddedNothingToAModelThatComesBack) {
 // Requests for one model at once: the first to finish stores the footprint,
 // the others store theirs or find it; every response is the same.
 TEST(Service, ConcurrentRequestsForOneModelShareItsFootprint) {
-  Service service({});
+  Service service(EveryAnswerMade());
   auto created =
       service.CreateSurface(R"({"surface":{"kind":"wave"},"sampling":{"nu":12,"nv":12}})");
   ASSERT_TRUE(created.ok()) << created.status().ToString();
@@ -326,7 +334,7 @@ TEST(Service, UpAutoStandsGltfModelsUpAndThinObjectsOnTheirFace) {
   // A figure 0.2 wide, 1.0 tall along +Y, 0.3 deep.
   Mesh figure = testing::ThinPlate(0.2, 1.0, 0.3);
   ExportOptions plain;
-  plain.glb_draco = false;
+  plain.glb = GlbEncoding::kPlain;
   const std::string glb = *ExportMesh(figure, MeshFormat::kGlb, plain);
   const std::string obj = *ExportMesh(figure, MeshFormat::kObj);
   auto extent_z = [](const std::string& body) {
@@ -548,6 +556,126 @@ TEST(ServiceAdmission, ACacheHitIsServedWhileTheLimitIsFull) {
   EXPECT_TRUE(hit.ok()) << hit.status().ToString();  // no ASSERT: `slow` must be joined
   EXPECT_TRUE(hit.ok() && hit->cache_hit);
   slow.join();
+}
+
+// Kept answers (issue #38).
+
+// A surface id and the request of a plate on it, by id, in `output`.
+struct PlateAnswer {
+  std::string surface_id;
+  std::string params(const std::string& output, double scale = 1.0) const {
+    return R"({"surface_id":")" + surface_id + R"(","placement":{"scale":)" +
+           std::to_string(scale) + R"(},"output":)" + output + "}";
+  }
+};
+
+PlateAnswer PlateOn(Service& service) {
+  auto created = service.CreateSurface(kCylinder);
+  EXPECT_TRUE(created.ok());
+  return {created.ok() ? json::parse(created->body).at("id").get<std::string>() : ""};
+}
+
+TEST(Service, KeepsAnswersAndServesThemByteForByteWithoutWork) {
+  Service service({});
+  const PlateAnswer plate = PlateOn(service);
+  const std::string mesh = PlateObj();
+  for (const char* output : {R"({"format":"drc"})", R"({"compression":"meshopt"})",
+                             R"({"format":"ply","distortion":true})"}) {
+    SCOPED_TRACE(output);
+    const CacheStats before = service.answer_cache_stats();
+    auto made = service.Deform({mesh, plate.params(output), ""});
+    ASSERT_TRUE(made.ok()) << made.status().ToString();
+    EXPECT_FALSE(json::parse(made->stats_json).contains("answer_kept"));
+    auto kept = service.Deform({mesh, plate.params(output), ""});
+    ASSERT_TRUE(kept.ok());
+    EXPECT_EQ(kept->body, made->body);
+    EXPECT_EQ(kept->etag, made->etag);
+    EXPECT_EQ(kept->content_type, made->content_type);
+    EXPECT_TRUE(json::parse(kept->stats_json).value("answer_kept", false));
+    EXPECT_TRUE(kept->timings.empty()) << "no parse, deformation or encoding";
+    const CacheStats after = service.answer_cache_stats();
+    EXPECT_EQ(after.misses - before.misses, 1u);
+    EXPECT_EQ(after.hits - before.hits, 1u);
+  }
+  // The same model by id: the same key, so the same answer (kept).
+  auto uploaded = service.UploadModel(mesh, "");
+  ASSERT_TRUE(uploaded.ok());
+  const std::string by_id = R"({"model_id":")" + uploaded->model_id + R"(",)" +
+                            plate.params(R"({"format":"drc"})").substr(1);
+  auto kept = service.Deform({"", by_id, ""});
+  ASSERT_TRUE(kept.ok()) << kept.status().ToString();
+  EXPECT_TRUE(json::parse(kept->stats_json).value("answer_kept", false));
+}
+
+TEST(Service, AnIfNoneMatchNamingTheAnswerIs304BeforeAnyWork) {
+  Service service({});
+  const PlateAnswer plate = PlateOn(service);
+  auto uploaded = service.UploadModel(PlateObj(), "");
+  ASSERT_TRUE(uploaded.ok());
+  const std::string params = R"({"model_id":")" + uploaded->model_id + R"(",)" +
+                             plate.params(R"({"compression":"meshopt"})").substr(1);
+  auto made = service.Deform({"", params, ""});
+  ASSERT_TRUE(made.ok()) << made.status().ToString();
+  const CacheStats models = service.model_cache_stats();
+  const CacheStats answers = service.answer_cache_stats();
+  DeformRequest again{"", params, ""};
+  again.if_none_match = "\"" + made->etag + "\"";
+  auto not_modified = service.Deform(again);
+  ASSERT_TRUE(not_modified.ok());
+  EXPECT_TRUE(not_modified->not_modified);
+  EXPECT_TRUE(not_modified->body.empty());
+  EXPECT_EQ(not_modified->etag, made->etag);
+  // Neither the model nor the kept answers were looked at.
+  EXPECT_EQ(service.model_cache_stats().hits, models.hits);
+  EXPECT_EQ(service.answer_cache_stats().hits, answers.hits);
+  EXPECT_EQ(service.answer_cache_stats().misses, answers.misses);
+  // Another placement's ETag differs: made.
+  const std::string moved_params = R"({"model_id":")" + uploaded->model_id + R"(",)" +
+                                   plate.params(R"({"compression":"meshopt"})", 0.5).substr(1);
+  DeformRequest other{"", moved_params, ""};
+  other.if_none_match = again.if_none_match;
+  auto moved = service.Deform(other);
+  ASSERT_TRUE(moved.ok()) << moved.status().ToString();
+  EXPECT_FALSE(moved->not_modified);
+  EXPECT_NE(moved->etag, made->etag);
+}
+
+TEST(Service, AnAnswerMadeAgainAfterItsEvictionIsByteIdentical) {
+  const std::string mesh = PlateObj();
+  // A budget that holds one of these answers, not two.
+  size_t one = 0;
+  {
+    Service probe({});
+    auto r = probe.Deform({mesh, PlateOn(probe).params(R"({"format":"glb"})"), ""});
+    ASSERT_TRUE(r.ok());
+    one = EstimateBytes(*r);
+  }
+  ServiceOptions o;
+  o.limits.answer_cache_bytes = one * 3 / 2;
+  Service service(o);
+  const PlateAnswer plate = PlateOn(service);
+  auto first = service.Deform({mesh, plate.params(R"({"format":"glb"})"), ""});
+  auto other = service.Deform({mesh, plate.params(R"({"format":"glb"})", 0.5), ""});
+  auto again = service.Deform({mesh, plate.params(R"({"format":"glb"})"), ""});
+  ASSERT_TRUE(first.ok() && other.ok() && again.ok());
+  EXPECT_GE(service.answer_cache_stats().evictions, 1u);
+  EXPECT_FALSE(json::parse(again->stats_json).contains("answer_kept")) << "made again";
+  EXPECT_EQ(again->body, first->body);
+  EXPECT_EQ(again->etag, first->etag);
+}
+
+TEST(Service, ABudgetOfZeroKeepsNoAnswer) {
+  Service service(EveryAnswerMade());
+  const PlateAnswer plate = PlateOn(service);
+  const std::string mesh = PlateObj();
+  for (int k = 0; k < 2; ++k) {
+    auto r = service.Deform({mesh, plate.params(R"({"format":"drc"})"), ""});
+    ASSERT_TRUE(r.ok());
+    EXPECT_FALSE(json::parse(r->stats_json).contains("answer_kept"));
+  }
+  const CacheStats s = service.answer_cache_stats();
+  EXPECT_EQ(s.hits + s.misses + s.entries, 0u);
+  EXPECT_EQ(s.capacity_bytes, 0u);
 }
 
 }  // namespace
