@@ -228,6 +228,13 @@ bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* 
     }
     output["distortion"] = true;
   }
+  if (!o.compression.empty()) {
+    if (kind != OutputKind::kGlb) {
+      *error = {CliError::Kind::kUsage, "--compression: compresses .glb output only"};
+      return false;
+    }
+    output["compression"] = o.compression;
+  }
   switch (kind) {
     case OutputKind::kDrc:
       output["format"] = "drc";

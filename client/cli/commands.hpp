@@ -51,6 +51,7 @@ struct DeformOptions {
   std::string scale;        // "fit" or a number, or empty
   bool lossless = false;    // .obj/.ply: ask for them instead of decoding Draco locally
   bool distortion = false;  // output.distortion (.glb and .ply only; .ply then comes lossless)
+  std::string compression;  // output.compression (.glb only): "draco", "meshopt", "none" or empty
 };
 
 // POST /v1/surfaces/{id}/map with `request` (JSON text or a file: points,

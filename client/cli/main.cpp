@@ -88,6 +88,10 @@ int main(int argc, char** argv) {
     sub->add_flag("--distortion", d.distortion,
                   "Add the distortion map (.glb: attribute _DISTORTION; .ply: properties "
                   "distortion_max, distortion_min) and print its summary");
+    sub->add_option("--compression", d.compression,
+                    "output.compression for .glb: draco (the default), meshopt (some 10x faster "
+                    "for the server to encode; three.js decodes it with MeshoptDecoder) or none")
+        ->check(CLI::IsMember({"draco", "meshopt", "none"}));
     sub->add_flag("--lossless", d.lossless,
                   "For .obj/.ply, ask the server for them instead of Draco decoded here "
                   "(more bytes over the wire, no quantization)");

@@ -158,6 +158,17 @@ try {
   await sleep(300);
   await settled('ready', 'subdivision off');
   {
+    // Exact results come as meshopt GLB; decoded by three.js here, they hold
+    // the Draco GLB's positions to within the two quantizations.
+    const s = await stats();
+    check(s && s.compression === 'meshopt', `the viewer asks for meshopt (${s && s.compression})`);
+    const c = await viewer(() => window.surfdeformViewer.compareEncodings());
+    check(c.worst <= c.bound * 1.001,
+          `meshopt and Draco GLB decode to the same positions (${c.worst.toExponential(2)} <= ` +
+          `${c.bound.toExponential(2)}; ${c.vertices.join(' / ')} vertices, ` +
+          `${c.bytes.meshopt} / ${c.bytes.draco} bytes)`);
+  }
+  {
     // The footprint: the preview follows every move, no request; the release
     // asks once, and the exact result lands where the preview was.
     await toTop();

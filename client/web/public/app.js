@@ -17,7 +17,9 @@
 // document.body.dataset.state is "loading", "ready" or "error" (tests wait on
 // it): "loading" from the moment an edit schedules work until the newest
 // exact deformation is on screen, so "ready" always shows the current inputs.
+import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 
 import { createSurface, deform, getSurface, mapOnSurface } from './api.js';
 import { AnimationPanel } from './animation_panel.js';
@@ -75,7 +77,9 @@ const modelView = new ModelView($('view3d'), (index, point, final) => {
   else liveSurface();
 });
 modelView.setPreview(preview.mesh);
-const gltf = new GLTFLoader().setDRACOLoader(dracoLoader());
+// Exact results come as meshopt GLB (some 10x faster for the server to
+// encode than Draco, decoded here at GB/s); downloads stay Draco (smaller).
+const gltf = new GLTFLoader().setDRACOLoader(dracoLoader()).setMeshoptDecoder(MeshoptDecoder);
 
 function setState(s) { document.body.dataset.state = s; }
 
@@ -258,7 +262,7 @@ function scheduleSurface() {
 
 // --- deformation ---------------------------------------------------------
 
-function deformParams(format) {
+function deformParams(format, compression) {
   const p = state.placement;
   return {
     surface_id: state.surfaceId,
@@ -272,7 +276,11 @@ function deformParams(format) {
     },
     subdivision: { mode: $('subdivision').value },
     // The distortion map travels in GLB (and PLY) only.
-    output: format === 'glb' && $('distortion').checked ? { format, distortion: true } : { format },
+    output: {
+      format,
+      ...(compression ? { compression } : {}),
+      ...(format === 'glb' && $('distortion').checked ? { distortion: true } : {}),
+    },
   };
 }
 
@@ -323,7 +331,7 @@ async function runDeform() {
     const t0 = performance.now();
     const asked = state.fitNext ? null : { ...state.placement, center: [...state.placement.center] };
     const { bytes, stats, timing } = await deform(state.model.bytes, state.model.name,
-                                                  deformParams('glb'), 'model/gltf-binary');
+                                                  deformParams('glb', 'meshopt'), 'model/gltf-binary');
     const t1 = performance.now();
     performance.mark('surfdeform:exact-received');
     const scene = (await gltf.parseAsync(bytes, '')).scene;
@@ -518,8 +526,50 @@ const animationPanel = new AnimationPanel(modelView, () => ({
                anchor: $('anchor').value },
 }), showError);
 
+// The current deformation as the viewer receives it (meshopt GLB) against
+// the Draco GLB of the same request, both decoded by three.js: every vertex
+// of each lies within the two quantizations of the other (Draco's 14-bit
+// positions over its bounding box, meshopt's over the node's scale).
+async function compareEncodings() {
+  const decoded = async (compression) => {
+    const { bytes } = await deform(state.model.bytes, state.model.name,
+                                   deformParams('glb', compression), 'model/gltf-binary');
+    const scene = (await gltf.parseAsync(bytes, '')).scene;
+    scene.updateMatrixWorld(true);
+    const positions = [];
+    let scale = 1;
+    const v = new THREE.Vector3();
+    scene.traverse((o) => {
+      if (!o.isMesh) return;
+      scale = o.getWorldScale(new THREE.Vector3()).x;
+      const pos = o.geometry.getAttribute('position');
+      for (let k = 0; k < pos.count; ++k) {
+        v.fromBufferAttribute(pos, k).applyMatrix4(o.matrixWorld);
+        positions.push(v.x, v.y, v.z);
+      }
+    });
+    return { positions, scale, bytes: bytes.byteLength };
+  };
+  const meshopt = await decoded('meshopt');
+  const draco = await decoded('draco');
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  for (let k = 0; k < draco.positions.length; ++k) {
+    lo[k % 3] = Math.min(lo[k % 3], draco.positions[k]);
+    hi[k % 3] = Math.max(hi[k % 3], draco.positions[k]);
+  }
+  const dracoStep = Math.max(...hi.map((h, c) => h - lo[c])) / (2 ** 14 - 1);
+  const meshoptStep = meshopt.scale / 32767;
+  const bound = (Math.sqrt(3) / 2) * (dracoStep + meshoptStep);
+  const all = 1e9;  // every vertex, not a sample
+  const there = nearestDistances(meshopt.positions, draco.positions, bound, all);
+  const back = nearestDistances(draco.positions, meshopt.positions, bound, all);
+  return { worst: Math.max(there.max, back.max), bound, dracoStep, meshoptStep,
+           vertices: [meshopt.positions.length / 3, draco.positions.length / 3],
+           bytes: { meshopt: meshopt.bytes, draco: draco.bytes } };
+}
+
 // For tests and the curious: the state and the model's share of the 3D canvas.
-window.surfdeformViewer = { state, animation: animationPanel, preview,
+window.surfdeformViewer = { state, animation: animationPanel, preview, compareEncodings,
                             modelCoverage: () => modelView.modelCoverage(),
                             modelMask: () => modelView.modelMask(),
                             handlePoint: (k) => modelView.handleClientPoint(k),
