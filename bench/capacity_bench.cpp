@@ -166,6 +166,166 @@ int RunFor(int k, double seconds, Once once) {
   return failed ? -1 : done.load();
 }
 
+// --forms (issue #38): the request forms side by side, each a server with
+// no kept answers but the last. Per form and concurrency: requests per
+// second, the server's CPU per request, bytes per answer, and the wall time
+// of one request at one connection (median); then the ratios to inline
+// Draco. Forms alternate within each round, so that the machine's drift
+// hits them alike.
+struct Form {
+  const char* name;
+  Child* server;
+  std::string path_params;  // X-Surfdeform-Params (raw mesh body), or
+  std::string json_body;    // the whole body (application/json: by model id)
+  const char* accept;
+};
+
+struct FormStep {
+  int served = 0;
+  double cpu_s = 0.0, bytes = 0.0;
+  std::vector<double> wall_ms;  // one connection: each request's
+};
+
+int RunForms(double seconds, int rounds, int max_concurrency, const std::string& model_path) {
+  const std::string bunny = ReadFile(model_path);
+  Child work({SURFDEFORM_SERVER_BINARY, "--host", "127.0.0.1", "--port", "0", "--log-level", "off",
+              "--answer-cache-mib", "0"});
+  Child kept(
+      {SURFDEFORM_SERVER_BINARY, "--host", "127.0.0.1", "--port", "0", "--log-level", "off"});
+  if (work.port() == 0 || kept.port() == 0) return 1;
+  json figure10 = json::parse(ReadFile(std::string(SURFDEFORM_DATA_DIR) + "/figure10.json"));
+  figure10.erase("description");
+  const json surface = {{"surface", figure10}, {"sampling", {{"nu", 16}, {"nv", 16}}}};
+  std::string surface_id, model_id;
+  for (Child* c : {&work, &kept}) {
+    httplib::Client setup("127.0.0.1", c->port());
+    setup.set_read_timeout(60, 0);
+    auto created = setup.Post("/v1/surfaces", surface.dump(), "application/json");
+    auto uploaded = setup.Post("/v1/models", bunny, "application/octet-stream");
+    if (!created || created->status >= 300 || !uploaded || uploaded->status >= 300) return 1;
+    surface_id = json::parse(created->body).at("id");
+    model_id = json::parse(uploaded->body).at("id");
+  }
+  const json base = {{"surface_id", surface_id},
+                     {"placement", {{"scale", "fit"}, {"anchor", "center"}}},
+                     {"subdivision", {{"mode", "off"}}}};
+  json by_id = base;
+  by_id["model_id"] = model_id;
+  json by_id_meshopt = by_id;
+  by_id_meshopt["output"] = {{"compression", "meshopt"}};
+  std::vector<Form> forms = {
+      {"inline Draco", &work, base.dump(), "", "application/octet-stream"},
+      {"by id, Draco", &work, "", by_id.dump(), "application/octet-stream"},
+      {"by id, meshopt", &work, "", by_id_meshopt.dump(), "model/gltf-binary"},
+      {"repeated (kept)", &kept, "", by_id_meshopt.dump(), "model/gltf-binary"},
+  };
+  const size_t n = forms.size();
+  std::vector<std::vector<std::unique_ptr<httplib::Client>>> clients(n);
+  for (size_t f = 0; f < n; ++f) {
+    for (int t = 0; t < max_concurrency; ++t) {
+      auto c = std::make_unique<httplib::Client>("127.0.0.1", forms[f].server->port());
+      c->set_keep_alive(true);
+      c->set_tcp_nodelay(true);
+      c->set_read_timeout(60, 0);
+      clients[f].push_back(std::move(c));
+    }
+  }
+  // One request of form f on connection t; its answer's size to *bytes.
+  auto send = [&](size_t f, int t, size_t* bytes) {
+    const Form& form = forms[f];
+    httplib::Result r = form.json_body.empty()
+                            ? clients[f][t]->Post("/v1/deform",
+                                                  {{"X-Surfdeform-Params", form.path_params},
+                                                   {"Accept", form.accept}},
+                                                  bunny, "application/octet-stream")
+                            : clients[f][t]->Post("/v1/deform", {{"Accept", form.accept}},
+                                                  form.json_body, "application/json");
+    if (!r || r->status != 200) return false;
+    *bytes = r->body.size();
+    return true;
+  };
+  for (size_t f = 0; f < n; ++f) {
+    size_t bytes = 0;
+    for (int warm = 0; warm < 4; ++warm) {
+      if (!send(f, 0, &bytes)) {
+        std::fprintf(stderr, "%s: the warm-up request failed\n", forms[f].name);
+        return 1;
+      }
+    }
+  }
+  std::printf(
+      "\nrequest forms (issue #38): %s (%zu bytes) on Figure 10 (16x16), subdivision off; no "
+      "kept answers but in the last form; %.1f s per form and round, %d rounds\n",
+      model_path.c_str(), bunny.size(), seconds, rounds);
+  std::printf("%-16s %5s | %9s %11s %10s %9s\n", "form", "conc", "req/s", "CPU ms/req", "bytes",
+              "1-conn ms");
+  std::vector<std::vector<FormStep>> steps(n, std::vector<FormStep>(max_concurrency + 1));
+  for (int k = 1; k <= max_concurrency; ++k) {
+    for (int round = 0; round < rounds; ++round) {
+      for (size_t f = 0; f < n; ++f) {
+        FormStep& s = steps[f][k];
+        std::vector<std::vector<double>> walls(k);
+        std::vector<double> sizes(k, 0.0);
+        const double c0 = forms[f].server->CpuSeconds();
+        const int served = RunFor(k, seconds, [&](int t) {
+          size_t bytes = 0;
+          const auto t0 = Clock::now();
+          const bool ok = send(f, t, &bytes);
+          walls[t].push_back(surfdeform::bench::MsSince(t0));
+          sizes[t] = static_cast<double>(bytes);
+          return ok;
+        });
+        const double c1 = forms[f].server->CpuSeconds();
+        if (served <= 0) {
+          std::fprintf(stderr, "%s failed at concurrency %d\n", forms[f].name, k);
+          return 1;
+        }
+        s.served += served;
+        s.cpu_s += c1 - c0;
+        s.bytes = sizes[0];
+        if (k == 1) s.wall_ms.insert(s.wall_ms.end(), walls[0].begin(), walls[0].end());
+      }
+    }
+  }
+  struct Best {
+    double per_second = 0, cpu_ms = 0, bytes = 0, wall_ms = 0;
+    int k = 0;
+  };
+  std::vector<Best> best(n);
+  for (size_t f = 0; f < n; ++f) {
+    for (int k = 1; k <= max_concurrency; ++k) {
+      const FormStep& s = steps[f][k];
+      const double per_second = s.served / (seconds * rounds);
+      const double cpu_ms = 1000 * s.cpu_s / s.served;
+      const double wall = k == 1 ? surfdeform::bench::Median(s.wall_ms) : 0.0;
+      std::printf("%-16s %5d | %9.1f %11.2f %10.0f %9s\n", forms[f].name, k, per_second, cpu_ms,
+                  s.bytes, k == 1 ? std::to_string(wall).substr(0, 6).c_str() : "");
+      if (per_second > best[f].per_second) {
+        best[f] = {per_second, cpu_ms, s.bytes, best[f].wall_ms, k};
+      }
+      if (k == 1) best[f].wall_ms = wall;
+    }
+  }
+  std::printf("\n%-16s | %9s %5s %11s %10s %9s | %9s %9s %9s %9s\n", "form", "capacity", "at",
+              "CPU ms/req", "bytes", "1-conn ms", "capacity", "CPU", "bytes", "1-conn");
+  std::printf("%-16s | %9s %5s %11s %10s %9s | %39s\n", "", "req/s", "conc", "", "", "",
+              "ratios to inline Draco");
+  for (size_t f = 0; f < n; ++f) {
+    const Best& b = best[f];
+    std::printf("%-16s | %9.1f %5d %11.2f %10.0f %9.2f | %8.2fx %8.2fx %8.2fx %8.2fx\n",
+                forms[f].name, b.per_second, b.k, b.cpu_ms, b.bytes, b.wall_ms,
+                b.per_second / best[0].per_second, b.cpu_ms / best[0].cpu_ms,
+                b.bytes / best[0].bytes, b.wall_ms / best[0].wall_ms);
+  }
+  std::printf(
+      "targets (issue #38): by id with meshopt >= 3x inline Draco's capacity (%.2fx); by id with "
+      "Draco >= 1.1x (%.2fx); one request by id with meshopt at one connection <= 1/3 of inline "
+      "Draco's wall time (%.2f)\n",
+      best[2].per_second / best[0].per_second, best[1].per_second / best[0].per_second,
+      best[2].wall_ms / best[0].wall_ms);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -178,11 +338,21 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   app.add_option("--max-concurrency", max_concurrency, "the last step")->capture_default_str();
+  bool forms = false;
+  std::string model = std::string(SURFDEFORM_DATA_DIR) + "/bunny.ply";
+  app.add_option("--model", model, "with --forms: the mesh file")->capture_default_str();
+  app.add_flag("--forms", forms,
+               "compare the request forms instead (inline Draco, by model id with Draco and with "
+               "meshopt, repeated answers kept)");
   CLI11_PARSE(app, argc, argv);
+  if (forms) {
+    return RunForms(seconds, rounds, max_concurrency, model);
+  }
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 
-  Child server(
-      {SURFDEFORM_SERVER_BINARY, "--host", "127.0.0.1", "--port", "0", "--log-level", "off"});
+  // No kept answers: every request does its work.
+  Child server({SURFDEFORM_SERVER_BINARY, "--host", "127.0.0.1", "--port", "0", "--log-level",
+                "off", "--answer-cache-mib", "0"});
   if (server.port() == 0) {
     std::fprintf(stderr, "the server did not start (%s)\n", SURFDEFORM_SERVER_BINARY);
     return 1;

@@ -114,7 +114,8 @@ printf 'bunny (%s) on the cached Figure 10 surface (16x16), Draco out; %d reques
 printf '%-9s | %-15s %-15s %-9s | %-15s %-15s %-9s | %s\n' mode "server Ir/req" "in Draco" ratio \
   "ceiling Ir/req" "in Draco" ratio "server/ceiling"
 for mode in off adaptive; do
-  start server "$server" --host 127.0.0.1 --port 0 --log-level off
+  # No kept answers: every request does its work.
+  start server "$server" --host 127.0.0.1 --port 0 --log-level off --answer-cache-mib 0
   id=$(curl -sf -H 'Content-Type: application/json' --data-binary "$surface" \
     "http://127.0.0.1:$port/v1/surfaces" | python3 -c 'import json,sys; print(json.load(sys.stdin)["id"])')
   params="{\"surface_id\":\"$id\",\"placement\":{\"scale\":\"fit\",\"anchor\":\"center\"},\"subdivision\":{\"mode\":\"$mode\"}"

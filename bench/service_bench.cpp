@@ -52,7 +52,9 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   surfdeform::TuneAllocatorForServing();  // as surfdeform-server does
 
-  surfdeform::Service service({});
+  surfdeform::ServiceOptions options;
+  options.limits.answer_cache_bytes = 0;  // every request does its work
+  surfdeform::Service service(options);
   surfdeform::http::HttpOptions http_options;
   http_options.port = 0;
   http_options.log_level = surfdeform::http::LogLevel::kOff;

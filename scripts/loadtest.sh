@@ -17,7 +17,21 @@
 # so the ratios hold where goodput does not).
 #
 # Environment:
-#   LOADTEST_SCRIPT       deform_by_id (default), deform_multipart, deform_inline
+#   LOADTEST_FORM         the request form (issue #38), which sets the script:
+#                         inline_draco (the default: deform_by_id, the raw
+#                         mesh each time, Draco out), id_draco (the model
+#                         uploaded once and named by model_id, Draco out),
+#                         id_meshopt (by id, GLB with meshopt), repeated
+#                         (id_meshopt against a server that keeps answers:
+#                         the same request answered from them); or all:
+#                         each form in turn, then one table of their
+#                         capacities, CPU and bytes per request and the
+#                         ratios to inline_draco. A server this script starts
+#                         keeps no answers (--answer-cache-mib 0) but for
+#                         repeated, so that identical requests measure the
+#                         work; give a URL's server that flag likewise.
+#   LOADTEST_SCRIPT       deform_by_id (default), deform_multipart, deform_inline,
+#                         deform_model_id (without LOADTEST_FORM)
 #   LOADTEST_MESH         the mesh (default client/web/samples/bunny.ply)
 #   LOADTEST_SUBDIVISION  off (default), adaptive, uniform
 #   LOADTEST_SECONDS      seconds per step (default 5)
@@ -45,7 +59,41 @@
 #   LOADTEST_JSON=FILE    also write the steps as JSON
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-script=${LOADTEST_SCRIPT:-deform_by_id}
+form=${LOADTEST_FORM:-}
+if [[ $form == all ]]; then
+  forms_dir=$(mktemp -d)
+  trap 'rm -rf "$forms_dir"' EXIT
+  for f in inline_draco id_draco id_meshopt repeated; do
+    echo "== $f"
+    LOADTEST_FORM=$f LOADTEST_JSON="$forms_dir/$f.json" LOADTEST_CHECK=0 "$0" "$@"
+  done
+  python3 - "$forms_dir" << 'PY'
+import json, os, sys
+rows = []
+for f in ("inline_draco", "id_draco", "id_meshopt", "repeated"):
+    r = json.load(open(os.path.join(sys.argv[1], f + ".json")))
+    best = max(r["steps"][:-2], key=lambda w: w["codes"].get("200", 0) / w["duration_s"])
+    served = best["codes"].get("200", 0)
+    rows.append((f, r["capacity"], best["connections"], 1000 * best["server_cpu_s"] / served,
+                 best["bytes"] / max(best["requests"], 1), best["served_ms"]["p50"]))
+base = rows[0]
+print(f"\n{'form':<13} {'capacity':>9} {'conns':>5} {'CPU ms/req':>10} {'bytes/resp':>10} {'p50 ms':>8}"
+      f" | {'capacity':>8} {'CPU':>6} {'bytes':>6}  (to inline_draco)")
+for f, cap, conns, cpu, size, p50 in rows:
+    print(f"{f:<13} {cap:>9.1f} {conns:>5} {cpu:>10.2f} {size:>10.0f} {p50:>8.1f}"
+          f" | {cap / base[1]:>7.2f}x {cpu / base[3]:>5.2f}x {size / base[4]:>5.2f}x")
+PY
+  exit 0
+fi
+case $form in
+  "" | inline_draco) script=${LOADTEST_SCRIPT:-deform_by_id} ;;
+  id_draco | id_meshopt | repeated) script=deform_model_id ;;
+  *) echo "loadtest: LOADTEST_FORM is inline_draco, id_draco, id_meshopt, repeated or all" >&2; exit 2 ;;
+esac
+# Kept answers would serve identical requests without work: only the
+# repeated form measures them.
+keep_answers=()
+[[ $form == repeated ]] || keep_answers=(--answer-cache-mib 0)
 mesh=${LOADTEST_MESH:-$root/client/web/samples/bunny.ply}
 subdivision=${LOADTEST_SUBDIVISION:-off}
 seconds=${LOADTEST_SECONDS:-5}
@@ -71,7 +119,7 @@ if [[ -z $url ]]; then
     cmake -S "$root" -B "$root/build" -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
     cmake --build "$root/build" --target surfdeform-server > /dev/null
   fi
-  "$bin" --host 127.0.0.1 --port 0 --log-level warn > "$work/server.log" 2>&1 &
+  "$bin" --host 127.0.0.1 --port 0 --log-level warn "${keep_answers[@]}" > "$work/server.log" 2>&1 &
   server_pid=$!
   for _ in $(seq 200); do
     grep -q '"listening"' "$work/server.log" 2> /dev/null && break
@@ -94,6 +142,14 @@ id=$(curl -sf -H 'Content-Type: application/json' --data-binary @"$work/surface.
   || { echo "loadtest: POST /v1/surfaces to $url failed" >&2; exit 2; }
 case $script in
   deform_inline) args=("$work/surface.json" "$mesh" "$subdivision") ;;
+  deform_model_id)
+    model=$(curl -sf --data-binary @"$mesh" -H 'Content-Type: application/octet-stream' "$url/v1/models" \
+      | python3 -c 'import json, sys; print(json.load(sys.stdin)["id"])') \
+      || { echo "loadtest: POST /v1/models to $url failed" >&2; exit 2; }
+    compression=draco
+    [[ $form == id_meshopt || $form == repeated ]] && compression=meshopt
+    args=("$id" "$model" "$subdivision" "$compression")
+    ;;
   *) args=("$id" "$mesh" "$subdivision") ;;
 esac
 # Requests that can run or wait at once: past them, requests are refused.
@@ -141,7 +197,7 @@ print(json.dumps(w))' "$out" "$c" "$work/before" "$work/after" >> "$work/steps"
 }
 goodput_of_last() { tail -1 "$work/steps" | python3 -c 'import json, sys; w = json.load(sys.stdin); print(w["codes"].get("200", 0) / w["duration_s"])'; }
 
-echo "loadtest: $url, tests/load/$script.lua, $(basename "$mesh"), subdivision $subdivision, ${seconds} s per step"
+echo "loadtest: $url, ${form:-} tests/load/$script.lua, $(basename "$mesh"), subdivision $subdivision, ${seconds} s per step"
 best=0 best_c=0 flat=0
 for c in 1 2 3 4 6 8 12 16 24 32 48 64 96 128; do
   ((c > max_connections)) && break

@@ -5,7 +5,8 @@
 -- scripts/loadtest.sh reads:
 --   {"wrk": {"requests":…, "duration_s":…, "codes":{"200":…}, "served":…,
 --     "served_ms":{"p50":…,"p90":…,"p99":…,"max":…}, "retry_after_missing":…,
---     "socket_errors":{…}, "latency_ms":{"p50":…,"p99":…}}}
+--     "socket_errors":{…}, "latency_ms":{"p50":…,"p99":…}, "bytes":…}}
+-- (bytes: every response's, headers included).
 -- Served latencies are timed per connection: run wrk with as many threads
 -- as connections (-t N -c N), as loadtest.sh does.
 local ffi = require("ffi")
@@ -89,10 +90,10 @@ function M.install(make_request)
       '{"wrk":{"requests":%d,"duration_s":%.3f,"codes":{%s},"served":%d,' ..
       '"served_ms":{"p50":%.3f,"p90":%.3f,"p99":%.3f,"max":%.3f},"retry_after_missing":%d,' ..
       '"socket_errors":{"connect":%d,"read":%d,"write":%d,"timeout":%d},' ..
-      '"latency_ms":{"p50":%.3f,"p99":%.3f}}}\n',
+      '"latency_ms":{"p50":%.3f,"p99":%.3f},"bytes":%d}}\n',
       summary.requests, summary.duration / 1e6, table.concat(code_parts, ","), #served,
       pct(50), pct(90), pct(99), pct(100), missing, e.connect, e.read, e.write, e.timeout,
-      latency:percentile(50) / 1000, latency:percentile(99) / 1000))
+      latency:percentile(50) / 1000, latency:percentile(99) / 1000, summary.bytes))
   end
 end
 
