@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "engine/deform.hpp"
@@ -20,6 +21,7 @@
 #include "harness.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
+#include "service/service_limits.hpp"
 #include "support/expect_ok.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"
@@ -58,9 +60,11 @@ struct Encoding {
   MeshFormat format;
   GlbEncoding glb;
   bool order_kept = false;  // meshopt: the vertex order computed before (a model that comes back)
+  bool split = false;       // Draco GLB in pieces past --split-vertices, on every core
 };
 
-int Run(int repeat, int relief_side) {
+int Run(int repeat, int relief_side, size_t split_vertices) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const BezierSpec fig10 = testing::LoadBezierFile(testing::DataPath("figure10.json"));
   auto surface = MakeSurface(fig10);
   testing::ExpectOk(surface);
@@ -83,6 +87,7 @@ int Run(int repeat, int relief_side) {
   const Encoding encodings[] = {
       {"drc", MeshFormat::kDraco, GlbEncoding::kDraco},
       {"glb draco", MeshFormat::kGlb, GlbEncoding::kDraco},
+      {"  in pieces", MeshFormat::kGlb, GlbEncoding::kDraco, false, true},
       {"glb meshopt", MeshFormat::kGlb, GlbEncoding::kMeshopt},
       {"  order kept", MeshFormat::kGlb, GlbEncoding::kMeshopt, true},
       {"glb quantized", MeshFormat::kGlb, GlbEncoding::kQuantized},
@@ -90,8 +95,9 @@ int Run(int repeat, int relief_side) {
   };
   std::printf(
       "delivery_bench: deformed onto Figure 10 (16x16, fit, subdivision off), %d runs "
-      "(medians); gzip = zlib level 6 (level 1 in brackets)\n\n",
-      repeat);
+      "(medians); gzip = zlib level 6 (level 1 in brackets); \"in pieces\": past %zu "
+      "vertices, %d threads\n\n",
+      repeat, split_vertices, cores);
   std::printf("%-16s %-14s %9s %8s %11s %11s %13s %9s %9s\n", "model", "encoding", "vertices", "ms",
               "ns/vertex", "bytes", "gzip", "ms/draco", "gz/draco");
   for (const Model& model : models) {
@@ -108,6 +114,10 @@ int Run(int repeat, int relief_side) {
     for (const Encoding& e : encodings) {
       ExportOptions o;
       o.glb = e.glb;
+      if (e.split) {
+        o.split_vertices = split_vertices;
+        o.threads = cores;
+      }
       if (e.order_kept) {
         auto order = ComputeMeshoptOrder(mesh);
         testing::ExpectOk(order);
@@ -143,6 +153,10 @@ int main(int argc, char** argv) {
   int relief_side = 776;  // 777^2 = 603,729 vertices
   app.add_option("--repeat", repeat, "runs per encoding (the median is printed)");
   app.add_option("--relief-side", relief_side, "quads per side of the relief");
+  size_t split_vertices = surfdeform::ServiceLimits{}.glb_split_vertices;
+  app.add_option("--split-vertices", split_vertices,
+                 "a Draco GLB past this many vertices is written in pieces (the server's default)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  return surfdeform::Run(repeat, relief_side);
+  return surfdeform::Run(repeat, relief_side, split_vertices);
 }

@@ -25,35 +25,9 @@ const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
 // A relief of about a million triangles (binary PLY): a 708 x 708 grid of
 // vertices, 0.4 high over 10 x 10, gently waved.
+const { gridPly } = await import(path.join(here, '../tests/browser/grid_ply.mjs'));
 function millionTriangles() {
-  const n = 708, verts = n * n, tris = 2 * (n - 1) * (n - 1);
-  const header = `ply\nformat binary_little_endian 1.0\nelement vertex ${verts}\n` +
-    'property float x\nproperty float y\nproperty float z\n' +
-    `element face ${tris}\nproperty list uchar int vertex_indices\nend_header\n`;
-  const body = Buffer.alloc(12 * verts + 13 * tris);
-  let o = 0;
-  for (let j = 0; j < n; ++j) {
-    for (let i = 0; i < n; ++i) {
-      const x = (10 * i) / (n - 1), y = (10 * j) / (n - 1);
-      body.writeFloatLE(x, o);
-      body.writeFloatLE(y, o + 4);
-      body.writeFloatLE(0.2 + 0.1 * Math.sin(2 * x) * Math.cos(3 * y), o + 8);
-      o += 12;
-    }
-  }
-  for (let j = 0; j + 1 < n; ++j) {
-    for (let i = 0; i + 1 < n; ++i) {
-      const a = i + n * j, b = a + 1, c = a + n + 1, d = a + n;
-      for (const [p, q, r] of [[a, b, c], [a, c, d]]) {
-        body.writeUInt8(3, o);
-        body.writeInt32LE(p, o + 1);
-        body.writeInt32LE(q, o + 5);
-        body.writeInt32LE(r, o + 9);
-        o += 13;
-      }
-    }
-  }
-  return Buffer.concat([Buffer.from(header), body]);
+  return gridPly(708, 0, 0, 10, (x, y) => 0.2 + 0.1 * Math.sin(2 * x) * Math.cos(3 * y)).bytes;
 }
 
 const { startServer } = await import(path.join(here, '../tests/browser/start_server.mjs'));

@@ -83,7 +83,8 @@ std::string AnswerKey(const AnswerKeyParts& parts) {
                   {"surface", parts.surface},
                   {"placement", CanonicalJson(*parts.placement)},
                   {"subdivision", CanonicalJson(*parts.subdivision)},
-                  {"output", CanonicalJson(*parts.output, parts.format)}};
+                  {"output", CanonicalJson(*parts.output, parts.format)},
+                  {"glb_split_vertices", parts.glb_split_vertices}};
   return j.dump();  // nlohmann's objects keep their keys sorted
 }
 

@@ -26,6 +26,8 @@ struct AnswerKeyParts {
   const SubdivisionOptions* subdivision = nullptr;
   const OutputOptions* output = nullptr;
   OutputFormat format = OutputFormat::kDrc;  // as chosen (output.format or Accept)
+  // The server's --glb-split-vertices: where a Draco GLB is cut into pieces.
+  size_t glb_split_vertices = 0;
 };
 
 // Canonical forms of the options, as the engine reads them (every default

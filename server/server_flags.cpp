@@ -58,6 +58,10 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
        "Byte budget of the encoded answers of POST /v1/deform kept by their key (a repeated "
        "request is answered without work), MiB; 0: none kept (load tests of the work itself)",
        0, 1 << 20);
+  Flag(app, "--glb-split-vertices", l.glb_split_vertices,
+       "A Draco GLB answer of more vertices is written in pieces (one primitive each, on one "
+       "quantization grid) encoded in parallel when cores are idle; 0: never",
+       0, 100'000'000);
   Flag(app, "--footprint-memo-mib", c->footprint_mib,
        "Byte budget for where the vertices of models that come back lie on their sheets (24 "
        "bytes a vertex), MiB; 0: none kept",

@@ -4,7 +4,9 @@
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "base/fault_points.hpp"
@@ -81,8 +83,46 @@ int AddAttribute(draco::Mesh* dm, draco::GeometryAttribute::Type type, int compo
 
 }  // namespace
 
+namespace {
+
+// The box Draco's quantization takes over `values` (as floats, which Draco
+// reads): per-component minimum, and the largest extent (1 for none).
+template <typename V, size_t N>
+void GridOf(const std::vector<const std::vector<V>*>& sets, std::array<float, N>* origin,
+            float* range) {
+  std::array<float, N> lo, hi;
+  lo.fill(std::numeric_limits<float>::max());
+  hi.fill(std::numeric_limits<float>::lowest());
+  bool any = false;
+  for (const std::vector<V>* values : sets) {
+    for (const V& v : *values) {
+      any = true;
+      for (size_t c = 0; c < N; ++c) {
+        const float x = static_cast<float>(v[static_cast<Eigen::Index>(c)]);
+        lo[c] = std::min(lo[c], x);
+        hi[c] = std::max(hi[c], x);
+      }
+    }
+  }
+  if (!any) return;
+  float extent = 0.0f;
+  for (size_t c = 0; c < N; ++c) extent = std::max(extent, hi[c] - lo[c]);
+  *origin = lo;
+  *range = extent > 0.0f ? extent : 1.0f;
+}
+
+}  // namespace
+
+DracoGrid DracoGridOf(const Mesh& mesh) {
+  DracoGrid g;
+  GridOf<Vec3, 3>({&mesh.positions}, &g.position_origin, &g.position_range);
+  GridOf<Vec2, 2>({&mesh.uv0, &mesh.uv1}, &g.uv_origin, &g.uv_range);
+  GridOf<Vec4, 4>({&mesh.colors}, &g.color_origin, &g.color_range);
+  return g;
+}
+
 Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& o,
-                                int ids[kGltfDracoAttributes]) {
+                                int ids[kGltfDracoAttributes], const DracoGrid* grid) {
   SURFDEFORM_RETURN_IF_ERROR(ValidateDracoOptions(o));
   const size_t n = mesh.positions.size();
   draco::Mesh dm;
@@ -132,6 +172,14 @@ Result<std::string> EncodeDraco(const Mesh& mesh, const DracoOptions& o,
   encoder.SetAttributeQuantization(GA::NORMAL, o.normal_bits);
   encoder.SetAttributeQuantization(GA::TEX_COORD, o.uv_bits);
   encoder.SetAttributeQuantization(GA::COLOR, o.color_bits);
+  if (grid != nullptr) {
+    encoder.SetAttributeExplicitQuantization(GA::POSITION, o.position_bits, 3,
+                                             grid->position_origin.data(), grid->position_range);
+    encoder.SetAttributeExplicitQuantization(GA::TEX_COORD, o.uv_bits, 2, grid->uv_origin.data(),
+                                             grid->uv_range);
+    encoder.SetAttributeExplicitQuantization(GA::COLOR, o.color_bits, 4, grid->color_origin.data(),
+                                             grid->color_range);
+  }
   encoder.SetSpeedOptions(o.speed, o.speed);
   encoder.SetEncodingMethod(o.sequential ? draco::MESH_SEQUENTIAL_ENCODING
                                          : draco::MESH_EDGEBREAKER_ENCODING);

@@ -1,9 +1,13 @@
 // GLB export (see gltf_io.hpp).
 #include <tiny_gltf.h>
 
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <sstream>
+#include <thread>
 
+#include "engine/parallel.hpp"
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
 #include "meshio/gltf_look.hpp"
@@ -81,11 +85,11 @@ std::map<std::string, int> AddAttributes(tinygltf::Model* m, const Mesh& mesh, b
   return attrs;
 }
 
-// The triangles of one group with only the vertices they use (in their
-// original order), for per-primitive Draco compression.
-Mesh SubMesh(const Mesh& mesh, const MeshGroup& g) {
+// Triangles (by index) with only the vertices they use (in their original
+// order), for per-primitive Draco compression.
+Mesh SubMesh(const Mesh& mesh, const std::vector<uint32_t>& triangles) {
   std::vector<int64_t> remap(mesh.positions.size(), -1);
-  for (uint32_t t = g.first_triangle; t < g.first_triangle + g.triangle_count; ++t)
+  for (uint32_t t : triangles)
     for (uint32_t v : mesh.triangles[t]) remap[v] = 0;
   Mesh sub;
   for (size_t v = 0; v < remap.size(); ++v) {
@@ -99,13 +103,81 @@ Mesh SubMesh(const Mesh& mesh, const MeshGroup& g) {
     if (!mesh.colors.empty()) sub.colors.push_back(mesh.colors[v]);
     if (!mesh.distortion.empty()) sub.distortion.push_back(mesh.distortion[v]);
   }
-  for (uint32_t t = g.first_triangle; t < g.first_triangle + g.triangle_count; ++t) {
+  for (uint32_t t : triangles) {
     const auto& tri = mesh.triangles[t];
     sub.triangles.push_back({static_cast<uint32_t>(remap[tri[0]]),
                              static_cast<uint32_t>(remap[tri[1]]),
                              static_cast<uint32_t>(remap[tri[2]])});
   }
   return sub;
+}
+
+// A piece of a group for Draco: its triangles.
+struct Piece {
+  size_t group = 0;
+  std::vector<uint32_t> triangles;
+};
+
+// The group's triangles cut into `pieces` (a power of two) at the median
+// of their centroids along the longest side of their box, recursively:
+// compact pieces, whose borders are short. The halves are cut on their own
+// threads when `threads` allows; the pieces are the same either way.
+// `centroids` are the triangles' (3x their centroid), by triangle - `base`.
+void SplitSpatially(const std::vector<Vec3>& centroids, uint32_t base,
+                    std::vector<uint32_t> triangles, int pieces, int threads,
+                    std::vector<std::vector<uint32_t>>* out) {
+  if (pieces <= 1 || triangles.size() < 2) {
+    out->push_back(std::move(triangles));
+    return;
+  }
+  auto centroid = [&](uint32_t t) -> const Vec3& { return centroids[t - base]; };
+  Vec3 lo = centroid(triangles[0]), hi = lo;
+  for (uint32_t t : triangles) {
+    lo = lo.cwiseMin(centroid(t));
+    hi = hi.cwiseMax(centroid(t));
+  }
+  Eigen::Index axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  // The median from a histogram of the coordinates (to a bin of 1/4096 of
+  // the extent), then one pass that keeps each half in the triangles' order
+  // (Draco's traversal starts from it): linear, where a sort is not.
+  constexpr int kBins = 4096;
+  const double from = lo[axis], extent = hi[axis] - lo[axis];
+  std::vector<uint16_t> bins(triangles.size());
+  std::vector<size_t> counts(kBins, 0);
+  for (size_t k = 0; k < triangles.size(); ++k) {
+    const double x = extent > 0.0 ? (centroid(triangles[k])[axis] - from) / extent : 0.0;
+    bins[k] = static_cast<uint16_t>(std::min(kBins - 1, static_cast<int>(x * kBins)));
+    ++counts[bins[k]];
+  }
+  int cut = 0;  // bins below `cut` go first
+  for (size_t below = 0; cut < kBins && below + counts[cut] <= triangles.size() / 2; ++cut) {
+    below += counts[cut];
+  }
+  if (cut == 0) cut = 1;  // never an empty first half
+  std::vector<uint32_t> first, second;
+  first.reserve(triangles.size() / 2 + 1);
+  second.reserve(triangles.size() / 2 + 1);
+  for (size_t k = 0; k < triangles.size(); ++k) {
+    (bins[k] < cut ? first : second).push_back(triangles[k]);
+  }
+  if (second.empty()) {  // every centroid in one bin: halves by count
+    second.assign(first.begin() + static_cast<long>(first.size() / 2), first.end());
+    first.resize(first.size() / 2);
+  }
+  std::vector<uint32_t>().swap(triangles);
+  std::vector<std::vector<uint32_t>> later;
+  if (threads > 1) {
+    std::thread other([&] {
+      SplitSpatially(centroids, base, std::move(second), pieces / 2, threads - threads / 2, &later);
+    });
+    SplitSpatially(centroids, base, std::move(first), pieces / 2, threads / 2, out);
+    other.join();
+  } else {
+    SplitSpatially(centroids, base, std::move(first), pieces / 2, 1, out);
+    SplitSpatially(centroids, base, std::move(second), pieces / 2, 1, &later);
+  }
+  for (std::vector<uint32_t>& piece : later) out->push_back(std::move(piece));
 }
 
 }  // namespace
@@ -166,14 +238,17 @@ Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
   AddMaterials(&m, o);
   tinygltf::Mesh gm;
   gm.name = groups.front().name.empty() ? "mesh" : groups.front().name;
-  std::map<std::string, int> shared;
-  if (!draco) shared = AddAttributes(&m, mesh, true);
-  for (const MeshGroup& g : groups) {
+  auto primitive_of = [&m](const MeshGroup& g) {
     tinygltf::Primitive prim;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
     prim.material =
         g.material >= 0 && g.material < static_cast<int>(m.materials.size()) ? g.material : -1;
-    if (!draco) {
+    return prim;
+  };
+  if (!draco) {
+    const std::map<std::string, int> shared = AddAttributes(&m, mesh, true);
+    for (const MeshGroup& g : groups) {
+      tinygltf::Primitive prim = primitive_of(g);
       prim.attributes = shared;
       std::vector<uint32_t> idx;
       idx.reserve(3 * g.triangle_count);
@@ -183,25 +258,63 @@ Result<std::string> WriteGlb(const Mesh& mesh, const ExportOptions& o) {
           AddView(&m, idx.data(), idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
       prim.indices = AddAccessor(&m, view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
                                  TINYGLTF_TYPE_SCALAR, idx.size());
-    } else {
-      const Mesh sub = SubMesh(mesh, g);
-      int ids[kGltfDracoAttributes];
-      SURFDEFORM_ASSIGN_OR_RETURN(auto encoded, EncodeDraco(sub, o.draco, ids));
+      gm.primitives.push_back(prim);
+    }
+  } else {
+    // One Draco primitive per group, or past o.split_vertices per piece of
+    // it, the pieces on one quantization grid and encoded in parallel.
+    const int pieces = GlbPieces(mesh.positions.size(), o.split_vertices);
+    const int threads = std::max(1, o.threads);
+    std::vector<Piece> parts;
+    for (size_t k = 0; k < groups.size(); ++k) {
+      const MeshGroup& g = groups[k];
+      std::vector<uint32_t> triangles(g.triangle_count);
+      std::vector<Vec3> centroids(pieces > 1 ? g.triangle_count : 0);
+      ParallelChunks(static_cast<int>(g.triangle_count), pieces > 1 ? threads : 1,
+                     [&](int, int begin, int end) {
+                       for (int t = begin; t < end; ++t) {
+                         triangles[t] = g.first_triangle + static_cast<uint32_t>(t);
+                         if (pieces == 1) continue;
+                         const auto& tri = mesh.triangles[triangles[t]];
+                         centroids[t] = mesh.positions[tri[0]] + mesh.positions[tri[1]] +
+                                        mesh.positions[tri[2]];
+                       }
+                     });
+      std::vector<std::vector<uint32_t>> split;
+      SplitSpatially(centroids, g.first_triangle, std::move(triangles), pieces, threads, &split);
+      for (std::vector<uint32_t>& piece : split) parts.push_back({k, std::move(piece)});
+    }
+    const DracoGrid grid = DracoGridOf(mesh);
+    const DracoGrid* shared_grid = pieces > 1 ? &grid : nullptr;
+    const int n = static_cast<int>(parts.size());
+    std::vector<Mesh> subs(parts.size());
+    std::vector<std::array<int, kGltfDracoAttributes>> ids(parts.size());
+    std::vector<Result<std::string>> encoded(parts.size(), Status(ErrorCode::kInternal, "unset"));
+    ParallelChunks(n, threads, [&](int, int begin, int end) {
+      for (int p = begin; p < end; ++p) {
+        subs[p] = SubMesh(mesh, parts[p].triangles);
+        encoded[p] = EncodeDraco(subs[p], o.draco, ids[p].data(), shared_grid);
+      }
+    });
+    for (int p = 0; p < n; ++p) {
+      SURFDEFORM_RETURN_IF_ERROR(encoded[p].status());
+      const Mesh& sub = subs[p];
+      tinygltf::Primitive prim = primitive_of(groups[parts[p].group]);
       // Accessors describe the decoded data and have no buffer view.
       prim.attributes = AddAttributes(&m, sub, false);
       prim.indices = AddAccessor(&m, -1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
                                  sub.triangles.size() * 3);
-      const int view = AddView(&m, encoded.data(), encoded.size(), 0);
+      const int view = AddView(&m, encoded[p]->data(), encoded[p]->size(), 0);
       tinygltf::Value::Object attrs;
       for (int k = 0; k < kGltfDracoAttributes; ++k) {
-        if (ids[k] >= 0) attrs[kGltfDracoNames[k]] = tinygltf::Value(ids[k]);
+        if (ids[p][k] >= 0) attrs[kGltfDracoNames[k]] = tinygltf::Value(ids[p][k]);
       }
       tinygltf::Value::Object ext;
       ext["bufferView"] = tinygltf::Value(view);
       ext["attributes"] = tinygltf::Value(attrs);
       prim.extensions["KHR_draco_mesh_compression"] = tinygltf::Value(ext);
+      gm.primitives.push_back(prim);
     }
-    gm.primitives.push_back(prim);
   }
   if (draco) {
     m.extensionsUsed.push_back("KHR_draco_mesh_compression");

@@ -126,6 +126,15 @@ Status ValidateDracoOptions(const DracoOptions& o) {
   return Status::Ok();
 }
 
+int GlbPieces(size_t vertices, size_t split_vertices) {
+  if (split_vertices == 0 || vertices <= split_vertices) return 1;
+  int pieces = 2;
+  while (pieces < kMaxGlbPieces && vertices > split_vertices * static_cast<size_t>(pieces)) {
+    pieces *= 2;
+  }
+  return pieces;
+}
+
 static Result<std::string> ExportClean(const Mesh& mesh, MeshFormat format, const ExportOptions& o);
 
 Result<std::string> ExportMesh(const Mesh& mesh, MeshFormat format, const ExportOptions& o) {

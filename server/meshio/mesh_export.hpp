@@ -60,11 +60,21 @@ struct ExportOptions {
   // GLB: the input's glTF materials, textures and images (ImportedMesh::look),
   // written instead of plain materials named by `materials`.
   std::shared_ptr<const meshio::GltfLook> look;
-  int threads = 1;  // for encoders that split their work (meshopt's buffer views)
+  int threads = 1;  // for encoders that split their work (GLB pieces, meshopt's buffer views)
+  // A Draco GLB of more vertices than this is written in pieces (GlbPieces),
+  // encoded in parallel on `threads`; 0: one piece per group.
+  size_t split_vertices = 0;
   // The mesh's ComputeMeshoptOrder, when the caller keeps it (null, or one
   // that does not fit the mesh: computed).
   std::shared_ptr<const MeshoptOrder> meshopt_order;
 };
+
+// A Draco GLB of `vertices` is cut into this many pieces per group: 1 up to
+// split_vertices, then the smallest power of two that leaves each piece at
+// most split_vertices, up to kMaxGlbPieces. A function of the counts alone,
+// so that an answer's bytes do not depend on the threads free to encode it.
+inline constexpr int kMaxGlbPieces = 8;
+int GlbPieces(size_t vertices, size_t split_vertices);
 
 // Errors: kInvalidArgument for a malformed mesh, non-finite values or bad
 // options; kUnsupportedFormat for formats that are read but not written (STL, OFF).

@@ -231,15 +231,16 @@ GlbEncoding GlbEncodingOf(const proto::OutputOptions& output, proto::OutputForma
 
 Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
                         proto::OutputFormat format, const ImportedMesh& imported, bool hit,
-                        std::vector<Timing> timings, json stats,
-                        std::shared_ptr<const MeshoptOrder> meshopt_order) {
+                        std::vector<Timing> timings, json stats, const EncodeContext& encode) {
   const auto t0 = Clock::now();
   ExportOptions export_options;
   export_options.draco = output.draco;
   export_options.glb = GlbEncodingOf(output, format);
   export_options.materials = imported.materials;
   export_options.look = imported.look;
-  export_options.meshopt_order = std::move(meshopt_order);
+  export_options.meshopt_order = encode.meshopt_order;
+  export_options.threads = std::max(1, encode.threads);
+  export_options.split_vertices = encode.glb_split_vertices;
   SURFDEFORM_ASSIGN_OR_RETURN(auto bytes,
                               ExportMesh(mesh, proto::OutputMeshFormat(format), export_options));
   timings.push_back({"encode", MsSince(t0)});
@@ -249,6 +250,10 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   if (format == proto::OutputFormat::kGlb) {
     stats["compression"] = NameOf<proto::GlbCompression>(
         proto::kGlbCompressions, output.compression.value_or(proto::GlbCompression::kDraco));
+    if (export_options.glb == GlbEncoding::kDraco) {
+      const int pieces = GlbPieces(mesh.positions.size(), encode.glb_split_vertices);
+      if (pieces > 1) stats["pieces"] = pieces;  // per group
+    }
   }
   SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, StatsHeader(std::move(stats)));
   return reply;
@@ -353,6 +358,7 @@ std::string InfoJson(const ServiceLimits& l) {
               {"cache_bytes", l.cache_bytes},
               {"model_cache_bytes", l.model_cache_bytes},
               {"answer_cache_bytes", l.answer_cache_bytes},
+              {"glb_split_vertices", l.glb_split_vertices},
               {"max_map_points", kMapLimits.max_points},
               {"max_map_surface_points", kMapLimits.max_surface_points},
               {"max_map_output_points", MaxMapOutputPoints(l)},

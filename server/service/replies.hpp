@@ -88,12 +88,21 @@ nlohmann::json AnimationStatsHeader(const StoredAnimation& animation, bool hit, 
 // How a GLB in `format` is encoded for these output options.
 GlbEncoding GlbEncodingOf(const proto::OutputOptions& output, proto::OutputFormat format);
 
+// How the service encodes an answer beyond what the request asks: the
+// threads its ticket allows, where a Draco GLB is cut into pieces, and a
+// meshopt answer's vertex order when it keeps one.
+struct EncodeContext {
+  int threads = 1;
+  size_t glb_split_vertices = 0;
+  std::shared_ptr<const MeshoptOrder> meshopt_order;
+};
+
 // A deformed mesh encoded as asked, and the reply around it: `timings` gain
-// the encoding's; a GLB's stats its compression.
+// the encoding's; a GLB's stats its compression (and pieces, when cut).
 Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
                         proto::OutputFormat format, const ImportedMesh& imported, bool hit,
                         std::vector<Timing> timings, nlohmann::json stats,
-                        std::shared_ptr<const MeshoptOrder> meshopt_order = nullptr);
+                        const EncodeContext& encode = {});
 
 // An answer served from the kept ones: its stats as it was made, with
 // "answer_kept" and "cached" (nothing was flattened for it) true, and no

@@ -203,7 +203,8 @@ struct Service::Impl {
     const double subdivide_ms = deformed->stats.subdivide_ms;
     const double deform_ms = MsSince(t2) - subdivide_ms;
     SURFDEFORM_RETURN_IF_ERROR(work.clock().Check("deformation"));
-    SURFDEFORM_ASSIGN_OR_RETURN(auto order, MeshoptOrderFor(deformed->mesh, params.output, format));
+    SURFDEFORM_ASSIGN_OR_RETURN(EncodeContext encode,
+                                EncodeContextFor(deformed->mesh, params.output, format, work));
     return MeshReply(
         deformed->mesh, params.output, format, imported, hit,
         {{"parse", work.parse_ms()},
@@ -212,19 +213,23 @@ struct Service::Impl {
          {"subdivide", subdivide_ms}},
         DeformStatsHeader(entry.id, entry.sheet.quality, hit, format, imported, deformed->stats,
                           memo.placement_reused(), memo.subdivision_reused()),
-        std::move(order));
+        encode);
   }
 
-  // The vertex order of a meshopt answer, kept per topology; null for others.
-  Result<std::shared_ptr<const MeshoptOrder>> MeshoptOrderFor(const Mesh& mesh,
-                                                              const proto::OutputOptions& output,
-                                                              proto::OutputFormat format) {
+  // How this request's answer is encoded: on its ticket's threads (more
+  // than one only when cores are idle), a large Draco GLB in pieces, a
+  // meshopt one in the vertex order kept for its topology.
+  Result<EncodeContext> EncodeContextFor(const Mesh& mesh, const proto::OutputOptions& output,
+                                         proto::OutputFormat format, const RequestWork& work) {
+    EncodeContext encode;
+    encode.threads = work.threads();
+    encode.glb_split_vertices = options.limits.glb_split_vertices;
     const GlbEncoding glb = GlbEncodingOf(output, format);
-    if (format != proto::OutputFormat::kGlb ||
-        (glb != GlbEncoding::kMeshopt && glb != GlbEncoding::kQuantized)) {
-      return std::shared_ptr<const MeshoptOrder>();
+    if (format == proto::OutputFormat::kGlb &&
+        (glb == GlbEncoding::kMeshopt || glb == GlbEncoding::kQuantized)) {
+      SURFDEFORM_ASSIGN_OR_RETURN(encode.meshopt_order, orders.For(mesh));
     }
-    return orders.For(mesh);
+    return encode;
   }
 
   // POST /v1/deform with an animation: frame k alone, the same computation
@@ -246,13 +251,14 @@ struct Service::Impl {
     json stats = DeformStatsHeader(a.entry->id, f.quality, a.hit, format, imported, deformed.stats);
     stats["animation"] = {
         {"frame", params.frame}, {"frames", params.animation->animation.frames}, {"time", f.time}};
-    SURFDEFORM_ASSIGN_OR_RETURN(auto order, MeshoptOrderFor(deformed.mesh, params.output, format));
+    SURFDEFORM_ASSIGN_OR_RETURN(EncodeContext encode,
+                                EncodeContextFor(deformed.mesh, params.output, format, work));
     return MeshReply(deformed.mesh, params.output, format, imported, a.hit,
                      {{"parse", work.parse_ms()},
                       {"flatten", a.flatten_ms},
                       {"deform", deform_ms},
                       {"subdivide", a.subdivide_ms}},
-                     std::move(stats), std::move(order));
+                     std::move(stats), encode);
   }
 
   const ServiceOptions options;
@@ -458,8 +464,9 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   const std::string model =
       params.model_id.empty() ? proto::ModelId(request.mesh) : params.model_id;
   const std::string sheet = entry->id + "/" + SheetDigest(entry->sheet);
-  const std::string key = proto::AnswerKey(
-      {model, sheet, &params.placement, &params.subdivision, &params.output, format});
+  const std::string key =
+      proto::AnswerKey({model, sheet, &params.placement, &params.subdivision, &params.output,
+                        format, impl_->options.limits.glb_split_vertices});
   const std::string etag = proto::AnswerEtag(key);
   if (proto::IfNoneMatchNames(request.if_none_match, etag)) return NotModified(etag);
   bool kept = false;

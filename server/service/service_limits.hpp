@@ -36,6 +36,9 @@ struct ServiceLimits {
   // Encoded answers of POST /v1/deform kept by their key (answer_cache.hpp);
   // 0: none kept.
   size_t answer_cache_bytes = 256u << 20;
+  // A Draco GLB answer of more vertices is written in pieces encoded in
+  // parallel (when cores are idle; meshio's GlbPieces); 0: never.
+  size_t glb_split_vertices = 150'000;
   // Animations (POST /v1/animate, and /v1/deform with a frame): frames, and
   // frames times the model's vertices after subdivision (the frames are held
   // in memory, 24 bytes per vertex), and the GLB's size.

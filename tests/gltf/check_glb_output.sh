@@ -14,3 +14,5 @@ if node "$here/validate.mjs" "$out/truncated.bin" > /dev/null; then
   exit 1
 fi
 echo "negative control: truncated GLB rejected"
+# The Draco GLB in pieces: 121 x 121 vertices in four primitives, no crack.
+python3 "$here/check_glb_pieces.py" "$out/bumpy_pieces.glb" 4 14641

@@ -3,6 +3,7 @@
 // _DISTORTION) and a grid with every attribute and two materials, each plain,
 // with KHR_draco_mesh_compression, quantized, and quantized with
 // EXT_meshopt_compression. Usage: write_glb_samples DIR
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -19,9 +20,11 @@ using namespace surfdeform;
 namespace {
 
 bool Write(const std::string& path, const Mesh& mesh, GlbEncoding encoding,
-           const std::vector<std::string>& materials) {
+           const std::vector<std::string>& materials, size_t split_vertices = 0) {
   ExportOptions o;
   o.glb = encoding;
+  o.split_vertices = split_vertices;
+  o.threads = 2;
   o.materials = materials;
   auto glb = ExportMesh(mesh, MeshFormat::kGlb, o);
   if (!glb.ok()) {
@@ -79,5 +82,10 @@ int main(int argc, char** argv) {
          Write(dir + "/bunny_distortion" + e.suffix + ".glb", mapped->mesh, e.glb, {}) &&
          Write(dir + "/grid" + e.suffix + ".glb", grid, e.glb, materials);
   }
+  // A Draco GLB in pieces (four primitives on one quantization grid), which
+  // check_glb_pieces.py decodes with draco_decoder.
+  Mesh bumpy = testing::FlatGrid(-1, -1, 2, 2, 120, 120, 0.0);
+  for (Vec3& p : bumpy.positions) p.z() = 0.2 * std::sin(5.0 * p.x()) * std::cos(4.0 * p.y());
+  ok = ok && Write(dir + "/bumpy_pieces.glb", bumpy, GlbEncoding::kDraco, {}, 5000);
   return ok ? 0 : 1;
 }

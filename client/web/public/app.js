@@ -568,8 +568,26 @@ async function compareEncodings() {
            bytes: { meshopt: meshopt.bytes, draco: draco.bytes } };
 }
 
+// A GLB as three.js decodes it (for tests: a large Draco answer comes in
+// pieces): its primitives, their vertices, and how many distinct positions
+// (exact float32 bits) they hold together.
+async function decodeGlb(bytes) {
+  const scene = (await gltf.parseAsync(bytes, '')).scene;
+  const distinct = new Set();
+  let primitives = 0, vertices = 0, triangles = 0;
+  scene.traverse((o) => {
+    if (!o.isMesh) return;
+    ++primitives;
+    const p = o.geometry.getAttribute('position').array;
+    vertices += p.length / 3;
+    triangles += o.geometry.index ? o.geometry.index.count / 3 : p.length / 9;
+    for (let k = 0; k < p.length; k += 3) distinct.add(`${p[k]},${p[k + 1]},${p[k + 2]}`);
+  });
+  return { primitives, vertices, triangles, distinct: distinct.size };
+}
+
 // For tests and the curious: the state and the model's share of the 3D canvas.
-window.surfdeformViewer = { state, animation: animationPanel, preview, compareEncodings,
+window.surfdeformViewer = { state, animation: animationPanel, preview, compareEncodings, decodeGlb,
                             modelCoverage: () => modelView.modelCoverage(),
                             modelMask: () => modelView.modelMask(),
                             handlePoint: (k) => modelView.handleClientPoint(k),
