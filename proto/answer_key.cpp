@@ -98,8 +98,11 @@ bool IfNoneMatchNames(std::string_view header, std::string_view etag) {
     header = comma == std::string_view::npos ? std::string_view() : header.substr(comma + 1);
     if (tag == "*") return true;
     if (tag.substr(0, 2) == "W/") tag.remove_prefix(2);  // the weak comparison
-    if (tag.size() == etag.size() + 2 && tag.front() == '"' && tag.back() == '"' &&
-        tag.substr(1, etag.size()) == etag) {
+    if (tag.size() < etag.size() + 2 || tag.front() != '"' || tag.back() != '"') continue;
+    const std::string_view inner = tag.substr(1, tag.size() - 2);
+    // The gzipped representation's tag is the identity's with "-gzip".
+    if (inner == etag ||
+        (inner.substr(0, etag.size()) == etag && inner.substr(etag.size()) == "-gzip")) {
       return true;
     }
   }

@@ -43,8 +43,9 @@ std::string AnswerKey(const AnswerKeyParts& parts);
 // 32 hex digits of the key's SHA-256: the answer's ETag.
 std::string AnswerEtag(std::string_view key);
 
-// Whether an If-None-Match header names this ETag (a list of entity tags,
-// weak ones compared weakly, or "*"), RFC 9110 section 13.1.2.
+// Whether an If-None-Match header names this ETag or its gzipped
+// representation's ("<etag>-gzip") (a list of entity tags, weak ones
+// compared weakly, or "*"), RFC 9110 section 13.1.2.
 bool IfNoneMatchNames(std::string_view if_none_match, std::string_view etag);
 
 }  // namespace surfdeform::proto

@@ -26,6 +26,7 @@
 #include "http/problem.hpp"
 #include "http/request_guard.hpp"
 #include "proto/content_hash.hpp"
+#include "service/content_coding.hpp"
 
 namespace surfdeform::http {
 namespace {
@@ -290,6 +291,18 @@ struct HttpServer::Impl {
       return;
     }
     res.status = http_status;
+    if (!reply.gzip_body.empty()) {
+      res.set_header("Vary", "Accept-Encoding");
+      if (AcceptsGzip(req.get_header_value("Accept-Encoding"))) {
+        // Another representation, another entity tag (the service's
+        // If-None-Match takes both).
+        res.headers.erase("ETag");
+        res.set_header("ETag", "\"" + reply.etag + "-gzip\"");
+        res.set_header("Content-Encoding", "gzip");
+        res.set_content(reply.gzip_body, reply.content_type.c_str());
+        return;
+      }
+    }
     res.set_content(reply.body, reply.content_type.c_str());
   }
 
@@ -648,6 +661,7 @@ struct HttpServer::Impl {
     DeformRequest d;
     d.accept = req.get_header_value("Accept");
     d.if_none_match = req.get_header_value("If-None-Match");
+    d.accept_encoding = req.get_header_value("Accept-Encoding");
     std::string params;
     // The parameters come from one place, once: a second copy would be
     // ignored without a word.

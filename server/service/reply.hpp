@@ -26,6 +26,9 @@ struct Reply {
   std::string model_id;    // UploadModel: the model's id
   // The request's If-None-Match named `etag`: 304, no body.
   bool not_modified = false;
+  // The body gzipped (content_coding.hpp), for a request that accepts it;
+  // empty when the answer does not compress or was made without it.
+  std::string gzip_body;
 };
 
 }  // namespace surfdeform

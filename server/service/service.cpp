@@ -14,6 +14,7 @@
 #include "proto/api.hpp"
 #include "proto/map_api.hpp"
 #include "service/answer_cache.hpp"
+#include "service/content_coding.hpp"
 #include "service/flat_sheet_svg.hpp"
 #include "service/limit_checks.hpp"
 #include "service/meshopt_orders.hpp"
@@ -87,6 +88,19 @@ Status CheckRoutedSurface(const std::string& routed, const proto::DeformParams& 
                     routed + " but the parameters name " + named +
                     ": they must agree, since load balancers route by the header",
                 "X-Surfdeform-Surface-Id");
+}
+
+// Answers whose own encoding leaves redundancy for gzip: all but Draco's.
+bool Compresses(const proto::OutputOptions& output, proto::OutputFormat format) {
+  if (format == proto::OutputFormat::kDrc) return false;
+  return format != proto::OutputFormat::kGlb ||
+         GlbEncodingOf(output, format) != GlbEncoding::kDraco;
+}
+
+// The body gzipped beside it, where that saves at least a tenth.
+void AddGzip(Reply* reply) {
+  std::string gz = GzipFast(reply->body);
+  if (!gz.empty() && gz.size() * 10 < reply->body.size() * 9) reply->gzip_body = std::move(gz);
 }
 
 // A request's mesh comes by model_id or in its body, not both.
@@ -469,6 +483,8 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
                         format, impl_->options.limits.glb_split_vertices});
   const std::string etag = proto::AnswerEtag(key);
   if (proto::IfNoneMatchNames(request.if_none_match, etag)) return NotModified(etag);
+  // gzip made with the answer, and kept with it, when this request takes it.
+  const bool gzip = AcceptsGzip(request.accept_encoding) && Compresses(params.output, format);
   bool kept = false;
   auto answer = impl_->answers.GetOrMake(
       key,
@@ -483,10 +499,15 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
             Reply reply, impl_->DeformOnSheet(params, *entry, hit, format, std::move(imported),
                                               work, flatten_ms));
         reply.etag = etag;
+        if (gzip) AddGzip(&reply);
         return reply;
       },
       &kept);
-  if (answer.ok() && kept) MarkKept(&*answer);
+  if (answer.ok() && kept) {
+    MarkKept(&*answer);
+    // Kept by a request that did not take gzip: made for this one alone.
+    if (gzip && answer->gzip_body.empty()) AddGzip(&*answer);
+  }
   return answer;
 }
 

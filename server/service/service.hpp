@@ -40,6 +40,9 @@ struct DeformRequest {
   // The If-None-Match header: an answer whose ETag it names is 304 (Reply::
   // not_modified), decided before any work on the model.
   std::string if_none_match{};
+  // The Accept-Encoding header: an answer that compresses is made gzipped
+  // too when it accepts gzip (Reply::gzip_body).
+  std::string accept_encoding{};
 };
 
 class Service {

@@ -103,6 +103,37 @@ TEST_F(AnswersTest, ARepeatedDeformIsAnsweredFromTheKeptAnswersAndIfNoneMatchIs3
   EXPECT_EQ(sent->body, made->body);
 }
 
+TEST_F(AnswersTest, AnswersThatCompressComeGzippedToWhoAcceptsIt) {
+  auto c = ClientOf(port());
+  const std::string id = Upload(c, Bunny(c));
+  // meshopt (and OBJ, PLY, plain GLB) compress; Draco does not.
+  const std::string meshopt = ByIdParams(id, R"({"compression":"meshopt"})", 0.55);
+  auto identity =
+      c.Post("/v1/deform", {{"Accept-Encoding", "identity"}}, meshopt, "application/json");
+  auto gzipped = c.Post("/v1/deform", {{"Accept-Encoding", "gzip"}}, meshopt, "application/json");
+  ASSERT_TRUE(identity && gzipped);
+  ASSERT_EQ(identity->status, 200) << identity->body;
+  ASSERT_EQ(gzipped->status, 200) << gzipped->body;
+  EXPECT_FALSE(identity->has_header("Content-Encoding"));
+  EXPECT_EQ(gzipped->get_header_value("Content-Encoding"), "gzip");
+  EXPECT_EQ(gzipped->get_header_value("Vary"), "Accept-Encoding");
+  EXPECT_EQ(gzipped->body, identity->body) << "the client inflated it to the same bytes";
+  const std::string etag = identity->get_header_value("ETag");
+  EXPECT_EQ(gzipped->get_header_value("ETag"), etag.substr(0, etag.size() - 1) + "-gzip\"");
+  auto not_modified =
+      c.Post("/v1/deform",
+             {{"Accept-Encoding", "gzip"}, {"If-None-Match", gzipped->get_header_value("ETag")}},
+             meshopt, "application/json");
+  ASSERT_TRUE(not_modified);
+  EXPECT_EQ(not_modified->status, 304);
+
+  const std::string draco = ByIdParams(id, R"({"format":"glb"})", 0.55);
+  auto plain = c.Post("/v1/deform", {{"Accept-Encoding", "gzip"}}, draco, "application/json");
+  ASSERT_TRUE(plain);
+  ASSERT_EQ(plain->status, 200);
+  EXPECT_FALSE(plain->has_header("Content-Encoding")) << "Draco does not compress";
+}
+
 TEST_F(AnswersTest, InfoAndMetricsPublishTheBudget) {
   auto c = ClientOf(port());
   auto info = c.Get("/v1/info");

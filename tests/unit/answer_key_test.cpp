@@ -97,6 +97,8 @@ TEST(AnswerKey, IfNoneMatchNamesAnEtagInAListWeakOrStar) {
   EXPECT_TRUE(IfNoneMatchNames("\"" + etag + "\"", etag));
   EXPECT_TRUE(IfNoneMatchNames("\"other\", W/\"" + etag + "\"", etag));
   EXPECT_TRUE(IfNoneMatchNames(" * ", etag));
+  EXPECT_TRUE(IfNoneMatchNames("\"" + etag + "-gzip\"", etag));  // the gzipped representation
+  EXPECT_FALSE(IfNoneMatchNames("\"" + etag + "-br\"", etag));
   EXPECT_FALSE(IfNoneMatchNames("", etag));
   EXPECT_FALSE(IfNoneMatchNames(etag, etag));  // unquoted: not an entity tag
   const std::string shorter = "\"123456789abcdef0123456789abcdef\"";

@@ -1,0 +1,19 @@
+// Content-Encoding for answers whose own encoding leaves redundancy (meshopt
+// and quantized GLB, plain GLB, OBJ, PLY; not Draco): gzip at zlib's
+// fastest level, made with the answer when the request accepts it and kept
+// with it. Free of Eigen: the HTTP layer reads Accept-Encoding with it too.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace surfdeform {
+
+// Whether an Accept-Encoding header accepts gzip (a "gzip", "x-gzip" or "*"
+// entry without q=0), RFC 9110 section 12.5.3.
+bool AcceptsGzip(std::string_view accept_encoding);
+
+// `bytes` as one gzip member at zlib level 1 (empty on failure).
+std::string GzipFast(std::string_view bytes);
+
+}  // namespace surfdeform
