@@ -96,7 +96,6 @@ bool IfNoneMatchNames(std::string_view header, std::string_view etag) {
     const size_t comma = header.find(',');
     std::string_view tag = Trim(header.substr(0, comma));
     header = comma == std::string_view::npos ? std::string_view() : header.substr(comma + 1);
-    if (tag == "*") return true;
     if (tag.substr(0, 2) == "W/") tag.remove_prefix(2);  // the weak comparison
     if (tag.size() < etag.size() + 2 || tag.front() != '"' || tag.back() != '"') continue;
     const std::string_view inner = tag.substr(1, tag.size() - 2);

@@ -44,8 +44,10 @@ std::string AnswerKey(const AnswerKeyParts& parts);
 std::string AnswerEtag(std::string_view key);
 
 // Whether an If-None-Match header names this ETag or its gzipped
-// representation's ("<etag>-gzip") (a list of entity tags, weak ones
-// compared weakly, or "*"), RFC 9110 section 13.1.2.
+// representation's ("<etag>-gzip") in its list of entity tags (weak ones
+// compared weakly), RFC 9110 section 13.1.2. "*" names none here: an answer
+// is computed, so "any representation exists" would skip every request's
+// checks, the invalid ones' too.
 bool IfNoneMatchNames(std::string_view if_none_match, std::string_view etag);
 
 }  // namespace surfdeform::proto

@@ -466,12 +466,10 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   const auto t1 = Clock::now();
   bool hit = true;
   std::shared_ptr<const StoredSurface> entry;
-  if (params.surface) {
+  if (params.surface) {  // it may have to be flattened: a slot first
     SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
-    SURFDEFORM_ASSIGN_OR_RETURN(entry, impl_->SurfaceOf(params, work.clock(), &hit));
-  } else {
-    SURFDEFORM_ASSIGN_OR_RETURN(entry, impl_->SurfaceOf(params, work.clock(), &hit));
   }
+  SURFDEFORM_ASSIGN_OR_RETURN(entry, impl_->SurfaceOf(params, work.clock(), &hit));
   const double flatten_ms = MsSince(t1);
 
   // The answer's key and ETag, before any work on the model.
