@@ -35,7 +35,8 @@ fail() {
 # Three replicas; each prints its port once listening.
 source "$here/launch_server.sh"
 ports=()
-launch_replicas 3 "$out/replica"
+# No kept answers: the replicas must be working when one is stopped or killed.
+launch_replicas 3 "$out/replica" --answer-cache-mib 0
 
 # docker/nginx.conf with loopback addresses and this run's temporary paths.
 source "$here/nginx_front.sh"
