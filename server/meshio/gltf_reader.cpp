@@ -10,6 +10,7 @@
 #include <map>
 #include <unordered_set>
 
+#include "base/format.hpp"
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
 #include "meshio/gltf_look.hpp"
@@ -357,9 +358,8 @@ Status AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& 
       idx.resize(m);
       for (size_t k = 0; k < m; ++k) {
         if (!(v[k] >= 0 && v[k] < static_cast<double>(n))) {
-          return GltfError("index " + std::to_string(static_cast<long long>(v[k])) +
-                           " of accessor " + std::to_string(prim.indices) + " is out of range (" +
-                           std::to_string(n) + " vertices)");
+          return GltfError(Format("index %.17g of accessor %d is out of range (%zu vertices)", v[k],
+                                  prim.indices, n));
         }
         idx[k] = static_cast<uint32_t>(v[k]);
       }

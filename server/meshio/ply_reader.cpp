@@ -442,9 +442,9 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
             if (!body.Read(p.type, &index)) return PlyError("the file ends inside " + e.name);
             if (p.role == Role::kIndices) {
               if (!(index >= 0) || index >= static_cast<double>(mesh.positions.size())) {
-                return PlyError("face " + std::to_string(r) + " uses vertex " +
-                                std::to_string(static_cast<long long>(index)) + " of " +
-                                std::to_string(mesh.positions.size()));
+                // As written: an index past any integer (or NaN) cannot be converted.
+                return PlyError(
+                    Format("face %zu uses vertex %.17g of %zu", r, index, mesh.positions.size()));
               }
               poly[k] = static_cast<uint32_t>(index);
             }

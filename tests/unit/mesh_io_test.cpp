@@ -761,6 +761,24 @@ TEST(HostileInput, PlyListCountsAndClaims) {
   EXPECT_FALSE(ImportMesh(claim).ok());
 }
 
+// A face index past any integer (the fuzzer's find): refused with the index
+// as written, not converted to an integer for the message (undefined).
+TEST(HostileInput, PlyFaceIndexPastAnyInteger) {
+  for (const char* index : {"888888888888888888888888888888888888888888888888888888888888888888"
+                            "888888888888888888888888888888",
+                            "nan", "-1e300"}) {
+    const std::string ply = std::string(
+                                "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                "property float y\nproperty float z\nelement face 1\n"
+                                "property list uchar int vertex_indices\nend_header\n"
+                                "0 0 0\n1 0 0\n0 1 0\n3 0 1 ") +
+                            index + "\n";
+    auto r = ImportMesh(ply);
+    ASSERT_FALSE(r.ok()) << index;
+    EXPECT_NE(r.status().message().find("uses vertex"), std::string::npos) << r.status().message();
+  }
+}
+
 // A PLY file of four vertices (x y z as `position_type`, an ignored uchar
 // "flags" between y and z) and the given faces (list uchar int), in `format`:
 // "ascii", "binary_little_endian" or "binary_big_endian".
