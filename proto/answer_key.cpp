@@ -1,5 +1,6 @@
 #include "proto/answer_key.hpp"
 
+#include "base/header_lists.hpp"
 #include "proto/content_hash.hpp"
 
 namespace surfdeform::proto {
@@ -14,12 +15,6 @@ constexpr const char* kAnswerVersion = "surfdeform-answer-1";
 template <typename E, size_t N>
 std::string Name(const EnumEntry<E> (&table)[N], E value) {
   return std::string(NameOf<E>(table, value));
-}
-
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
 }
 
 }  // namespace
@@ -92,20 +87,17 @@ std::string AnswerEtag(std::string_view key) { return Sha256Hex(key, 32); }
 
 bool IfNoneMatchNames(std::string_view header, std::string_view etag) {
   if (etag.empty()) return false;
-  while (!header.empty()) {
-    const size_t comma = header.find(',');
-    std::string_view tag = Trim(header.substr(0, comma));
-    header = comma == std::string_view::npos ? std::string_view() : header.substr(comma + 1);
+  // An entity tag holds no ';' or ',' that this server writes, so the list
+  // reader's elements are whole tags.
+  return AnyHeaderListItem(header, [etag](const HeaderListItem& item) {
+    std::string_view tag = item.value;
     if (tag.substr(0, 2) == "W/") tag.remove_prefix(2);  // the weak comparison
-    if (tag.size() < etag.size() + 2 || tag.front() != '"' || tag.back() != '"') continue;
+    if (tag.size() < etag.size() + 2 || tag.front() != '"' || tag.back() != '"') return false;
     const std::string_view inner = tag.substr(1, tag.size() - 2);
     // The gzipped representation's tag is the identity's with "-gzip".
-    if (inner == etag ||
-        (inner.substr(0, etag.size()) == etag && inner.substr(etag.size()) == "-gzip")) {
-      return true;
-    }
-  }
-  return false;
+    return inner == etag ||
+           (inner.substr(0, etag.size()) == etag && inner.substr(etag.size()) == "-gzip");
+  });
 }
 
 }  // namespace surfdeform::proto

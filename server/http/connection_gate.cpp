@@ -15,6 +15,7 @@
 #include <memory>
 #include <string_view>
 
+#include "base/header_lists.hpp"
 #include "http/problem.hpp"
 
 namespace surfdeform::http {
@@ -37,18 +38,8 @@ std::string_view HeaderValue(std::string_view head, std::string_view name) {
     if (end == std::string_view::npos || end == start) break;
     const std::string_view text = head.substr(start, end - start);
     const size_t colon = text.find(':');
-    if (colon == name.size() &&
-        std::equal(name.begin(), name.end(), text.begin(), [](char a, char b) {
-          return std::tolower(static_cast<unsigned char>(a)) ==
-                 std::tolower(static_cast<unsigned char>(b));
-        })) {
-      std::string_view value = text.substr(colon + 1);
-      while (!value.empty() && (value.front() == ' ' || value.front() == '\t')) {
-        value.remove_prefix(1);
-      }
-      while (!value.empty() && (value.back() == ' ' || value.back() == '\t'))
-        value.remove_suffix(1);
-      return value;
+    if (colon == name.size() && EqualsIgnoringCase(text.substr(0, colon), name)) {
+      return TrimHttpSpace(text.substr(colon + 1));
     }
     line = end;
   }

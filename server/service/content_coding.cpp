@@ -2,35 +2,15 @@
 
 #include <zlib.h>
 
-#include <cstdlib>
+#include "base/header_lists.hpp"
 
 namespace surfdeform {
-namespace {
-
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
-}
-
-}  // namespace
 
 bool AcceptsGzip(std::string_view header) {
-  while (!header.empty()) {
-    const size_t comma = header.find(',');
-    std::string_view entry = header.substr(0, comma);
-    header = comma == std::string_view::npos ? std::string_view() : header.substr(comma + 1);
-    const size_t semicolon = entry.find(';');
-    const std::string_view coding = Trim(entry.substr(0, semicolon));
-    if (coding != "gzip" && coding != "x-gzip" && coding != "*") continue;
-    if (semicolon == std::string_view::npos) return true;
-    std::string_view param = Trim(entry.substr(semicolon + 1));
-    if (param.substr(0, 2) != "q=" && param.substr(0, 2) != "Q=") return true;
-    param.remove_prefix(2);
-    const std::string q(param);
-    if (std::strtod(q.c_str(), nullptr) > 0.0) return true;
-  }
-  return false;
+  return AnyHeaderListItem(header, [](const HeaderListItem& item) {
+    return !item.refused && (EqualsIgnoringCase(item.value, "gzip") ||
+                             EqualsIgnoringCase(item.value, "x-gzip") || item.value == "*");
+  });
 }
 
 std::string GzipFast(std::string_view bytes) {

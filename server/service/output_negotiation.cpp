@@ -4,12 +4,13 @@
 #include <cctype>
 #include <string>
 
+#include "base/header_lists.hpp"
+
 namespace surfdeform {
 namespace {
 
-std::string Trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+// A media type in lower case (media types are case-insensitive).
+std::string Lowered(std::string_view s) {
   std::string out(s);
   std::transform(out.begin(), out.end(), out.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -32,25 +33,8 @@ std::optional<proto::OutputFormat> FormatOfMediaType(const std::string& type) {
 // refused by q=0: f(type) until it returns true. True when one did.
 template <typename F>
 bool FirstAccepted(std::string_view accept, F&& f) {
-  std::string_view rest = accept;
-  while (!rest.empty()) {
-    const size_t comma = rest.find(',');
-    std::string_view item = rest.substr(0, comma);
-    rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
-    const size_t semicolon = item.find(';');
-    const std::string type = Trim(item.substr(0, semicolon));
-    bool refused = false;
-    if (semicolon != std::string_view::npos) {
-      const std::string parameters = Trim(item.substr(semicolon + 1));
-      const size_t q = parameters.find("q=");
-      if (q != std::string::npos) {
-        const std::string value = parameters.substr(q + 2);
-        refused = value.find_first_not_of("0.") == std::string::npos;  // q=0, q=0.0, q=0.000
-      }
-    }
-    if (!refused && f(type)) return true;
-  }
-  return false;
+  return AnyHeaderListItem(
+      accept, [&f](const HeaderListItem& item) { return !item.refused && f(Lowered(item.value)); });
 }
 
 }  // namespace
@@ -58,7 +42,7 @@ bool FirstAccepted(std::string_view accept, F&& f) {
 Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat> requested,
                                                std::string_view accept) {
   if (requested) return *requested;
-  if (Trim(accept).empty()) return proto::OutputFormat::kDrc;
+  if (TrimHttpSpace(accept).empty()) return proto::OutputFormat::kDrc;
   std::optional<proto::OutputFormat> chosen;
   if (FirstAccepted(accept, [&](const std::string& type) {
         chosen = FormatOfMediaType(type);
@@ -83,7 +67,7 @@ bool PrefersBytesToJson(std::string_view accept) {
 }
 
 Status AcceptGlbOnly(std::string_view accept) {
-  if (Trim(accept).empty()) return Status::Ok();
+  if (TrimHttpSpace(accept).empty()) return Status::Ok();
   // What ChooseOutputFormat reads as a GLB, and */* (which it gives Draco).
   if (FirstAccepted(accept, [](const std::string& type) {
         return type == "*/*" || FormatOfMediaType(type) == proto::OutputFormat::kGlb;

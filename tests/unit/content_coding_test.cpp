@@ -30,6 +30,7 @@ TEST(ContentCoding, AcceptsGzipAsRfc9110Says) {
   EXPECT_TRUE(AcceptsGzip("deflate, gzip;q=0.5"));
   EXPECT_TRUE(AcceptsGzip("x-gzip"));
   EXPECT_TRUE(AcceptsGzip("*"));
+  EXPECT_TRUE(AcceptsGzip("GZIP"));  // codings are case-insensitive
   EXPECT_FALSE(AcceptsGzip(""));
   EXPECT_FALSE(AcceptsGzip("identity"));
   EXPECT_FALSE(AcceptsGzip("deflate, br"));
