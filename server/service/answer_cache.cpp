@@ -2,6 +2,8 @@
 
 #include <exception>
 
+#include "service/replies.hpp"
+
 namespace surfdeform {
 
 size_t EstimateBytes(const Reply& r) {
@@ -21,12 +23,15 @@ Result<Reply> AnswerCache::GetOrMake(const std::string& key, const Make& make, b
   // it would without the cache (the HTTP layer's opaque 500); callers that
   // waited for it get an internal error.
   std::exception_ptr thrown;
+  Reply fresh;  // what the making request gets; the cache keeps it marked kept
   auto answer = answers_.GetOrCompute(
       key,
-      [&make, &thrown]() -> Result<std::shared_ptr<const Reply>> {
+      [&make, &thrown, &fresh]() -> Result<std::shared_ptr<const Reply>> {
         try {
-          SURFDEFORM_ASSIGN_OR_RETURN(Reply made, make());
-          return std::make_shared<const Reply>(std::move(made));
+          SURFDEFORM_ASSIGN_OR_RETURN(fresh, make());
+          Reply kept_form = fresh;
+          MarkKept(&kept_form);
+          return std::make_shared<const Reply>(std::move(kept_form));
         } catch (...) {
           thrown = std::current_exception();
           return Status(ErrorCode::kInternal, "making the answer failed");
@@ -36,6 +41,7 @@ Result<Reply> AnswerCache::GetOrMake(const std::string& key, const Make& make, b
   if (thrown) std::rethrow_exception(thrown);
   if (!answer.ok()) return answer.status();
   *kept = hit;
+  if (!hit) return fresh;
   return **answer;
 }
 

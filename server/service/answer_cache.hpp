@@ -21,8 +21,8 @@ class AnswerCache {
 
   using Make = std::function<Result<Reply>()>;
 
-  // The answer for `key`: kept (*kept true), or made by `make` now, and kept
-  // when it succeeds and fits the budget.
+  // The answer for `key`: kept (*kept true; its stats say so, MarkKept), or
+  // made by `make` now, and kept when it succeeds and fits the budget.
   Result<Reply> GetOrMake(const std::string& key, const Make& make, bool* kept);
 
   CacheStats stats() const { return answers_.stats(); }

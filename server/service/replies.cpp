@@ -87,11 +87,11 @@ Result<std::string> StatsHeader(json stats) {
   return text;
 }
 
-Reply BytesReply(std::string body, std::string content_type) {
+Reply BytesReply(std::string body, std::string content_type, std::string etag) {
   Reply reply;
   reply.body = std::move(body);
   reply.content_type = std::move(content_type);
-  reply.etag = proto::Sha256Hex(reply.body, 32);
+  reply.etag = etag.empty() ? proto::Sha256Hex(reply.body, 32) : std::move(etag);
   return reply;
 }
 
@@ -102,7 +102,8 @@ void MarkKept(Reply* reply) {
   if (!stats.is_object()) return;
   stats["answer_kept"] = true;
   stats["cached"] = true;
-  reply->stats_json = Dump(stats);
+  auto text = StatsHeader(std::move(stats));  // within the header's bound, as made
+  if (text.ok()) reply->stats_json = std::move(*text);
 }
 
 Reply NotModified(std::string etag) {
@@ -244,7 +245,7 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   SURFDEFORM_ASSIGN_OR_RETURN(auto bytes,
                               ExportMesh(mesh, proto::OutputMeshFormat(format), export_options));
   timings.push_back({"encode", MsSince(t0)});
-  Reply reply = BytesReply(std::move(bytes), proto::OutputMediaType(format));
+  Reply reply = BytesReply(std::move(bytes), proto::OutputMediaType(format), encode.etag);
   reply.cache_hit = hit;
   reply.timings = std::move(timings);
   if (format == proto::OutputFormat::kGlb) {

@@ -44,8 +44,9 @@ Result<std::string> DumpFinite(const nlohmann::json& j, const char* what);
 inline constexpr size_t kMaxStatsHeaderBytes = 2048;
 Result<std::string> StatsHeader(nlohmann::json stats);
 
-// A reply of these bytes: its media type, and its ETag over the bytes.
-Reply BytesReply(std::string body, std::string content_type);
+// A reply of these bytes: its media type, and its ETag (`etag`, else a
+// digest of the bytes).
+Reply BytesReply(std::string body, std::string content_type, std::string etag = {});
 
 // A JSON reply: the body (finite numbers only), its media type and ETag.
 Result<Reply> JsonReply(const nlohmann::json& body);
@@ -92,6 +93,9 @@ GlbEncoding GlbEncodingOf(const proto::OutputOptions& output, proto::OutputForma
 // threads its ticket allows, where a Draco GLB is cut into pieces, and a
 // meshopt answer's vertex order when it keeps one.
 struct EncodeContext {
+  // The answer's ETag when its key names it (kept answers); else the body's
+  // digest is taken.
+  std::string etag;
   int threads = 1;
   size_t glb_split_vertices = 0;
   std::shared_ptr<const MeshoptOrder> meshopt_order;

@@ -202,7 +202,7 @@ struct Service::Impl {
   // its answer encoded.
   Result<Reply> DeformOnSheet(const proto::DeformParams& params, const StoredSurface& entry,
                               bool hit, proto::OutputFormat format, ImportedMesh imported,
-                              const RequestWork& work, double flatten_ms) {
+                              const RequestWork& work, double flatten_ms, std::string etag) {
     const ServiceLimits& limits = options.limits;
     const auto t2 = Clock::now();
     const PlacementOptions placement = PlacementFor(params.placement, imported, work.threads());
@@ -219,6 +219,7 @@ struct Service::Impl {
     SURFDEFORM_RETURN_IF_ERROR(work.clock().Check("deformation"));
     SURFDEFORM_ASSIGN_OR_RETURN(EncodeContext encode,
                                 EncodeContextFor(deformed->mesh, params.output, format, work));
+    encode.etag = std::move(etag);
     return MeshReply(
         deformed->mesh, params.output, format, imported, hit,
         {{"parse", work.parse_ms()},
@@ -495,17 +496,13 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
         SURFDEFORM_RETURN_IF_ERROR(work.clock().Check("flattening"));
         SURFDEFORM_ASSIGN_OR_RETURN(
             Reply reply, impl_->DeformOnSheet(params, *entry, hit, format, std::move(imported),
-                                              work, flatten_ms));
-        reply.etag = etag;
+                                              work, flatten_ms, etag));
         if (gzip) AddGzip(&reply);
         return reply;
       },
       &kept);
-  if (answer.ok() && kept) {
-    MarkKept(&*answer);
-    // Kept by a request that did not take gzip: made for this one alone.
-    if (gzip && answer->gzip_body.empty()) AddGzip(&*answer);
-  }
+  // Kept by a request that did not take gzip: made for this one alone.
+  if (answer.ok() && kept && gzip && answer->gzip_body.empty()) AddGzip(&*answer);
   return answer;
 }
 
