@@ -66,6 +66,25 @@ httplib::MultipartFormDataItems Multipart(const std::string& mesh, const std::st
 }
 
 // A problem+json response: its status, content type and fields.
+// GET /metrics until it holds every one of `lines` (up to 10 s). A request
+// is counted once its reply is written (the access logger runs then), so a
+// client that has its answer can read /metrics before the count moves.
+httplib::Result MetricsWith(httplib::Client& c, std::initializer_list<const char*> lines) {
+  httplib::Result r = c.Get("/metrics");
+  auto holds = [&lines](const httplib::Result& m) {
+    if (!m) return false;
+    for (const char* line : lines) {
+      if (m->body.find(line) == std::string::npos) return false;
+    }
+    return true;
+  };
+  for (int k = 0; k < 1000 && r && !holds(r); ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    r = c.Get("/metrics");
+  }
+  return r;
+}
+
 json Problem(const httplib::Result& r, int status) {
   EXPECT_TRUE(r) << "no response";
   if (!r) return json::object();
@@ -762,11 +781,7 @@ TEST_F(ServerTest, MetricsCountRequestsAndTheCache) {
   ASSERT_TRUE(c.Get("/healthz"));
   // A request is counted once its reply is written (the access logger runs
   // then), so the next request, on another connection, can overtake it.
-  httplib::Result r = c.Get("/metrics");
-  for (int k = 0; k < 100 && r && r->body.find("route=\"/healthz\"") == std::string::npos; ++k) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    r = c.Get("/metrics");
-  }
+  httplib::Result r = MetricsWith(c, {"route=\"/healthz\""});
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 200);
   for (const char* name :
@@ -946,14 +961,15 @@ TEST(ServerConcurrency, PastTheQueueADeformationIsRefusedAndItsBodyDropped) {
       // The same connection carries the next request: multipart, refused too.
       auto form = c.Post("/v1/deform", Multipart(mesh, DeformParams()));
       EXPECT_TRUE(form && form->status == 503) << (form ? form->body : "no response");
-      auto m = c.Get("/metrics");
-      EXPECT_TRUE(m && m->body.find("surfdeform_http_rejected_total{reason=\"overload\"} 2") !=
-                           std::string::npos);
-      // Both refusals are counted with their workers' CPU time.
-      EXPECT_TRUE(m &&
-                  m->body.find("surfdeform_http_request_cpu_seconds_count{outcome=\"refused\"} "
-                               "2") != std::string::npos)
-          << (m ? m->body : "");
+      // Both refusals are counted, with their workers' CPU time (once
+      // their replies are written: waited for).
+      constexpr const char* kRejected = "surfdeform_http_rejected_total{reason=\"overload\"} 2";
+      constexpr const char* kCpu =
+          "surfdeform_http_request_cpu_seconds_count{outcome=\"refused\"} 2";
+      auto m = MetricsWith(c, {kRejected, kCpu});
+      const std::string body = m ? m->body : "";
+      EXPECT_NE(body.find(kRejected), std::string::npos) << body;
+      EXPECT_NE(body.find(kCpu), std::string::npos) << body;
     } else {
       EXPECT_EQ(r->status, 200) << r->body;  // it waited for the slot
       EXPECT_NE(holder.status(), 0);         // which came free when the slow one ended
