@@ -640,10 +640,12 @@ json SubdivisionStatsJson(const SubdivisionStats& s) {
 }
 
 json DeformStatsJson(const DeformStats& s) {
-  return {{"vertices", s.vertices},  {"triangles", s.triangles},
-          {"outside", s.outside},    {"max_outside_distance", s.max_outside_distance},
-          {"scale", s.scale},        {"up", NameOf<UpAxis>(kUpAxes, s.up)},
-          {"up_reason", s.up_reason}};
+  json j = {{"vertices", s.vertices},  {"triangles", s.triangles},
+            {"outside", s.outside},    {"max_outside_distance", s.max_outside_distance},
+            {"scale", s.scale},        {"up", NameOf<UpAxis>(kUpAxes, s.up)},
+            {"up_reason", s.up_reason}};
+  if (s.fit_frame >= 0) j["fit_frame"] = s.fit_frame;
+  return j;
 }
 
 }  // namespace surfdeform::proto

@@ -26,9 +26,9 @@
 // static surface's (and so are deformations through them). Every
 // sheet is in the canonical frame of flatten.hpp (sample (0, 0) at the
 // origin, its first grid edge along +X), which moves continuously with the
-// surface: nothing jumps or spins between frames. A model is placed once, on
-// the first sheet, in sheet coordinates (deform.hpp, PrepareModel), so it
-// does not slide over the surface as it moves.
+// surface: nothing jumps or spins between frames. A model is placed on every
+// frame's sheet as on a static one, at one scale (placement.hpp,
+// ComputeFramePlacements): "center" stays on the surface point (1/2, 1/2).
 #pragma once
 
 #include <functional>

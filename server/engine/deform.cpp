@@ -53,6 +53,16 @@ struct Refined {
   std::vector<Vec3> owned_placed, owned_known;
   std::vector<char> owned_on_sheet;
   bool located = false;  // the subdivision located the input vertices
+  // Added to `placed` (an animation's frame: the first sheet's placed
+  // coordinates moved onto this one's, PreparedModel::placed).
+  Vec2 shift = Vec2::Zero();
+  // Vertex k's placed coordinates: `placed`'s, else placed by `pl` now.
+  Vec3 Placed(const Placement& pl, size_t k) const {
+    if (placed.empty()) return pl.Apply(source->positions[k]);
+    Vec3 abh = placed[k];
+    abh.head<2>() += shift;
+    return abh;
+  }
   void Own() {
     placed = owned_placed;
     known = owned_known;
@@ -69,6 +79,28 @@ std::vector<Vec3> PlaceAll(const Placement& pl, const Mesh& mesh, int threads_op
     for (int k = begin; k < end; ++k) placed[k] = pl.Apply(mesh.positions[k]);
   });
   return placed;
+}
+
+// How far frame k's placed coordinates are from the first frame's: the
+// placements differ only in their target.
+Vec2 ShiftOf(const PreparedModel& model, size_t k) {
+  return model.placements[k].target - model.placements.front().target;
+}
+
+void MoveBy(const Vec2& d, std::vector<Vec3>* placed) {
+  if (d == Vec2::Zero()) return;
+  for (Vec3& p : *placed) p.head<2>() += d;
+}
+
+// `placed` (on the first sheet) on map k's sheet: `placed` itself when the
+// two coincide, else a moved copy in *storage.
+const std::vector<Vec3>& PlacedOn(const PreparedModel& model, size_t k,
+                                  const std::vector<Vec3>& placed, std::vector<Vec3>* storage) {
+  const Vec2 d = ShiftOf(model, k);
+  if (d == Vec2::Zero() || placed.empty()) return placed;
+  *storage = placed;
+  MoveBy(d, storage);
+  return *storage;
 }
 
 // The subdivision, when asked for: refines `mesh` into result->mesh (or
@@ -210,7 +242,7 @@ MapTally MapVertices(const SheetMap& map, const Placement& pl, const Refined& r,
         if (!r.known[k].allFinite()) note_bad(k);
         continue;
       }
-      const Vec3 abh = r.placed.empty() ? pl.Apply(in.positions[k]) : r.placed[k];
+      const Vec3 abh = r.Placed(pl, k);
       // Vertices added by the subdivision inside faces whose corners are on
       // the sheet continue its map past a concave border.
       const bool added = static_cast<size_t>(k) >= n_input;
@@ -254,7 +286,7 @@ void MapDistortion(const SheetMap& map, const Placement& pl, const Refined& r,
   ParallelChunks(static_cast<int>(n), threads, [&](int, int begin, int end) {
     int hint = -1;
     for (int k = begin; k < end; ++k) {
-      const Vec3 abh = r.placed.empty() ? pl.Apply(in.positions[k]) : r.placed[k];
+      const Vec3 abh = r.Placed(pl, k);
       const SheetParameters p = map.Parameters(abh.head<2>(), mode, true, &hint);
       const SurfacePoint s = map.surface().Evaluate(p.uv.x(), p.uv.y(), 2);
       Vec3 nrm;
@@ -404,8 +436,10 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
     }
   }
   PreparedModel model;
-  SURFDEFORM_ASSIGN_OR_RETURN(model.placement,
-                              ComputePlacement(first.locator(), first.sheet(), mesh.positions, o));
+  SURFDEFORM_ASSIGN_OR_RETURN(FramePlacements placements,
+                              ComputeFramePlacements(maps, mesh.positions, o));
+  model.placements = std::move(placements.each);
+  model.fit_frame = placements.fit_frame;
   model.input_vertices = mesh.positions.size();
   model.need_frame = !mesh.normals.empty() || !mesh.tangents.empty();
   model.known.resize(maps.size());
@@ -420,7 +454,7 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
   }
   const auto ts = std::chrono::steady_clock::now();
   st.mode = subdivision.mode;
-  model.placed = PlaceAll(model.placement, model.mesh, o.threads);
+  model.placed = PlaceAll(model.placements.front(), model.mesh, o.threads);
   SubdivisionOptions so = subdivision;
   if (so.threads == 0) so.threads = o.threads;
   const InputPositions want =
@@ -466,8 +500,10 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
     const std::vector<FaceExtent> extents = FaceExtents(model.mesh, model.placed);
     std::vector<Result<SubdivisionResult>> results(maps.size(), NotComputed());
     ParallelChunks(n_maps, threads, [&](int, int begin, int end) {
+      std::vector<Vec3> moved;
       for (int k = begin; k < end; ++k) {
-        results[k] = Subdivide(model.mesh, model.placed, *maps[k], o.outside, one, want, extents);
+        results[k] = Subdivide(model.mesh, PlacedOn(model, k, model.placed, &moved), *maps[k],
+                               o.outside, one, want, extents);
       }
     });
     int first_growth = -1;
@@ -492,7 +528,9 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
       Result<SubdivisionResult> refined = std::move(results[k]);
       if (k > first_growth) {
         SURFDEFORM_RETURN_IF_ERROR(budget_left(&so));
-        refined = Subdivide(model.mesh, model.placed, *maps[k], o.outside, so, want);
+        std::vector<Vec3> moved;
+        refined = Subdivide(model.mesh, PlacedOn(model, k, model.placed, &moved), *maps[k],
+                            o.outside, so, want);
         if (!refined.ok()) return refined.status();
       }
       st.edge_points_considered += refined->stats.edge_points_considered;
@@ -504,6 +542,7 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
       if (grows(*refined)) {
         model.mesh = std::move(refined->mesh);
         model.placed = std::move(refined->placed);
+        MoveBy(-ShiftOf(model, k), &model.placed);  // back onto the first sheet
       }
     }
   }
@@ -518,15 +557,20 @@ Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& mo
                                     const PlacementOptions& o, const DeformExtras& extras) {
   const auto t0 = std::chrono::steady_clock::now();
   DeformResult result;
-  const Placement& pl = model.placement;
+  if (index >= model.placements.size()) {
+    return InvalidArgument("no placement for map " + std::to_string(index), "surface");
+  }
+  const Placement& pl = model.placements[index];
   if (o.rigid != RigidMode::kNone) {
     SURFDEFORM_RETURN_IF_ERROR(DeformRigidly(map, pl, model.mesh, o, extras, &result));
+    result.stats.fit_frame = model.fit_frame;
     result.stats.time_ms = MsSince(t0);
     return result;
   }
   Refined r;
   r.source = &model.mesh;
   r.placed = model.placed;
+  r.shift = ShiftOf(model, index);
   if (index < model.known.size()) {
     r.known = model.known[index];
     r.known_on_sheet = model.known_on_sheet[index];
@@ -537,6 +581,7 @@ Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& mo
       MapVertices(map, pl, r, model.input_vertices, o, model.need_frame, {}, &result.mesh);
   result.stats.subdivision = model.subdivision;
   result.stats.subdivide_ms = model.subdivide_ms;
+  result.stats.fit_frame = model.fit_frame;
   SURFDEFORM_RETURN_IF_ERROR(Report(t, model.mesh, model.input_vertices, pl, o, &result.stats));
   if (extras.distortion) result.stats.distortion = SummarizeDistortion(result.mesh);
   result.stats.time_ms = MsSince(t0);

@@ -49,11 +49,12 @@ struct DeformStats {
   double scale = 1.0;                 // the scale used (the fitted one with fit)
   UpAxis up = UpAxis::kPosZ;          // the model axis used as the normal (kAuto resolved)
   const char* up_reason = "given";    // Placement::up_reason
-  double time_ms = 0.0;               // the whole call
-  double subdivide_ms = 0.0;          // of which the subdivision
-  SubdivisionStats subdivision;       // mode kOff when not asked for
-  DistortionStats distortion;         // computed only when asked for
-  RigidStats rigid;                   // mode kNone unless placement.rigid
+  int fit_frame = -1;         // an animation's frame whose sheet decided a fitted scale (-1: none)
+  double time_ms = 0.0;       // the whole call
+  double subdivide_ms = 0.0;  // of which the subdivision
+  SubdivisionStats subdivision;  // mode kOff when not asked for
+  DistortionStats distortion;    // computed only when asked for
+  RigidStats rigid;              // mode kNone unless placement.rigid
 };
 
 // What a deformation computes besides the deformed mesh.
@@ -117,15 +118,21 @@ Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, 
                                 const SubdivisionOptions& subdivision, const DeformExtras& extras);
 
 // One model deformed through several sheets of one grid (the frames of an
-// animation): placed once, on the first sheet, in sheet coordinates, and
-// refined once, so that every frame has one topology (the input's vertices
-// first, in order) and meets the subdivision's tolerance.
+// animation): placed on every sheet as a static deformation on that sheet
+// would be (ComputeFramePlacements: the frames on keys are the static
+// deformations on the keys), at one scale, and refined once, so that every
+// frame has one topology (the input's vertices first, in order) and meets the
+// subdivision's tolerance.
 struct PreparedModel {
-  Mesh mesh;                  // model coordinates, refined
-  std::vector<Vec3> placed;   // (a, b, h) per vertex of mesh; empty: placed on the fly
-  Placement placement;        // computed on the first sheet
-  size_t input_vertices = 0;  // the input's, before any refinement
-  bool need_frame = false;    // normals or tangents to carry
+  Mesh mesh;  // model coordinates, refined
+  // (a, b, h) per vertex of mesh on the first sheet; empty: placed on the
+  // fly. The placements differ only in their target, so frame k's are these
+  // moved by placements[k].target - placements[0].target.
+  std::vector<Vec3> placed;
+  std::vector<Placement> placements;  // per sheet
+  int fit_frame = -1;                 // with fit: the frame whose sheet decided the scale
+  size_t input_vertices = 0;          // the input's, before any refinement
+  bool need_frame = false;            // normals or tangents to carry
   // The topology's: counts before and after; the largest deviation measured
   // over every frame in the last pass, and the points measured there.
   SubdivisionStats subdivision;
@@ -137,8 +144,8 @@ struct PreparedModel {
   std::vector<std::vector<char>> known_on_sheet;
 };
 
-// Places `mesh` on the first map's sheet and refines it for every map in
-// turn, until a pass over all of them adds nothing. Errors as DeformMesh's;
+// Places `mesh` on every map's sheet and refines it for every map in turn,
+// until a pass over all of them adds nothing. Errors as DeformMesh's;
 // kDeadlineExceeded past subdivision.time_budget_ms (all maps together).
 Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&& mesh,
                                    const PlacementOptions& options,

@@ -132,53 +132,130 @@ std::string Num(double x) {
   return os.str();
 }
 
-// The largest scale at which the footprint, outlined by its convex hull, stays
-// inside the sheet at least `margin` from its boundary. The sheet is simply
-// connected, so a hull outline inside it encloses only sheet points.
-Result<double> FitScale(const FlatLocator& locator, const std::vector<Vec2>& footprint,
-                        const Placement& base, double margin) {
-  std::vector<Vec2> hull = ConvexHull(footprint);
+// The footprint's outline for fitting: its convex hull, and its farthest
+// point from the footprint centre.
+struct Outline {
+  std::vector<Vec2> hull;
   double extent = 0.0;
-  for (const Vec2& p : hull) extent = std::max(extent, (p - base.centre).norm());
-  if (!(extent > 0.0)) {
+};
+
+Result<Outline> OutlineOf(const std::vector<Vec2>& footprint, const Vec2& centre) {
+  Outline o;
+  o.hull = ConvexHull(footprint);
+  for (const Vec2& p : o.hull) o.extent = std::max(o.extent, (p - centre).norm());
+  if (!(o.extent > 0.0)) {
     return Degenerate("the model's footprint is a single point: nothing to fit", "placement.scale");
   }
-  // Outline samples at most `spacing` apart: when every sample is inside the
-  // sheet and at least `margin` from its boundary, every point of the outline
-  // is at least margin - spacing / 2 > 0 from it, so the outline is inside.
-  const Eigen::AlignedBox2d& sheet_box = locator.bounds();
+  return o;
+}
+
+// Whether the outline, placed by `base` at scale s, stays inside the sheet at
+// least `margin` from its boundary. Outline samples at most `spacing` apart:
+// when every sample is inside and at least `margin` from the boundary, every
+// point of the outline is at least margin - spacing / 2 > 0 from it. The sheet
+// is simply connected, so an outline inside it encloses only sheet points.
+bool OutlineInside(const FlatLocator& locator, const Outline& outline, const Placement& base,
+                   double s, double margin) {
+  const std::vector<Vec2>& hull = outline.hull;
   const double spacing =
-      margin > 0.0 ? margin : 0.01 * sheet_box.sizes().minCoeff();  // no margin: 1% of the sheet
-  auto inside_at = [&](double s) {
-    int hint = -1;
-    for (size_t k = 0; k < hull.size(); ++k) {
-      const Vec2 a = base.target + s * (base.rotation * (hull[k] - base.centre));
-      const Vec2 b =
-          base.target + s * (base.rotation * (hull[(k + 1) % hull.size()] - base.centre));
-      const int steps = std::clamp(static_cast<int>(std::ceil((b - a).norm() / spacing)), 1, 4096);
-      for (int q = 0; q < steps; ++q) {
-        const Vec2 placed = a + (b - a) * (static_cast<double>(q) / steps);
-        SheetLocation l;
-        if (!locator.Locate(placed, &l, &hint)) return false;
-        if (locator.BoundaryWithin(placed, margin)) return false;
-      }
+      margin > 0.0 ? margin : 0.01 * locator.bounds().sizes().minCoeff();  // no margin: 1%
+  int hint = -1;
+  for (size_t k = 0; k < hull.size(); ++k) {
+    const Vec2 a = base.target + s * (base.rotation * (hull[k] - base.centre));
+    const Vec2 b = base.target + s * (base.rotation * (hull[(k + 1) % hull.size()] - base.centre));
+    const int steps = std::clamp(static_cast<int>(std::ceil((b - a).norm() / spacing)), 1, 4096);
+    for (int q = 0; q < steps; ++q) {
+      const Vec2 placed = a + (b - a) * (static_cast<double>(q) / steps);
+      SheetLocation l;
+      if (!locator.Locate(placed, &l, &hint)) return false;
+      if (locator.BoundaryWithin(placed, margin)) return false;
     }
-    return true;
-  };
-  if (!inside_at(0.0)) {
+  }
+  return true;
+}
+
+// The largest scale up to `hi` at which the outline stays inside the sheet
+// (OutlineInside), to a relative 1e-5: far below the margin's own precision.
+Result<double> FitScale(const FlatLocator& locator, const Outline& outline, const Placement& base,
+                        double margin, double hi) {
+  if (!OutlineInside(locator, outline, base, 0.0, margin)) {
     return Status(ErrorCode::kOutsideSheet,
                   "the footprint's centre is not inside the flat sheet (with the margin), so no "
                   "scale fits; move placement.center",
                   "placement.center");
   }
   double lo = 0.0;
-  double hi = locator.bounds().diagonal().norm() / extent;
-  // To a relative 1e-5: far below the margin's own precision.
   for (int it = 0; it < 60 && hi - lo > 1e-5 * hi; ++it) {
     const double mid = 0.5 * (lo + hi);
-    (inside_at(mid) ? lo : hi) = mid;
+    (OutlineInside(locator, outline, base, mid, margin) ? lo : hi) = mid;
   }
   return lo;
+}
+
+// The placement before any fit (scale as given), and the footprint (a, b)
+// of every vertex when asked for.
+Placement Unfitted(const FlatLocator& locator, const FlatSheet& sheet,
+                   const std::vector<Vec3>& positions, const PlacementOptions& o,
+                   std::vector<Vec2>* footprint) {
+  const size_t n = positions.size();
+  Placement pl;
+  pl.up = ResolveUpAxis(o.up, o.y_up_input, positions, &pl.up_reason);
+  pl.basis = AxisBasis(pl.up);
+  Eigen::AlignedBox3d box;
+  if (footprint != nullptr) footprint->resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const Vec3 q = pl.basis * positions[k];
+    box.extend(q);
+    if (footprint != nullptr) (*footprint)[k] = q.head<2>();
+  }
+  if (n == 0) box.extend(Vec3::Zero());
+  pl.centre = 0.5 * (box.min().head<2>() + box.max().head<2>());
+  switch (o.anchor) {
+    case AnchorMode::kBottom:
+      pl.h0 = box.min().z();
+      break;
+    case AnchorMode::kCenter:
+      pl.h0 = 0.5 * (box.min().z() + box.max().z());
+      break;
+    case AnchorMode::kTop:
+      pl.h0 = box.max().z();
+      break;
+    case AnchorMode::kValue:
+      pl.h0 = o.anchor_value;
+      break;
+  }
+  const double angle = o.rotation_deg * std::numbers::pi / 180.0;
+  pl.rotation << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  const Eigen::AlignedBox2d& sb = locator.bounds();
+  switch (o.center_mode) {
+    case CenterMode::kSheetCenter: {
+      // The image of the surface's parameter midpoint (u, v) = (1/2, 1/2):
+      // inside the sheet whatever its shape (the middle of a bounding box is
+      // not, for an unrolled cone).
+      const double gu = 0.5 * (sheet.nu - 1);
+      const double gv = 0.5 * (sheet.nv - 1);
+      SheetLocation mid;
+      mid.i = std::min(static_cast<int>(gu), sheet.nu - 2);
+      mid.j = std::min(static_cast<int>(gv), sheet.nv - 2);
+      mid.s = gu - mid.i;
+      mid.t = gv - mid.j;
+      pl.target = locator.FlatPoint(mid);
+      break;
+    }
+    case CenterMode::kSheetUnits:
+      pl.target = o.center;
+      break;
+    case CenterMode::kFraction:
+      pl.target = sb.min() + o.center.cwiseProduct(sb.sizes());
+      break;
+  }
+  pl.scale = o.scale;
+  return pl;
+}
+
+// fit's margin on a sheet: a fraction of its bounding box's smaller side.
+double FitMargin(const FlatLocator& locator, const PlacementOptions& o) {
+  return o.fit_margin * locator.bounds().sizes().minCoeff();
 }
 
 }  // namespace
@@ -228,65 +305,50 @@ UpAxis ResolveUpAxis(UpAxis up, bool y_up_input, const std::vector<Vec3>& positi
 
 Result<Placement> ComputePlacement(const FlatLocator& locator, const FlatSheet& sheet,
                                    const std::vector<Vec3>& positions, const PlacementOptions& o) {
-  const size_t n = positions.size();
-  Placement pl;
-  pl.up = ResolveUpAxis(o.up, o.y_up_input, positions, &pl.up_reason);
-  pl.basis = AxisBasis(pl.up);
-  Eigen::AlignedBox3d box;
-  std::vector<Vec2> footprint(n);
-  for (size_t k = 0; k < n; ++k) {
-    const Vec3 q = pl.basis * positions[k];
-    box.extend(q);
-    footprint[k] = q.head<2>();
-  }
-  if (n == 0) box.extend(Vec3::Zero());
-  pl.centre = 0.5 * (box.min().head<2>() + box.max().head<2>());
-  switch (o.anchor) {
-    case AnchorMode::kBottom:
-      pl.h0 = box.min().z();
-      break;
-    case AnchorMode::kCenter:
-      pl.h0 = 0.5 * (box.min().z() + box.max().z());
-      break;
-    case AnchorMode::kTop:
-      pl.h0 = box.max().z();
-      break;
-    case AnchorMode::kValue:
-      pl.h0 = o.anchor_value;
-      break;
-  }
-  const double angle = o.rotation_deg * std::numbers::pi / 180.0;
-  pl.rotation << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
-  const Eigen::AlignedBox2d& sb = locator.bounds();
-  switch (o.center_mode) {
-    case CenterMode::kSheetCenter: {
-      // The image of the surface's parameter midpoint (u, v) = (1/2, 1/2):
-      // inside the sheet whatever its shape (the middle of a bounding box is
-      // not, for an unrolled cone).
-      const double gu = 0.5 * (sheet.nu - 1);
-      const double gv = 0.5 * (sheet.nv - 1);
-      SheetLocation mid;
-      mid.i = std::min(static_cast<int>(gu), sheet.nu - 2);
-      mid.j = std::min(static_cast<int>(gv), sheet.nv - 2);
-      mid.s = gu - mid.i;
-      mid.t = gv - mid.j;
-      pl.target = locator.FlatPoint(mid);
-      break;
-    }
-    case CenterMode::kSheetUnits:
-      pl.target = o.center;
-      break;
-    case CenterMode::kFraction:
-      pl.target = sb.min() + o.center.cwiseProduct(sb.sizes());
-      break;
-  }
-  pl.scale = o.scale;
-  if (o.fit) {
-    SURFDEFORM_ASSIGN_OR_RETURN(
-        auto s, FitScale(locator, footprint, pl, o.fit_margin * sb.sizes().minCoeff()));
-    pl.scale = s;
-  }
+  std::vector<Vec2> footprint;
+  Placement pl = Unfitted(locator, sheet, positions, o, o.fit ? &footprint : nullptr);
+  if (!o.fit) return pl;
+  SURFDEFORM_ASSIGN_OR_RETURN(const Outline outline, OutlineOf(footprint, pl.centre));
+  SURFDEFORM_ASSIGN_OR_RETURN(pl.scale,
+                              FitScale(locator, outline, pl, FitMargin(locator, o),
+                                       locator.bounds().diagonal().norm() / outline.extent));
   return pl;
+}
+
+Result<FramePlacements> ComputeFramePlacements(std::span<const SheetMap* const> maps,
+                                               const std::vector<Vec3>& positions,
+                                               const PlacementOptions& o) {
+  FramePlacements out;
+  std::vector<Vec2> footprint;
+  out.each.reserve(maps.size());
+  for (size_t k = 0; k < maps.size(); ++k) {
+    out.each.push_back(Unfitted(maps[k]->locator(), maps[k]->sheet(), positions, o,
+                                o.fit && k == 0 ? &footprint : nullptr));
+  }
+  if (!o.fit || maps.empty()) return out;
+  SURFDEFORM_ASSIGN_OR_RETURN(const Outline outline, OutlineOf(footprint, out.each[0].centre));
+  // Each frame is fitted only when the scale so far does not fit it: the
+  // tightest frame decides, in one bisection for most sequences.
+  double scale = 0.0;
+  for (size_t k = 0; k < maps.size(); ++k) {
+    const FlatLocator& locator = maps[k]->locator();
+    const double margin = FitMargin(locator, o);
+    if (out.fit_frame >= 0 && OutlineInside(locator, outline, out.each[k], scale, margin)) {
+      continue;
+    }
+    const double hi =
+        out.fit_frame >= 0 ? scale : locator.bounds().diagonal().norm() / outline.extent;
+    auto fitted = FitScale(locator, outline, out.each[k], margin, hi);
+    if (!fitted.ok()) {
+      return Status(fitted.status().code(),
+                    "frame " + std::to_string(k) + ": " + fitted.status().message(),
+                    fitted.status().field());
+    }
+    scale = *fitted;
+    out.fit_frame = static_cast<int>(k);
+  }
+  for (Placement& pl : out.each) pl.scale = scale;
+  return out;
 }
 
 }  // namespace surfdeform

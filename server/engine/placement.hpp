@@ -12,6 +12,7 @@
 // placing them commute, which the subdivision relies on.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "base/enum_table.hpp"
@@ -116,5 +117,20 @@ UpAxis ResolveUpAxis(UpAxis up, bool y_up_input, const std::vector<Vec3>& positi
 Result<Placement> ComputePlacement(const FlatLocator& locator, const FlatSheet& sheet,
                                    const std::vector<Vec3>& positions,
                                    const PlacementOptions& options);
+
+// One model's placements on the sheets of an animation's frames (one grid).
+// Each frame resolves the placement on its own sheet, as ComputePlacement
+// does: "center" is the image of the surface point (1/2, 1/2) on that sheet,
+// so the model stays on that surface point as the surface moves, and the
+// frames on keys equal the static placements on the keys. The scale is one
+// for all: the given one, or with fit the largest that fits every frame.
+struct FramePlacements {
+  std::vector<Placement> each;  // per sheet
+  int fit_frame = -1;           // with fit: the frame whose sheet decided the scale
+};
+// Errors as ComputePlacement's, prefixed with the frame ("frame 11: ...").
+Result<FramePlacements> ComputeFramePlacements(std::span<const SheetMap* const> maps,
+                                               const std::vector<Vec3>& positions,
+                                               const PlacementOptions& options);
 
 }  // namespace surfdeform

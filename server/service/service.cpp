@@ -58,7 +58,7 @@ SubdivisionOptions SubdivisionFor(const SubdivisionOptions& given, const Service
 }
 
 // A model on an animation: its sheets, one map per frame, and the model
-// placed on the first sheet and refined for every frame.
+// placed on every frame's sheet and refined for every frame.
 struct AnimatedModel {
   std::shared_ptr<const StoredAnimation> entry;
   std::vector<SheetMap> maps;

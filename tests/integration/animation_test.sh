@@ -89,6 +89,61 @@ size=$(stat -c %s "$out/anim.glb")
 plain_size=$(stat -c %s "$out/anim-plain.glb")
 ((size * 4 < plain_size * 3)) || fail "meshopt output $size bytes, uncompressed $plain_size"
 
+# The placement follows the surface (issue #36): on a pair whose sheet
+# shrinks, moves and turns, "center" is resolved on every frame's sheet, so
+# the last frame is the static deformation on the last key; and "fit" fits
+# every frame, the tightest deciding, where fitting the first alone leaves
+# the last sheet.
+python3 - "$data/figure10.json" "$out" << 'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+s.pop("description", None)
+def key(height, shrink):
+    t = json.loads(json.dumps(s))
+    t["control_points"] = [[x * shrink, y * shrink, z * height] for x, y, z in t["control_points"]]
+    return t
+first, last = key(0.3, 1.0), key(1.2, 0.8)
+anim = {"keyframes": [{"time": 0, "surface": first}, {"time": 1, "surface": last}], "frames": 5}
+plain = {"format": "glb_plain"}
+sampling = {"nu": 16, "nv": 16}
+placement = {"scale": 0.7, "center": "center", "rotation_deg": 20}
+json.dump({"animation": anim, "sampling": sampling, "placement": placement, "frame": 4,
+           "output": plain}, open(sys.argv[2] + "/follow-frame4.json", "w"))
+json.dump({"surface": last, "sampling": sampling, "placement": placement, "output": plain},
+          open(sys.argv[2] + "/follow-static.json", "w"))
+fit = {"keyframes": [{"time": 0, "surface": key(0.2, 1.0)}, {"time": 1, "surface": key(1.0, 0.75)}],
+       "frames": 12}
+json.dump({"animation": fit, "sampling": sampling, "placement": {"scale": "fit"},
+           "output": {"compression": "none"}}, open(sys.argv[2] + "/fit-shrinking.json", "w"))
+PY
+for name in follow-frame4 follow-static; do
+  curl -sS -f -o "$out/$name.glb" -F mesh=@"$data/bunny.ply" -F "params=<$out/$name.json" \
+    "$base/v1/deform"
+done
+python3 - "$out/follow-frame4.glb" "$out/follow-static.glb" << 'PY' || fail "the last frame is not the static deformation"
+import json, struct, sys
+def positions(path):
+    glb = open(path, "rb").read()
+    n = struct.unpack_from("<I", glb, 12)[0]
+    doc = json.loads(glb[20:20 + n])
+    binary = glb[20 + n + 8:]
+    acc = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
+    view = doc["bufferViews"][acc["bufferView"]]
+    start = view.get("byteOffset", 0) + acc.get("byteOffset", 0)
+    return struct.unpack_from("<%df" % (3 * acc["count"]), binary, start)
+a, b = positions(sys.argv[1]), positions(sys.argv[2])
+n = min(len(a), len(b))  # the input's vertices come first, in order, in both
+assert n >= 3 * 30000, n
+worst = max(abs(a[k] - b[k]) for k in range(n))
+print("last frame vs the static deformation on the last key: %.3g apart" % worst)
+assert worst < 1e-4, worst
+PY
+curl -sS -f -o "$out/fit.glb" -D "$out/fit-headers.txt" -F mesh=@"$data/bunny.ply" \
+  -F "params=<$out/fit-shrinking.json" "$base/v1/animate"
+grep -qi '^x-surfdeform-stats: .*"fit_frame":11' "$out/fit-headers.txt" ||
+  fail "fit: the last, smallest sheet should decide: $(grep -i x-surfdeform-stats "$out/fit-headers.txt")"
+node "$gltf/validate.mjs" "$out/fit.glb"
+
 # A textured GLB with normals: normal targets, its texture carried.
 box=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
 curl -sS -f -o "$out/box.glb" -H 'Content-Type: application/octet-stream' \

@@ -213,7 +213,7 @@ TEST(Animation, ATimeBudgetStopsTheSequence) {
   }
 }
 
-// The model placed once on the first sheet and mapped through every frame.
+// The model placed on every frame's sheet and mapped through every frame.
 struct Animated {
   AnimatedSheets sheets;
   std::vector<SheetMap> maps;
@@ -279,6 +279,104 @@ TEST(Animation, TheEndFramesEqualDeformationsOnTheStaticKeys) {
     apart = std::max(apart, (frame_first.positions[v] - frame_last.positions[v]).norm());
   }
   EXPECT_GT(apart, 0.1);  // the two ends are different shapes
+}
+
+// Figure 10 at `height_scale`, its control net shrunk in x and y by `shrink`.
+BezierSpec Shrunk(double height_scale, double shrink) {
+  BezierSpec b = Figure10(height_scale);
+  for (Vec3& p : b.control_points) p.head<2>() *= shrink;
+  return b;
+}
+
+// The model deformed on `spec` alone (its own flattening at n x n), as
+// POST /v1/deform would.
+Mesh Static(const SurfaceSpec& spec, int n, const Mesh& model, const PlacementOptions& placement,
+            const SubdivisionOptions& subdivision) {
+  testing::Target t;
+  t.surface = testing::MakeValid(spec);
+  auto sheet = FlattenSurface(*t.surface, {n, n}, {});
+  EXPECT_TRUE(sheet.ok()) << sheet.status().ToString();
+  if (!sheet.ok()) return {};
+  t.sheet = std::move(*sheet);
+  auto r = DeformMesh(*t.surface, t.sheet, Mesh(model), placement, subdivision);
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  return r.ok() ? std::move(r->mesh) : Mesh{};
+}
+
+// Centred where the API's default "center" puts it: the image of the
+// surface point (1/2, 1/2); `scale` 0 fits.
+PlacementOptions AtTheSheetCentre(double scale) {
+  PlacementOptions placement;
+  placement.center_mode = CenterMode::kSheetCenter;
+  placement.fit = scale == 0.0;
+  placement.scale = scale == 0.0 ? 1.0 : scale;
+  return placement;
+}
+
+double Apart(const Mesh& a, const Mesh& b, size_t n) {
+  double worst = 0.0;
+  for (size_t v = 0; v < n; ++v) worst = std::max(worst, (a.positions[v] - b.positions[v]).norm());
+  return worst;
+}
+
+TEST(Animation, TheSheetCentreFollowsTheSurfaceAndTheKeysAreTheStaticDeformations) {
+  // A pair whose sheet shrinks, moves and turns under the model: the image
+  // of (u, v) = (1/2, 1/2) is elsewhere on the last sheet than on the first.
+  const BezierSpec first = Shrunk(0.3, 1.0), last = Shrunk(1.2, 0.8);
+  const AnimationSpec spec = Pair(first, last, 7);
+  const Mesh plate = testing::FlatGrid(-2.0, -1.5, 4.0, 3.0, 6, 4, 0.1);
+  PlacementOptions placement = AtTheSheetCentre(0.7);
+  placement.rotation_deg = 20.0;
+  SubdivisionOptions sub;
+  sub.tolerance = 0.01;
+  const Animated a = Animate(spec, 16, {}, plate, placement, sub);
+  ASSERT_EQ(a.model.placements.size(), 7u);
+  const Vec2 moved = a.model.placements.back().target - a.model.placements.front().target;
+  EXPECT_GT(moved.norm(), 0.3) << "the centre's sheet point moves between the keys";
+  EXPECT_GT(a.model.mesh.positions.size(), plate.positions.size()) << "refined";
+  // Both ends: every input vertex where the static deformation on the key
+  // puts it (the refinements differ: the animation's serves every frame).
+  for (const auto& [k, key] : {std::pair{0, first}, std::pair{6, last}}) {
+    const Mesh alone = Static(key, 16, plate, placement, sub);
+    const Mesh frame = Frame(a, k, placement);
+    ASSERT_FALSE(alone.positions.empty());
+    ASSERT_GE(frame.positions.size(), plate.positions.size());
+    EXPECT_LT(Apart(frame, alone, plate.positions.size()), 1e-9) << "frame " << k;
+  }
+}
+
+TEST(Animation, FitFitsEveryFrameAndTheTightestFrameDecides) {
+  // The sheet shrinks as the surface bends: a scale fitted to the first
+  // sheet leaves the last one.
+  const BezierSpec first = Shrunk(0.2, 1.0), last = Shrunk(1.0, 0.75);
+  const AnimationSpec spec = Pair(first, last, 6);
+  const Mesh plate = testing::FlatGrid(-2.0, -1.5, 4.0, 3.0, 12, 9, 0.1);
+  const PlacementOptions placement = AtTheSheetCentre(0.0);
+  SubdivisionOptions off;
+  off.mode = SubdivisionMode::kOff;
+  const Animated a = Animate(spec, 16, {}, plate, placement, off);
+  EXPECT_EQ(a.model.fit_frame, 5) << "the last, smallest sheet decides";
+  const double scale = a.model.placements.front().scale;
+  for (const Placement& pl : a.model.placements) EXPECT_EQ(pl.scale, scale);
+  for (int k = 0; k < spec.frames; ++k) {
+    auto r = DeformPrepared(a.maps[k], a.model, k, placement, {});
+    ASSERT_TRUE(r.ok()) << "frame " << k << ": " << r.status().ToString();
+    EXPECT_EQ(r->stats.outside, 0u) << "frame " << k;
+    EXPECT_EQ(r->stats.fit_frame, 5);
+  }
+  // The scale is the last key's own fit (to the bisection's 1e-5), and
+  // smaller than the first key's.
+  auto fitted = [&](const SurfaceSpec& key) {
+    const std::unique_ptr<Surface> surface = testing::MakeValid(key);
+    auto sheet = FlattenSurface(*surface, {16, 16}, {});
+    EXPECT_TRUE(sheet.ok());
+    const SheetMap map(*surface, *sheet);
+    auto pl = ComputePlacement(map.locator(), *sheet, plate.positions, placement);
+    EXPECT_TRUE(pl.ok()) << pl.status().ToString();
+    return pl.ok() ? pl->scale : 0.0;
+  };
+  EXPECT_NEAR(scale, fitted(last), 2e-5 * scale);
+  EXPECT_LT(scale, 0.95 * fitted(first));
 }
 
 TEST(Animation, APlateOnACylinderOfAnimatedRadiusWrapsAsTheClosedFormSays) {

@@ -519,7 +519,7 @@ $('download-glb').addEventListener('click', () => download('glb'));
 $('download-drc').addEventListener('click', () => download('drc'));
 
 // The animation panel: the current model, placed as on the sheet (fitted to
-// the animation's first sheet, rotated, with the chosen axes).
+// every frame's sheet, rotated, with the chosen axes).
 const animationPanel = new AnimationPanel(modelView, () => ({
   model: state.model,
   placement: { scale: 'fit', rotation_deg: state.placement.rotation_deg, up: $('up').value,
