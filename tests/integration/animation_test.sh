@@ -10,19 +10,8 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 data="$here/../../client/web/samples"
 gltf="$here/../gltf"
-out=$(mktemp -d)
-server_pid=
-cleanup() {
-  [[ -n $server_pid ]] && kill -9 "$server_pid" 2> /dev/null || true
-  rm -rf "$out"
-}
-trap cleanup EXIT
-
 source "$here/launch_server.sh"
-launch_server "$1" "$out/server.log"
-server_pid=$SERVER_PID
-base="http://127.0.0.1:$SERVER_PORT"
-fail() { echo "FAIL: $*" >&2; exit 1; }
+serve_for_test "$1"
 
 # The animation: Figure 10's heights x0.6 at time 0, x1 at time 1; 5 frames.
 python3 - "$data/figure10.json" "$out" << 'PY'
@@ -120,24 +109,8 @@ for name in follow-frame4 follow-static; do
   curl -sS -f -o "$out/$name.glb" -F mesh=@"$data/bunny.ply" -F "params=<$out/$name.json" \
     "$base/v1/deform"
 done
-python3 - "$out/follow-frame4.glb" "$out/follow-static.glb" << 'PY' || fail "the last frame is not the static deformation"
-import json, struct, sys
-def positions(path):
-    glb = open(path, "rb").read()
-    n = struct.unpack_from("<I", glb, 12)[0]
-    doc = json.loads(glb[20:20 + n])
-    binary = glb[20 + n + 8:]
-    acc = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
-    view = doc["bufferViews"][acc["bufferView"]]
-    start = view.get("byteOffset", 0) + acc.get("byteOffset", 0)
-    return struct.unpack_from("<%df" % (3 * acc["count"]), binary, start)
-a, b = positions(sys.argv[1]), positions(sys.argv[2])
-n = min(len(a), len(b))  # the input's vertices come first, in order, in both
-assert n >= 3 * 30000, n
-worst = max(abs(a[k] - b[k]) for k in range(n))
-print("last frame vs the static deformation on the last key: %.3g apart" % worst)
-assert worst < 1e-4, worst
-PY
+python3 "$gltf/glb_positions.py" compare "$out/follow-frame4.glb" "$out/follow-static.glb" 1e-4 ||
+  fail "the last frame is not the static deformation on the last key"
 curl -sS -f -o "$out/fit.glb" -D "$out/fit-headers.txt" -F mesh=@"$data/bunny.ply" \
   -F "params=<$out/fit-shrinking.json" "$base/v1/animate"
 grep -qi '^x-surfdeform-stats: .*"fit_frame":11' "$out/fit-headers.txt" ||
@@ -181,7 +154,5 @@ expect 422 output.format "$out/animate-drc.json"
 expect 406 Accept "$out/animate.json" /v1/animate application/octet-stream
 expect 406 Accept "$out/animate.json" /v1/animate "model/gltf-binary;q=0, application/x-ply"
 
-kill -TERM "$server_pid"
-wait "$server_pid" || fail "the server did not exit 0 on SIGTERM"
-server_pid=
+stop_served_server
 echo "animation: all passed"

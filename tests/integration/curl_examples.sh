@@ -6,19 +6,8 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 data="$here/../../client/web/samples"
-out=$(mktemp -d)
-server_pid=
-cleanup() {
-  [[ -n $server_pid ]] && kill -9 "$server_pid" 2> /dev/null || true
-  rm -rf "$out"
-}
-trap cleanup EXIT
-
 source "$here/launch_server.sh"
-launch_server "$1" "$out/server.log"
-server_pid=$SERVER_PID
-base="http://127.0.0.1:$SERVER_PORT"
-fail() { echo "FAIL: $*" >&2; exit 1; }
+serve_for_test "$1"
 
 # Flatten the paper's Figure 10 surface once; deform by its id.
 surface=$(python3 -c 'import json,sys; s=json.load(open(sys.argv[1])); s.pop("description",None); print(json.dumps({"surface": s, "sampling": {"nu": 16, "nv": 16}}))' "$data/figure10.json")
@@ -240,7 +229,5 @@ print("openapi: %d paths routed, %d examples accepted, %d enums match the server
       % (len(spec["paths"]), len(examples) + len(marks) + 2, len(contract)))
 PY
 
-kill -TERM "$server_pid"
-wait "$server_pid" || fail "the server did not exit 0 on SIGTERM"
-server_pid=
+stop_served_server
 echo "curl examples: all passed"

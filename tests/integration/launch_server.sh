@@ -28,3 +28,23 @@ launch_replicas() {
     [[ -n $SERVER_PORT ]] || fail "replica $r did not start: $(cat "$prefix$r.log")"
   done
 }
+
+# serve_for_test BINARY [FLAGS...]: the frame of a script that tests one
+# server: a scratch directory $out (removed on exit, with the server killed
+# if still running), the server started there (launch_server), $base its
+# URL, and fail MESSAGE (unless the script has its own). stop_served_server
+# then asks the server to stop with SIGTERM and fails unless it exits 0.
+serve_for_test() {
+  out=$(mktemp -d)
+  server_pid=
+  trap 'if [[ -n $server_pid ]]; then kill -9 "$server_pid" 2> /dev/null || true; fi; rm -rf "$out"' EXIT
+  launch_server "$1" "$out/server.log" "${@:2}"
+  server_pid=$SERVER_PID
+  base="http://127.0.0.1:$SERVER_PORT"
+}
+declare -F fail > /dev/null || fail() { echo "FAIL: $*" >&2; exit 1; }
+stop_served_server() {
+  kill -TERM "$server_pid"
+  wait "$server_pid" || fail "the server did not exit 0 on SIGTERM"
+  server_pid=
+}
