@@ -645,6 +645,7 @@ json DeformStatsJson(const DeformStats& s) {
             {"scale", s.scale},        {"up", NameOf<UpAxis>(kUpAxes, s.up)},
             {"up_reason", s.up_reason}};
   if (s.fit_frame >= 0) j["fit_frame"] = s.fit_frame;
+  if (s.turns > 0.0) j["turns"] = s.turns;  // round a closed surface
   return j;
 }
 

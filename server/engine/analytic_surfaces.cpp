@@ -31,6 +31,9 @@ class RuledRevolution final : public Surface {
 
   const char* Kind() const override { return kind_; }
 
+  // A whole turn: the angle u * span goes round.
+  bool ClosedInU() const override { return span_ >= 2.0 * std::numbers::pi * (1.0 - 1e-12); }
+
   SurfacePoint Evaluate(double u, double v, int order) const override {
     const double theta = u * span_;
     const double c = std::cos(theta);

@@ -357,10 +357,10 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
   if (extras.placement != nullptr) {
     result->placement = *extras.placement;
   } else {
-    SURFDEFORM_ASSIGN_OR_RETURN(result->placement,
-                                ComputePlacement(map.locator(), sheet, mesh.positions, o));
+    SURFDEFORM_ASSIGN_OR_RETURN(result->placement, ComputePlacement(map, mesh.positions, o));
   }
   const Placement& pl = result->placement;
+  result->stats.turns = TurnsRound(map, pl, mesh.positions);
   // The subdivision keeps which attributes there are, so this holds for the
   // refined mesh too.
   const bool need_frame = !mesh.normals.empty() || !mesh.tangents.empty();
@@ -582,6 +582,11 @@ Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& mo
   result.stats.subdivision = model.subdivision;
   result.stats.subdivide_ms = model.subdivide_ms;
   result.stats.fit_frame = model.fit_frame;
+  if (index == 0) {  // the first frame's stats stand for the animation's
+    std::vector<Vec3> input(model.mesh.positions.begin(),
+                            model.mesh.positions.begin() + model.input_vertices);
+    result.stats.turns = TurnsRound(map, pl, input);
+  }
   SURFDEFORM_RETURN_IF_ERROR(Report(t, model.mesh, model.input_vertices, pl, o, &result.stats));
   if (extras.distortion) result.stats.distortion = SummarizeDistortion(result.mesh);
   result.stats.time_ms = MsSince(t0);

@@ -49,9 +49,12 @@ struct DeformStats {
   double scale = 1.0;                 // the scale used (the fitted one with fit)
   UpAxis up = UpAxis::kPosZ;          // the model axis used as the normal (kAuto resolved)
   const char* up_reason = "given";    // Placement::up_reason
-  int fit_frame = -1;         // an animation's frame whose sheet decided a fitted scale (-1: none)
-  double time_ms = 0.0;       // the whole call
-  double subdivide_ms = 0.0;  // of which the subdivision
+  int fit_frame = -1;  // an animation's frame whose sheet decided a fitted scale (-1: none)
+  // A surface closed in u: how far round it the model goes, in turns (past 1
+  // it lies over itself; TurnsRound). 0 on other surfaces.
+  double turns = 0.0;
+  double time_ms = 0.0;          // the whole call
+  double subdivide_ms = 0.0;     // of which the subdivision
   SubdivisionStats subdivision;  // mode kOff when not asked for
   DistortionStats distortion;    // computed only when asked for
   RigidStats rigid;              // mode kNone unless placement.rigid

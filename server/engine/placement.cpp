@@ -154,11 +154,19 @@ Result<Outline> OutlineOf(const std::vector<Vec2>& footprint, const Vec2& centre
 // when every sample is inside and at least `margin` from the boundary, every
 // point of the outline is at least margin - spacing / 2 > 0 from it. The sheet
 // is simply connected, so an outline inside it encloses only sheet points.
-bool OutlineInside(const FlatLocator& locator, const Outline& outline, const Placement& base,
-                   double s, double margin) {
+//
+// On a sheet continued past its seam (SheetMap::periodic_u), the outline
+// must also span at most one period of columns: a longer model would lie on
+// the surface over itself. The footprint's extent round the surface is its
+// outline's, on a cylinder's strip and on a cone's sector alike.
+bool OutlineInside(const SheetMap& map, const Outline& outline, const Placement& base, double s,
+                   double margin) {
+  const FlatLocator& locator = map.locator();
   const std::vector<Vec2>& hull = outline.hull;
   const double spacing =
-      margin > 0.0 ? margin : 0.01 * locator.bounds().sizes().minCoeff();  // no margin: 1%
+      margin > 0.0 ? margin : 0.01 * map.given_locator().bounds().sizes().minCoeff();  // 1%
+  const double period = map.period_columns();
+  double u_lo = std::numeric_limits<double>::infinity(), u_hi = -u_lo;
   int hint = -1;
   for (size_t k = 0; k < hull.size(); ++k) {
     const Vec2 a = base.target + s * (base.rotation * (hull[k] - base.centre));
@@ -169,6 +177,11 @@ bool OutlineInside(const FlatLocator& locator, const Outline& outline, const Pla
       SheetLocation l;
       if (!locator.Locate(placed, &l, &hint)) return false;
       if (locator.BoundaryWithin(placed, margin)) return false;
+      if (period > 0.0) {
+        u_lo = std::min(u_lo, l.i + l.s);
+        u_hi = std::max(u_hi, l.i + l.s);
+        if (u_hi - u_lo > period) return false;
+      }
     }
   }
   return true;
@@ -176,9 +189,9 @@ bool OutlineInside(const FlatLocator& locator, const Outline& outline, const Pla
 
 // The largest scale up to `hi` at which the outline stays inside the sheet
 // (OutlineInside), to a relative 1e-5: far below the margin's own precision.
-Result<double> FitScale(const FlatLocator& locator, const Outline& outline, const Placement& base,
+Result<double> FitScale(const SheetMap& map, const Outline& outline, const Placement& base,
                         double margin, double hi) {
-  if (!OutlineInside(locator, outline, base, 0.0, margin)) {
+  if (!OutlineInside(map, outline, base, 0.0, margin)) {
     return Status(ErrorCode::kOutsideSheet,
                   "the footprint's centre is not inside the flat sheet (with the margin), so no "
                   "scale fits; move placement.center",
@@ -187,7 +200,7 @@ Result<double> FitScale(const FlatLocator& locator, const Outline& outline, cons
   double lo = 0.0;
   for (int it = 0; it < 60 && hi - lo > 1e-5 * hi; ++it) {
     const double mid = 0.5 * (lo + hi);
-    (OutlineInside(locator, outline, base, mid, margin) ? lo : hi) = mid;
+    (OutlineInside(map, outline, base, mid, margin) ? lo : hi) = mid;
   }
   return lo;
 }
@@ -254,8 +267,13 @@ Placement Unfitted(const FlatLocator& locator, const FlatSheet& sheet,
 }
 
 // fit's margin on a sheet: a fraction of its bounding box's smaller side.
-double FitMargin(const FlatLocator& locator, const PlacementOptions& o) {
-  return o.fit_margin * locator.bounds().sizes().minCoeff();
+double FitMargin(const SheetMap& map, const PlacementOptions& o) {
+  return o.fit_margin * map.given_locator().bounds().sizes().minCoeff();
+}
+
+// The largest scale worth trying on a sheet: the footprint spans its box.
+double LargestScale(const SheetMap& map, const Outline& outline) {
+  return map.locator().bounds().diagonal().norm() / outline.extent;
 }
 
 }  // namespace
@@ -303,16 +321,31 @@ UpAxis ResolveUpAxis(UpAxis up, bool y_up_input, const std::vector<Vec3>& positi
   return kPositive[thin];
 }
 
-Result<Placement> ComputePlacement(const FlatLocator& locator, const FlatSheet& sheet,
-                                   const std::vector<Vec3>& positions, const PlacementOptions& o) {
+Result<Placement> ComputePlacement(const SheetMap& map, const std::vector<Vec3>& positions,
+                                   const PlacementOptions& o) {
   std::vector<Vec2> footprint;
-  Placement pl = Unfitted(locator, sheet, positions, o, o.fit ? &footprint : nullptr);
+  Placement pl =
+      Unfitted(map.given_locator(), map.given_sheet(), positions, o, o.fit ? &footprint : nullptr);
   if (!o.fit) return pl;
   SURFDEFORM_ASSIGN_OR_RETURN(const Outline outline, OutlineOf(footprint, pl.centre));
-  SURFDEFORM_ASSIGN_OR_RETURN(pl.scale,
-                              FitScale(locator, outline, pl, FitMargin(locator, o),
-                                       locator.bounds().diagonal().norm() / outline.extent));
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      pl.scale, FitScale(map, outline, pl, FitMargin(map, o), LargestScale(map, outline)));
   return pl;
+}
+
+double TurnsRound(const SheetMap& map, const Placement& pl, const std::vector<Vec3>& positions) {
+  if (!map.periodic_u() || positions.empty()) return 0.0;
+  std::vector<Vec2> footprint(positions.size());
+  for (size_t k = 0; k < positions.size(); ++k) footprint[k] = pl.Apply(positions[k]).head<2>();
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  int hint = -1;
+  for (const Vec2& p : ConvexHull(footprint)) {
+    SheetLocation l;
+    if (!map.locator().Locate(p, &l, &hint)) continue;  // off the sheet: reported as such
+    lo = std::min(lo, l.i + l.s);
+    hi = std::max(hi, l.i + l.s);
+  }
+  return hi >= lo ? (hi - lo) / map.period_columns() : 0.0;
 }
 
 Result<FramePlacements> ComputeFramePlacements(std::span<const SheetMap* const> maps,
@@ -322,7 +355,7 @@ Result<FramePlacements> ComputeFramePlacements(std::span<const SheetMap* const> 
   std::vector<Vec2> footprint;
   out.each.reserve(maps.size());
   for (size_t k = 0; k < maps.size(); ++k) {
-    out.each.push_back(Unfitted(maps[k]->locator(), maps[k]->sheet(), positions, o,
+    out.each.push_back(Unfitted(maps[k]->given_locator(), maps[k]->given_sheet(), positions, o,
                                 o.fit && k == 0 ? &footprint : nullptr));
   }
   if (!o.fit || maps.empty()) return out;
@@ -331,14 +364,11 @@ Result<FramePlacements> ComputeFramePlacements(std::span<const SheetMap* const> 
   // tightest frame decides, in one bisection for most sequences.
   double scale = 0.0;
   for (size_t k = 0; k < maps.size(); ++k) {
-    const FlatLocator& locator = maps[k]->locator();
-    const double margin = FitMargin(locator, o);
-    if (out.fit_frame >= 0 && OutlineInside(locator, outline, out.each[k], scale, margin)) {
-      continue;
-    }
-    const double hi =
-        out.fit_frame >= 0 ? scale : locator.bounds().diagonal().norm() / outline.extent;
-    auto fitted = FitScale(locator, outline, out.each[k], margin, hi);
+    const SheetMap& map = *maps[k];
+    const double margin = FitMargin(map, o);
+    if (out.fit_frame >= 0 && OutlineInside(map, outline, out.each[k], scale, margin)) continue;
+    const double hi = out.fit_frame >= 0 ? scale : LargestScale(map, outline);
+    auto fitted = FitScale(map, outline, out.each[k], margin, hi);
     if (!fitted.ok()) {
       return Status(fitted.status().code(),
                     "frame " + std::to_string(k) + ": " + fitted.status().message(),

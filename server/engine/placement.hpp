@@ -111,12 +111,20 @@ struct Placement {
 UpAxis ResolveUpAxis(UpAxis up, bool y_up_input, const std::vector<Vec3>& positions,
                      const char** reason);
 
-// The placement of a model with these vertex positions (all finite). Errors:
-// kDegenerate for a footprint that cannot be fitted, kOutsideSheet when the
-// fit's centre is off the sheet.
-Result<Placement> ComputePlacement(const FlatLocator& locator, const FlatSheet& sheet,
-                                   const std::vector<Vec3>& positions,
+// The placement of a model with these vertex positions (all finite) on the
+// map's given sheet. With fit on a sheet continued past its seam
+// (SheetMap::periodic_u), the footprint may cross the seam but not go round
+// more than once. Errors: kDegenerate for a footprint that cannot be
+// fitted, kOutsideSheet when the fit's centre is off the sheet.
+Result<Placement> ComputePlacement(const SheetMap& map, const std::vector<Vec3>& positions,
                                    const PlacementOptions& options);
+
+// On a sheet continued past its seam (SheetMap::periodic_u): how far round
+// the surface the model's footprint goes, in turns (its outline's extent in
+// u over one period's); past 1 the model lies over itself. 0 on other
+// sheets.
+double TurnsRound(const SheetMap& map, const Placement& placement,
+                  const std::vector<Vec3>& positions);
 
 // One model's placements on the sheets of an animation's frames (one grid).
 // Each frame resolves the placement on its own sheet, as ComputePlacement

@@ -12,7 +12,7 @@ Result<SheetField> SampleSheetField(const SheetMap& map, int n, int threads) {
                                " lattice points per side, got " + std::to_string(n),
                            "n");
   }
-  const std::vector<Vec2>& flat = map.sheet().flat;
+  const std::vector<Vec2>& flat = map.given_sheet().flat;
   if (flat.empty()) return InvalidArgument("the sheet has no samples", "id");
   SheetField f;
   f.n = n;

@@ -7,9 +7,14 @@
 namespace surfdeform {
 
 SheetMap::SheetMap(const Surface& surface, const FlatSheet& sheet)
-    : surface_(surface), sheet_(sheet), locator_(sheet) {
-  exact_ = sheet.method == "exact" && surface.InverseUnrolling(Vec2(1, 1)).has_value();
-  raw_from_sheet_ = sheet.frame_linear.inverse();
+    : extension_(ExtendAcrossSeam(surface, sheet)),
+      given_sheet_(sheet),
+      surface_(extension_ ? *extension_->surface : surface),
+      sheet_(extension_ ? extension_->sheet : sheet),
+      locator_(sheet_),
+      given_locator_(extension_ ? std::make_shared<const FlatLocator>(sheet) : nullptr) {
+  exact_ = sheet_.method == "exact" && surface_.InverseUnrolling(Vec2(1, 1)).has_value();
+  raw_from_sheet_ = sheet_.frame_linear.inverse();
   sheet_size_ = locator_.bounds().diagonal().norm();
 }
 

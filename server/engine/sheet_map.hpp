@@ -10,11 +10,14 @@
 // measures or adds, so both see the same map.
 #pragma once
 
+#include <memory>
+
 #include "base/enum_table.hpp"
 #include "base/status.hpp"
 #include "engine/flat_locator.hpp"
 #include "engine/flatten.hpp"
 #include "engine/geometry_types.hpp"
+#include "engine/seam_extension.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {
@@ -42,7 +45,12 @@ Status OutsideSheetError(size_t count, size_t n, double worst);
 
 class SheetMap {
  public:
-  // Keeps references: `surface` and `sheet` must outlive the map.
+  // Keeps references: `surface` and `sheet` must outlive the map. A surface
+  // closed in u on its closed-form unrolling (PeriodicInU) is mapped through
+  // its sheet continued past the seam (seam_extension.hpp): surface(),
+  // sheet() and locator() are then the extended ones, and parameters
+  // (SheetParameters::uv) are the extended surface's; given_sheet() and
+  // GivenParameters() are what the caller gave.
   SheetMap(const Surface& surface, const FlatSheet& sheet);
 
   // The parameters of flat point `ab`. Outside the sheet: kClamp moves the
@@ -78,13 +86,33 @@ class SheetMap {
   const FlatSheet& sheet() const { return sheet_; }
   const Surface& surface() const { return surface_; }
 
+  // The sheet as given (placement resolves its centre and margin there) and
+  // its locator: the mapping's own unless the sheet is extended.
+  const FlatSheet& given_sheet() const { return given_sheet_; }
+  const FlatLocator& given_locator() const { return given_locator_ ? *given_locator_ : locator_; }
+  // Whether a model may cross the seam (the sheet is extended); then the
+  // columns of one period of locator()'s grid.
+  bool periodic_u() const { return extension_ != nullptr; }
+  int period_columns() const { return extension_ ? extension_->period_columns : 0; }
+  // The given surface's parameters of this map's (u in [0, 1) when periodic).
+  Vec2 GivenParameters(const Vec2& uv) const {
+    return extension_ ? extension_->GivenParameters(uv) : uv;
+  }
+  // This map's parameters of the given surface's (the middle copy).
+  Vec2 MapParameters(const Vec2& given_uv) const {
+    return extension_ ? extension_->ExtendedParameters(given_uv) : given_uv;
+  }
+
  private:
   // d(u, v)/d(a, b) in the cell of `l`.
   Eigen::Matrix2d ParameterJacobian(const SheetLocation& l) const;
 
+  std::shared_ptr<const SeamExtension> extension_;  // before the references into it
+  const FlatSheet& given_sheet_;
   const Surface& surface_;
   const FlatSheet& sheet_;
   FlatLocator locator_;
+  std::shared_ptr<const FlatLocator> given_locator_;  // when extended
   bool exact_ = false;  // invert the closed-form unrolling instead of the cells
   Eigen::Matrix2d raw_from_sheet_ = Eigen::Matrix2d::Identity();
   double sheet_size_ = 1.0;  // diagonal of the sheet's bounding box

@@ -14,7 +14,7 @@ SheetMark MarkOfParameters(const SheetMap& map, const Vec2& uv) {
   const SurfacePoint s = map.surface().Evaluate(uv.x(), uv.y(), 1);
   m.point = s.p;
   m.normal = UnitNormal(s);
-  m.uv = uv;
+  m.uv = map.GivenParameters(uv);  // modulo the period on a closed surface
   return m;
 }
 
@@ -44,7 +44,7 @@ SheetMark MarkAt(const SheetMap& map, const Vec2& ab) {
 Result<std::vector<std::vector<SheetMark>>> ResamplePolylines(
     const SheetMap& map, const std::vector<std::vector<Vec2>>& polylines,
     const PolylineOptions& o) {
-  const double diagonal = map.locator().bounds().diagonal().norm();
+  const double diagonal = map.given_locator().bounds().diagonal().norm();
   const double tolerance = o.tolerance > 0.0 ? o.tolerance : 1e-3 * diagonal;
   const double finest = kFinestMarkShare * diagonal;
   for (const auto& [value, field] :
@@ -153,6 +153,8 @@ SheetMark MarkNearest(const SheetMap& map, const Vec3& x) {
     fx = ft;
     if (moved.norm() < 1e-15) break;
   }
+  // On a closed surface, the copy of the point on the given sheet.
+  uv = map.MapParameters(map.GivenParameters(uv));
   SheetMark m = MarkOfParameters(map, uv);
   m.sheet = map.SheetPoint(uv);
   m.on_sheet = true;

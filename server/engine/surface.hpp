@@ -83,6 +83,10 @@ class Surface {
   // frame (continued past [0, 1]^2 smoothly). std::nullopt where there is none.
   virtual std::optional<Vec2> InverseUnrolling(const Vec2& /*flat*/) const { return std::nullopt; }
 
+  // Whether the surface closes in u: S(u + 1, v) = S(u, v) for every v, and
+  // evaluation past [0, 1] in u goes round again (a full cylinder or cone).
+  virtual bool ClosedInU() const { return false; }
+
   Vec3 Position(double u, double v) const { return Evaluate(u, v, 0).p; }
 };
 

@@ -1,15 +1,20 @@
 #include "service/replies.hpp"
 
+#include "base/format.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <numbers>
 
+#include "base/format.hpp"
 #include "engine/elapsed.hpp"
 #include "engine/flatten.hpp"
 #include "engine/placement.hpp"
+#include "engine/seam_extension.hpp"
 #include "engine/sheet_map.hpp"
 #include "engine/subdivide.hpp"
 #include "meshio/mesh_export.hpp"
@@ -119,12 +124,21 @@ Result<Reply> JsonReply(const json& body) {
 }
 
 json SheetSummary(const StoredSurface& s, bool cached) {
-  return {{"id", s.id},
-          {"cached", cached},
-          {"grid", {{"nu", s.sheet.nu}, {"nv", s.sheet.nv}}},
-          {"method", s.sheet.method},
-          {"quality", proto::QualityJson(s.sheet.quality)},
-          {"timing_ms", {{"flatten", s.flatten_ms}}}};
+  json j = {{"id", s.id},
+            {"cached", cached},
+            {"grid", {{"nu", s.sheet.nu}, {"nv", s.sheet.nv}}},
+            {"method", s.sheet.method},
+            {"periodic_u", false},
+            {"quality", proto::QualityJson(s.sheet.quality)},
+            {"timing_ms", {{"flatten", s.flatten_ms}}}};
+  if (const std::optional<SheetPeriod> period = PeriodOf(*s.surface, s.sheet)) {
+    // A model may cross the seam: the flat point p of the column u = 0 and
+    // R(angle) p + translation of the column u = 1 are one surface point.
+    j["periodic_u"] = true;
+    j["period"] = {{"angle_deg", period->angle * 180.0 / std::numbers::pi},
+                   {"translation", {period->translation.x(), period->translation.y()}}};
+  }
+  return j;
 }
 
 json SheetJson(const StoredSurface& s) {
@@ -139,6 +153,24 @@ json SheetJson(const StoredSurface& s) {
   return j;
 }
 
+namespace {
+
+// The input's warnings, and the placement's: a model longer than the
+// circumference of a closed surface lies over itself.
+json Warnings(const ImportedMesh& imported, const DeformStats& st) {
+  json warnings = imported.warnings;
+  if (st.turns > 1.0) {
+    warnings.push_back(
+        Format("the model goes %.3g times round the closed surface: it is longer "
+               "than the circumference and lies over itself; scale it down "
+               "(placement.scale) to stay within one turn",
+               st.turns));
+  }
+  return warnings;
+}
+
+}  // namespace
+
 json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, bool hit,
                        proto::OutputFormat format, const ImportedMesh& imported,
                        const DeformStats& st, bool placement_reused, bool subdivision_reused) {
@@ -151,7 +183,7 @@ json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, boo
             {"subdivision", proto::SubdivisionStatsJson(st.subdivision)},
             {"placement", proto::DeformStatsJson(st)},
             {"quality", proto::QualityJson(quality)},
-            {"warnings", imported.warnings}};
+            {"warnings", Warnings(imported, st)}};
   j["placement"]["reused"] = placement_reused;  // from the memo: the same model came before
   // Not run: it added nothing to the same model with the same options before.
   j["subdivision"]["reused"] = subdivision_reused;
@@ -213,7 +245,7 @@ json AnimationStatsHeader(const StoredAnimation& animation, bool hit, double fps
         {"iterations_saved_estimate",
          std::max(0LL, cold * static_cast<long long>(frames - 1) - warm_iterations)},
         {"each", std::move(per_frame)}}},
-      {"warnings", imported.warnings}};
+      {"warnings", Warnings(imported, first_frame)}};
   return stats;
 }
 
@@ -370,6 +402,14 @@ std::string InfoJson(const ServiceLimits& l) {
             {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
             {"output_formats", NamesOf<proto::OutputFormat>(proto::kOutputFormats)},
             {"surface_kinds", NamesOf<proto::SurfaceKind>(proto::kSurfaceKinds)},
+            {"closed_surfaces",
+             {{"periodic_u", {"cylinder", "cone"}},
+              {"description",
+               "a cylinder or cone with angle_deg 360, unrolled in closed form (the default "
+               "flatten.exact_developable), is periodic in u: a model may lie across its seam "
+               "and wrap round it (the sheet's periodic_u and period say so; the stats' "
+               "placement.turns says how far round, and warn past one turn). Other kinds "
+               "keep a seam that no model may cross"}}},
             {"flatten_methods", NamesOf<FlattenMethod>(kFlattenMethods)},
             {"subdivision_modes", NamesOf<SubdivisionMode>(kSubdivisionModes)}};
   // Every named choice of the request, by its field: {name, description}.

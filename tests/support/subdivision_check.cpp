@@ -10,7 +10,7 @@ Refined Refine(const Target& t, const Mesh& m, const PlacementOptions& o,
                const SubdivisionOptions& s) {
   Refined r;
   const SheetMap map(*t.surface, t.sheet);
-  auto pl = ComputePlacement(map.locator(), t.sheet, m.positions, o);
+  auto pl = ComputePlacement(map, m.positions, o);
   ExpectOk(pl);
   if (!pl.ok()) return r;
   std::vector<Vec3> placed;

@@ -20,8 +20,7 @@ std::unique_ptr<StageInputs> MakeStageInputs(Target target, Mesh mesh,
     in->placement.fit_margin = 0.05;
   }
   in->map = std::make_unique<SheetMap>(*in->target.surface, in->target.sheet);
-  auto pl =
-      ComputePlacement(in->map->locator(), in->target.sheet, in->mesh.positions, in->placement);
+  auto pl = ComputePlacement(*in->map, in->mesh.positions, in->placement);
   ExpectOk(pl);
   if (!pl.ok()) return in;
   for (const Vec3& p : in->mesh.positions) in->placed.push_back(pl->Apply(p));

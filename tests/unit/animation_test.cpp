@@ -371,7 +371,7 @@ TEST(Animation, FitFitsEveryFrameAndTheTightestFrameDecides) {
     auto sheet = FlattenSurface(*surface, {16, 16}, {});
     EXPECT_TRUE(sheet.ok());
     const SheetMap map(*surface, *sheet);
-    auto pl = ComputePlacement(map.locator(), *sheet, plate.positions, placement);
+    auto pl = ComputePlacement(map, plate.positions, placement);
     EXPECT_TRUE(pl.ok()) << pl.status().ToString();
     return pl.ok() ? pl->scale : 0.0;
   };

@@ -221,8 +221,8 @@ TEST(Deform, FitDependsOnlyOnTheFootprintsOutline) {
   PlacementOptions o;
   o.fit = true;
   o.rotation_deg = 20;
-  auto alone = ComputePlacement(map.locator(), t.sheet, outline, o);
-  auto with_cloud = ComputePlacement(map.locator(), t.sheet, all, o);
+  auto alone = ComputePlacement(map, outline, o);
+  auto with_cloud = ComputePlacement(map, all, o);
   ASSERT_TRUE(alone.ok() && with_cloud.ok());
   EXPECT_GT(alone->scale, 0.1);
   EXPECT_EQ(with_cloud->scale, alone->scale);

@@ -245,7 +245,7 @@ TEST(Subdivide, FaceExtentsMeasuredAheadChangeNothing) {
   const std::pair<Mesh, double> cases[] = {{testing::UvSphere(1.0, 96, 48), 1e-2},
                                            {testing::UvSphere(0.3, 12, 8), 1e-3}};
   for (const auto& [m, tolerance] : cases) {
-    auto pl = ComputePlacement(map.locator(), t.sheet, m.positions, Fit());
+    auto pl = ComputePlacement(map, m.positions, Fit());
     ASSERT_TRUE(pl.ok());
     std::vector<Vec3> placed;
     for (const Vec3& p : m.positions) placed.push_back(pl->Apply(p));
@@ -269,7 +269,7 @@ TEST(Subdivide, FaceExtentsMeasuredAheadChangeNothing) {
 class SubdivideLimits : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto pl = ComputePlacement(map.locator(), t.sheet, plate.positions, Fit());
+    auto pl = ComputePlacement(map, plate.positions, Fit());
     ASSERT_TRUE(pl.ok()) << pl.status().ToString();
     for (const Vec3& p : plate.positions) placed.push_back(pl->Apply(p));
   }
