@@ -460,6 +460,33 @@ try {
           `${d.vertices} decoded, ${verts} vertices)`);
   }
 
+  // The can, a whole cylinder: its sheet is periodic. The footprint dragged
+  // left past the seam comes back from the right, a period away, and the
+  // model is deformed across the seam.
+  await page.select('#preset', 'can');
+  await sleep(300);
+  if (await settled('ready', 'on the can')) {
+    const before = await page.evaluate(() => [...window.surfdeformViewer.state.placement.center]);
+    await toTop();
+    const canBox = await (await page.$('#sheet')).boundingBox();
+    await page.mouse.move(canBox.x + canBox.width / 2, canBox.y + canBox.height / 2);
+    await page.mouse.down();
+    await page.mouse.move(canBox.x - 40, canBox.y + canBox.height / 2, { steps: 8 });
+    await page.mouse.up();
+    await sleep(400);
+    if (await settled('ready', 'after dragging the footprint past the seam')) {
+      const center = await page.evaluate(() => window.surfdeformViewer.state.placement.center);
+      const s = await stats();
+      check(before[0] > 3 && before[0] < 3.3 && center[0] > Math.PI && center[0] < 2 * Math.PI &&
+            Math.abs(center[1] - before[1]) < 0.05,
+            `the footprint went past the seam and came back from the other side (centre ` +
+            `${before.map((x) => x.toFixed(2))} -> ${center.map((x) => x.toFixed(2))})`);
+      check(s && s.placement.turns > 0 && s.placement.turns <= 1,
+            `deformed across the seam of the can (turns ${s && s.placement.turns})`);
+      await shot('across-the-seam');
+    }
+  }
+
   // A broken upload through the file input: the server's problem detail
   // appears on the page.
   const broken = path.join(artifacts, 'broken.obj');

@@ -2,6 +2,9 @@
 // their area (like the paper's Figure 11), and the model's footprint on it,
 // which the person drags (move), wheels (scale) and Shift-wheels (rotate).
 // In marking mode a click adds a point to the mark (a polyline) instead.
+// On a closed surface the seam is drawn, the footprint is drawn where it
+// lands past the seam too, and a footprint released past the seam comes back
+// onto the sheet by the period.
 
 function cellArea(p, q, r, s) {  // quad p q r s, as two triangles (2D or 3D)
   const tri = (a, b, c) => {
@@ -49,8 +52,55 @@ export class SheetView {
       hi = [Math.max(hi[0], x), Math.max(hi[1], y)];
     }
     const spread = Math.max(0.01, ...ratios.map((r) => Math.abs(Math.log(r))));
-    this.sheet = { nu, nv, flat: sheet.flat, ratios, spread, lo, hi };
+    // A surface closed in u (a full cylinder or cone): the motion that takes
+    // the seam's column u = 0 onto u = 1, and the sheet's outline.
+    const period = sheet.periodic_u && sheet.period
+      ? { angle: (sheet.period.angle_deg * Math.PI) / 180, t: sheet.period.translation } : null;
+    const outline = [];
+    for (let i = 0; i < nu; ++i) outline.push(sheet.flat[i]);
+    for (let j = 1; j < nv; ++j) outline.push(sheet.flat[nu - 1 + nu * j]);
+    for (let i = nu - 2; i >= 0; --i) outline.push(sheet.flat[i + nu * (nv - 1)]);
+    for (let j = nv - 2; j > 0; --j) outline.push(sheet.flat[nu * j]);
+    this.sheet = { nu, nv, flat: sheet.flat, ratios, spread, lo, hi, period, outline };
     this.draw();
+  }
+
+  // Point p moved by the period k times (k = 1 or -1): the same surface point.
+  byPeriod([x, y], k) {
+    const { angle, t } = this.sheet.period;
+    if (k > 0) {
+      const c = Math.cos(angle), s = Math.sin(angle);
+      return [c * x - s * y + t[0], s * x + c * y + t[1]];
+    }
+    const c = Math.cos(-angle), s = Math.sin(-angle), u = x - t[0], v = y - t[1];
+    return [c * u - s * v, s * u + c * v];
+  }
+
+  // Whether p is inside the sheet's outline (even-odd rule).
+  onSheet([x, y]) {
+    let inside = false;
+    const o = this.sheet.outline;
+    for (let a = 0, b = o.length - 1; a < o.length; b = a++) {
+      if ((o[a][1] > y) !== (o[b][1] > y) &&
+          x < ((o[b][0] - o[a][0]) * (y - o[a][1])) / (o[b][1] - o[a][1]) + o[a][0]) inside = !inside;
+    }
+    return inside;
+  }
+
+  // On a closed surface, a footprint centre dragged past the seam comes
+  // back onto the sheet by the period (turned with it on a cone): the same
+  // placement on the surface. True when it moved.
+  wrapAcrossSeam(placement) {
+    if (!this.sheet || !this.sheet.period || this.onSheet(placement.center)) return false;
+    for (const k of [1, -1]) {
+      const moved = this.byPeriod(placement.center, k);
+      if (!this.onSheet(moved)) continue;
+      placement.center = moved;
+      placement.rotation_deg += (k * this.sheet.period.angle * 180) / Math.PI;
+      placement.rotation_deg = ((placement.rotation_deg + 540) % 360) - 180;
+      return true;
+    }
+    return false;
   }
 
   // The centre of the sheet: the image of (u, v) = (1/2, 1/2), as the server's "center".
@@ -118,16 +168,33 @@ export class SheetView {
         ctx.stroke();
       }
     }
+    if (this.sheet.period) {  // the seam, both of its sides
+      ctx.strokeStyle = '#c60';
+      ctx.lineWidth = 2;
+      ctx.setLineDash([6, 4]);
+      for (const i of [0, nu - 1]) {
+        ctx.beginPath();
+        for (let j = 0; j < nv; ++j) ctx.lineTo(...toPx(flat[i + nu * j]));
+        ctx.stroke();
+      }
+      ctx.setLineDash([]);
+      ctx.lineWidth = 1;
+    }
     const hull = this.placed();
     if (hull) {
-      ctx.fillStyle = 'rgba(30, 120, 60, 0.25)';
-      ctx.strokeStyle = '#174';
-      ctx.lineWidth = 2;
-      ctx.beginPath();
-      for (const p of hull) ctx.lineTo(...toPx(p));
-      ctx.closePath();
-      ctx.fill();
-      ctx.stroke();
+      // On a closed surface, the footprint also where it lands past the
+      // seam, a period away (paler).
+      const copies = this.sheet.period ? [0, 1, -1] : [0];
+      for (const k of copies) {
+        ctx.fillStyle = k ? 'rgba(30, 120, 60, 0.12)' : 'rgba(30, 120, 60, 0.25)';
+        ctx.strokeStyle = k ? '#1746' : '#174';
+        ctx.lineWidth = 2;
+        ctx.beginPath();
+        for (const p of hull) ctx.lineTo(...toPx(k ? this.byPeriod(p, k) : p));
+        ctx.closePath();
+        ctx.fill();
+        ctx.stroke();
+      }
       ctx.lineWidth = 1;
     }
     if (this.mark.length) {
@@ -180,6 +247,7 @@ export class SheetView {
     if (!this.drag) return;
     this.drag = null;
     this.canvas.style.cursor = 'grab';
+    if (this.wrapAcrossSeam(this.placement)) this.draw();
     this.onPlacement(this.placement, true, 'drag');
   }
 
