@@ -231,6 +231,7 @@ async function refreshSurface(known = null) {
     ];
     list($('quality'), state.surfaceInfo);
     sheetView.setSheet(sheet);
+    preview.setPeriod(sheet);
     modelView.setSurface(sheet.points, sheet.grid.nu, sheet.grid.nv);
     showMark(sheetView.mark);  // the mark stays where it was on the sheet
     modelView.setControlPoints(state.spec.kind === 'bezier' ? state.spec.control_points : []);
@@ -304,7 +305,7 @@ function measurePreview(placement) {
   const m = state.model;
   if (!m || !m.positions || !state.field || typeof placement.scale !== 'number') return null;
   const frame = placementFrame(m.positions, effectiveUp(), $('anchor').value);
-  const shown = previewPositions(m.positions, frame, placement, state.field);
+  const shown = previewPositions(m.positions, frame, placement, state.field, preview.period);
   const [lo, hi] = state.field.bounds;
   const diagonal = Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
   const d = nearestDistances(shown, modelView.shownPositions(), diagonal / 100);

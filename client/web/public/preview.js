@@ -7,6 +7,7 @@
 // border cell's map continues). Vertices whose cell has a lattice point off
 // the sheet are tinted: that part would leave the sheet. Moving, scaling or
 // rotating the footprint changes uniforms only; a new surface, two textures.
+// On a whole cylinder, parts past the seam are bent a period away.
 //
 // previewPositions() is the same computation on the CPU, for measuring the
 // preview against the exact result.
@@ -44,11 +45,23 @@ export function sampleField(field, a, b) {
   return { p, n: nr.map((x) => x / len), on };
 }
 
+// On a surface closed in u whose sheet repeats by a translation `period` (a
+// whole cylinder's strip, (2 pi R, 0)): sheet point (a, b) moved by whole
+// periods onto the field's box, as the shader does. Unchanged without one.
+export function wrapByPeriod(a, b, field, period) {
+  if (!period) return [a, b];
+  const lo = field.bounds[0];
+  const k = Math.floor(((a - lo[0]) * period[0] + (b - lo[1]) * period[1]) /
+                       (period[0] * period[0] + period[1] * period[1]));
+  return [a - k * period[0], b - k * period[1]];
+}
+
 // The preview's position of every model vertex (`positions`: x, y, z, ...).
-export function previewPositions(positions, frame, placement, field) {
+export function previewPositions(positions, frame, placement, field, period = null) {
   const out = new Float64Array(positions.length);
   for (let k = 0; k < positions.length; k += 3) {
-    const [a, b, h] = placePoint(positions[k], positions[k + 1], positions[k + 2], frame, placement);
+    const [a0, b0, h] = placePoint(positions[k], positions[k + 1], positions[k + 2], frame, placement);
+    const [a, b] = wrapByPeriod(a0, b0, field, period);
     const f = sampleField(field, a, b);
     for (let c = 0; c < 3; ++c) out[k + c] = f.p[c] + h * f.n[c];
   }
@@ -99,6 +112,7 @@ uniform float sdH0;
 uniform vec2 sdRotation;  // cos, sin
 uniform float sdScale;
 uniform vec2 sdTarget;
+uniform vec2 sdPeriod;  // a sheet that repeats by this translation; (0, 0): none
 varying float sdOff;
 `;
 
@@ -108,6 +122,9 @@ vec2 sdQab = sdQ.xy - sdCentre;
 vec2 sdAB = sdTarget + sdScale * vec2(sdRotation.x * sdQab.x - sdRotation.y * sdQab.y,
                                       sdRotation.y * sdQab.x + sdRotation.x * sdQab.y);
 float sdH = sdScale * (sdQ.z - sdH0);
+if (dot(sdPeriod, sdPeriod) > 0.0) {  // past the seam: the same point a period away
+  sdAB -= floor(dot(sdAB - sdLo, sdPeriod) / dot(sdPeriod, sdPeriod)) * sdPeriod;
+}
 vec2 sdT = (sdAB - sdLo) / (sdHi - sdLo) * (sdN - 1.0);
 vec2 sdI = clamp(floor(sdT), vec2(0.0), vec2(sdN - 2.0));
 vec2 sdF = sdT - sdI;  // past the lattice, the border cell's map continues
@@ -149,6 +166,7 @@ export class FieldPreview {
       sdCentre: { value: new THREE.Vector2() }, sdH0: { value: 0 },
       sdRotation: { value: new THREE.Vector2(1, 0) }, sdScale: { value: 1 },
       sdTarget: { value: new THREE.Vector2() },
+      sdPeriod: { value: new THREE.Vector2() },
     };
     this.material = new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
                                                      side: THREE.DoubleSide });
@@ -166,6 +184,16 @@ export class FieldPreview {
     this.field = null;
     this.frame = null;
     this.placement = null;
+    this.period = null;
+  }
+
+  // The sheet's period when it repeats by a translation (a whole cylinder,
+  // from the sheet's periodic_u and period), else null: parts past the
+  // seam are bent where they land, a period away.
+  setPeriod(sheet) {
+    const p = sheet && sheet.periodic_u && sheet.period;
+    this.period = p && Math.abs(p.angle_deg) < 1e-9 ? [...p.translation] : null;
+    this.uniforms.sdPeriod.value.set(...(this.period || [0, 0]));
   }
 
   // The field as GET /v1/surfaces/{id}/field returns it in JSON.
