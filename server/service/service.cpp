@@ -276,6 +276,87 @@ struct Service::Impl {
                      std::move(stats), encode);
   }
 
+  // POST /v1/animate's work once its answer is not kept: the model imported,
+  // placed and refined for every frame, deformed through each, and encoded
+  // as one GLB of morph targets.
+  Result<Reply> AnimateModel(const proto::AnimateParams& params, std::string_view mesh,
+                             RequestWork& work, std::string etag) {
+    const ServiceLimits& limits = options.limits;
+    SURFDEFORM_ASSIGN_OR_RETURN(auto imported, MeshOf(params.model_id, mesh, work));
+    const PlacementOptions placement = PlacementFor(params.placement, imported, work.threads());
+    // Checked before any work on the input's count, and again after the
+    // subdivision on the output's.
+    SURFDEFORM_RETURN_IF_ERROR(
+        CheckFrameVertices(limits, static_cast<size_t>(params.animation.animation.frames),
+                           imported.mesh.positions.size()));
+    SURFDEFORM_ASSIGN_OR_RETURN(
+        AnimatedModel a, PrepareAnimated(params.animation, std::move(imported.mesh), placement,
+                                         params.subdivision, work));
+    const size_t frames = a.maps.size();
+    SURFDEFORM_RETURN_IF_ERROR(CheckFrameVertices(limits, frames, a.model.mesh.positions.size()));
+
+    const auto t2 = Clock::now();
+    MorphAnimation anim;
+    anim.base = &a.model.mesh;
+    anim.fps = params.animation.animation.fps;
+    anim.positions.resize(frames);
+    if (a.model.need_frame && !a.model.mesh.normals.empty()) anim.normals.resize(frames);
+    DeformExtras extras;
+    extras.geometry_only = true;
+    DeformStats first_stats;
+    for (size_t k = 0; k < frames; ++k) {
+      auto frame = DeformPrepared(a.maps[k], a.model, k, placement, extras);
+      if (!frame.ok()) {
+        const Status& st = frame.status();
+        return Status(st.code(), "frame " + std::to_string(k) + ": " + st.message(), st.field());
+      }
+      if (k == 0) first_stats = frame->stats;
+      const Mesh& m = frame->mesh;
+      anim.positions[k].resize(m.positions.size());
+      for (size_t v = 0; v < m.positions.size(); ++v) {
+        anim.positions[k][v] = m.positions[v].cast<float>();
+      }
+      if (!anim.normals.empty()) {
+        anim.normals[k].resize(m.normals.size());
+        for (size_t v = 0; v < m.normals.size(); ++v)
+          anim.normals[k][v] = m.normals[v].cast<float>();
+      }
+      SURFDEFORM_RETURN_IF_ERROR(work.clock().Check("deformation"));
+    }
+    const double deform_ms = MsSince(t2);
+
+    const auto t3 = Clock::now();
+    AnimationGlbOptions glb;
+    glb.compression = params.output.compression == proto::GlbCompression::kNone
+                          ? AnimationCompression::kNone
+                          : AnimationCompression::kMeshopt;
+    glb.look.materials = imported.materials;
+    glb.look.look = imported.look;
+    glb.threads = work.threads();
+    SURFDEFORM_ASSIGN_OR_RETURN(std::string bytes, WriteAnimationGlb(anim, glb));
+    if (bytes.size() > limits.max_animation_bytes) {
+      return Status::LimitExceeded("the animation's GLB would be " + std::to_string(bytes.size()) +
+                                       " bytes, more than this server returns (" +
+                                       std::to_string(limits.max_animation_bytes) + ")",
+                                   "animation.frames",
+                                   static_cast<double>(limits.max_animation_bytes),
+                                   static_cast<double>(bytes.size()));
+    }
+    const double encode_ms = MsSince(t3);
+
+    Reply reply = BytesReply(std::move(bytes), "model/gltf-binary", std::move(etag));
+    reply.cache_hit = a.hit;
+    reply.timings = {{"parse", work.parse_ms()},
+                     {"flatten", a.flatten_ms},
+                     {"subdivide", a.subdivide_ms},
+                     {"deform", deform_ms},
+                     {"encode", encode_ms}};
+    SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, StatsHeader(AnimationStatsHeader(
+                                                      *a.entry, a.hit, anim.fps, a.model,
+                                                      glb.compression, imported, first_stats)));
+    return reply;
+  }
+
   const ServiceOptions options;
   SurfaceStore store;
   ModelStore models;
@@ -509,83 +590,36 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
 Result<Reply> Service::Animate(const DeformRequest& request) {
   const ServiceLimits& limits = impl_->options.limits;
   RequestWork work(limits);
-  SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
   SURFDEFORM_ASSIGN_OR_RETURN(auto parsed, work.ParseJson(request.params, "params"));
   SURFDEFORM_ASSIGN_OR_RETURN(auto params, proto::ParseAnimateParams(parsed));
   SURFDEFORM_RETURN_IF_ERROR(CheckFrames(limits, params.animation));
   SURFDEFORM_RETURN_IF_ERROR(AcceptGlbOnly(request.accept));
-  SURFDEFORM_ASSIGN_OR_RETURN(auto imported, impl_->MeshOf(params.model_id, request.mesh, work));
-  const PlacementOptions placement = PlacementFor(params.placement, imported, work.threads());
-  // Checked before any work on the input's count, and again after the
-  // subdivision on the output's.
-  SURFDEFORM_RETURN_IF_ERROR(
-      CheckFrameVertices(limits, static_cast<size_t>(params.animation.animation.frames),
-                         imported.mesh.positions.size()));
-  SURFDEFORM_ASSIGN_OR_RETURN(
-      AnimatedModel a, impl_->PrepareAnimated(params.animation, std::move(imported.mesh), placement,
-                                              params.subdivision, work));
-  const size_t frames = a.maps.size();
-  SURFDEFORM_RETURN_IF_ERROR(CheckFrameVertices(limits, frames, a.model.mesh.positions.size()));
-
-  const auto t2 = Clock::now();
-  MorphAnimation anim;
-  anim.base = &a.model.mesh;
-  anim.fps = params.animation.animation.fps;
-  anim.positions.resize(frames);
-  if (a.model.need_frame && !a.model.mesh.normals.empty()) anim.normals.resize(frames);
-  DeformExtras extras;
-  extras.geometry_only = true;
-  DeformStats first_stats;
-  for (size_t k = 0; k < frames; ++k) {
-    auto frame = DeformPrepared(a.maps[k], a.model, k, placement, extras);
-    if (!frame.ok()) {
-      const Status& st = frame.status();
-      return Status(st.code(), "frame " + std::to_string(k) + ": " + st.message(), st.field());
-    }
-    if (k == 0) first_stats = frame->stats;
-    const Mesh& m = frame->mesh;
-    anim.positions[k].resize(m.positions.size());
-    for (size_t v = 0; v < m.positions.size(); ++v) {
-      anim.positions[k][v] = m.positions[v].cast<float>();
-    }
-    if (!anim.normals.empty()) {
-      anim.normals[k].resize(m.normals.size());
-      for (size_t v = 0; v < m.normals.size(); ++v) anim.normals[k][v] = m.normals[v].cast<float>();
-    }
-    SURFDEFORM_RETURN_IF_ERROR(work.clock().Check("deformation"));
-  }
-  const double deform_ms = MsSince(t2);
-
-  const auto t3 = Clock::now();
-  AnimationGlbOptions glb;
-  glb.compression = params.output.compression == proto::GlbCompression::kNone
-                        ? AnimationCompression::kNone
-                        : AnimationCompression::kMeshopt;
-  glb.look.materials = imported.materials;
-  glb.look.look = imported.look;
-  glb.threads = work.threads();
-  SURFDEFORM_ASSIGN_OR_RETURN(std::string bytes, WriteAnimationGlb(anim, glb));
-  if (bytes.size() > limits.max_animation_bytes) {
-    return Status::LimitExceeded("the animation's GLB would be " + std::to_string(bytes.size()) +
-                                     " bytes, more than this server returns (" +
-                                     std::to_string(limits.max_animation_bytes) + ")",
-                                 "animation.frames",
-                                 static_cast<double>(limits.max_animation_bytes),
-                                 static_cast<double>(bytes.size()));
-  }
-  const double encode_ms = MsSince(t3);
-
-  Reply reply = BytesReply(std::move(bytes), "model/gltf-binary");
-  reply.cache_hit = a.hit;
-  reply.timings = {{"parse", work.parse_ms()},
-                   {"flatten", a.flatten_ms},
-                   {"subdivide", a.subdivide_ms},
-                   {"deform", deform_ms},
-                   {"encode", encode_ms}};
-  SURFDEFORM_ASSIGN_OR_RETURN(
-      reply.stats_json, StatsHeader(AnimationStatsHeader(*a.entry, a.hit, anim.fps, a.model,
-                                                         glb.compression, imported, first_stats)));
-  return reply;
+  SURFDEFORM_RETURN_IF_ERROR(CheckOneMesh(params.model_id, request.mesh));
+  // The answer's key and ETag, before any work: the model's id and the
+  // animation's content id (its keys, frames, fps, sampling, flattening)
+  // name every sheet; the placement, subdivision and compression the rest.
+  const std::string model =
+      params.model_id.empty() ? proto::ModelId(request.mesh) : params.model_id;
+  const std::string sheets = "animation/" + proto::AnimationId(params.animation);
+  const std::string key = proto::AnswerKey({model, sheets, &params.placement, &params.subdivision,
+                                            &params.output, proto::OutputFormat::kGlb, 0});
+  const std::string etag = proto::AnswerEtag(key);
+  if (proto::IfNoneMatchNames(request.if_none_match, etag)) return NotModified(etag);
+  const bool gzip =
+      AcceptsGzip(request.accept_encoding) && Compresses(params.output, proto::OutputFormat::kGlb);
+  bool kept = false;
+  auto answer = impl_->answers.GetOrMake(
+      key,
+      [&]() -> Result<Reply> {
+        SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+        SURFDEFORM_ASSIGN_OR_RETURN(Reply reply,
+                                    impl_->AnimateModel(params, request.mesh, work, etag));
+        if (gzip) AddGzip(&reply);
+        return reply;
+      },
+      &kept);
+  if (answer.ok() && kept && gzip && answer->gzip_body.empty()) AddGzip(&*answer);
+  return answer;
 }
 
 }  // namespace surfdeform

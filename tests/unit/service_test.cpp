@@ -640,6 +640,51 @@ TEST(Service, AnIfNoneMatchNamingTheAnswerIs304BeforeAnyWork) {
   EXPECT_NE(moved->etag, made->etag);
 }
 
+TEST(Service, KeepsAnimationsAndAnswers304BeforeAnyWork) {
+  Service service({});
+  auto uploaded = service.UploadModel(PlateObj(), "");
+  ASSERT_TRUE(uploaded.ok());
+  auto params = [&](double scale) {
+    return R"({"model_id":")" + uploaded->model_id +
+           R"(","animation":{"keyframes":[)"
+           R"({"time":0,"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":180}},)"
+           R"({"time":1,"surface":{"kind":"cylinder","radius":3,"height":3,"angle_deg":180}}],)"
+           R"("frames":3},"sampling":{"nu":8,"nv":8},"placement":{"scale":)" +
+           std::to_string(scale) + "}}";
+  };
+  auto made = service.Animate({"", params(1.0), ""});
+  ASSERT_TRUE(made.ok()) << made.status().ToString();
+  EXPECT_FALSE(json::parse(made->stats_json).contains("answer_kept"));
+  const CacheStats before = service.answer_cache_stats();
+  auto kept = service.Animate({"", params(1.0), ""});
+  ASSERT_TRUE(kept.ok()) << kept.status().ToString();
+  EXPECT_EQ(kept->body, made->body);
+  EXPECT_EQ(kept->etag, made->etag);
+  EXPECT_TRUE(json::parse(kept->stats_json).value("answer_kept", false));
+  EXPECT_TRUE(kept->timings.empty()) << "no flattening, deformation or encoding";
+  EXPECT_EQ(service.answer_cache_stats().hits - before.hits, 1u);
+  // If-None-Match naming it: 304, with neither the model nor the answers
+  // looked at.
+  const std::string same = params(1.0), smaller = params(0.5);  // the requests view them
+  DeformRequest again{"", same, ""};
+  again.if_none_match = "\"" + made->etag + "\"";
+  const CacheStats models = service.model_cache_stats();
+  const CacheStats answers = service.answer_cache_stats();
+  auto not_modified = service.Animate(again);
+  ASSERT_TRUE(not_modified.ok());
+  EXPECT_TRUE(not_modified->not_modified);
+  EXPECT_EQ(service.model_cache_stats().hits, models.hits);
+  EXPECT_EQ(service.answer_cache_stats().hits, answers.hits);
+  // Another placement is another answer.
+  DeformRequest other{"", smaller, ""};
+  other.if_none_match = again.if_none_match;
+  auto moved = service.Animate(other);
+  ASSERT_TRUE(moved.ok()) << moved.status().ToString();
+  EXPECT_FALSE(moved->not_modified);
+  EXPECT_NE(moved->etag, made->etag);
+  EXPECT_NE(moved->body, made->body);
+}
+
 TEST(Service, AnAnswerMadeAgainAfterItsEvictionIsByteIdentical) {
   const std::string mesh = PlateObj();
   // A budget that holds one of these answers, not two.
