@@ -38,7 +38,7 @@ double TriangleArea(const Vec2& a, const Vec2& b, const Vec2& c) {
 
 }  // namespace
 
-std::string FlatSheetSvg(const FlatSheet& sheet, const std::string& title) {
+std::string FlatSheetSvg(const FlatSheet& sheet, const std::string& title, bool periodic_u) {
   Eigen::AlignedBox2d box;
   for (const Vec2& p : sheet.flat) box.extend(p);
   const double extent = std::max(box.sizes().maxCoeff(), 1e-300);
@@ -90,6 +90,21 @@ std::string FlatSheetSvg(const FlatSheet& sheet, const std::string& title) {
     }
   }
   svg += "</g>\n";
+  if (periodic_u && cu > 0) {
+    // The seam: its two sides are one line on the surface.
+    svg +=
+        "<g class=\"seam\" fill=\"none\" stroke=\"#c60\" stroke-width=\"2\" "
+        "stroke-dasharray=\"6 4\"><title>the seam: a model may cross it</title>\n";
+    for (int i : {0, cu}) {
+      svg += "<polyline points=\"";
+      for (int j = 0; j <= cv; ++j) {
+        if (j > 0) svg += ' ';
+        svg += map(sheet.flat[i + sheet.nu * j]);
+      }
+      svg += "\"/>\n";
+    }
+    svg += "</g>\n";
+  }
   // Legend: the colour scale and what its ends mean.
   const double y = height - legend + 15;
   svg += "<g font-family=\"sans-serif\" font-size=\"12\">\n";

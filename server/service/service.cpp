@@ -6,6 +6,7 @@
 #include "engine/deform.hpp"
 #include "engine/elapsed.hpp"
 #include "engine/parallel.hpp"
+#include "engine/seam_extension.hpp"
 #include "engine/sheet_field.hpp"
 #include "engine/sheet_marks.hpp"
 #include "meshio/animation_glb.hpp"
@@ -452,8 +453,9 @@ Result<Reply> Service::GetSurfaceField(std::string_view id, std::string_view sid
 
 Result<Reply> Service::GetSurfaceSvg(std::string_view id) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto entry, impl_->store.Find(id));
-  Reply reply =
-      BytesReply(FlatSheetSvg(entry->sheet, "surfdeform flat sheet " + entry->id), "image/svg+xml");
+  Reply reply = BytesReply(FlatSheetSvg(entry->sheet, "surfdeform flat sheet " + entry->id,
+                                        PeriodicInU(*entry->surface, entry->sheet)),
+                           "image/svg+xml");
   reply.cache_hit = true;
   return reply;
 }

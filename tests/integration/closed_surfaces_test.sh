@@ -26,6 +26,10 @@ assert abs(s["period"]["angle_deg"]) < 1e-9, s["period"]
 tx, ty = s["period"]["translation"]
 assert abs(tx - 2 * math.pi) < 1e-12 and abs(ty) < 1e-12, s["period"]
 PY
+id=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["id"])' "$out/sheet.json")
+curl -sS -f -o "$out/flat.svg" "$base/v1/surfaces/$id/flat.svg"
+[[ $(grep -c '<polyline' "$out/flat.svg") == 2 ]] && grep -q 'class="seam"' "$out/flat.svg" ||
+  fail "the sheet's SVG does not draw the seam"
 curl -sS -f "$base/v1/info" | grep -q '"closed_surfaces":{"description":"[^"]*","periodic_u":\["cylinder","cone"\]}' ||
   fail "/v1/info does not describe the closed surfaces"
 
