@@ -1,5 +1,6 @@
 #include "engine/seam_extension.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -102,13 +103,20 @@ Vec2 SeamExtension::ExtendedParameters(const Vec2& given) const {
   return Vec2((given.x() - u0) / u_scale, given.y());
 }
 
-std::unique_ptr<const SeamExtension> ExtendAcrossSeam(const Surface& surface,
-                                                      const FlatSheet& sheet) {
-  if (!PeriodicInU(surface, sheet)) return nullptr;
-  const int period = sheet.nu - 1, nv = sheet.nv;
+int SeamColumns(const Surface& surface, const FlatSheet& sheet) {
+  if (!PeriodicInU(surface, sheet)) return 0;
+  const int period = sheet.nu - 1;
   int e = period;  // a period each side, where the plane allows
-  while (e > 0 && !Invertible(surface, e, period, nv)) e /= 2;
-  if (e == 0) return nullptr;
+  while (e > 0 && !Invertible(surface, e, period, sheet.nv)) e /= 2;
+  return e;
+}
+
+std::unique_ptr<const SeamExtension> ExtendAcrossSeam(const Surface& surface,
+                                                      const FlatSheet& sheet, int columns) {
+  const int most = SeamColumns(surface, sheet);
+  const int e = columns < 0 ? most : std::min(columns, most);
+  if (e <= 0) return nullptr;
+  const int period = sheet.nu - 1, nv = sheet.nv;
   auto x = std::make_unique<SeamExtension>();
   x->columns = e;
   x->period_columns = period;

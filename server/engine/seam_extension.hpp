@@ -55,10 +55,15 @@ struct SeamExtension {
   Vec2 ExtendedParameters(const Vec2& given) const;
 };
 
-// The extension of a periodic sheet (PeriodicInU), or null: when the surface
-// does not close, or the plane leaves no room past the seam (a cone flat
-// enough to be nearly a disc).
+// The columns the extension of a periodic sheet adds on each side: a period,
+// or fewer where the plane leaves less room (a cone's sector continued past
+// half a turn from its middle would meet itself); 0 when the sheet is not
+// periodic or leaves no room.
+int SeamColumns(const Surface& surface, const FlatSheet& sheet);
+
+// The extension of a periodic sheet (PeriodicInU) by `columns` on each side
+// (-1: SeamColumns; more than that is taken as that), or null when that is 0.
 std::unique_ptr<const SeamExtension> ExtendAcrossSeam(const Surface& surface,
-                                                      const FlatSheet& sheet);
+                                                      const FlatSheet& sheet, int columns = -1);
 
 }  // namespace surfdeform

@@ -6,8 +6,8 @@
 
 namespace surfdeform {
 
-SheetMap::SheetMap(const Surface& surface, const FlatSheet& sheet)
-    : extension_(ExtendAcrossSeam(surface, sheet)),
+SheetMap::SheetMap(const Surface& surface, const FlatSheet& sheet, int seam_columns)
+    : extension_(seam_columns == 0 ? nullptr : ExtendAcrossSeam(surface, sheet, seam_columns)),
       given_sheet_(sheet),
       surface_(extension_ ? *extension_->surface : surface),
       sheet_(extension_ ? extension_->sheet : sheet),

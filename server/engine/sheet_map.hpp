@@ -50,8 +50,10 @@ class SheetMap {
   // its sheet continued past the seam (seam_extension.hpp): surface(),
   // sheet() and locator() are then the extended ones, and parameters
   // (SheetParameters::uv) are the extended surface's; given_sheet() and
-  // GivenParameters() are what the caller gave.
-  SheetMap(const Surface& surface, const FlatSheet& sheet);
+  // GivenParameters() are what the caller gave. `seam_columns` is the
+  // extension's columns each side (-1: as many as the sheet allows; 0: none,
+  // the sheet is mapped as it is): the frames of an animation share one.
+  SheetMap(const Surface& surface, const FlatSheet& sheet, int seam_columns = -1);
 
   // The parameters of flat point `ab`. Outside the sheet: kClamp moves the
   // point to the nearest point of the sheet's boundary, kExtrapolate continues

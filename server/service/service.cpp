@@ -185,8 +185,15 @@ struct Service::Impl {
     const auto t1 = Clock::now();
     const AnimatedSheets& sheets = a.entry->sheets;
     a.maps.reserve(sheets.sheets.size());
+    // One grid for every frame: across the seam as far as every frame
+    // allows, and not at all unless every frame closes (a can that opens).
+    int seam = -1;
     for (size_t k = 0; k < sheets.sheets.size(); ++k) {
-      a.maps.emplace_back(*sheets.surfaces[k], sheets.sheets[k]);
+      const int allowed = SeamColumns(*sheets.surfaces[k], sheets.sheets[k]);
+      seam = seam < 0 ? allowed : std::min(seam, allowed);
+    }
+    for (size_t k = 0; k < sheets.sheets.size(); ++k) {
+      a.maps.emplace_back(*sheets.surfaces[k], sheets.sheets[k], std::max(seam, 0));
     }
     std::vector<const SheetMap*> maps;
     for (const SheetMap& m : a.maps) maps.push_back(&m);

@@ -685,6 +685,26 @@ TEST(Service, KeepsAnimationsAndAnswers304BeforeAnyWork) {
   EXPECT_NE(moved->body, made->body);
 }
 
+TEST(Service, AnimatesSurfacesThatCloseOpenOrChangeTheirSector) {
+  // A can that opens, a whole cone whose sector changes (so the frames'
+  // sheets allow different extensions past the seam): every frame shares
+  // one grid and the plate goes through them all.
+  Service service({});
+  const std::string mesh = PlateObj();
+  for (const char* keys :
+       {R"({"time":0,"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":360}},)"
+        R"({"time":1,"surface":{"kind":"cylinder","radius":2,"height":3,"angle_deg":300}})",
+        R"({"time":0,"surface":{"kind":"cone","radius_bottom":2,"radius_top":1,"height":2,)"
+        R"("angle_deg":360}},{"time":1,"surface":{"kind":"cone","radius_bottom":2,)"
+        R"("radius_top":0.2,"height":0.5,"angle_deg":360}})"}) {
+    SCOPED_TRACE(keys);
+    const std::string params = std::string(R"({"animation":{"keyframes":[)") + keys +
+                               R"(],"frames":4},"sampling":{"nu":9,"nv":5}})";
+    auto r = service.Animate({mesh, params, ""});
+    EXPECT_TRUE(r.ok()) << r.status().ToString();
+  }
+}
+
 TEST(Service, AnAnswerMadeAgainAfterItsEvictionIsByteIdentical) {
   const std::string mesh = PlateObj();
   // A budget that holds one of these answers, not two.
