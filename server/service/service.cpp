@@ -1,6 +1,7 @@
 #include "service/service.hpp"
 
 #include <chrono>
+#include <functional>
 
 #include "engine/animation.hpp"
 #include "engine/deform.hpp"
@@ -258,7 +259,7 @@ struct Service::Impl {
   // POST /v1/deform with an animation: frame k alone, the same computation
   // as frame k of POST /v1/animate.
   Result<Reply> DeformFrame(const proto::DeformParams& params, ImportedMesh imported,
-                            proto::OutputFormat format, const RequestWork& work) {
+                            proto::OutputFormat format, const RequestWork& work, std::string etag) {
     const PlacementOptions placement = PlacementFor(params.placement, imported, work.threads());
     SURFDEFORM_ASSIGN_OR_RETURN(
         AnimatedModel a, PrepareAnimated(*params.animation, std::move(imported.mesh), placement,
@@ -276,12 +277,36 @@ struct Service::Impl {
         {"frame", params.frame}, {"frames", params.animation->animation.frames}, {"time", f.time}};
     SURFDEFORM_ASSIGN_OR_RETURN(EncodeContext encode,
                                 EncodeContextFor(deformed.mesh, params.output, format, work));
+    encode.etag = std::move(etag);
     return MeshReply(deformed.mesh, params.output, format, imported, a.hit,
                      {{"parse", work.parse_ms()},
                       {"flatten", a.flatten_ms},
                       {"deform", deform_ms},
                       {"subdivide", a.subdivide_ms}},
                      std::move(stats), encode);
+  }
+
+  // An answer by its key (proto/answer_key.hpp): 304 when the request's
+  // If-None-Match names its ETag (before any work), else kept, else made
+  // by `make` (given the ETag) and kept. gzip is made with the answer, and
+  // kept with it, when the answer compresses and the request takes it.
+  Result<Reply> KeptOrMade(const DeformRequest& request, const std::string& key, bool compresses,
+                           const std::function<Result<Reply>(std::string etag)>& make) {
+    const std::string etag = proto::AnswerEtag(key);
+    if (proto::IfNoneMatchNames(request.if_none_match, etag)) return NotModified(etag);
+    const bool gzip = compresses && AcceptsGzip(request.accept_encoding);
+    bool kept = false;
+    auto answer = answers.GetOrMake(
+        key,
+        [&]() -> Result<Reply> {
+          SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, make(etag));
+          if (gzip) AddGzip(&reply);
+          return reply;
+        },
+        &kept);
+    // Kept by a request that did not take gzip: made for this one alone.
+    if (answer.ok() && kept && gzip && answer->gzip_body.empty()) AddGzip(&*answer);
+    return answer;
   }
 
   // POST /v1/animate's work once its answer is not kept: the model imported,
@@ -547,10 +572,21 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
                               ChooseOutputFormat(params.output.format, request.accept));
   SURFDEFORM_RETURN_IF_ERROR(CheckDistortionFormat(params.output, format));
   SURFDEFORM_RETURN_IF_ERROR(CheckOneMesh(params.model_id, request.mesh));
-  if (params.animation) {
-    SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
-    SURFDEFORM_ASSIGN_OR_RETURN(auto imported, impl_->MeshOf(params.model_id, request.mesh, work));
-    return impl_->DeformFrame(params, std::move(imported), format, work);
+  const std::string model =
+      params.model_id.empty() ? proto::ModelId(request.mesh) : params.model_id;
+  if (params.animation) {  // one frame, kept by the animation's content id and the frame
+    const std::string frame = "animation/" + proto::AnimationId(*params.animation) + "/frame/" +
+                              std::to_string(params.frame);
+    return impl_->KeptOrMade(
+        request,
+        proto::AnswerKey({model, frame, &params.placement, &params.subdivision, &params.output,
+                          format, impl_->options.limits.glb_split_vertices}),
+        Compresses(params.output, format), [&](std::string etag) -> Result<Reply> {
+          SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+          SURFDEFORM_ASSIGN_OR_RETURN(auto imported,
+                                      impl_->MeshOf(params.model_id, request.mesh, work));
+          return impl_->DeformFrame(params, std::move(imported), format, work, std::move(etag));
+        });
   }
 
   // The sheet: held (by id), or flattened now with this request's slot.
@@ -563,37 +599,22 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   SURFDEFORM_ASSIGN_OR_RETURN(entry, impl_->SurfaceOf(params, work.clock(), &hit));
   const double flatten_ms = MsSince(t1);
 
-  // The answer's key and ETag, before any work on the model.
-  const std::string model =
-      params.model_id.empty() ? proto::ModelId(request.mesh) : params.model_id;
+  // The answer's key, before any work on the model.
   const std::string sheet = entry->id + "/" + SheetDigest(entry->sheet);
-  const std::string key =
+  return impl_->KeptOrMade(
+      request,
       proto::AnswerKey({model, sheet, &params.placement, &params.subdivision, &params.output,
-                        format, impl_->options.limits.glb_split_vertices});
-  const std::string etag = proto::AnswerEtag(key);
-  if (proto::IfNoneMatchNames(request.if_none_match, etag)) return NotModified(etag);
-  // gzip made with the answer, and kept with it, when this request takes it.
-  const bool gzip = AcceptsGzip(request.accept_encoding) && Compresses(params.output, format);
-  bool kept = false;
-  auto answer = impl_->answers.GetOrMake(
-      key,
-      [&]() -> Result<Reply> {
+                        format, impl_->options.limits.glb_split_vertices}),
+      Compresses(params.output, format), [&](std::string etag) -> Result<Reply> {
         if (work.threads() == 0) {
           SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
         }
         SURFDEFORM_ASSIGN_OR_RETURN(auto imported,
                                     impl_->MeshOf(params.model_id, request.mesh, work));
         SURFDEFORM_RETURN_IF_ERROR(work.clock().Check("flattening"));
-        SURFDEFORM_ASSIGN_OR_RETURN(
-            Reply reply, impl_->DeformOnSheet(params, *entry, hit, format, std::move(imported),
-                                              work, flatten_ms, etag));
-        if (gzip) AddGzip(&reply);
-        return reply;
-      },
-      &kept);
-  // Kept by a request that did not take gzip: made for this one alone.
-  if (answer.ok() && kept && gzip && answer->gzip_body.empty()) AddGzip(&*answer);
-  return answer;
+        return impl_->DeformOnSheet(params, *entry, hit, format, std::move(imported), work,
+                                    flatten_ms, std::move(etag));
+      });
 }
 
 Result<Reply> Service::Animate(const DeformRequest& request) {
@@ -612,23 +633,12 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
   const std::string sheets = "animation/" + proto::AnimationId(params.animation);
   const std::string key = proto::AnswerKey({model, sheets, &params.placement, &params.subdivision,
                                             &params.output, proto::OutputFormat::kGlb, 0});
-  const std::string etag = proto::AnswerEtag(key);
-  if (proto::IfNoneMatchNames(request.if_none_match, etag)) return NotModified(etag);
-  const bool gzip =
-      AcceptsGzip(request.accept_encoding) && Compresses(params.output, proto::OutputFormat::kGlb);
-  bool kept = false;
-  auto answer = impl_->answers.GetOrMake(
-      key,
-      [&]() -> Result<Reply> {
+  return impl_->KeptOrMade(
+      request, key, Compresses(params.output, proto::OutputFormat::kGlb),
+      [&](std::string etag) -> Result<Reply> {
         SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
-        SURFDEFORM_ASSIGN_OR_RETURN(Reply reply,
-                                    impl_->AnimateModel(params, request.mesh, work, etag));
-        if (gzip) AddGzip(&reply);
-        return reply;
-      },
-      &kept);
-  if (answer.ok() && kept && gzip && answer->gzip_body.empty()) AddGzip(&*answer);
-  return answer;
+        return impl_->AnimateModel(params, request.mesh, work, std::move(etag));
+      });
 }
 
 }  // namespace surfdeform

@@ -683,6 +683,19 @@ TEST(Service, KeepsAnimationsAndAnswers304BeforeAnyWork) {
   EXPECT_FALSE(moved->not_modified);
   EXPECT_NE(moved->etag, made->etag);
   EXPECT_NE(moved->body, made->body);
+  // One frame of it through POST /v1/deform: kept too, per frame.
+  const std::string frame1 = same.substr(0, same.size() - 1) + R"(,"frame":1})";
+  const std::string frame2 = same.substr(0, same.size() - 1) + R"(,"frame":2})";
+  auto first = service.Deform({"", frame1, ""});
+  ASSERT_TRUE(first.ok()) << first.status().ToString();
+  auto again_frame = service.Deform({"", frame1, ""});
+  ASSERT_TRUE(again_frame.ok());
+  EXPECT_EQ(again_frame->body, first->body);
+  EXPECT_TRUE(json::parse(again_frame->stats_json).value("answer_kept", false));
+  auto other_frame = service.Deform({"", frame2, ""});
+  ASSERT_TRUE(other_frame.ok());
+  EXPECT_FALSE(json::parse(other_frame->stats_json).contains("answer_kept"));
+  EXPECT_NE(other_frame->etag, first->etag);
 }
 
 TEST(Service, AnimatesSurfacesThatCloseOpenOrChangeTheirSector) {
