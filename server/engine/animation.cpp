@@ -92,13 +92,15 @@ Status SameShape(const SurfaceSpec& first, const SurfaceSpec& key) {
   return Status::Ok();
 }
 
-// Cubic Hermite on [t0, t1] with end values p0, p1 and slopes m0, m1.
+// Cubic Hermite on [t0, t1] with end values p0, p1 and slopes m0, m1, in
+// difference form (p0 plus the change): a number that is the same on the
+// keys around it stays exactly that number on every frame (an angle_deg of
+// 360 is 360, not 360.00000000000006, which the surface would refuse).
 double Hermite(double t, double t0, double t1, double p0, double p1, double m0, double m1) {
   const double h = t1 - t0;
   const double s = (t - t0) / h;
   const double s2 = s * s, s3 = s2 * s;
-  return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * h * m0 + (-2 * s3 + 3 * s2) * p1 +
-         (s3 - s2) * h * m1;
+  return p0 + (-2 * s3 + 3 * s2) * (p1 - p0) + (s3 - 2 * s2 + s) * h * m0 + (s3 - s2) * h * m1;
 }
 
 // Frame k lands exactly on a keyframe's time (always frame 0).

@@ -201,6 +201,21 @@ TEST(Animation, AFrameThatFailsStopsTheSequenceWithItsError) {
   }
 }
 
+TEST(Animation, ANumberTheSameOnTheKeysIsExactlyThatOnEveryFrame) {
+  // A can whose radius grows: its angle stays 360 on all 600 frames (the
+  // cubic's rounding gave 360.00000000000006 on some, which a cylinder
+  // refuses), and the radius stays between its keys.
+  AnimationSpec spec =
+      Pair(CylinderSpec{2.0, 3.0, 360.0, {}}, CylinderSpec{3.0, 3.0, 360.0, {}}, 600);
+  spec.keyframes.push_back({2.0, CylinderSpec{2.5, 3.0, 360.0, {}}});
+  ASSERT_TRUE(ValidateAnimation(spec, 1000).ok());
+  for (int k = 0; k < spec.frames; ++k) {
+    const CylinderSpec c = std::get<CylinderSpec>(SurfaceAtFrame(spec, k));
+    ASSERT_EQ(c.angle_deg, 360.0) << "frame " << k;
+    ASSERT_EQ(c.height, 3.0) << "frame " << k;
+  }
+}
+
 TEST(Animation, ATimeBudgetStopsTheSequence) {
   AnimationSpec spec = Pair(Figure10(0.5), Figure10(1.0), 6 * kPathAnchorEvery);
   for (int threads : {1, 3}) {
