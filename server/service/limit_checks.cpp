@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <variant>
 
 #include "service/memory_budget.hpp"
 
@@ -21,6 +22,26 @@ Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& s) {
       "flattening a " + std::to_string(s.nu) + " x " + std::to_string(s.nv) + " grid", "sampling");
 }
 
+namespace {
+
+// Whether some key of the animation is a surface whose sheet the map
+// continues past the seam (a whole cylinder or cone, unrolled in closed
+// form): its frames' maps take more memory.
+bool ContinuedPastSeam(const proto::AnimationRequest& request) {
+  if (!request.flatten.exact_developable) return false;
+  for (const Keyframe& key : request.animation.keyframes) {
+    if (const auto* c = std::get_if<CylinderSpec>(&key.surface); c && c->angle_deg >= 360.0) {
+      return true;
+    }
+    if (const auto* c = std::get_if<ConeSpec>(&key.surface); c && c->angle_deg >= 360.0) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& request) {
   SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits, request.sampling));
   const int frames = request.animation.frames;
@@ -31,8 +52,9 @@ Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& r
                                  "animation.frames", limit, frames);
   }
   const SamplingOptions& s = request.sampling;
-  return CheckMemory(kAnimationBytesPerFrameSample * frames * s.nu * s.nv,
-                     limits.request_memory_bytes,
+  const double per_frame_sample = ContinuedPastSeam(request) ? kClosedAnimationBytesPerFrameSample
+                                                             : kAnimationBytesPerFrameSample;
+  return CheckMemory(per_frame_sample * frames * s.nu * s.nv, limits.request_memory_bytes,
                      "flattening " + std::to_string(frames) + " frames of " + std::to_string(s.nu) +
                          " x " + std::to_string(s.nv),
                      "animation.frames");
