@@ -583,9 +583,8 @@ Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& mo
   result.stats.subdivide_ms = model.subdivide_ms;
   result.stats.fit_frame = model.fit_frame;
   if (index == 0) {  // the first frame's stats stand for the animation's
-    std::vector<Vec3> input(model.mesh.positions.begin(),
-                            model.mesh.positions.begin() + model.input_vertices);
-    result.stats.turns = TurnsRound(map, pl, input);
+    result.stats.turns = TurnsRound(
+        map, pl, std::span<const Vec3>(model.mesh.positions).first(model.input_vertices));
   }
   SURFDEFORM_RETURN_IF_ERROR(Report(t, model.mesh, model.input_vertices, pl, o, &result.stats));
   if (extras.distortion) result.stats.distortion = SummarizeDistortion(result.mesh);

@@ -132,6 +132,18 @@ std::string Num(double x) {
   return os.str();
 }
 
+// The grid columns (i + s) that located points of a sheet cover: on a sheet
+// continued past its seam, how far round the surface they go.
+struct ColumnSpan {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  void Add(const SheetLocation& l) {
+    lo = std::min(lo, l.i + l.s);
+    hi = std::max(hi, l.i + l.s);
+  }
+  double width() const { return hi >= lo ? hi - lo : 0.0; }
+};
+
 // The footprint's outline for fitting: its convex hull, and its farthest
 // point from the footprint centre.
 struct Outline {
@@ -166,7 +178,7 @@ bool OutlineInside(const SheetMap& map, const Outline& outline, const Placement&
   const double spacing =
       margin > 0.0 ? margin : 0.01 * map.given_locator().bounds().sizes().minCoeff();  // 1%
   const double period = map.period_columns();
-  double u_lo = std::numeric_limits<double>::infinity(), u_hi = -u_lo;
+  ColumnSpan span;
   int hint = -1;
   for (size_t k = 0; k < hull.size(); ++k) {
     const Vec2 a = base.target + s * (base.rotation * (hull[k] - base.centre));
@@ -178,9 +190,8 @@ bool OutlineInside(const SheetMap& map, const Outline& outline, const Placement&
       if (!locator.Locate(placed, &l, &hint)) return false;
       if (locator.BoundaryWithin(placed, margin)) return false;
       if (period > 0.0) {
-        u_lo = std::min(u_lo, l.i + l.s);
-        u_hi = std::max(u_hi, l.i + l.s);
-        if (u_hi - u_lo > period) return false;
+        span.Add(l);
+        if (span.width() > period) return false;
       }
     }
   }
@@ -205,11 +216,38 @@ Result<double> FitScale(const SheetMap& map, const Outline& outline, const Place
   return lo;
 }
 
-// The placement before any fit (scale as given), and the footprint (a, b)
-// of every vertex when asked for.
-Placement Unfitted(const FlatLocator& locator, const FlatSheet& sheet,
-                   const std::vector<Vec3>& positions, const PlacementOptions& o,
-                   std::vector<Vec2>* footprint) {
+// Where the footprint's centre goes on the map's given sheet: the image of
+// (u, v) = (1/2, 1/2), a sheet point, or a fraction of the sheet's box.
+Vec2 TargetOn(const SheetMap& map, const PlacementOptions& o) {
+  const FlatLocator& locator = map.given_locator();
+  const FlatSheet& sheet = map.given_sheet();
+  switch (o.center_mode) {
+    case CenterMode::kSheetCenter: {
+      // The image of the surface's parameter midpoint (u, v) = (1/2, 1/2):
+      // inside the sheet whatever its shape (the middle of a bounding box is
+      // not, for an unrolled cone).
+      const double gu = 0.5 * (sheet.nu - 1);
+      const double gv = 0.5 * (sheet.nv - 1);
+      SheetLocation mid;
+      mid.i = std::min(static_cast<int>(gu), sheet.nu - 2);
+      mid.j = std::min(static_cast<int>(gv), sheet.nv - 2);
+      mid.s = gu - mid.i;
+      mid.t = gv - mid.j;
+      return locator.FlatPoint(mid);
+    }
+    case CenterMode::kSheetUnits:
+      return o.center;
+    case CenterMode::kFraction:
+      break;
+  }
+  const Eigen::AlignedBox2d& sb = locator.bounds();
+  return sb.min() + o.center.cwiseProduct(sb.sizes());
+}
+
+// The placement on the map's given sheet before any fit (scale as given),
+// and the footprint (a, b) of every vertex when asked for.
+Placement Unfitted(const SheetMap& map, const std::vector<Vec3>& positions,
+                   const PlacementOptions& o, std::vector<Vec2>* footprint) {
   const size_t n = positions.size();
   Placement pl;
   pl.up = ResolveUpAxis(o.up, o.y_up_input, positions, &pl.up_reason);
@@ -239,29 +277,7 @@ Placement Unfitted(const FlatLocator& locator, const FlatSheet& sheet,
   }
   const double angle = o.rotation_deg * std::numbers::pi / 180.0;
   pl.rotation << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
-  const Eigen::AlignedBox2d& sb = locator.bounds();
-  switch (o.center_mode) {
-    case CenterMode::kSheetCenter: {
-      // The image of the surface's parameter midpoint (u, v) = (1/2, 1/2):
-      // inside the sheet whatever its shape (the middle of a bounding box is
-      // not, for an unrolled cone).
-      const double gu = 0.5 * (sheet.nu - 1);
-      const double gv = 0.5 * (sheet.nv - 1);
-      SheetLocation mid;
-      mid.i = std::min(static_cast<int>(gu), sheet.nu - 2);
-      mid.j = std::min(static_cast<int>(gv), sheet.nv - 2);
-      mid.s = gu - mid.i;
-      mid.t = gv - mid.j;
-      pl.target = locator.FlatPoint(mid);
-      break;
-    }
-    case CenterMode::kSheetUnits:
-      pl.target = o.center;
-      break;
-    case CenterMode::kFraction:
-      pl.target = sb.min() + o.center.cwiseProduct(sb.sizes());
-      break;
-  }
+  pl.target = TargetOn(map, o);
   pl.scale = o.scale;
   return pl;
 }
@@ -324,8 +340,7 @@ UpAxis ResolveUpAxis(UpAxis up, bool y_up_input, const std::vector<Vec3>& positi
 Result<Placement> ComputePlacement(const SheetMap& map, const std::vector<Vec3>& positions,
                                    const PlacementOptions& o) {
   std::vector<Vec2> footprint;
-  Placement pl =
-      Unfitted(map.given_locator(), map.given_sheet(), positions, o, o.fit ? &footprint : nullptr);
+  Placement pl = Unfitted(map, positions, o, o.fit ? &footprint : nullptr);
   if (!o.fit) return pl;
   SURFDEFORM_ASSIGN_OR_RETURN(const Outline outline, OutlineOf(footprint, pl.centre));
   SURFDEFORM_ASSIGN_OR_RETURN(
@@ -333,32 +348,31 @@ Result<Placement> ComputePlacement(const SheetMap& map, const std::vector<Vec3>&
   return pl;
 }
 
-double TurnsRound(const SheetMap& map, const Placement& pl, const std::vector<Vec3>& positions) {
+double TurnsRound(const SheetMap& map, const Placement& pl, std::span<const Vec3> positions) {
   if (!map.periodic_u() || positions.empty()) return 0.0;
   std::vector<Vec2> footprint(positions.size());
   for (size_t k = 0; k < positions.size(); ++k) footprint[k] = pl.Apply(positions[k]).head<2>();
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  ColumnSpan span;
   int hint = -1;
   for (const Vec2& p : ConvexHull(footprint)) {
     SheetLocation l;
-    if (!map.locator().Locate(p, &l, &hint)) continue;  // off the sheet: reported as such
-    lo = std::min(lo, l.i + l.s);
-    hi = std::max(hi, l.i + l.s);
+    if (map.locator().Locate(p, &l, &hint)) span.Add(l);  // off the sheet: reported as such
   }
-  return hi >= lo ? (hi - lo) / map.period_columns() : 0.0;
+  return span.width() / map.period_columns();
 }
 
 Result<FramePlacements> ComputeFramePlacements(std::span<const SheetMap* const> maps,
                                                const std::vector<Vec3>& positions,
                                                const PlacementOptions& o) {
   FramePlacements out;
+  if (maps.empty()) return out;
+  // What depends on the model (axes, footprint, anchor) once; the target on
+  // every frame's sheet.
   std::vector<Vec2> footprint;
-  out.each.reserve(maps.size());
-  for (size_t k = 0; k < maps.size(); ++k) {
-    out.each.push_back(Unfitted(maps[k]->given_locator(), maps[k]->given_sheet(), positions, o,
-                                o.fit && k == 0 ? &footprint : nullptr));
-  }
-  if (!o.fit || maps.empty()) return out;
+  const Placement first = Unfitted(*maps.front(), positions, o, o.fit ? &footprint : nullptr);
+  out.each.assign(maps.size(), first);
+  for (size_t k = 1; k < maps.size(); ++k) out.each[k].target = TargetOn(*maps[k], o);
+  if (!o.fit) return out;
   SURFDEFORM_ASSIGN_OR_RETURN(const Outline outline, OutlineOf(footprint, out.each[0].centre));
   // Each frame is fitted only when the scale so far does not fit it: the
   // tightest frame decides, in one bisection for most sequences.

@@ -123,8 +123,7 @@ Result<Placement> ComputePlacement(const SheetMap& map, const std::vector<Vec3>&
 // the surface the model's footprint goes, in turns (its outline's extent in
 // u over one period's); past 1 the model lies over itself. 0 on other
 // sheets.
-double TurnsRound(const SheetMap& map, const Placement& placement,
-                  const std::vector<Vec3>& positions);
+double TurnsRound(const SheetMap& map, const Placement& placement, std::span<const Vec3> positions);
 
 // One model's placements on the sheets of an animation's frames (one grid).
 // Each frame resolves the placement on its own sheet, as ComputePlacement
