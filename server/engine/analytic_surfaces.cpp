@@ -130,6 +130,9 @@ class RevolvedCircle final : public Surface {
     return ToWorld(frame_, l);
   }
 
+  // A sphere's whole longitude, a torus whole round its axis.
+  bool ClosedInU() const override { return dt_ >= 2.0 * std::numbers::pi * (1.0 - 1e-12); }
+
  private:
   const char* kind_;
   double major_, minor_, t0_, dt_, p0_, dp_;

@@ -1,10 +1,12 @@
 #include "engine/flatten.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 
 #include "engine/elapsed.hpp"
 #include "engine/flatten_solvers.hpp"
+#include "engine/seam_extension.hpp"
 #include "engine/surface_distance.hpp"
 
 namespace surfdeform {
@@ -29,6 +31,25 @@ std::vector<Vec2> ScaledParameterLayout(const SurfaceDistances& dist) {
     for (int i = 0; i < nu; ++i) x[i + nu * j] = Vec2(i * cell_u, j * cell_v);
   }
   return x;
+}
+
+// The quality of a periodic sheet (nu x nv, column nu - 1 the seam again)
+// over every pair and cell of one period, those across the seam included:
+// measured on the grid continued past the seam, as its distances were.
+void MeasurePeriodicQuality(const SurfaceDistances& continued, int nu, const std::vector<Vec2>& x,
+                            const Vec2& period_u, FlattenQuality* quality) {
+  const int period = nu - 1, columns = continued.nu, nv = continued.nv;
+  std::vector<Vec2> xc(static_cast<size_t>(columns) * nv);
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < columns; ++i) {
+      xc[i + columns * j] = x[i % period + nu * j] + (i / period) * period_u;
+    }
+  }
+  SurfaceDistances once = continued;  // each pair once: its left column in the period
+  std::erase_if(once.edges, [&](const GridEdge& e) {
+    return std::min(e.i % columns, e.j % columns) >= period;
+  });
+  internal::MeasureQuality(once, xc, quality, period);
 }
 
 }  // namespace
@@ -99,7 +120,31 @@ DistanceOptions DistanceOptionsFor(const FlattenOptions& o, Clock::time_point st
   return d;
 }
 
+// The columns the distances of a flattening are measured over: the grid's,
+// or for a periodic one, a period and the measured range past the seam.
+int MeasuredColumns(const Surface& surface, int nu, const FlattenOptions& o) {
+  const int period = PeriodicColumns(surface, nu, o);
+  return period > 0 ? period + std::max(o.range, 3) : nu;
+}
+
+// The distances of the samples of an nu x nv grid (see FlattenDistances).
+Result<SurfaceDistances> MeasureDistances(const Surface& surface, int nu, int nv,
+                                          const FlattenOptions& o, const DistanceOptions& d,
+                                          DistancePaths* paths) {
+  const int period = PeriodicColumns(surface, nu, o);
+  if (period == 0) return ComputeSurfaceDistances(surface, nu, nv, d, paths);
+  const int columns = MeasuredColumns(surface, nu, o);
+  const auto continued = ContinuedInU(surface, 0.0, static_cast<double>(columns - 1) / period);
+  return ComputeSurfaceDistances(*continued, columns, nv, d, paths);
+}
+
 }  // namespace
+
+int PeriodicColumns(const Surface& surface, int nu, const FlattenOptions& o) {
+  if (!surface.ClosedInU() || o.method != FlattenMethod::kMajorization) return 0;
+  if (o.exact_developable && surface.ExactUnrolling(0.0, 0.0).has_value()) return 0;
+  return nu - 1 >= 2 * std::max(o.range, 3) + 1 ? nu - 1 : 0;
+}
 
 Result<MeasuredGrid> FlattenDistances(const Surface& surface, const SamplingOptions& sampling,
                                       const FlattenOptions& options, int threads,
@@ -110,7 +155,7 @@ Result<MeasuredGrid> FlattenDistances(const Surface& surface, const SamplingOpti
   SURFDEFORM_ASSIGN_OR_RETURN(out.grid, SampleSurface(surface, sampling));
   const DistanceOptions dopt = DistanceOptionsFor(options, Clock::now(), threads);
   SURFDEFORM_ASSIGN_OR_RETURN(
-      out.distances, ComputeSurfaceDistances(surface, out.grid.nu, out.grid.nv, dopt, paths));
+      out.distances, MeasureDistances(surface, out.grid.nu, out.grid.nv, options, dopt, paths));
   return out;
 }
 
@@ -121,12 +166,19 @@ Result<MeasuredGrid> FlattenDistancesBetween(const Surface& surface,
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options));
   MeasuredGrid out;
   SURFDEFORM_ASSIGN_OR_RETURN(out.grid, SampleSurface(surface, sampling));
-  if (blends.empty() || blends[0].empty() || out.grid.nu != blends[0][0].paths->nu ||
+  const int columns = MeasuredColumns(surface, out.grid.nu, options);
+  if (blends.empty() || blends[0].empty() || columns != blends[0][0].paths->nu ||
       out.grid.nv != blends[0][0].paths->nv) {
     return InvalidArgument("the paths were followed on another grid");
   }
   const DistanceOptions dopt = DistanceOptionsFor(options, Clock::now(), threads);
-  SURFDEFORM_ASSIGN_OR_RETURN(out.distances, RemeasureSurfaceDistances(surface, blends, dopt));
+  const int period = PeriodicColumns(surface, out.grid.nu, options);
+  if (period == 0) {
+    SURFDEFORM_ASSIGN_OR_RETURN(out.distances, RemeasureSurfaceDistances(surface, blends, dopt));
+    return out;
+  }
+  const auto continued = ContinuedInU(surface, 0.0, static_cast<double>(columns - 1) / period);
+  SURFDEFORM_ASSIGN_OR_RETURN(out.distances, RemeasureSurfaceDistances(*continued, blends, dopt));
   return out;
 }
 
@@ -137,8 +189,9 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
   SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
   // Distances over the solve's range and over r = 3 for the quality measures.
   const auto td = Clock::now();
-  SURFDEFORM_ASSIGN_OR_RETURN(auto dist, ComputeSurfaceDistances(surface, grid.nu, grid.nv,
-                                                                 DistanceOptionsFor(options_, t0)));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto dist,
+                              MeasureDistances(surface, grid.nu, grid.nv, options_,
+                                               DistanceOptionsFor(options_, t0), nullptr));
   const double distance_ms = MsSince(td);
   return Solve(surface, std::move(grid), warm_start, std::move(dist), distance_ms, t0);
 }
@@ -148,7 +201,7 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const FlatSheet* wa
   const auto t0 = Clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
   const SurfaceDistances& d = measured.distances;
-  if (d.nu != measured.grid.nu || d.nv != measured.grid.nv ||
+  if (d.nu != MeasuredColumns(surface, measured.grid.nu, options_) || d.nv != measured.grid.nv ||
       d.range != std::max(options_.range, 3)) {
     return InvalidArgument("the distances were measured for another grid or range");
   }
@@ -178,33 +231,59 @@ Result<FlatSheet> Flattener::Solve(const Surface& surface, SampledGrid grid,
     sheet.method = "exact";
     sheet.quality.converged = true;
   } else {
-    std::vector<GridEdge> edges;
-    if (options_.range == dist.range) {
-      edges = dist.edges;
-    } else {
-      for (const GridEdge& e : dist.edges) {
-        if (e.ring <= options_.range) edges.push_back(e);
-      }
-    }
-    if (warm_start != nullptr && warm_start->nu == nu && warm_start->nv == nv &&
-        warm_start->flat.size() == static_cast<size_t>(n)) {
-      x = warm_start->flat;
-    } else {
-      x = ScaledParameterLayout(dist);
-    }
     internal::SolveStats stats;
+    const int period = PeriodicColumns(surface, nu, options_);
+    const bool warm = warm_start != nullptr && warm_start->nu == nu && warm_start->nv == nv &&
+                      warm_start->flat.size() == static_cast<size_t>(n);
+    const int max_it = options_.max_iterations > 0                       ? options_.max_iterations
+                       : options_.method == FlattenMethod::kMajorization ? 3000
+                                                                         : 200000;
+    auto& lap = cache_->laplacian;
     if (options_.method == FlattenMethod::kMajorization) {
-      auto& lap = cache_->laplacian;
-      if (!lap || lap->nu != nu || lap->nv != nv || lap->range != options_.range) {
-        lap = internal::FactorLaplacian(nu, nv, options_.range);
+      const int lap_nu = period > 0 ? period : nu;
+      if (!lap || lap->nu != lap_nu || lap->nv != nv || lap->range != options_.range ||
+          lap->periodic_u != (period > 0)) {
+        lap = internal::FactorLaplacian(lap_nu, nv, options_.range, period > 0);
       }
-      const int max_it = options_.max_iterations > 0 ? options_.max_iterations : 3000;
-      stats = internal::SolveMajorization(*lap, edges, options_.tolerance, max_it, options_.threads,
-                                          &x, deadline);
+    }
+    if (period > 0) {
+      // The nodes of one period and the period, from the warm start's or the
+      // scaled parameter layout of the continued grid.
+      const std::vector<internal::SeamEdge> edges =
+          internal::PeriodicEdges(dist, period, options_.range);
+      const bool warm_periodic = warm && !warm_start->period_u.isZero();
+      const std::vector<Vec2> start =
+          warm_periodic ? warm_start->flat : ScaledParameterLayout(dist);
+      const int stride = warm_periodic ? nu : dist.nu;
+      std::vector<Vec2> y(static_cast<size_t>(period) * nv);
+      for (int j = 0; j < nv; ++j) {
+        for (int i = 0; i < period; ++i) y[i + period * j] = start[i + stride * j];
+      }
+      sheet.period_u = warm_periodic ? warm_start->period_u : Vec2(start[period] - start[0]);
+      stats = internal::SolvePeriodicMajorization(*lap, edges, options_.tolerance, max_it,
+                                                  options_.threads, &y, &sheet.period_u, deadline);
+      x.resize(n);
+      for (int j = 0; j < nv; ++j) {
+        for (int i = 0; i < period; ++i) x[i + nu * j] = y[i + period * j];
+        x[period + nu * j] = y[period * j] + sheet.period_u;
+      }
     } else {
-      const int max_it = options_.max_iterations > 0 ? options_.max_iterations : 200000;
-      stats = internal::SolvePaperDescent(edges, options_.step, options_.tolerance, max_it, &x,
-                                          deadline);
+      std::vector<GridEdge> edges;
+      if (options_.range == dist.range) {
+        edges = dist.edges;
+      } else {
+        for (const GridEdge& e : dist.edges) {
+          if (e.ring <= options_.range) edges.push_back(e);
+        }
+      }
+      x = warm ? warm_start->flat : ScaledParameterLayout(dist);
+      if (options_.method == FlattenMethod::kMajorization) {
+        stats = internal::SolveMajorization(*lap, edges, options_.tolerance, max_it,
+                                            options_.threads, &x, deadline);
+      } else {
+        stats = internal::SolvePaperDescent(edges, options_.step, options_.tolerance, max_it, &x,
+                                            deadline);
+      }
     }
     if (stats.out_of_time) {
       return Status::DeadlineExceeded(
@@ -226,8 +305,13 @@ Result<FlatSheet> Flattener::Solve(const Surface& surface, SampledGrid grid,
     }
   }
   internal::Canonicalize(nu, nv, &x, &sheet.frame_linear, &sheet.frame_offset);
+  sheet.period_u = sheet.frame_linear * sheet.period_u;
   sheet.quality.solve_ms = MsSince(ts);
-  internal::MeasureQuality(dist, x, &sheet.quality);
+  if (sheet.period_u.isZero()) {
+    internal::MeasureQuality(dist, x, &sheet.quality);
+  } else {
+    MeasurePeriodicQuality(dist, nu, x, sheet.period_u, &sheet.quality);
+  }
   if (sheet.quality.folded_cells > 0) {
     return Status(ErrorCode::kNotConverged,
                   std::to_string(sheet.quality.folded_cells) + " of " +

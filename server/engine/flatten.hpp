@@ -93,6 +93,10 @@ struct FlatSheet {
   // Surface::ExactUnrolling into this sheet.
   Eigen::Matrix2d frame_linear = Eigen::Matrix2d::Identity();
   Vec2 frame_offset = Vec2::Zero();
+  // A sheet flattened periodic in u (PeriodicColumns > 0): its period T, in
+  // the canonical frame. Flat points p and p + T are the same surface point;
+  // column nu - 1 (the seam again) is column 0 + T. Zero otherwise.
+  Vec2 period_u = Vec2::Zero();
   FlattenQuality quality;
 };
 
@@ -138,8 +142,18 @@ class Flattener {
   std::unique_ptr<Cache> cache_;
 };
 
+// Whether `surface` is flattened periodic in u with these options on a grid
+// `nu` samples wide (issue #36): the columns of one period (nu - 1) when the
+// surface closes in u (Surface::ClosedInU), is not unrolled in closed form,
+// is flattened by majorization and the period leaves room for the
+// neighbourhood (nu - 1 >= 2 max(range, 3) + 1); else 0, and the sheet has a
+// seam no model crosses. The stress then counts the pairs across the seam,
+// and the period is solved with the sheet.
+int PeriodicColumns(const Surface& surface, int nu, const FlattenOptions& options);
+
 // The samples and surface distances a flattening with these options measures
-// (over the solve's range and at least r = 3, for the quality measures), on
+// (over the solve's range and at least r = 3, for the quality measures; a
+// periodic flattening's on the grid continued past the seam by that range), on
 // `threads` threads (0: options.threads); the paths followed go to `paths` if
 // given.
 Result<MeasuredGrid> FlattenDistances(const Surface& surface, const SamplingOptions& sampling,

@@ -44,8 +44,10 @@ void Canonicalize(int nu, int nv, std::vector<Vec2>* x, Eigen::Matrix2d* linear_
   if (offset_out != nullptr) *offset_out = -(linear * origin);
 }
 
-void MeasureQuality(const SurfaceDistances& dist, const std::vector<Vec2>& x, FlattenQuality* q) {
+void MeasureQuality(const SurfaceDistances& dist, const std::vector<Vec2>& x, FlattenQuality* q,
+                    int cell_columns) {
   const int nu = dist.nu;
+  const int columns = cell_columns < 0 ? nu - 1 : std::min(cell_columns, nu - 1);
   const int nv = dist.nv;
   double c = 0.0;
   double total = 0.0;
@@ -65,7 +67,7 @@ void MeasureQuality(const SurfaceDistances& dist, const std::vector<Vec2>& x, Fl
   q->area_ratio_max = 0.0;
   q->folded_cells = 0;
   for (int j = 0; j + 1 < nv; ++j) {
-    for (int i = 0; i + 1 < nu; ++i) {
+    for (int i = 0; i < columns; ++i) {
       const int ia = i + nu * j;
       const Vec2& a = x[ia];
       const Vec2& b = x[ia + 1];

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -40,10 +41,13 @@ double SquaredDistanceSum(const std::vector<GridEdge>& edges);
 // S_n = D_n^-1/2 B_n D_n^-1/2 = W_n M_n W_n^T. Two dense symmetric
 // eigendecompositions (nu x nu and nv x nv) diagonalise L, and a solve is four
 // small matrix products: O(nu nv (nu + nv)) with no fill-in. Depends only on
-// (nu, nv, range).
+// (nu, nv, range). With periodic_u, the neighbourhood wraps round in u
+// (samples within circular distance r; nu >= 2 r + 1): B_u is then the
+// circulant band, and D_u = (2 r + 1) I.
 class LaplacianFactor {
  public:
   int nu = 0, nv = 0, range = 0;
+  bool periodic_u = false;
   Eigen::MatrixXd wu, wv;            // eigenvectors of S_u, S_v
   Eigen::VectorXd ru, rv;            // D^-1/2 diagonals
   Eigen::MatrixXd inverse_spectrum;  // 1 / (1 - mu_u(a) mu_v(b)); 0 on the constant mode
@@ -51,7 +55,7 @@ class LaplacianFactor {
   // blocks [b_x b_y] of a nu x 2nv matrix (one per coordinate); the constant
   // component of x is zero. With threads > 1 the coordinates are solved in
   // parallel (same result).
-  void Solve(Eigen::MatrixXd* b, int threads) const;
+  void Solve(Eigen::Ref<Eigen::MatrixXd> b, int threads) const;
 
  private:
   void SolveBlock(Eigen::Ref<Eigen::MatrixXd> y, Eigen::MatrixXd* scratch) const;
@@ -59,7 +63,39 @@ class LaplacianFactor {
 
 // The solvers take the edges of the neighbourhood they minimise over (ring <= r).
 
-std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range);
+std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range,
+                                                 bool periodic_u = false);
+
+// One step of stress majorization as a map of the unknowns X (a vector):
+// right_hand_side fills b = B(X) X (sized like X) and returns the stress of
+// X; solve replaces b by the Guttman transform G(X) = L^+ b.
+struct MajorizationMap {
+  std::function<double(const Eigen::VectorXd& x, Eigen::VectorXd* b)> right_hand_side;
+  std::function<void(Eigen::VectorXd* b)> solve;
+};
+
+// Iterates X <- G(X) from `x`, in place, with safeguarded Anderson
+// acceleration, until the stress settles (StressSettled with `total` =
+// sum d_ij^2), max_iterations or the deadline.
+SolveStats IterateMajorization(const MajorizationMap& map, double total, double tolerance,
+                               int max_iterations, Eigen::VectorXd* x, Deadline deadline);
+
+// Sums a right-hand side over [0, count) items split into partial sums, one
+// per thread for large sets (50000 items and more), added in a fixed order:
+// the result does not depend on timing. `terms(begin, end, out)` adds its
+// items' terms into `out` (zeroed, sized like the right-hand side) and
+// returns their stress.
+class ChunkedGuttmanSum {
+ public:
+  using Terms = std::function<double(int begin, int end, Eigen::VectorXd* out)>;
+  ChunkedGuttmanSum(size_t items, int size, int threads);
+  double Sum(int count, Eigen::VectorXd* rhs, const Terms& terms);
+
+ private:
+  int chunks_;
+  std::vector<Eigen::VectorXd> partial_;
+  std::vector<double> stress_;
+};
 
 // Stress majorization from the layout in `x` (n points), in place.
 // threads: workers for the large passes (0 = one per core); results do not
@@ -67,6 +103,31 @@ std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range);
 SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<GridEdge>& edges,
                              double tolerance, int max_iterations, int threads,
                              std::vector<Vec2>* x, Deadline deadline = kNoDeadline);
+
+// A pair of nodes of a sheet periodic in u, whose flat difference is
+// Y_j + shift T - Y_i (T: the period; shift -1, 0 or 1).
+struct SeamEdge {
+  int i = 0;
+  int j = 0;
+  int shift = 0;
+  int ring = 0;
+  double d = 0.0;
+};
+
+// The distinct pairs of a grid periodic in u with `period` columns, from the
+// distances measured on it continued past the seam (`extended`: period +
+// range columns, column c and c + period the same samples): each pair once,
+// the one whose left column is in [0, period); nodes i + period * j. Only
+// pairs of rings up to max_ring.
+std::vector<SeamEdge> PeriodicEdges(const SurfaceDistances& extended, int period, int max_ring);
+
+// Stress majorization of a sheet periodic in u (periodic_majorization.cpp):
+// the period x nv nodes `nodes` (factor.nu = period; factor periodic_u) and
+// the period T `period`, from their values, in place.
+SolveStats SolvePeriodicMajorization(const LaplacianFactor& factor,
+                                     const std::vector<SeamEdge>& edges, double tolerance,
+                                     int max_iterations, int threads, std::vector<Vec2>* nodes,
+                                     Vec2* period, Deadline deadline = kNoDeadline);
 
 // The paper's gradient descent from the layout in `x`, in place. step <= 0: automatic.
 SolveStats SolvePaperDescent(const std::vector<GridEdge>& edges, double step, double tolerance,
@@ -81,8 +142,9 @@ double Stress(const std::vector<GridEdge>& edges, const std::vector<Vec2>& x);
 void Canonicalize(int nu, int nv, std::vector<Vec2>* x, Eigen::Matrix2d* linear = nullptr,
                   Vec2* offset = nullptr);
 
-// Fills stress, edge error, area ratios and folded cells.
+// Fills stress, edge error, area ratios and folded cells: over the first
+// `cell_columns` columns of cells (-1: all).
 void MeasureQuality(const SurfaceDistances& dist, const std::vector<Vec2>& x,
-                    FlattenQuality* quality);
+                    FlattenQuality* quality, int cell_columns = -1);
 
 }  // namespace surfdeform::internal

@@ -11,16 +11,22 @@ namespace surfdeform::internal {
 namespace {
 
 // Eigen-decomposition of S = D^-1/2 B D^-1/2 for the band matrix B of ones
-// within distance r (see LaplacianFactor).
-void BandSpectrum(int n, int r, Eigen::MatrixXd* w, Eigen::VectorXd* mu, Eigen::VectorXd* rs) {
+// within distance r (see LaplacianFactor); with `periodic`, within circular
+// distance r (n >= 2 r + 1: the band does not meet itself).
+void BandSpectrum(int n, int r, bool periodic, Eigen::MatrixXd* w, Eigen::VectorXd* mu,
+                  Eigen::VectorXd* rs) {
+  auto within = [&](int i, int k) {
+    const int d = std::abs(i - k);
+    return d <= r || (periodic && n - d <= r);
+  };
   Eigen::MatrixXd s(n, n);
   rs->resize(n);
   for (int i = 0; i < n; ++i) {
-    const int count = std::min(n - 1, i + r) - std::max(0, i - r) + 1;
+    const int count = periodic ? 2 * r + 1 : std::min(n - 1, i + r) - std::max(0, i - r) + 1;
     (*rs)(i) = 1.0 / std::sqrt(static_cast<double>(count));
   }
   for (int k = 0; k < n; ++k) {
-    for (int i = 0; i < n; ++i) s(i, k) = std::abs(i - k) <= r ? (*rs)(i) * (*rs)(k) : 0.0;
+    for (int i = 0; i < n; ++i) s(i, k) = within(i, k) ? (*rs)(i) * (*rs)(k) : 0.0;
   }
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(s);
   *w = eig.eigenvectors();
@@ -29,14 +35,15 @@ void BandSpectrum(int n, int r, Eigen::MatrixXd* w, Eigen::VectorXd* mu, Eigen::
 
 }  // namespace
 
-std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range) {
+std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range, bool periodic_u) {
   auto f = std::make_unique<LaplacianFactor>();
   f->nu = nu;
   f->nv = nv;
   f->range = range;
+  f->periodic_u = periodic_u;
   Eigen::VectorXd mu_u, mu_v;
-  BandSpectrum(nu, range, &f->wu, &mu_u, &f->ru);
-  BandSpectrum(nv, range, &f->wv, &mu_v, &f->rv);
+  BandSpectrum(nu, range, periodic_u, &f->wu, &mu_u, &f->ru);
+  BandSpectrum(nv, range, false, &f->wv, &mu_v, &f->rv);
   f->inverse_spectrum.resize(nu, nv);
   for (int b = 0; b < nv; ++b) {
     for (int a = 0; a < nu; ++a) {
@@ -60,12 +67,12 @@ void LaplacianFactor::SolveBlock(Eigen::Ref<Eigen::MatrixXd> y, Eigen::MatrixXd*
   y = ru.asDiagonal() * y * rv.asDiagonal();
 }
 
-void LaplacianFactor::Solve(Eigen::MatrixXd* b, int threads) const {
+void LaplacianFactor::Solve(Eigen::Ref<Eigen::MatrixXd> b, int threads) const {
   // Below ~64 x 64 samples a thread costs more than it saves.
   const int workers = nu * nv >= 4096 ? std::min(threads, 2) : 1;
   ParallelChunks(2, workers, [&](int, int c0, int c1) {
     Eigen::MatrixXd scratch(nu, nv);
-    for (int c = c0; c < c1; ++c) SolveBlock(b->middleCols(c * nv, nv), &scratch);
+    for (int c = c0; c < c1; ++c) SolveBlock(b.middleCols(c * nv, nv), &scratch);
   });
 }
 
@@ -75,7 +82,7 @@ namespace {
 // over edges [begin, end), added into `rhs` (x block then y block, like X);
 // returns their stress.
 double GuttmanTerms(const std::vector<GridEdge>& edges, size_t begin, size_t end,
-                    const Eigen::VectorXd& x, int n, Eigen::MatrixXd* rhs) {
+                    const Eigen::VectorXd& x, int n, Eigen::VectorXd* rhs) {
   double* bx = rhs->data();
   double* by = bx + n;
   const double* px = x.data();
@@ -97,57 +104,32 @@ double GuttmanTerms(const std::vector<GridEdge>& edges, size_t begin, size_t end
   return stress;
 }
 
-// All of B(X) X into `rhs` and the stress of X. Large edge sets are split over
-// `threads` partial sums, added in a fixed order: the result does not depend
-// on timing.
-class GuttmanRightHandSide {
- public:
-  GuttmanRightHandSide(const std::vector<GridEdge>& edges, int nu, int nv, int threads)
-      : edges_(edges), chunks_(edges.size() >= 50000 ? threads : 1) {
-    partial_.assign(chunks_ - 1, Eigen::MatrixXd(nu, 2 * nv));
-    stress_.assign(chunks_, 0.0);
-  }
-
-  double operator()(const Eigen::VectorXd& x, int n, Eigen::MatrixXd* rhs) {
-    const int count = static_cast<int>(edges_.size());
-    ParallelChunks(count, chunks_, [&](int chunk, int begin, int end) {
-      Eigen::MatrixXd* out = chunk == 0 ? rhs : &partial_[chunk - 1];
-      out->setZero();
-      stress_[chunk] = GuttmanTerms(edges_, begin, end, x, n, out);
-    });
-    double stress = stress_[0];
-    for (int c = 1; c < chunks_; ++c) {
-      *rhs += partial_[c - 1];
-      stress += stress_[c];
-    }
-    return stress;
-  }
-
- private:
-  const std::vector<GridEdge>& edges_;
-  int chunks_;
-  std::vector<Eigen::MatrixXd> partial_;
-  std::vector<double> stress_;
-};
-
 }  // namespace
 
-SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<GridEdge>& edges,
-                             double tolerance, int max_iterations, int threads,
-                             std::vector<Vec2>* positions, Deadline deadline) {
-  threads = ResolveThreads(threads);
-  const int n = static_cast<int>(positions->size());
-  const int nu = factor.nu, nv = factor.nv;
-  // X as one vector: all x coordinates, then all y coordinates (the layout of
-  // the nu x 2nv right-hand side).
-  Eigen::VectorXd x(2 * n);
-  for (int i = 0; i < n; ++i) {
-    x(i) = (*positions)[i].x();
-    x(n + i) = (*positions)[i].y();
+ChunkedGuttmanSum::ChunkedGuttmanSum(size_t edges, int size, int threads)
+    : chunks_(edges >= 50000 ? ResolveThreads(threads) : 1) {
+  partial_.assign(chunks_ - 1, Eigen::VectorXd(size));
+  stress_.assign(chunks_, 0.0);
+}
+
+double ChunkedGuttmanSum::Sum(int count, Eigen::VectorXd* rhs, const Terms& terms) {
+  ParallelChunks(count, chunks_, [&](int chunk, int begin, int end) {
+    Eigen::VectorXd* out = chunk == 0 ? rhs : &partial_[chunk - 1];
+    out->setZero();
+    stress_[chunk] = terms(begin, end, out);
+  });
+  double stress = stress_[0];
+  for (int c = 1; c < chunks_; ++c) {
+    *rhs += partial_[c - 1];
+    stress += stress_[c];
   }
-  Eigen::MatrixXd rhs(nu, 2 * nv);
-  GuttmanRightHandSide right_hand_side(edges, nu, nv, threads);
-  Eigen::Map<Eigen::VectorXd> g(rhs.data(), 2 * n);  // G(X) after the solve
+  return stress;
+}
+
+SolveStats IterateMajorization(const MajorizationMap& map, double total, double tolerance,
+                               int max_iterations, Eigen::VectorXd* x_io, Deadline deadline) {
+  Eigen::VectorXd& x = *x_io;
+  Eigen::VectorXd g(x.size());  // B(X) X, then G(X) after the solve
 
   // Anderson acceleration (type II, window kWindow) of the fixed-point map
   // X -> G(X): the next X combines the last G values so as to cancel the last
@@ -160,15 +142,14 @@ SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<Gr
   bool accelerated = false;
 
   SolveStats stats;
-  const double total = SquaredDistanceSum(edges);
   double previous = 0.0;
   for (int it = 0;; ++it) {
-    double stress = right_hand_side(x, n, &rhs);
+    double stress = map.right_hand_side(x, &g);
     if (accelerated && !(stress <= previous)) {
       x = plain_g;  // reject the accelerated step
       hist_f.clear();
       hist_g.clear();
-      stress = right_hand_side(x, n, &rhs);
+      stress = map.right_hand_side(x, &g);
     }
     if (it > 0 && StressSettled(previous, stress, tolerance, total)) {
       stats.converged = true;
@@ -180,7 +161,7 @@ SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<Gr
       break;
     }
     previous = stress;
-    factor.Solve(&rhs, threads);
+    map.solve(&g);
     stats.iterations = it + 1;
 
     hist_f.push_back(g - x);
@@ -196,7 +177,8 @@ SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<Gr
       x = g;
       continue;
     }
-    Eigen::MatrixXd df(2 * n, m);
+    const Eigen::Index size = x.size();
+    Eigen::MatrixXd df(size, m);
     for (int k = 0; k < m; ++k) df.col(k) = hist_f[k + 1] - hist_f[k];
     Eigen::MatrixXd normal = df.transpose() * df;
     normal.diagonal().array() += 1e-12 * normal.diagonal().maxCoeff() + 1e-300;
@@ -210,6 +192,35 @@ SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<Gr
       hist_g.clear();
     }
   }
+  return stats;
+}
+
+SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<GridEdge>& edges,
+                             double tolerance, int max_iterations, int threads,
+                             std::vector<Vec2>* positions, Deadline deadline) {
+  threads = ResolveThreads(threads);
+  const int n = static_cast<int>(positions->size());
+  const int nu = factor.nu, nv = factor.nv;
+  // X as one vector: all x coordinates, then all y coordinates (the layout of
+  // the nu x 2nv right-hand side).
+  Eigen::VectorXd x(2 * n);
+  for (int i = 0; i < n; ++i) {
+    x(i) = (*positions)[i].x();
+    x(n + i) = (*positions)[i].y();
+  }
+  ChunkedGuttmanSum sum(edges.size(), 2 * n, threads);
+  MajorizationMap map;
+  map.right_hand_side = [&](const Eigen::VectorXd& at, Eigen::VectorXd* rhs) {
+    return sum.Sum(static_cast<int>(edges.size()), rhs,
+                   [&](int begin, int end, Eigen::VectorXd* out) {
+                     return GuttmanTerms(edges, begin, end, at, n, out);
+                   });
+  };
+  map.solve = [&](Eigen::VectorXd* rhs) {
+    factor.Solve(Eigen::Map<Eigen::MatrixXd>(rhs->data(), nu, 2 * nv), threads);
+  };
+  const SolveStats stats =
+      IterateMajorization(map, SquaredDistanceSum(edges), tolerance, max_iterations, &x, deadline);
   for (int i = 0; i < n; ++i) (*positions)[i] = Vec2(x(i), x(n + i));
   return stats;
 }

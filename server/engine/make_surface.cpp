@@ -323,6 +323,16 @@ Result<std::unique_ptr<Surface>> Build(const WaveSpec& s) {
 
 }  // namespace
 
+bool ClosesInU(const SurfaceSpec& spec) {
+  constexpr double kTurn = 360.0 * (1.0 - 1e-12);  // as Surface::ClosedInU, in degrees
+  if (const auto* c = std::get_if<CylinderSpec>(&spec)) return c->angle_deg >= kTurn;
+  if (const auto* c = std::get_if<ConeSpec>(&spec)) return c->angle_deg >= kTurn;
+  if (const auto* s = std::get_if<SphereSpec>(&spec))
+    return s->lon_max_deg - s->lon_min_deg >= kTurn;
+  if (const auto* t = std::get_if<TorusSpec>(&spec)) return t->u_max_deg - t->u_min_deg >= kTurn;
+  return false;
+}
+
 SurfaceKind KindOf(const SurfaceSpec& spec) {
   static constexpr SurfaceKind kByIndex[] = {
       SurfaceKind::kBezier, SurfaceKind::kBSpline, SurfaceKind::kCylinder, SurfaceKind::kCone,

@@ -61,16 +61,27 @@ bool Invertible(const Surface& s, int e, int period, int nv) {
   return true;
 }
 
+bool Unrolled(const Surface& surface, const FlatSheet& sheet) {
+  return sheet.method == "exact" && surface.InverseUnrolling(Vec2(1, 1)).has_value();
+}
+
+bool Flattened(const FlatSheet& sheet) { return !sheet.period_u.isZero(); }
+
 }  // namespace
 
+std::unique_ptr<const Surface> ContinuedInU(const Surface& given, double u0, double u_scale) {
+  return std::make_unique<AcrossSeam>(given, u0, u_scale);
+}
+
 bool PeriodicInU(const Surface& surface, const FlatSheet& sheet) {
-  return surface.ClosedInU() && sheet.method == "exact" && sheet.nu >= 2 && sheet.nv >= 2 &&
+  return surface.ClosedInU() && sheet.nu >= 2 && sheet.nv >= 2 &&
          sheet.flat.size() == static_cast<size_t>(sheet.nu) * sheet.nv &&
-         surface.InverseUnrolling(Vec2(1, 1)).has_value();
+         (Flattened(sheet) || Unrolled(surface, sheet));
 }
 
 std::optional<SheetPeriod> PeriodOf(const Surface& surface, const FlatSheet& sheet) {
   if (!PeriodicInU(surface, sheet)) return std::nullopt;
+  if (Flattened(sheet)) return SheetPeriod{0.0, sheet.period_u};
   // The rotation and translation that best take column 0 onto column nu - 1
   // (Kabsch in the plane); exact up to rounding for a closed-form sheet.
   const int nu = sheet.nu, nv = sheet.nv;
@@ -106,7 +117,8 @@ Vec2 SeamExtension::ExtendedParameters(const Vec2& given) const {
 int SeamColumns(const Surface& surface, const FlatSheet& sheet) {
   if (!PeriodicInU(surface, sheet)) return 0;
   const int period = sheet.nu - 1;
-  int e = period;  // a period each side, where the plane allows
+  int e = period;                  // a period each side, where the plane allows
+  if (Flattened(sheet)) return e;  // translated copies of a strip never meet
   while (e > 0 && !Invertible(surface, e, period, sheet.nv)) e /= 2;
   return e;
 }
@@ -129,6 +141,7 @@ std::unique_ptr<const SeamExtension> ExtendAcrossSeam(const Surface& surface,
   s.method = sheet.method;
   s.frame_linear = sheet.frame_linear;
   s.frame_offset = sheet.frame_offset;
+  s.period_u = sheet.period_u;
   s.quality = sheet.quality;
   const size_t n = static_cast<size_t>(s.nu) * nv;
   s.points.resize(n);
@@ -141,6 +154,15 @@ std::unique_ptr<const SeamExtension> ExtendAcrossSeam(const Surface& surface,
       if (given >= 0 && given < sheet.nu) {  // the given columns, as they are
         const size_t g = static_cast<size_t>(given) + static_cast<size_t>(sheet.nu) * j;
         s.flat[k] = sheet.flat[g];
+        s.points[k] = sheet.points.size() == sheet.flat.size() ? sheet.points[g] : Vec3::Zero();
+        s.normals[k] = sheet.normals.size() == sheet.flat.size() ? sheet.normals[g] : Vec3::Zero();
+        continue;
+      }
+      if (Flattened(sheet)) {  // the column a period away, translated
+        const int turns = given < 0 ? -1 : given / period;
+        const size_t g =
+            static_cast<size_t>(given - turns * period) + static_cast<size_t>(sheet.nu) * j;
+        s.flat[k] = sheet.flat[g] + turns * sheet.period_u;
         s.points[k] = sheet.points.size() == sheet.flat.size() ? sheet.points[g] : Vec3::Zero();
         s.normals[k] = sheet.normals.size() == sheet.flat.size() ? sheet.normals[g] : Vec3::Zero();
         continue;

@@ -25,8 +25,14 @@
 
 namespace surfdeform {
 
+// A surface closed in u over the parameters u' in [0, 1] for its
+// u = u0 + u_scale u', wrapped into [0, 1); derivatives scaled to match.
+// Keeps a reference to `given`.
+std::unique_ptr<const Surface> ContinuedInU(const Surface& given, double u0, double u_scale);
+
 // Whether a model on `sheet` may cross the seam of `surface`: the surface
-// closes in u and the sheet is its closed-form unrolling.
+// closes in u and the sheet is its closed-form unrolling or was flattened
+// periodic (FlatSheet::period_u).
 bool PeriodicInU(const Surface& surface, const FlatSheet& sheet);
 
 // The rigid motion of the plane that takes the seam's column u = 0 of a

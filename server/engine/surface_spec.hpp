@@ -158,4 +158,9 @@ inline constexpr double kMaxSurfaceNumber = 1e15;
 // collapsed control grid, parallel frame axes).
 Result<std::unique_ptr<Surface>> MakeSurface(const SurfaceSpec& spec);
 
+// Whether the surface a spec describes closes in u (Surface::ClosedInU of
+// the surface MakeSurface builds): a cylinder or cone of 360 degrees, a
+// sphere's whole longitude, a torus whole round its axis.
+bool ClosesInU(const SurfaceSpec& spec);
+
 }  // namespace surfdeform

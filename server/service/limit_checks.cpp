@@ -25,17 +25,11 @@ Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& s) {
 namespace {
 
 // Whether some key of the animation is a surface whose sheet the map
-// continues past the seam (a whole cylinder or cone, unrolled in closed
-// form): its frames' maps take more memory.
+// continues past the seam (one closed in u: ClosesInU): its frames' maps
+// take more memory.
 bool ContinuedPastSeam(const proto::AnimationRequest& request) {
-  if (!request.flatten.exact_developable) return false;
   for (const Keyframe& key : request.animation.keyframes) {
-    if (const auto* c = std::get_if<CylinderSpec>(&key.surface); c && c->angle_deg >= 360.0) {
-      return true;
-    }
-    if (const auto* c = std::get_if<ConeSpec>(&key.surface); c && c->angle_deg >= 360.0) {
-      return true;
-    }
+    if (ClosesInU(key.surface)) return true;
   }
   return false;
 }

@@ -403,13 +403,18 @@ std::string InfoJson(const ServiceLimits& l) {
             {"output_formats", NamesOf<proto::OutputFormat>(proto::kOutputFormats)},
             {"surface_kinds", NamesOf<proto::SurfaceKind>(proto::kSurfaceKinds)},
             {"closed_surfaces",
-             {{"periodic_u", {"cylinder", "cone"}},
+             {{"periodic_u", {"cylinder", "cone", "sphere", "torus"}},
               {"description",
-               "a cylinder or cone with angle_deg 360, unrolled in closed form (the default "
-               "flatten.exact_developable), is periodic in u: a model may lie across its seam "
-               "and wrap round it (the sheet's periodic_u and period say so; the stats' "
-               "placement.turns says how far round, and warn past one turn). Other kinds "
-               "keep a seam that no model may cross"}}},
+               "a surface whose u closes is periodic in u: a cylinder or cone with angle_deg "
+               "360, a sphere with 360 degrees of longitude, a torus with 360 degrees in u. A "
+               "model may lie across its seam and wrap round it (the sheet's periodic_u and "
+               "period say so; the stats' placement.turns says how far round, and warn past "
+               "one turn). Cylinders and cones are unrolled in closed form (their period is a "
+               "translation or a rotation about the apex); the others are flattened with the "
+               "pairs across the seam in the stress, into a strip whose period (a translation) "
+               "is solved with the sheet. That needs at least 2 max(range, 3) + 2 samples in "
+               "u and method majorization; otherwise the sheet keeps a seam no model may "
+               "cross"}}},
             {"flatten_methods", NamesOf<FlattenMethod>(kFlattenMethods)},
             {"subdivision_modes", NamesOf<SubdivisionMode>(kSubdivisionModes)}};
   // Every named choice of the request, by its field: {name, description}.

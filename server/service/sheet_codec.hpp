@@ -13,7 +13,7 @@
 
 namespace surfdeform {
 
-inline constexpr int kSheetFormatVersion = 1;
+inline constexpr int kSheetFormatVersion = 2;  // 2: the period of a periodic sheet
 
 // The Redis key of surface `id`: format and engine version are part of it,
 // so replicas of different versions never read each other's values.

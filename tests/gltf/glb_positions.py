@@ -1,13 +1,18 @@
 """Positions of a plain GLB's first primitive, and a comparison of two.
 
   glb_positions.py compare A.glb B.glb TOLERANCE [--half-turn]
+  glb_positions.py radius A.glb RADIUS TOLERANCE
 
 compares the first min(count) positions (the input's vertices come first, in
 order, in every answer): their largest coordinate difference must stay
 within TOLERANCE. With --half-turn, B is turned half a turn about +Z first,
 (x, y, z) -> (-x, -y, z). Prints the difference; exits 1 past the tolerance.
+
+radius checks that every position lies RADIUS from the origin (on a sphere
+about it), within TOLERANCE.
 """
 import json
+import math
 import struct
 import sys
 
@@ -25,6 +30,11 @@ def positions(path):
 
 
 def main(argv):
+    if len(argv) == 5 and argv[1] == "radius":
+        radius, tolerance = float(argv[3]), float(argv[4])
+        worst = max(abs(math.sqrt(x * x + y * y + z * z) - radius) for x, y, z in positions(argv[2]))
+        print("off the sphere of radius %g by at most %.3g" % (radius, worst))
+        return 0 if worst <= tolerance else 1
     if len(argv) < 5 or argv[1] != "compare":
         print(__doc__, file=sys.stderr)
         return 2

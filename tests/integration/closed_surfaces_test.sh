@@ -3,7 +3,9 @@
 # a full cylinder's sheet says it is periodic and gives its period; the
 # bunny across the seam is the bunny half a turn away, turned; a band longer
 # than the circumference goes round with a warning; a cone band across the
-# seam deforms; the GLB across the seam passes the Khronos validator; a
+# seam deforms; a sphere belt is flattened periodic and a band across its
+# seam lies on the sphere; the GLBs across the seam pass the Khronos
+# validator; a
 # half cylinder still refuses a model off its sheet.
 # Usage: closed_surfaces_test.sh SERVER_BINARY
 set -euo pipefail
@@ -30,7 +32,7 @@ id=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["id"])' "$o
 curl -sS -f -o "$out/flat.svg" "$base/v1/surfaces/$id/flat.svg"
 [[ $(grep -c '<polyline' "$out/flat.svg") == 2 ]] && grep -q 'class="seam"' "$out/flat.svg" ||
   fail "the sheet's SVG does not draw the seam"
-curl -sS -f "$base/v1/info" | grep -q '"closed_surfaces":{"description":"[^"]*","periodic_u":\["cylinder","cone"\]}' ||
+curl -sS -f "$base/v1/info" | grep -q '"closed_surfaces":{"description":"[^"]*","periodic_u":\["cylinder","cone","sphere","torus"\]}' ||
   fail "/v1/info does not describe the closed surfaces"
 
 # The bunny across the seam (sheet x = 0) and half a turn away (x = pi R):
@@ -82,6 +84,27 @@ status=$(deform cone "{\"surface\":$cone,\"sampling\":$sampling,\"placement\":{\
   \"output\":{\"format\":\"glb_plain\",\"distortion\":true}}" "$out/short.obj")
 [[ $status == 200 ]] || fail "the cone band across the seam: $status $(cat "$out/cone.glb")"
 node "$gltf/validate.mjs" "$out/cone.glb"
+
+# A sphere belt (its whole longitude) is flattened periodic: its sheet has a
+# translation period, and a band across its seam deforms onto the sphere
+# and passes the validator.
+belt='{"kind":"sphere","radius":1,"lon_min_deg":0,"lon_max_deg":360,"lat_min_deg":-40,"lat_max_deg":40}'
+curl -sS -f -o "$out/belt.json" -H 'Content-Type: application/json' \
+  -d "{\"surface\":$belt,\"sampling\":$sampling}" "$base/v1/surfaces"
+python3 - "$out/belt.json" << 'PY' || fail "the belt's period: $(cat "$out/belt.json")"
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["periodic_u"] is True and s["method"] == "majorization", s
+assert abs(s["period"]["angle_deg"]) < 1e-9, s["period"]
+tx, ty = s["period"]["translation"]
+assert 5.0 < tx < 6.3 and abs(ty) < 1e-6, s["period"]  # between the waist's and the equator's
+PY
+status=$(deform belt "{\"surface\":$belt,\"sampling\":$sampling,\"placement\":{\"center\":[0,0.7]},
+  \"output\":{\"format\":\"glb_plain\",\"distortion\":true}}" "$out/short.obj")
+[[ $status == 200 ]] || fail "the band across the belt's seam: $status $(cat "$out/belt.glb")"
+node "$gltf/validate.mjs" "$out/belt.glb"
+python3 "$gltf/glb_positions.py" radius "$out/belt.glb" 1.0 1e-6 ||
+  fail "the band across the belt's seam is off the sphere"
 
 # A half cylinder has a seam no model may cross: 422 outside_sheet.
 status=$(deform half '{"surface":{"kind":"cylinder","radius":1,"height":2,"angle_deg":180},

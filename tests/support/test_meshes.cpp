@@ -32,6 +32,34 @@ Mesh ThinPlate(double size_x, double size_y, double thickness) {
   return m;
 }
 
+Mesh GlyphRow(int count, double length) {
+  Mesh glyphs;
+  for (int g = 0; g < count; ++g) {
+    const Mesh box = ThinPlate(0.4, 0.6, 0.1);
+    const Vec3 at(-length / 2 + length * (g + 0.5) / count, 0.0, 0.05);
+    const uint32_t base = static_cast<uint32_t>(glyphs.positions.size());
+    for (const Vec3& p : box.positions) glyphs.positions.push_back(p + at);
+    for (const auto& tri : box.triangles) {
+      glyphs.triangles.push_back({tri[0] + base, tri[1] + base, tri[2] + base});
+    }
+  }
+  return glyphs;
+}
+
+double WorstGlyphStretch(const Mesh& before, const Mesh& after) {
+  double worst = 0.0;
+  for (size_t g = 0; 8 * g + 8 <= before.positions.size(); ++g) {
+    for (size_t a = 8 * g; a < 8 * g + 8; ++a) {
+      for (size_t b = a + 1; b < 8 * g + 8; ++b) {
+        const double d0 = (before.positions[a] - before.positions[b]).norm();
+        const double d1 = (after.positions[a] - after.positions[b]).norm();
+        worst = std::max(worst, std::abs(d1 - d0) / d0);
+      }
+    }
+  }
+  return worst;
+}
+
 Mesh FlatGrid(double x0, double y0, double sx, double sy, int nx, int ny, double z) {
   Mesh m;
   for (int j = 0; j <= ny; ++j) {

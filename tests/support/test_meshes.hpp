@@ -17,6 +17,15 @@ PlacementOptions KeepCoordinates(const Mesh& m, const Vec2& at);
 // size_x x size_y x thickness, centred at the origin, outward winding.
 Mesh ThinPlate(double size_x, double size_y, double thickness);
 
+// `count` thin plates (0.4 x 0.6 x 0.1, 8 vertices each, in order) in a row
+// along x, evenly over [-length / 2, length / 2], standing on z = 0:
+// glyphs to go all round a closed surface.
+Mesh GlyphRow(int count, double length);
+
+// The largest relative change of a distance between two vertices of the
+// same glyph (8 consecutive vertices) from `before` to `after`.
+double WorstGlyphStretch(const Mesh& before, const Mesh& after);
+
 // A flat grid of (nx + 1) x (ny + 1) vertices over [x0, x0 + sx] x [y0, y0 + sy]
 // at height z, with normals +Z, tangents +X, uv0 = (x, y) and per-vertex
 // colours, triangulated.

@@ -180,32 +180,13 @@ TEST(ClosedSurface, RigidGlyphsAllRoundTheSeamKeepTheirShape) {
   // Twelve boxes, one every twelfth of a turn, the row centred on the seam:
   // each moves as a rigid body, so its pairwise distances stay.
   const testing::Target t = testing::Flattened(CylinderSpec{kRadius, kHeight, 360.0, {}}, 17);
-  Mesh glyphs;
-  for (int g = 0; g < 12; ++g) {
-    Mesh box = testing::ThinPlate(0.4, 0.6, 0.1);
-    const Vec3 at(-kTurn / 2 + kTurn * (g + 0.5) / 12, 0.0, 0.05);
-    const uint32_t base = static_cast<uint32_t>(glyphs.positions.size());
-    for (const Vec3& p : box.positions) glyphs.positions.push_back(p + at);
-    for (const auto& tri : box.triangles) {
-      glyphs.triangles.push_back({tri[0] + base, tri[1] + base, tri[2] + base});
-    }
-  }
+  const Mesh glyphs = testing::GlyphRow(12, kTurn);
   PlacementOptions o = testing::KeepCoordinates(glyphs, Vec2(0.0, kHeight / 2));
   o.rigid = RigidMode::kComponents;
   auto r = Deform(t, glyphs, o);
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   EXPECT_EQ(r->stats.rigid.parts, 12);
-  double worst = 0.0;
-  for (size_t g = 0; g < 12; ++g) {
-    for (size_t a = 8 * g; a < 8 * g + 8; ++a) {
-      for (size_t b = a + 1; b < 8 * g + 8; ++b) {
-        const double before = (glyphs.positions[a] - glyphs.positions[b]).norm();
-        const double after = (r->mesh.positions[a] - r->mesh.positions[b]).norm();
-        worst = std::max(worst, std::abs(after - before) / before);
-      }
-    }
-  }
-  EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(testing::WorstGlyphStretch(glyphs, r->mesh), 1e-9);
   // The glyphs either side of the seam stand on it as the others do: each
   // box's base centre is on the cylinder.
   for (size_t g = 0; g < 12; ++g) {

@@ -109,7 +109,7 @@ TEST(FlattenQuality, SpectralLaplacianSolvesTheGraphLaplacian) {
   b.leftCols(nv) = Eigen::Map<Eigen::MatrixXd>(rhs.data(), nu, nv);
   b.rightCols(nv) = -2.0 * b.leftCols(nv);
   auto f = FactorLaplacian(nu, nv, r);
-  f->Solve(&b, 1);
+  f->Solve(b, 1);
   const Eigen::VectorXd got_x = Eigen::Map<Eigen::VectorXd>(b.data(), n);
   const Eigen::VectorXd got_y = Eigen::Map<Eigen::VectorXd>(b.data() + n, n);
   EXPECT_LT((got_x.array() - got_x.mean() - x_true.array()).abs().maxCoeff(), 1e-12);

@@ -27,10 +27,39 @@ TEST(LimitChecks, AnAnimationAcrossTheSeamIsEstimatedAtItsMapsCost) {
   EXPECT_EQ(closed.field(), "animation.frames");
   // 600 frames of 32 x 32 fit (0.94 GB estimated; 0.68 GB peak measured).
   EXPECT_TRUE(CheckFrames(limits, Can(360.0, 600, 32)).ok());
-  // Flattened numerically, the sheet is not continued past the seam.
+  // Flattened periodic by stress, the sheet is continued past the seam too,
+  // and so is a sphere's with its whole longitude.
   proto::AnimationRequest numeric = Can(360.0, 600, 40);
   numeric.flatten.exact_developable = false;
-  EXPECT_TRUE(CheckFrames(limits, numeric).ok());
+  EXPECT_EQ(CheckFrames(limits, numeric).code(), ErrorCode::kLimitExceeded);
+  proto::AnimationRequest belts = Can(360.0, 600, 40);
+  for (Keyframe& key : belts.animation.keyframes) {
+    key.surface = SphereSpec{1.0, 0.0, 360.0, -40.0, 40.0, {}};
+  }
+  EXPECT_EQ(CheckFrames(limits, belts).code(), ErrorCode::kLimitExceeded);
+  for (Keyframe& key : belts.animation.keyframes) {
+    key.surface = SphereSpec{1.0, 0.0, 180.0, -40.0, 40.0, {}};
+  }
+  EXPECT_TRUE(CheckFrames(limits, belts).ok());
+}
+
+TEST(LimitChecks, ClosesInUAgreesWithTheSurfaces) {
+  const SurfaceSpec specs[] = {CylinderSpec{1.0, 1.0, 360.0, {}},
+                               CylinderSpec{1.0, 1.0, 359.0, {}},
+                               ConeSpec{1.0, 0.5, 1.0, 360.0, {}},
+                               SphereSpec{1.0, -180.0, 180.0, -40.0, 40.0, {}},
+                               SphereSpec{1.0, 0.0, 90.0, -40.0, 40.0, {}},
+                               TorusSpec{2.0, 0.5, 0.0, 360.0, -90.0, 90.0, {}},
+                               TorusSpec{2.0, 0.5, 0.0, 90.0, 0.0, 360.0, {}},
+                               WaveSpec{}};
+  int closed = 0;
+  for (const SurfaceSpec& spec : specs) {
+    auto surface = MakeSurface(spec);
+    ASSERT_TRUE(surface.ok()) << surface.status().ToString();
+    EXPECT_EQ(ClosesInU(spec), (*surface)->ClosedInU()) << KindName(KindOf(spec));
+    closed += ClosesInU(spec) ? 1 : 0;
+  }
+  EXPECT_EQ(closed, 4);
 }
 
 }  // namespace

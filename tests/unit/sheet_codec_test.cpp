@@ -46,6 +46,17 @@ TEST(SheetCodec, RoundTripIsExact) {
   EXPECT_EQ(back->parts.flatten_ms, 12.5);
 }
 
+TEST(SheetCodec, APeriodicSheetKeepsItsPeriod) {
+  auto surface = testing::MakeValid(SphereSpec{1.0, 0.0, 360.0, -30.0, 30.0, {}});
+  auto sheet = FlattenSurface(*surface, {17, 5});
+  ASSERT_TRUE(sheet.ok()) << sheet.status().ToString();
+  ASSERT_FALSE(sheet->period_u.isZero());
+  auto back = DecodeSheet(EncodeSheet(*sheet, kParts), 256);
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->sheet.period_u, sheet->period_u);
+  EXPECT_EQ(back->sheet.flat, sheet->flat);
+}
+
 TEST(SheetCodec, EveryFlippedByteAndEveryTruncationIsRefused) {
   const std::string bytes = EncodeSheet(SmallSheet(), kParts);
   for (size_t k = 0; k < bytes.size(); ++k) {

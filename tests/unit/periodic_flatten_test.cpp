@@ -1,0 +1,232 @@
+// Periodic flattening (issue #36, phase two): a surface closed in u that is
+// not unrolled in closed form is flattened into a strip with a period T,
+// the pairs across the seam counted in the stress like any others.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+
+#include "engine/animation.hpp"
+#include "engine/deform.hpp"
+#include "engine/flatten.hpp"
+#include "engine/seam_extension.hpp"
+#include "engine/sheet_map.hpp"
+#include "engine/surface_spec.hpp"
+#include "support/test_meshes.hpp"
+#include "support/test_surfaces.hpp"
+
+namespace surfdeform {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+struct Flat {
+  std::unique_ptr<Surface> surface;
+  FlatSheet sheet;
+};
+
+Flat FlattenSpec(const SurfaceSpec& spec, int nu, int nv, FlattenOptions o = {}) {
+  Flat f;
+  auto s = MakeSurface(spec);
+  EXPECT_TRUE(s.ok()) << s.status().ToString();
+  if (!s.ok()) return f;
+  f.surface = std::move(*s);
+  auto sheet = FlattenSurface(*f.surface, {nu, nv}, o);
+  EXPECT_TRUE(sheet.ok()) << sheet.status().ToString();
+  if (sheet.ok()) f.sheet = std::move(*sheet);
+  return f;
+}
+
+SubdivisionOptions Off() {
+  SubdivisionOptions o;
+  o.mode = SubdivisionMode::kOff;
+  return o;
+}
+
+// The best rigid motion of the plane (no reflection) from a to b, applied
+// to a: the largest distance left.
+double RigidResidual(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
+  Vec2 ca = Vec2::Zero(), cb = Vec2::Zero();
+  for (size_t k = 0; k < a.size(); ++k) {
+    ca += a[k] / a.size();
+    cb += b[k] / b.size();
+  }
+  double dot = 0.0, cross = 0.0;
+  for (size_t k = 0; k < a.size(); ++k) {
+    dot += (a[k] - ca).dot(b[k] - cb);
+    cross += Cross2(a[k] - ca, b[k] - cb);
+  }
+  const double angle = std::atan2(cross, dot);
+  const Eigen::Matrix2d r = Eigen::Rotation2Dd(angle).toRotationMatrix();
+  double worst = 0.0;
+  for (size_t k = 0; k < a.size(); ++k) {
+    worst = std::max(worst, (r * (a[k] - ca) + cb - b[k]).norm());
+  }
+  return worst;
+}
+
+TEST(PeriodicFlatten, AWholeCylinderFlattenedByStressHasItsCircumferenceForPeriod) {
+  const double radius = 2.0, turn = 2.0 * kPi * radius;
+  FlattenOptions o;
+  o.exact_developable = false;
+  o.tolerance = 1e-14;
+  const Flat f = FlattenSpec(CylinderSpec{radius, 3.0, 360.0, {}}, 33, 9, o);
+  ASSERT_EQ(f.sheet.nu, 33);
+  EXPECT_EQ(f.sheet.method, "majorization");
+  EXPECT_TRUE(PeriodicInU(*f.surface, f.sheet));
+  // The distances are measured to ~1e-7 (a pair's arc from its chord and
+  // tangents), and the stress reaches that: the strip is the development.
+  EXPECT_LT(f.sheet.quality.stress, 1e-6);
+  EXPECT_NEAR(f.sheet.period_u.norm(), turn, 1e-6 * turn);
+  EXPECT_NEAR(f.sheet.period_u.y(), 0.0, 1e-6 * turn);  // along the seam's normal
+  // Column nu - 1 is column 0 a period on.
+  for (int j = 0; j < 9; ++j) {
+    EXPECT_LT((f.sheet.flat[32 + 33 * j] - f.sheet.flat[33 * j] - f.sheet.period_u).norm(), 1e-12);
+  }
+  // Its period is the exact one's.
+  const Flat exact = FlattenSpec(CylinderSpec{radius, 3.0, 360.0, {}}, 33, 9);
+  EXPECT_NEAR(PeriodOf(*exact.surface, exact.sheet)->translation.x(), turn, 1e-12 * turn);
+}
+
+TEST(PeriodicFlatten, OnlySurfacesThatCloseAndGridsWithRoomAreFlattenedPeriodic) {
+  FlattenOptions o;
+  const auto belt = MakeSurface(SphereSpec{1.0, 0.0, 360.0, -40.0, 40.0, {}});
+  const auto part = MakeSurface(SphereSpec{1.0, 0.0, 359.0, -40.0, 40.0, {}});
+  ASSERT_TRUE(belt.ok() && part.ok());
+  EXPECT_EQ(PeriodicColumns(**belt, 17, o), 16);
+  EXPECT_EQ(PeriodicColumns(**part, 17, o), 0);
+  EXPECT_EQ(PeriodicColumns(**belt, 7, o), 0);  // 6 columns: no room for range 3 each way
+  EXPECT_EQ(PeriodicColumns(**belt, 8, o), 7);
+  o.method = FlattenMethod::kPaper;
+  EXPECT_EQ(PeriodicColumns(**belt, 17, o), 0);
+  const Flat open = FlattenSpec(SphereSpec{1.0, 0.0, 360.0, -40.0, 40.0, {}}, 7, 5);
+  EXPECT_TRUE(open.sheet.period_u.isZero());
+  EXPECT_FALSE(PeriodicInU(*open.surface, open.sheet));
+}
+
+TEST(PeriodicFlatten, TheSheetDoesNotDependOnWhereTheSeamIs) {
+  // The same sphere belt, its seam at longitude 0 and 5 columns on (37.5
+  // degrees): the same samples, so the same sheet up to a rigid motion.
+  FlattenOptions o;
+  o.tolerance = 1e-13;
+  const int p = 48, shift = 5;
+  const Flat a = FlattenSpec(SphereSpec{1.0, 0.0, 360.0, -40.0, 40.0, {}}, p + 1, 13, o);
+  const double lon = 360.0 * shift / p;
+  const Flat b = FlattenSpec(SphereSpec{1.0, lon, lon + 360.0, -40.0, 40.0, {}}, p + 1, 13, o);
+  std::vector<Vec2> pa, pb;
+  for (int j = 0; j < 13; ++j) {
+    for (int i = 0; i < p; ++i) {
+      pa.push_back(a.sheet.flat[(i + shift) % p + (p + 1) * j] +
+                   ((i + shift) / p) * a.sheet.period_u);
+      pb.push_back(b.sheet.flat[i + (p + 1) * j]);
+    }
+  }
+  EXPECT_LT(RigidResidual(pa, pb), 1e-6);
+  EXPECT_NEAR(a.sheet.period_u.norm(), b.sheet.period_u.norm(), 1e-7);
+  EXPECT_NEAR(a.sheet.quality.stress, b.sheet.quality.stress, 1e-7);
+}
+
+TEST(PeriodicFlatten, TheQualityCoversTheSeam) {
+  // The stress counts the pairs across the seam: a belt's periodic sheet
+  // keeps them, and measures them, where an open one cut there need not.
+  const Flat f = FlattenSpec(SphereSpec{1.0, 0.0, 360.0, -40.0, 40.0, {}}, 33, 13);
+  EXPECT_EQ(f.sheet.quality.folded_cells, 0);
+  EXPECT_GT(f.sheet.quality.stress, 0.0);
+  EXPECT_LT(f.sheet.quality.stress, 0.1);
+  // The ring-1 edges across the seam (column 31 to column 32 = 0 + T) are
+  // as long as those anywhere else in their row: the belt turns into itself.
+  for (int j = 0; j < 13; ++j) {
+    const double seam = (f.sheet.flat[32 + 33 * j] - f.sheet.flat[31 + 33 * j]).norm();
+    const double middle = (f.sheet.flat[17 + 33 * j] - f.sheet.flat[16 + 33 * j]).norm();
+    EXPECT_NEAR(seam, middle, 1e-6 * middle) << j;
+  }
+}
+
+TEST(PeriodicFlatten, ABandAcrossASphereBeltsSeamLiesOnTheSphere) {
+  FlattenOptions o;
+  o.tolerance = 1e-12;
+  const Flat f = FlattenSpec(SphereSpec{1.5, 0.0, 360.0, -40.0, 40.0, {}}, 49, 13, o);
+  const SheetMap map(*f.surface, f.sheet);
+  ASSERT_TRUE(map.periodic_u());
+  const Vec2 seam = map.SheetPoint(map.MapParameters(Vec2(0.0, 0.5)));
+  const Vec2 half = map.SheetPoint(map.MapParameters(Vec2(0.5, 0.5)));
+  const Mesh band = testing::FlatGrid(-2.0, -0.3, 4.0, 0.6, 40, 4, 0.0);
+  auto across = DeformMesh(*f.surface, f.sheet, Mesh(band), testing::KeepCoordinates(band, seam),
+                           Off(), DeformExtras{.distortion = true});
+  auto away = DeformMesh(*f.surface, f.sheet, Mesh(band), testing::KeepCoordinates(band, half),
+                         Off(), DeformExtras{.distortion = true});
+  ASSERT_TRUE(across.ok()) << across.status().ToString();
+  ASSERT_TRUE(away.ok()) << away.status().ToString();
+  EXPECT_EQ(across->stats.outside, 0u);
+  for (const Vec3& p : across->mesh.positions) EXPECT_NEAR(p.norm(), 1.5, 1e-9);
+  // Half a turn away, turned back, it is the same band, its distortion too:
+  // the periodic sheet is the same on both sides of the seam.
+  const Eigen::Matrix3d turn = Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal();
+  double worst = 0.0, worst_distortion = 0.0;
+  for (size_t k = 0; k < band.positions.size(); ++k) {
+    worst = std::max(worst, (across->mesh.positions[k] - turn * away->mesh.positions[k]).norm());
+    worst_distortion =
+        std::max(worst_distortion, (across->mesh.distortion[k] - away->mesh.distortion[k]).norm());
+  }
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_LT(worst_distortion, 1e-5);
+}
+
+TEST(PeriodicFlatten, RigidGlyphsAllRoundATorusKeepTheirShape) {
+  // 24 boxes all round a torus ring (its whole turn about the axis, the
+  // outer half of the tube), the row centred on the seam.
+  const Flat f = FlattenSpec(TorusSpec{3.0, 1.0, 0.0, 360.0, -70.0, 70.0, {}}, 73, 17);
+  const SheetMap map(*f.surface, f.sheet);
+  ASSERT_TRUE(map.periodic_u());
+  const double period = f.sheet.period_u.norm();
+  constexpr int kGlyphs = 24;
+  const Mesh glyphs = testing::GlyphRow(kGlyphs, period);
+  const Vec2 seam = map.SheetPoint(map.MapParameters(Vec2(0.0, 0.5)));
+  PlacementOptions o = testing::KeepCoordinates(glyphs, seam);
+  o.rigid = RigidMode::kComponents;
+  auto r = DeformMesh(*f.surface, f.sheet, Mesh(glyphs), o, Off());
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_EQ(r->stats.rigid.parts, kGlyphs);
+  EXPECT_EQ(r->stats.outside, 0u);
+  EXPECT_LT(testing::WorstGlyphStretch(glyphs, r->mesh), 1e-9);
+  // Each box stands on the outer equator, the seam's neighbours as well.
+  for (size_t g = 0; g < kGlyphs; ++g) {
+    Vec3 base = Vec3::Zero();
+    for (size_t k = 8 * g; k < 8 * g + 4; ++k) base += r->mesh.positions[k] / 4;
+    EXPECT_NEAR(std::hypot(base.x(), base.y()), 4.0, 0.02) << g;
+  }
+}
+
+TEST(PeriodicFlatten, AnAnimationOfSphereBeltsCarriesTheBandAcrossTheSeam) {
+  AnimationSpec spec;
+  spec.keyframes = {{0.0, SphereSpec{1.0, 0.0, 360.0, -40.0, 40.0, {}}},
+                    {1.0, SphereSpec{1.6, 0.0, 360.0, -40.0, 40.0, {}}}};
+  spec.frames = 5;
+  auto sheets = FlattenAnimation(spec, {33, 9}, {});
+  ASSERT_TRUE(sheets.ok()) << sheets.status().ToString();
+  std::vector<SheetMap> maps;
+  std::vector<const SheetMap*> pointers;
+  for (size_t k = 0; k < sheets->sheets.size(); ++k) {
+    EXPECT_FALSE(sheets->sheets[k].period_u.isZero()) << k;
+    maps.emplace_back(*sheets->surfaces[k], sheets->sheets[k]);
+  }
+  for (const SheetMap& m : maps) pointers.push_back(&m);
+  const Mesh band = testing::FlatGrid(-1.5, -0.2, 3.0, 0.4, 24, 2, 0.0);
+  PlacementOptions o = testing::KeepCoordinates(band, Vec2::Zero());
+  o.center_mode = CenterMode::kFraction;
+  o.center = Vec2(0.0, 0.5);  // on the seam, on every frame
+  auto model = PrepareModel(pointers, Mesh(band), o, Off());
+  ASSERT_TRUE(model.ok()) << model.status().ToString();
+  for (int k = 0; k < spec.frames; ++k) {
+    ASSERT_TRUE(maps[k].periodic_u()) << k;
+    const double radius = std::get<SphereSpec>(SurfaceAtFrame(spec, k)).radius;
+    auto frame = DeformPrepared(maps[k], *model, k, o, {});
+    ASSERT_TRUE(frame.ok()) << "frame " << k << ": " << frame.status().ToString();
+    for (const Vec3& p : frame->mesh.positions) EXPECT_NEAR(p.norm(), radius, 1e-9) << k;
+  }
+}
+
+}  // namespace
+}  // namespace surfdeform
