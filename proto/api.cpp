@@ -63,6 +63,7 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       SURFDEFORM_RETURN_IF_ERROR(o.Numbers("knots_u", &s.knots_u));
       SURFDEFORM_RETURN_IF_ERROR(o.Numbers("knots_v", &s.knots_v));
       if (s.rational) SURFDEFORM_RETURN_IF_ERROR(o.Numbers("weights", &s.weights));
+      SURFDEFORM_RETURN_IF_ERROR(o.Boolean("periodic_u", &s.periodic_u));
       spec = std::move(s);
       break;
     }
@@ -125,6 +126,7 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       SURFDEFORM_RETURN_IF_ERROR(o.Integer("nu", &s.nu));
       SURFDEFORM_RETURN_IF_ERROR(o.Integer("nv", &s.nv));
       SURFDEFORM_RETURN_IF_ERROR(o.Points("points", &s.points));
+      SURFDEFORM_RETURN_IF_ERROR(o.Boolean("periodic_u", &s.periodic_u));
       spec = std::move(s);
       break;
     }
@@ -152,6 +154,7 @@ json SurfaceJson(const SurfaceSpec& spec) {
                     {"knots_u", s.knots_u},
                     {"knots_v", s.knots_v}};
           if (s.rational) j["weights"] = s.weights;
+          if (s.periodic_u) j["periodic_u"] = true;  // absent when false: keys stay as they were
           return j;
         } else if constexpr (std::is_same_v<T, CylinderSpec>) {
           return {{"kind", KindName(SurfaceKind::kCylinder)},
@@ -193,10 +196,12 @@ json SurfaceJson(const SurfaceSpec& spec) {
                   {"time", s.time},
                   {"frame", FrameJson(s.frame)}};
         } else {
-          return {{"kind", KindName(SurfaceKind::kGrid)},
-                  {"nu", s.nu},
-                  {"nv", s.nv},
-                  {"points", PointsJson(s.points)}};
+          json j = {{"kind", KindName(SurfaceKind::kGrid)},
+                    {"nu", s.nu},
+                    {"nv", s.nv},
+                    {"points", PointsJson(s.points)}};
+          if (s.periodic_u) j["periodic_u"] = true;
+          return j;
         }
       },
       spec);

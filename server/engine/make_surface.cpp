@@ -1,6 +1,7 @@
 // Validation of surface specs and dispatch to the surface builders.
 #include <Eigen/Geometry>
 #include <cmath>
+#include <functional>
 #include <iterator>
 #include <sstream>
 #include <string>
@@ -95,8 +96,10 @@ Result<RigidFrame> BuildFrame(const Frame& f) {
   return out;
 }
 
-Status CheckKnots(const std::vector<double>& knots, int count, int degree,
-                  const std::string& field) {
+// `periodic`: the knot vector need not be clamped (a periodic spline's is
+// uniform and unclamped).
+Status CheckKnots(const std::vector<double>& knots, int count, int degree, const std::string& field,
+                  bool periodic = false) {
   const size_t expected = static_cast<size_t>(count) + degree + 1;
   if (knots.size() != expected) {
     return InvalidArgument("needs count + degree + 1 = " + std::to_string(expected) +
@@ -111,10 +114,11 @@ Status CheckKnots(const std::vector<double>& knots, int count, int degree,
           field + "[" + std::to_string(i) + "]");
     }
   }
-  for (int i = 1; i <= degree; ++i) {
+  for (int i = 1; i <= degree && !periodic; ++i) {
     if (knots[i] != knots[0] || knots[count + i] != knots[count]) {
       return InvalidArgument("the knot vector must be clamped: its first and last " +
-                                 std::to_string(degree + 1) + " values must be equal",
+                                 std::to_string(degree + 1) +
+                                 " values must be equal (or set periodic_u for a closed surface)",
                              field);
     }
   }
@@ -134,6 +138,43 @@ Status CheckKnots(const std::vector<double>& knots, int count, int degree,
     i = j;
   }
   return Status::Ok();
+}
+
+// A surface declared periodic in u must close: S(0, v) = S(1, v) to 1e-9
+// of the size of `points` (its control net or grid). `seam` gives the gap
+// and where along v it is largest.
+Status CheckSeamCloses(const std::vector<Vec3>& points,
+                       const std::function<double(double* at)>& seam) {
+  Eigen::AlignedBox3d box;
+  for (const Vec3& p : points) box.extend(p);
+  const double size = box.diagonal().norm();
+  double at = 0.0;
+  const double gap = seam(&at);
+  if (!(gap <= 1e-9 * size)) {
+    return InvalidArgument(
+        "the surface does not close in u: its seam (u = 0 against u = 1) "
+        "fails to meet by " +
+            Num(gap) + " at v = " + Num(at) + " (" + Num(gap / size) +
+            " of its size; at most 1e-9). Make the last column of points "
+            "repeat the first, or leave periodic_u false",
+        "periodic_u");
+  }
+  return Status::Ok();
+}
+
+// The largest |S(0, v) - S(1, v)| along v, sampled at and between the rows.
+double SurfaceSeamGap(const Surface& surface, int rows, double* at) {
+  const int samples = std::max(64, 4 * rows);
+  double gap = 0.0;
+  for (int k = 0; k <= samples; ++k) {
+    const double v = static_cast<double>(k) / samples;
+    const double d = (surface.Position(0.0, v) - surface.Position(1.0, v)).norm();
+    if (d > gap) {
+      gap = d;
+      *at = v;
+    }
+  }
+  return gap;
 }
 
 Result<std::unique_ptr<Surface>> Build(const BezierSpec& s) {
@@ -184,7 +225,7 @@ Result<std::unique_ptr<Surface>> Build(const BSplineSpec& s) {
                            "control_points");
   }
   SURFDEFORM_RETURN_IF_ERROR(CheckPoints(s.control_points, "control_points"));
-  SURFDEFORM_RETURN_IF_ERROR(CheckKnots(s.knots_u, s.count_u, s.degree_u, "knots_u"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckKnots(s.knots_u, s.count_u, s.degree_u, "knots_u", s.periodic_u));
   SURFDEFORM_RETURN_IF_ERROR(CheckKnots(s.knots_v, s.count_v, s.degree_v, "knots_v"));
   if (s.rational && s.weights.size() != n) {
     return InvalidArgument("a NURBS needs one weight per control point (" + std::to_string(n) +
@@ -207,7 +248,13 @@ Result<std::unique_ptr<Surface>> Build(const BSplineSpec& s) {
   d.knots_u = s.knots_u;
   d.knots_v = s.knots_v;
   d.weights = s.weights;
-  return MakeSplineSurface(std::move(d), s.rational ? "nurbs" : "bspline");
+  d.closed_u = s.periodic_u;
+  auto surface = MakeSplineSurface(std::move(d), s.rational ? "nurbs" : "bspline");
+  if (s.periodic_u) {
+    SURFDEFORM_RETURN_IF_ERROR(CheckSeamCloses(
+        s.control_points, [&](double* at) { return SurfaceSeamGap(*surface, s.count_v, at); }));
+  }
+  return surface;
 }
 
 Result<std::unique_ptr<Surface>> Build(const GridSpec& s) {
@@ -224,6 +271,26 @@ Result<std::unique_ptr<Surface>> Build(const GridSpec& s) {
                            "points");
   }
   SURFDEFORM_RETURN_IF_ERROR(CheckPoints(s.points, "points"));
+  if (s.periodic_u && s.nu < 4) {
+    return InvalidArgument(
+        "a grid closed in u needs at least 4 columns (3 and the first again), "
+        "got " +
+            std::to_string(s.nu),
+        "nu");
+  }
+  if (s.periodic_u) {  // the last column repeats the first
+    SURFDEFORM_RETURN_IF_ERROR(CheckSeamCloses(s.points, [&](double* at) {
+      double gap = 0.0;
+      for (int j = 0; j < s.nv; ++j) {
+        const double d = (s.points[s.nu * j] - s.points[s.nu - 1 + s.nu * j]).norm();
+        if (d > gap) {
+          gap = d;
+          *at = static_cast<double>(j) / (s.nv - 1);
+        }
+      }
+      return gap;
+    }));
+  }
   // Interpolate along u (each row j), then along v (each control column).
   Eigen::MatrixXd rows(s.nu, 3 * s.nv);
   for (int j = 0; j < s.nv; ++j) {
@@ -233,7 +300,9 @@ Result<std::unique_ptr<Surface>> Build(const GridSpec& s) {
   d.degree_u = d.degree_v = 3;
   d.count_u = s.nu + 2;
   d.count_v = s.nv + 2;
-  const Eigen::MatrixXd cu = InterpolateCubicNatural(rows, &d.knots_u);  // (nu+2) x 3nv
+  const Eigen::MatrixXd cu = s.periodic_u
+                                 ? InterpolateCubicPeriodic(rows, &d.knots_u)
+                                 : InterpolateCubicNatural(rows, &d.knots_u);  // (nu+2) x 3nv
   Eigen::MatrixXd cols(s.nv, 3 * d.count_u);
   for (int j = 0; j < s.nv; ++j) {
     for (int i = 0; i < d.count_u; ++i) cols.block<1, 3>(j, 3 * i) = cu.block<1, 3>(i, 3 * j);
@@ -245,6 +314,7 @@ Result<std::unique_ptr<Surface>> Build(const GridSpec& s) {
       d.control_points[i + d.count_u * j] = cv.block<1, 3>(j, 3 * i).transpose();
     }
   }
+  d.closed_u = s.periodic_u;
   return MakeSplineSurface(std::move(d), "grid");
 }
 
@@ -330,6 +400,8 @@ bool ClosesInU(const SurfaceSpec& spec) {
   if (const auto* s = std::get_if<SphereSpec>(&spec))
     return s->lon_max_deg - s->lon_min_deg >= kTurn;
   if (const auto* t = std::get_if<TorusSpec>(&spec)) return t->u_max_deg - t->u_min_deg >= kTurn;
+  if (const auto* b = std::get_if<BSplineSpec>(&spec)) return b->periodic_u;
+  if (const auto* g = std::get_if<GridSpec>(&spec)) return g->periodic_u;
   return false;
 }
 

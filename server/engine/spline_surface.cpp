@@ -76,6 +76,8 @@ class SplineSurface final : public Surface {
 
   const char* Kind() const override { return kind_; }
 
+  bool ClosedInU() const override { return d_.closed_u; }
+
   SurfacePoint Evaluate(double u, double v, int order) const override {
     const int p = d_.degree_u;
     const int q = d_.degree_v;
@@ -286,6 +288,29 @@ class SplineSurface final : public Surface {
 
 std::unique_ptr<Surface> MakeSplineSurface(SplineData data, const char* kind) {
   return std::make_unique<SplineSurface>(std::move(data), kind);
+}
+
+Eigen::MatrixXd InterpolateCubicPeriodic(const Eigen::MatrixXd& values,
+                                         std::vector<double>* knots) {
+  const int n = static_cast<int>(values.rows());
+  const int m = n - 1;  // distinct values round the curve
+  const int count = n + 2;
+  constexpr int p = 3;
+  knots->resize(count + p + 1);
+  for (int k = 0; k < count + p + 1; ++k) (*knots)[k] = static_cast<double>(k - p) / m;
+  // At t_i = i / m the uniform cubic basis weighs control points i, i + 1,
+  // i + 2 by 1/6, 4/6, 1/6; control point k is c_{(k - 1) mod m}:
+  // (c_{i-1} + 4 c_i + c_{i+1}) / 6 = values[i], cyclic in i.
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(m, m);
+  for (int i = 0; i < m; ++i) {
+    a(i, (i + m - 1) % m) += 1.0 / 6.0;
+    a(i, i) += 4.0 / 6.0;
+    a(i, (i + 1) % m) += 1.0 / 6.0;
+  }
+  const Eigen::MatrixXd c = a.partialPivLu().solve(values.topRows(m));
+  Eigen::MatrixXd control(count, values.cols());
+  for (int k = 0; k < count; ++k) control.row(k) = c.row((k - 1 + m) % m);
+  return control;
 }
 
 Eigen::MatrixXd InterpolateCubicNatural(const Eigen::MatrixXd& values, std::vector<double>* knots) {

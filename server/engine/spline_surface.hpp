@@ -20,9 +20,10 @@ struct SplineData {
   int count_u = 0;
   int count_v = 0;
   std::vector<Vec3> control_points;  // count_u * count_v, u fastest
-  std::vector<double> knots_u;       // count_u + degree_u + 1, clamped
+  std::vector<double> knots_u;       // count_u + degree_u + 1, clamped (unless closed_u)
   std::vector<double> knots_v;
   std::vector<double> weights;  // empty, or one per control point
+  bool closed_u = false;        // S(0, v) = S(1, v) (checked by the caller): Surface::ClosedInU
 };
 
 // Builds a spline surface from already validated data (see MakeSurface).
@@ -33,5 +34,12 @@ std::unique_ptr<Surface> MakeSplineSurface(SplineData data, const char* kind);
 // i / (n - 1). Returns n + 2 rows of control values and fills `knots`
 // (n + 6 values). One factorisation serves every column.
 Eigen::MatrixXd InterpolateCubicNatural(const Eigen::MatrixXd& values, std::vector<double>* knots);
+
+// The same for closed curves: the last row of `values` repeats the first
+// (n >= 4), and the uniform cubic B-spline that interpolates them is
+// periodic, C2 across the seam: n + 2 rows of control values (the last
+// three repeating the first three) over n + 6 unclamped uniform knots, its
+// domain [0, 1].
+Eigen::MatrixXd InterpolateCubicPeriodic(const Eigen::MatrixXd& values, std::vector<double>* knots);
 
 }  // namespace surfdeform

@@ -46,6 +46,13 @@ struct BSplineSpec {
   std::vector<double> knots_v;
   std::vector<double> weights;
   bool rational = false;  // true for kind "nurbs": weights are then required
+  // The surface closes in u: S(0, v) = S(1, v), as a closed control net
+  // gives (its first and last columns equal) with clamped knots, or a
+  // periodic one (its last degree_u columns repeating the first) with
+  // unclamped uniform knots, which are then allowed. Checked: a seam that
+  // fails to meet by more than 1e-9 of the net's size is refused, saying by
+  // how much. Such a surface is flattened periodic (issue #36).
+  bool periodic_u = false;
 };
 
 // Cylinder patch: u is the angle from the frame's +X towards +Y over angle_deg,
@@ -112,6 +119,10 @@ struct GridSpec {
   int nu = 0;
   int nv = 0;
   std::vector<Vec3> points;
+  // The grid closes in u: its last column repeats its first (checked, as
+  // for BSplineSpec::periodic_u), and the spline interpolates the columns
+  // periodically (C2 across the seam) instead of with natural ends.
+  bool periodic_u = false;
 };
 
 using SurfaceSpec = std::variant<BezierSpec, BSplineSpec, CylinderSpec, ConeSpec, SphereSpec,

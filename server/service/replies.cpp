@@ -403,10 +403,12 @@ std::string InfoJson(const ServiceLimits& l) {
             {"output_formats", NamesOf<proto::OutputFormat>(proto::kOutputFormats)},
             {"surface_kinds", NamesOf<proto::SurfaceKind>(proto::kSurfaceKinds)},
             {"closed_surfaces",
-             {{"periodic_u", {"cylinder", "cone", "sphere", "torus"}},
+             {{"periodic_u", {"cylinder", "cone", "sphere", "torus", "bspline", "nurbs", "grid"}},
               {"description",
                "a surface whose u closes is periodic in u: a cylinder or cone with angle_deg "
-               "360, a sphere with 360 degrees of longitude, a torus with 360 degrees in u. A "
+               "360, a sphere with 360 degrees of longitude, a torus with 360 degrees in u, a "
+               "bspline, nurbs or grid with periodic_u (its seam must meet, to 1e-9 of its "
+               "size, or it is refused with the gap). A "
                "model may lie across its seam and wrap round it (the sheet's periodic_u and "
                "period say so; the stats' placement.turns says how far round, and warn past "
                "one turn). Cylinders and cones are unrolled in closed form (their period is a "

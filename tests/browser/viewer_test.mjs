@@ -497,6 +497,29 @@ try {
     }
   }
 
+  // The bottle, a NURBS surface of revolution closed in u: flattened
+  // periodic, its seam drawn, and the model across the seam deformed.
+  await page.select('#preset', 'bottle');
+  await sleep(300);
+  if (await settled('ready', 'on the bottle')) {
+    const sheet = await page.evaluate(() => {
+      const s = window.surfdeformViewer.sheet();
+      return s && { period: s.period, lo: s.lo, hi: s.hi };
+    });
+    check(sheet && sheet.period && Math.abs(sheet.period.angle) < 1e-9 && sheet.period.t[0] > 5,
+          `the bottle's sheet is periodic, with a translation period ` +
+          `(${JSON.stringify(sheet && sheet.period)})`);
+    const middle = sheet ? (sheet.lo[1] + sheet.hi[1]) / 2 : 1;
+    await page.evaluate((y) => window.surfdeformViewer.placeAt([0, y]), middle);
+    await sleep(400);
+    if (await settled('ready', 'with the model on the bottle\'s seam')) {
+      const s = await stats();
+      check(s && s.placement.turns > 0 && s.placement.outside === 0,
+            `deformed across the seam of the bottle (turns ${s && s.placement.turns})`);
+      await shot('bottle');
+    }
+  }
+
   // A broken upload through the file input: the server's problem detail
   // appears on the page.
   const broken = path.join(artifacts, 'broken.obj');

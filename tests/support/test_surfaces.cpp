@@ -13,34 +13,49 @@ std::unique_ptr<Surface> MakeValid(const SurfaceSpec& spec) {
   return s.ok() ? std::move(s).value() : nullptr;
 }
 
-BSplineSpec NurbsCone(double r0, double r1, double h, double angle_deg) {
+BSplineSpec NurbsRevolution(const std::vector<Vec2>& profile, int degree_v,
+                            const std::vector<double>& knots_v, double angle_deg) {
   const int arcs = static_cast<int>(std::ceil(angle_deg / 120.0 - 1e-9));
   const double step = angle_deg / arcs * std::numbers::pi / 180.0;
   BSplineSpec s;
   s.rational = true;
   s.degree_u = 2;
-  s.degree_v = 1;
+  s.degree_v = degree_v;
   s.count_u = 2 * arcs + 1;
-  s.count_v = 2;
+  s.count_v = static_cast<int>(profile.size());
   s.knots_u = {0, 0, 0};
   for (int a = 1; a < arcs; ++a) {
     s.knots_u.push_back(static_cast<double>(a) / arcs);
     s.knots_u.push_back(static_cast<double>(a) / arcs);
   }
   s.knots_u.insert(s.knots_u.end(), {1, 1, 1});
-  s.knots_v = {0, 0, 1, 1};
-  for (int ring = 0; ring < 2; ++ring) {
-    const double r = ring == 0 ? r0 : r1;
-    const double z = ring == 0 ? 0.0 : h;
+  s.knots_v = knots_v;
+  for (const Vec2& rz : profile) {
     for (int k = 0; k < s.count_u; ++k) {
       const double theta = k * step / 2;
       const bool middle = k % 2 == 1;
       const double scale = middle ? 1.0 / std::cos(step / 2) : 1.0;
-      s.control_points.emplace_back(r * scale * std::cos(theta), r * scale * std::sin(theta), z);
+      const double r = rz.x();
+      s.control_points.emplace_back(r * scale * std::cos(theta), r * scale * std::sin(theta),
+                                    rz.y());
       s.weights.push_back(middle ? std::cos(step / 2) : 1.0);
     }
   }
+  s.periodic_u = angle_deg >= 360.0;
   return s;
+}
+
+BSplineSpec NurbsCone(double r0, double r1, double h, double angle_deg) {
+  BSplineSpec s = NurbsRevolution({Vec2(r0, 0.0), Vec2(r1, h)}, 1, {0, 0, 1, 1}, angle_deg);
+  s.periodic_u = false;
+  return s;
+}
+
+BSplineSpec NurbsBottle() {
+  // (radius, height), as client/web/samples/bottle.json.
+  const std::vector<Vec2> profile = {{0.95, 0.0}, {1.0, 0.4}, {1.0, 1.0}, {1.0, 1.6},
+                                     {1.0, 2.2},  {0.9, 2.6}, {0.85, 2.8}};
+  return NurbsRevolution(profile, 3, {0, 0, 0, 0, 0.25, 0.5, 0.75, 1, 1, 1, 1}, 360.0);
 }
 
 Target Flattened(const SurfaceSpec& spec, int n) {

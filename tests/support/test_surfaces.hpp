@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "engine/flatten.hpp"
 #include "engine/surface_spec.hpp"
@@ -16,6 +17,17 @@ std::unique_ptr<Surface> MakeValid(const SurfaceSpec& spec);
 // from +X towards +Y) as an exact rational quadratic NURBS (arcs of at most
 // 120 degrees), linear in v.
 BSplineSpec NurbsCone(double r0, double r1, double h, double angle_deg);
+
+// The surface of revolution of a B-spline profile of (radius, height)
+// control points (degree_v, clamped knots_v) about +Z over angle_deg, as an
+// exact rational quadratic NURBS in u; periodic_u when it goes all round.
+BSplineSpec NurbsRevolution(const std::vector<Vec2>& profile, int degree_v,
+                            const std::vector<double>& knots_v, double angle_deg);
+
+// The body and shoulder of a bottle (client/web/samples/bottle.json): a
+// NURBS surface of revolution closed in u (periodic_u), radius 1 over the
+// middle (exactly a cylinder for v in [0.25, 0.5]), narrowing to 0.85.
+BSplineSpec NurbsBottle();
 
 // A cylinder of the given radius and height over angle_deg as a `grid` of
 // nu x nv points on it.

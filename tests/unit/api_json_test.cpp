@@ -197,6 +197,25 @@ TEST(ApiJson, IdsAreContentHashes) {
   EXPECT_FALSE(IsSurfaceIdShaped("../../etc/passwd"));
 }
 
+TEST(ApiJson, PeriodicUIsPartOfTheIdOnlyWhenSet) {
+  const std::string grid =
+      R"("kind":"grid","nu":4,"nv":2,"points":[[1,0,0],[0,1,0],[-1,0,0],[1,0,0],)"
+      R"([1,0,1],[0,1,1],[-1,0,1],[1,0,1]])";
+  auto plain = ParseSurfaceRequest(json::parse("{\"surface\":{" + grid + "}}"));
+  auto unset =
+      ParseSurfaceRequest(json::parse("{\"surface\":{" + grid + ",\"periodic_u\":false}}"));
+  auto closed =
+      ParseSurfaceRequest(json::parse("{\"surface\":{" + grid + ",\"periodic_u\":true}}"));
+  ASSERT_TRUE(plain.ok() && unset.ok() && closed.ok());
+  EXPECT_TRUE(std::get<GridSpec>(closed->surface).periodic_u);
+  EXPECT_EQ(SurfaceId(*plain), SurfaceId(*unset));  // ids of earlier requests stay
+  EXPECT_NE(SurfaceId(*plain), SurfaceId(*closed));
+  EXPECT_FALSE(CanonicalJson(*plain)["surface"].contains("periodic_u"));
+  EXPECT_EQ(CanonicalJson(*closed)["surface"]["periodic_u"], true);
+  EXPECT_EQ(ParseError(R"({"surface":{"kind":"cylinder","periodic_u":true}})").code(),
+            ErrorCode::kMalformed);  // analytic kinds close by their angles
+}
+
 // A key given twice in one object is refused, wherever it is; the same key
 // in two objects is not a duplicate.
 TEST(ApiJson, DuplicateKeysAreRefusedWithTheirPath) {

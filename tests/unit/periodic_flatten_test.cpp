@@ -228,5 +228,126 @@ TEST(PeriodicFlatten, AnAnimationOfSphereBeltsCarriesTheBandAcrossTheSeam) {
   }
 }
 
+TEST(PeriodicFlatten, ASplineDeclaredPeriodicMustClose) {
+  // A whole NURBS cylinder's net closes (its first and last columns are
+  // equal): accepted, and closed in u.
+  BSplineSpec can = testing::NurbsCone(1.0, 1.0, 2.0, 360.0);
+  can.periodic_u = true;
+  auto closed = MakeSurface(can);
+  ASSERT_TRUE(closed.ok()) << closed.status().ToString();
+  EXPECT_TRUE((*closed)->ClosedInU());
+  EXPECT_TRUE(ClosesInU(can));
+  // Nine tenths of a turn does not: 422 saying by how much.
+  BSplineSpec part = testing::NurbsCone(1.0, 1.0, 2.0, 324.0);
+  part.periodic_u = true;
+  auto open = MakeSurface(part);
+  ASSERT_FALSE(open.ok());
+  EXPECT_EQ(open.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(open.status().field(), "periodic_u");
+  // The gap is the chord of the missing tenth: 2 sin(18 degrees).
+  const std::string gap = std::to_string(2.0 * std::sin(kPi / 10)).substr(0, 5);
+  EXPECT_NE(open.status().message().find("fails to meet by " + gap), std::string::npos)
+      << open.status().message();
+  // A grid whose last column is not its first, likewise.
+  GridSpec grid = testing::GridCylinder(1.0, 2.0, 300.0, 11, 4);
+  grid.periodic_u = true;
+  auto g = MakeSurface(grid);
+  ASSERT_FALSE(g.ok());
+  EXPECT_EQ(g.status().field(), "periodic_u");
+}
+
+TEST(PeriodicFlatten, APeriodicBSplineWithUniformKnotsIsAccepted) {
+  // A uniform cubic B-spline ring: 8 control points round a circle and the
+  // first 3 again, unclamped uniform knots. It closes, C2.
+  BSplineSpec s;
+  s.degree_u = 3;
+  s.degree_v = 1;
+  s.count_u = 11;
+  s.count_v = 2;
+  for (int k = 0; k < 15; ++k) s.knots_u.push_back((k - 3) / 8.0);
+  s.knots_v = {0, 0, 1, 1};
+  for (int j = 0; j < 2; ++j) {
+    for (int i = 0; i < 11; ++i) {
+      const double a = 2.0 * kPi * (i % 8) / 8;
+      s.control_points.emplace_back(std::cos(a), std::sin(a), 1.5 * j);
+    }
+  }
+  auto clamped = MakeSurface(s);
+  ASSERT_FALSE(clamped.ok());  // unclamped knots need periodic_u
+  EXPECT_EQ(clamped.status().field(), "knots_u");
+  s.periodic_u = true;
+  auto ring = MakeSurface(s);
+  ASSERT_TRUE(ring.ok()) << ring.status().ToString();
+  const SurfacePoint a = (*ring)->Evaluate(0.0, 0.5, 2), b = (*ring)->Evaluate(1.0, 0.5, 2);
+  EXPECT_LT((a.p - b.p).norm(), 1e-12);
+  EXPECT_LT((a.su - b.su).norm(), 1e-12);
+  EXPECT_LT((a.suu - b.suu).norm(), 1e-12);
+  auto sheet = FlattenSurface(**ring, {33, 5});
+  ASSERT_TRUE(sheet.ok()) << sheet.status().ToString();
+  EXPECT_FALSE(sheet->period_u.isZero());
+}
+
+TEST(PeriodicFlatten, APeriodicGridIsInterpolatedRoundTheSeam) {
+  // A cylinder of radius 2 sampled at 24 columns and the first again: the
+  // periodic spline is C2 across the seam and near the cylinder, and its
+  // sheet's period is the circumference to the interpolation's error.
+  GridSpec grid = testing::GridCylinder(2.0, 3.0, 360.0, 25, 5);
+  grid.periodic_u = true;
+  auto surface = MakeSurface(grid);
+  ASSERT_TRUE(surface.ok()) << surface.status().ToString();
+  ASSERT_TRUE((*surface)->ClosedInU());
+  const SurfacePoint a = (*surface)->Evaluate(0.0, 0.3, 2), b = (*surface)->Evaluate(1.0, 0.3, 2);
+  EXPECT_LT((a.p - b.p).norm(), 1e-12);
+  EXPECT_LT((a.su - b.su).norm(), 1e-9 * a.su.norm());
+  EXPECT_LT((a.suu - b.suu).norm(), 1e-9 * a.suu.norm());
+  for (int k = 0; k <= 96; ++k) {
+    const Vec3 p = (*surface)->Position(k / 96.0, 0.5);
+    EXPECT_NEAR(std::hypot(p.x(), p.y()), 2.0, 2e-4) << k;
+  }
+  auto sheet = FlattenSurface(**surface, {49, 9});
+  ASSERT_TRUE(sheet.ok()) << sheet.status().ToString();
+  EXPECT_NEAR(sheet->period_u.norm(), 4.0 * kPi, 1e-4 * 4.0 * kPi);
+  // Declared open, the natural spline is not C1 there.
+  grid.periodic_u = false;
+  auto natural = MakeSurface(grid);
+  ASSERT_TRUE(natural.ok());
+  EXPECT_GT(((*natural)->Evaluate(0.0, 0.3, 1).su - (*natural)->Evaluate(1.0, 0.3, 1).su).norm(),
+            1e-3);
+}
+
+TEST(PeriodicFlatten, ALabelAllRoundABottleCloses) {
+  // The NURBS bottle, periodic in u: a band exactly one period long round
+  // its body, centred on the seam, closes: its two ends are one point.
+  // The period is a translation: on a surface whose circumference varies
+  // along v it is a compromise between them (here between the shoulder's
+  // 2 pi 0.85 and the body's 2 pi).
+  const BSplineSpec bottle = testing::NurbsBottle();
+  auto surface = MakeSurface(bottle);
+  ASSERT_TRUE(surface.ok()) << surface.status().ToString();
+  auto sheet = FlattenSurface(**surface, {49, 25});
+  ASSERT_TRUE(sheet.ok()) << sheet.status().ToString();
+  const SheetMap map(**surface, *sheet);
+  ASSERT_TRUE(map.periodic_u());
+  const double period = sheet->period_u.norm();
+  EXPECT_GT(period, 2.0 * kPi * 0.85);
+  EXPECT_LT(period, 2.0 * kPi);
+  const int n = 96;
+  Mesh band = testing::FlatGrid(-period / 2, -0.1, period, 0.2, n, 2, 0.0);
+  const Eigen::Rotation2Dd along(std::atan2(sheet->period_u.y(), sheet->period_u.x()));
+  for (Vec3& q : band.positions) q.head<2>() = along * Vec2(q.head<2>());
+  const Vec2 seam = map.SheetPoint(map.MapParameters(Vec2(0.0, 0.375)));
+  auto r = DeformMesh(**surface, *sheet, Mesh(band), testing::KeepCoordinates(band, seam), Off());
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_EQ(r->stats.outside, 0u);
+  EXPECT_NEAR(r->stats.turns, 1.0, 1e-9);
+  const std::vector<Vec3>& p = r->mesh.positions;
+  for (int row = 0; row <= 2; ++row) {
+    const size_t first = static_cast<size_t>(row) * (n + 1), last = first + n;
+    EXPECT_LT((p[first] - p[last]).norm(), 1e-9) << "row " << row;
+  }
+  // On the body, a cylinder of radius 1 there.
+  for (const Vec3& q : p) EXPECT_NEAR(std::hypot(q.x(), q.y()), 1.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace surfdeform

@@ -589,6 +589,12 @@ async function decodeGlb(bytes) {
 
 // For tests and the curious: the state and the model's share of the 3D canvas.
 window.surfdeformViewer = { state, animation: animationPanel, preview, compareEncodings, decodeGlb,
+                            sheet: () => sheetView.sheet,
+                            placeAt: (center) => {
+                              state.placement.center = center;
+                              showPlacement();
+                              scheduleDeform(0);
+                            },
                             modelCoverage: () => modelView.modelCoverage(),
                             modelMask: () => modelView.modelMask(),
                             handlePoint: (k) => modelView.handleClientPoint(k),

@@ -1,8 +1,8 @@
-// Surface presets (the paper's Bezier figures, served from /samples/, and
-// analytic kinds) and sample models.
+// Surface presets (the paper's Bezier figures and the NURBS bottle, served
+// from /samples/, and analytic kinds) and sample models.
 
 export async function surfacePreset(name) {
-  if (name.startsWith('figure')) {
+  if (name.startsWith('figure') || name === 'bottle') {
     const r = await fetch(`/samples/${name}.json`);
     if (!r.ok) throw new Error(`cannot load the preset ${name}`);
     const spec = await r.json();
