@@ -103,6 +103,51 @@ std::string Cell(const Measured& m, const Measured& ours) {
   return buf;
 }
 
+// The periodic flattening of a sphere belt and a torus ring against the
+// open flattening of the same surfaces with their seam left cut (a span
+// of 360 - 1e-6 degrees: the same samples to 1e-8, not closed).
+int RunPeriodic(int repeat) {
+  struct Closed {
+    const char* name;
+    SurfaceSpec closed, cut;
+  };
+  const Closed cases[] = {
+      {"sphere belt (lat +-40)", SphereSpec{1.0, 0.0, 360.0, -40.0, 40.0, {}},
+       SphereSpec{1.0, 0.0, 360.0 - 1e-6, -40.0, 40.0, {}}},
+      {"torus ring (3, 1; v +-40)", TorusSpec{3.0, 1.0, 0.0, 360.0, -40.0, 40.0, {}},
+       TorusSpec{3.0, 1.0, 0.0, 360.0 - 1e-6, -40.0, 40.0, {}}},
+      {"torus ring (3, 1; v +-70)", TorusSpec{3.0, 1.0, 0.0, 360.0, -70.0, 70.0, {}},
+       TorusSpec{3.0, 1.0, 0.0, 360.0 - 1e-6, -70.0, 70.0, {}}},
+  };
+  std::printf(
+      "flatten r=3, periodic (pairs across the seam, the period solved) vs open (the same "
+      "surface cut at its seam); ratio = periodic time / open time\n");
+  for (const Closed& c : cases) {
+    auto closed = MakeSurface(c.closed);
+    auto cut = MakeSurface(c.cut);
+    if (!closed.ok() || !cut.ok()) return 1;
+    for (int n : {32, 128}) {
+      const int reps = n >= 128 ? std::max(1, repeat / 2) : repeat;
+      const Measured periodic = RunEngine(**closed, n, {}, reps);
+      const Measured open = RunEngine(**cut, n, {}, reps);
+      if (!periodic.ran) {
+        std::fprintf(stderr, "%s: %s\n", c.name, periodic.note.c_str());
+        return 1;
+      }
+      std::printf("%-26s %3dx%-3d periodic %.3g ms  stress %.4g  it %d | ", c.name, n, n,
+                  periodic.ms, periodic.stress, periodic.iterations);
+      if (open.ran) {
+        std::printf("open %.3g ms  stress %.4g  it %d | %.2fx\n", open.ms, open.stress,
+                    open.iterations, periodic.ms / open.ms);
+      } else {  // the open strip of a whole ring can fold where it wants to close
+        std::printf("open failed: %.60s\n", open.note.c_str());
+      }
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 }  // namespace surfdeform
 
@@ -116,6 +161,7 @@ int main(int argc, char** argv) {
   int paper_max_iterations = 20000;
   int paper_max_side = 128;
   bool quick = false;
+  bool periodic = false;
   app.add_option("--scaling", scaling, "grid sides for the scaling rows (figure 10 surface)")
       ->capture_default_str();
   app.add_option("--repeat", repeat, "runs per method and case (median reported)")
@@ -126,7 +172,11 @@ int main(int argc, char** argv) {
   app.add_option("--paper-max-side", paper_max_side, "largest grid side the paper method runs on")
       ->capture_default_str();
   app.add_flag("--quick", quick, "Table 1 rows only, one run each (a smoke test)");
+  app.add_flag("--periodic", periodic,
+               "surfaces closed in u (issue #36): the periodic flattening against the open one "
+               "of the same surface cut at its seam, at 32^2 and 128^2");
   CLI11_PARSE(app, argc, argv);
+  if (periodic) return RunPeriodic(quick ? 1 : repeat);
   if (quick) {
     scaling.clear();
     repeat = 1;
