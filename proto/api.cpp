@@ -64,6 +64,7 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       SURFDEFORM_RETURN_IF_ERROR(o.Numbers("knots_v", &s.knots_v));
       if (s.rational) SURFDEFORM_RETURN_IF_ERROR(o.Numbers("weights", &s.weights));
       SURFDEFORM_RETURN_IF_ERROR(o.Boolean("periodic_u", &s.periodic_u));
+      SURFDEFORM_RETURN_IF_ERROR(o.Boolean("periodic_v", &s.periodic_v));
       spec = std::move(s);
       break;
     }
@@ -127,6 +128,7 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       SURFDEFORM_RETURN_IF_ERROR(o.Integer("nv", &s.nv));
       SURFDEFORM_RETURN_IF_ERROR(o.Points("points", &s.points));
       SURFDEFORM_RETURN_IF_ERROR(o.Boolean("periodic_u", &s.periodic_u));
+      SURFDEFORM_RETURN_IF_ERROR(o.Boolean("periodic_v", &s.periodic_v));
       spec = std::move(s);
       break;
     }
@@ -155,6 +157,7 @@ json SurfaceJson(const SurfaceSpec& spec) {
                     {"knots_v", s.knots_v}};
           if (s.rational) j["weights"] = s.weights;
           if (s.periodic_u) j["periodic_u"] = true;  // absent when false: keys stay as they were
+          if (s.periodic_v) j["periodic_v"] = true;
           return j;
         } else if constexpr (std::is_same_v<T, CylinderSpec>) {
           return {{"kind", KindName(SurfaceKind::kCylinder)},
@@ -201,6 +204,7 @@ json SurfaceJson(const SurfaceSpec& spec) {
                     {"nv", s.nv},
                     {"points", PointsJson(s.points)}};
           if (s.periodic_u) j["periodic_u"] = true;
+          if (s.periodic_v) j["periodic_v"] = true;
           return j;
         }
       },

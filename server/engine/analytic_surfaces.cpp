@@ -132,6 +132,8 @@ class RevolvedCircle final : public Surface {
 
   // A sphere's whole longitude, a torus whole round its axis.
   bool ClosedInU() const override { return dt_ >= 2.0 * std::numbers::pi * (1.0 - 1e-12); }
+  // A torus all round its tube.
+  bool ClosedInV() const override { return dp_ >= 2.0 * std::numbers::pi * (1.0 - 1e-12); }
 
  private:
   const char* kind_;

@@ -13,6 +13,7 @@ namespace surfdeform {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using Vec2i = Eigen::Vector2i;
 
 // Starting layout: the parameter grid scaled by the mean surface length of the
 // u and v grid lines, so that it has the sheet's size.
@@ -33,23 +34,27 @@ std::vector<Vec2> ScaledParameterLayout(const SurfaceDistances& dist) {
   return x;
 }
 
-// The quality of a periodic sheet (nu x nv, column nu - 1 the seam again)
-// over every pair and cell of one period, those across the seam included:
-// measured on the grid continued past the seam, as its distances were.
-void MeasurePeriodicQuality(const SurfaceDistances& continued, int nu, const std::vector<Vec2>& x,
-                            const Vec2& period_u, FlattenQuality* quality) {
-  const int period = nu - 1, columns = continued.nu, nv = continued.nv;
-  std::vector<Vec2> xc(static_cast<size_t>(columns) * nv);
-  for (int j = 0; j < nv; ++j) {
+// The quality of a periodic sheet (nu x nv; column nu - 1 the seam in u
+// again where periodic in u, row nv - 1 likewise) over every pair and cell
+// of one period, those across the seams included: measured on the grid
+// continued past them, as its distances were.
+void MeasurePeriodicQuality(const SurfaceDistances& continued, const internal::GridPeriods& g,
+                            const std::vector<Vec2>& x, const Vec2& period_u,
+                            const Vec2& period_v, FlattenQuality* quality) {
+  const int pu = g.period_u, pv = g.period_v, columns = continued.nu, rows = continued.nv;
+  std::vector<Vec2> xc(static_cast<size_t>(columns) * rows);
+  for (int j = 0; j < rows; ++j) {
     for (int i = 0; i < columns; ++i) {
-      xc[i + columns * j] = x[i % period + nu * j] + (i / period) * period_u;
+      const int ku = pu > 0 ? i / pu : 0, kv = pv > 0 ? j / pv : 0;
+      xc[i + columns * j] = x[(i - ku * pu) + g.nu * (j - kv * pv)] + ku * period_u + kv * period_v;
     }
   }
-  SurfaceDistances once = continued;  // each pair once: its left column in the period
+  SurfaceDistances once = continued;  // each pair once: its least column and row in the period
   std::erase_if(once.edges, [&](const GridEdge& e) {
-    return std::min(e.i % columns, e.j % columns) >= period;
+    return (pu > 0 && std::min(e.i % columns, e.j % columns) >= pu) ||
+           (pv > 0 && std::min(e.i / columns, e.j / columns) >= pv);
   });
-  internal::MeasureQuality(once, xc, quality, period);
+  internal::MeasureQuality(once, xc, quality, pu > 0 ? pu : -1, pv > 0 ? pv : -1);
 }
 
 }  // namespace
@@ -120,30 +125,60 @@ DistanceOptions DistanceOptionsFor(const FlattenOptions& o, Clock::time_point st
   return d;
 }
 
-// The columns the distances of a flattening are measured over: the grid's,
-// or for a periodic one, a period and the measured range past the seam.
-int MeasuredColumns(const Surface& surface, int nu, const FlattenOptions& o) {
-  const int period = PeriodicColumns(surface, nu, o);
-  return period > 0 ? period + std::max(o.range, 3) : nu;
+// The periods of a flattening on an nu x nv grid.
+internal::GridPeriods PeriodsOf(const Surface& surface, int nu, int nv, const FlattenOptions& o) {
+  return {PeriodicColumns(surface, nu, o), PeriodicRows(surface, nv, o), nu, nv};
+}
+
+// The columns and rows the distances of a flattening are measured over: the
+// grid's, or in a periodic direction, a period and the measured range past
+// the seam.
+Vec2i MeasuredSize(const internal::GridPeriods& g, const FlattenOptions& o) {
+  const int range = std::max(o.range, 3);
+  return Vec2i(g.period_u > 0 ? g.period_u + range : g.nu,
+               g.period_v > 0 ? g.period_v + range : g.nv);
+}
+
+// The surface over the measured grid: continued past its seams.
+std::unique_ptr<const Surface> MeasuredSurface(const Surface& surface,
+                                               const internal::GridPeriods& g,
+                                               const FlattenOptions& o) {
+  const Vec2i size = MeasuredSize(g, o);
+  const double u_scale = g.period_u > 0 ? static_cast<double>(size.x() - 1) / g.period_u : 1.0;
+  const double v_scale = g.period_v > 0 ? static_cast<double>(size.y() - 1) / g.period_v : 1.0;
+  return Continued(surface, 0.0, u_scale, 0.0, v_scale);
 }
 
 // The distances of the samples of an nu x nv grid (see FlattenDistances).
 Result<SurfaceDistances> MeasureDistances(const Surface& surface, int nu, int nv,
                                           const FlattenOptions& o, const DistanceOptions& d,
                                           DistancePaths* paths) {
-  const int period = PeriodicColumns(surface, nu, o);
-  if (period == 0) return ComputeSurfaceDistances(surface, nu, nv, d, paths);
-  const int columns = MeasuredColumns(surface, nu, o);
-  const auto continued = ContinuedInU(surface, 0.0, static_cast<double>(columns - 1) / period);
-  return ComputeSurfaceDistances(*continued, columns, nv, d, paths);
+  const internal::GridPeriods g = PeriodsOf(surface, nu, nv, o);
+  if (g.period_u == 0 && g.period_v == 0) return ComputeSurfaceDistances(surface, nu, nv, d, paths);
+  const Vec2i size = MeasuredSize(g, o);
+  return ComputeSurfaceDistances(*MeasuredSurface(surface, g, o), size.x(), size.y(), d, paths);
+}
+
+}  // namespace
+
+namespace {
+
+// The samples of one period in a closed direction, when the flattening is
+// periodic there (see PeriodicColumns).
+int Period(bool closed, const Surface& surface, int n, const FlattenOptions& o) {
+  if (!closed || o.method != FlattenMethod::kMajorization) return 0;
+  if (o.exact_developable && surface.ExactUnrolling(0.0, 0.0).has_value()) return 0;
+  return n - 1 >= 2 * std::max(o.range, 3) + 1 ? n - 1 : 0;
 }
 
 }  // namespace
 
 int PeriodicColumns(const Surface& surface, int nu, const FlattenOptions& o) {
-  if (!surface.ClosedInU() || o.method != FlattenMethod::kMajorization) return 0;
-  if (o.exact_developable && surface.ExactUnrolling(0.0, 0.0).has_value()) return 0;
-  return nu - 1 >= 2 * std::max(o.range, 3) + 1 ? nu - 1 : 0;
+  return Period(surface.ClosedInU(), surface, nu, o);
+}
+
+int PeriodicRows(const Surface& surface, int nv, const FlattenOptions& o) {
+  return Period(surface.ClosedInV(), surface, nv, o);
 }
 
 Result<MeasuredGrid> FlattenDistances(const Surface& surface, const SamplingOptions& sampling,
@@ -166,19 +201,20 @@ Result<MeasuredGrid> FlattenDistancesBetween(const Surface& surface,
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options));
   MeasuredGrid out;
   SURFDEFORM_ASSIGN_OR_RETURN(out.grid, SampleSurface(surface, sampling));
-  const int columns = MeasuredColumns(surface, out.grid.nu, options);
-  if (blends.empty() || blends[0].empty() || columns != blends[0][0].paths->nu ||
-      out.grid.nv != blends[0][0].paths->nv) {
+  const internal::GridPeriods g = PeriodsOf(surface, out.grid.nu, out.grid.nv, options);
+  const Vec2i size = MeasuredSize(g, options);
+  if (blends.empty() || blends[0].empty() || size.x() != blends[0][0].paths->nu ||
+      size.y() != blends[0][0].paths->nv) {
     return InvalidArgument("the paths were followed on another grid");
   }
   const DistanceOptions dopt = DistanceOptionsFor(options, Clock::now(), threads);
-  const int period = PeriodicColumns(surface, out.grid.nu, options);
-  if (period == 0) {
+  if (g.period_u == 0 && g.period_v == 0) {
     SURFDEFORM_ASSIGN_OR_RETURN(out.distances, RemeasureSurfaceDistances(surface, blends, dopt));
     return out;
   }
-  const auto continued = ContinuedInU(surface, 0.0, static_cast<double>(columns - 1) / period);
-  SURFDEFORM_ASSIGN_OR_RETURN(out.distances, RemeasureSurfaceDistances(*continued, blends, dopt));
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      out.distances,
+      RemeasureSurfaceDistances(*MeasuredSurface(surface, g, options), blends, dopt));
   return out;
 }
 
@@ -201,7 +237,9 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const FlatSheet* wa
   const auto t0 = Clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
   const SurfaceDistances& d = measured.distances;
-  if (d.nu != MeasuredColumns(surface, measured.grid.nu, options_) || d.nv != measured.grid.nv ||
+  const Vec2i size =
+      MeasuredSize(PeriodsOf(surface, measured.grid.nu, measured.grid.nv, options_), options_);
+  if (d.nu != size.x() || d.nv != size.y() ||
       d.range != std::max(options_.range, 3)) {
     return InvalidArgument("the distances were measured for another grid or range");
   }
@@ -232,7 +270,8 @@ Result<FlatSheet> Flattener::Solve(const Surface& surface, SampledGrid grid,
     sheet.quality.converged = true;
   } else {
     internal::SolveStats stats;
-    const int period = PeriodicColumns(surface, nu, options_);
+    const internal::GridPeriods g = PeriodsOf(surface, nu, nv, options_);
+    const bool periodic = g.period_u > 0 || g.period_v > 0;
     const bool warm = warm_start != nullptr && warm_start->nu == nu && warm_start->nv == nv &&
                       warm_start->flat.size() == static_cast<size_t>(n);
     const int max_it = options_.max_iterations > 0                       ? options_.max_iterations
@@ -240,32 +279,46 @@ Result<FlatSheet> Flattener::Solve(const Surface& surface, SampledGrid grid,
                                                                          : 200000;
     auto& lap = cache_->laplacian;
     if (options_.method == FlattenMethod::kMajorization) {
-      const int lap_nu = period > 0 ? period : nu;
-      if (!lap || lap->nu != lap_nu || lap->nv != nv || lap->range != options_.range ||
-          lap->periodic_u != (period > 0)) {
-        lap = internal::FactorLaplacian(lap_nu, nv, options_.range, period > 0);
+      const int lap_nu = g.node_columns(), lap_nv = g.node_rows();
+      if (!lap || lap->nu != lap_nu || lap->nv != lap_nv || lap->range != options_.range ||
+          lap->periodic_u != (g.period_u > 0) || lap->periodic_v != (g.period_v > 0)) {
+        lap = internal::FactorLaplacian(lap_nu, lap_nv, options_.range, g.period_u > 0,
+                                        g.period_v > 0);
       }
     }
-    if (period > 0) {
-      // The nodes of one period and the period, from the warm start's or the
-      // scaled parameter layout of the continued grid.
+    if (periodic) {
+      // The nodes of one period and the periods, from the warm start's or
+      // the scaled parameter layout of the continued grid.
       const std::vector<internal::SeamEdge> edges =
-          internal::PeriodicEdges(dist, period, options_.range);
-      const bool warm_periodic = warm && !warm_start->period_u.isZero();
+          internal::PeriodicEdges(dist, g, options_.range);
+      const bool warm_periodic = warm && warm_start->period_u.isZero() == (g.period_u == 0) &&
+                                 warm_start->period_v.isZero() == (g.period_v == 0);
       const std::vector<Vec2> start =
           warm_periodic ? warm_start->flat : ScaledParameterLayout(dist);
       const int stride = warm_periodic ? nu : dist.nu;
-      std::vector<Vec2> y(static_cast<size_t>(period) * nv);
-      for (int j = 0; j < nv; ++j) {
-        for (int i = 0; i < period; ++i) y[i + period * j] = start[i + stride * j];
+      const int columns = g.node_columns(), rows = g.node_rows();
+      std::vector<Vec2> y(static_cast<size_t>(columns) * rows);
+      for (int j = 0; j < rows; ++j) {
+        for (int i = 0; i < columns; ++i) y[i + columns * j] = start[i + stride * j];
       }
-      sheet.period_u = warm_periodic ? warm_start->period_u : Vec2(start[period] - start[0]);
-      stats = internal::SolvePeriodicMajorization(*lap, edges, options_.tolerance, max_it,
-                                                  options_.threads, &y, &sheet.period_u, deadline);
+      if (warm_periodic) {
+        sheet.period_u = warm_start->period_u;
+        sheet.period_v = warm_start->period_v;
+      } else {
+        if (g.period_u > 0) sheet.period_u = start[g.period_u] - start[0];
+        if (g.period_v > 0) sheet.period_v = start[stride * g.period_v] - start[0];
+      }
+      stats = internal::SolvePeriodicMajorization(*lap, g, edges, options_.tolerance, max_it,
+                                                  options_.threads, &y, &sheet.period_u,
+                                                  &sheet.period_v, deadline);
       x.resize(n);
       for (int j = 0; j < nv; ++j) {
-        for (int i = 0; i < period; ++i) x[i + nu * j] = y[i + period * j];
-        x[period + nu * j] = y[period * j] + sheet.period_u;
+        for (int i = 0; i < nu; ++i) {
+          const int ku = g.period_u > 0 ? i / g.period_u : 0;
+          const int kv = g.period_v > 0 ? j / g.period_v : 0;
+          x[i + nu * j] = y[(i - ku * g.period_u) + columns * (j - kv * g.period_v)] +
+                          ku * sheet.period_u + kv * sheet.period_v;
+        }
       }
     } else {
       std::vector<GridEdge> edges;
@@ -306,11 +359,13 @@ Result<FlatSheet> Flattener::Solve(const Surface& surface, SampledGrid grid,
   }
   internal::Canonicalize(nu, nv, &x, &sheet.frame_linear, &sheet.frame_offset);
   sheet.period_u = sheet.frame_linear * sheet.period_u;
+  sheet.period_v = sheet.frame_linear * sheet.period_v;
   sheet.quality.solve_ms = MsSince(ts);
-  if (sheet.period_u.isZero()) {
+  if (sheet.period_u.isZero() && sheet.period_v.isZero()) {
     internal::MeasureQuality(dist, x, &sheet.quality);
   } else {
-    MeasurePeriodicQuality(dist, nu, x, sheet.period_u, &sheet.quality);
+    MeasurePeriodicQuality(dist, PeriodsOf(surface, nu, nv, options_), x, sheet.period_u,
+                           sheet.period_v, &sheet.quality);
   }
   if (sheet.quality.folded_cells > 0) {
     return Status(ErrorCode::kNotConverged,

@@ -97,6 +97,9 @@ struct FlatSheet {
   // the canonical frame. Flat points p and p + T are the same surface point;
   // column nu - 1 (the seam again) is column 0 + T. Zero otherwise.
   Vec2 period_u = Vec2::Zero();
+  // The same in v (PeriodicRows > 0): row nv - 1 is row 0 + period_v. A
+  // surface periodic both ways (a whole torus) is a flat torus.
+  Vec2 period_v = Vec2::Zero();
   FlattenQuality quality;
 };
 
@@ -150,6 +153,8 @@ class Flattener {
 // seam no model crosses. The stress then counts the pairs across the seam,
 // and the period is solved with the sheet.
 int PeriodicColumns(const Surface& surface, int nu, const FlattenOptions& options);
+// The same in v (Surface::ClosedInV): the rows of one period, or 0.
+int PeriodicRows(const Surface& surface, int nv, const FlattenOptions& options);
 
 // The samples and surface distances a flattening with these options measures
 // (over the solve's range and at least r = 3, for the quality measures; a

@@ -45,10 +45,11 @@ void Canonicalize(int nu, int nv, std::vector<Vec2>* x, Eigen::Matrix2d* linear_
 }
 
 void MeasureQuality(const SurfaceDistances& dist, const std::vector<Vec2>& x, FlattenQuality* q,
-                    int cell_columns) {
+                    int cell_columns, int cell_rows) {
   const int nu = dist.nu;
-  const int columns = cell_columns < 0 ? nu - 1 : std::min(cell_columns, nu - 1);
   const int nv = dist.nv;
+  const int columns = cell_columns < 0 ? nu - 1 : std::min(cell_columns, nu - 1);
+  const int rows = cell_rows < 0 ? nv - 1 : std::min(cell_rows, nv - 1);
   double c = 0.0;
   double total = 0.0;
   double max_edge = 0.0;
@@ -66,7 +67,7 @@ void MeasureQuality(const SurfaceDistances& dist, const std::vector<Vec2>& x, Fl
   q->area_ratio_min = std::numeric_limits<double>::infinity();
   q->area_ratio_max = 0.0;
   q->folded_cells = 0;
-  for (int j = 0; j + 1 < nv; ++j) {
+  for (int j = 0; j < rows; ++j) {
     for (int i = 0; i < columns; ++i) {
       const int ia = i + nu * j;
       const Vec2& a = x[ia];

@@ -43,11 +43,11 @@ double SquaredDistanceSum(const std::vector<GridEdge>& edges);
 // small matrix products: O(nu nv (nu + nv)) with no fill-in. Depends only on
 // (nu, nv, range). With periodic_u, the neighbourhood wraps round in u
 // (samples within circular distance r; nu >= 2 r + 1): B_u is then the
-// circulant band, and D_u = (2 r + 1) I.
+// circulant band, and D_u = (2 r + 1) I; likewise periodic_v.
 class LaplacianFactor {
  public:
   int nu = 0, nv = 0, range = 0;
-  bool periodic_u = false;
+  bool periodic_u = false, periodic_v = false;
   Eigen::MatrixXd wu, wv;            // eigenvectors of S_u, S_v
   Eigen::VectorXd ru, rv;            // D^-1/2 diagonals
   Eigen::MatrixXd inverse_spectrum;  // 1 / (1 - mu_u(a) mu_v(b)); 0 on the constant mode
@@ -64,7 +64,8 @@ class LaplacianFactor {
 // The solvers take the edges of the neighbourhood they minimise over (ring <= r).
 
 std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range,
-                                                 bool periodic_u = false);
+                                                 bool periodic_u = false,
+                                                 bool periodic_v = false);
 
 // One step of stress majorization as a map of the unknowns X (a vector):
 // right_hand_side fills b = B(X) X (sized like X) and returns the stress of
@@ -104,30 +105,47 @@ SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<Gr
                              double tolerance, int max_iterations, int threads,
                              std::vector<Vec2>* x, Deadline deadline = kNoDeadline);
 
-// A pair of nodes of a sheet periodic in u, whose flat difference is
-// Y_j + shift T - Y_i (T: the period; shift -1, 0 or 1).
+// A pair of nodes of a periodic sheet, whose flat difference is
+// Y_j + shift_u T_u + shift_v T_v - Y_i (T_u, T_v: the periods; shifts -1,
+// 0 or 1, and 0 in a direction that is not periodic).
 struct SeamEdge {
   int i = 0;
   int j = 0;
-  int shift = 0;
+  int shift_u = 0;
+  int shift_v = 0;
   int ring = 0;
   double d = 0.0;
 };
 
-// The distinct pairs of a grid periodic in u with `period` columns, from the
-// distances measured on it continued past the seam (`extended`: period +
-// range columns, column c and c + period the same samples): each pair once,
-// the one whose left column is in [0, period); nodes i + period * j. Only
-// pairs of rings up to max_ring.
-std::vector<SeamEdge> PeriodicEdges(const SurfaceDistances& extended, int period, int max_ring);
+// The columns and rows of one period of a periodic grid: period_u (0: not
+// periodic in u, the grid's nu columns) and period_v (0: nv rows).
+struct GridPeriods {
+  int period_u = 0;
+  int period_v = 0;
+  int nu = 0;  // the grid's samples
+  int nv = 0;
+  int node_columns() const { return period_u > 0 ? period_u : nu; }
+  int node_rows() const { return period_v > 0 ? period_v : nv; }
+};
 
-// Stress majorization of a sheet periodic in u (periodic_majorization.cpp):
-// the period x nv nodes `nodes` (factor.nu = period; factor periodic_u) and
-// the period T `period`, from their values, in place.
-SolveStats SolvePeriodicMajorization(const LaplacianFactor& factor,
+// The distinct pairs of a periodic grid from the distances measured on it
+// continued past its seams (`extended`: a period and the range in each
+// periodic direction; column c and c + period_u the same samples, likewise
+// rows): each pair once, the one whose least column is in [0, period_u)
+// and least row in [0, period_v) where periodic; nodes i + node_columns j.
+// Only pairs of rings up to max_ring.
+std::vector<SeamEdge> PeriodicEdges(const SurfaceDistances& extended, const GridPeriods& periods,
+                                    int max_ring);
+
+// Stress majorization of a periodic sheet (periodic_majorization.cpp): the
+// node_columns x node_rows nodes `nodes` (the factor's grid, periodic as
+// `periods`) and the periods T_u, T_v (those of the periodic directions),
+// from their values, in place.
+SolveStats SolvePeriodicMajorization(const LaplacianFactor& factor, const GridPeriods& periods,
                                      const std::vector<SeamEdge>& edges, double tolerance,
                                      int max_iterations, int threads, std::vector<Vec2>* nodes,
-                                     Vec2* period, Deadline deadline = kNoDeadline);
+                                     Vec2* period_u, Vec2* period_v,
+                                     Deadline deadline = kNoDeadline);
 
 // The paper's gradient descent from the layout in `x`, in place. step <= 0: automatic.
 SolveStats SolvePaperDescent(const std::vector<GridEdge>& edges, double step, double tolerance,
@@ -143,8 +161,8 @@ void Canonicalize(int nu, int nv, std::vector<Vec2>* x, Eigen::Matrix2d* linear 
                   Vec2* offset = nullptr);
 
 // Fills stress, edge error, area ratios and folded cells: over the first
-// `cell_columns` columns of cells (-1: all).
+// `cell_columns` columns and `cell_rows` rows of cells (-1: all).
 void MeasureQuality(const SurfaceDistances& dist, const std::vector<Vec2>& x,
-                    FlattenQuality* quality, int cell_columns = -1);
+                    FlattenQuality* quality, int cell_columns = -1, int cell_rows = -1);
 
 }  // namespace surfdeform::internal

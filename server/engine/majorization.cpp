@@ -35,15 +35,17 @@ void BandSpectrum(int n, int r, bool periodic, Eigen::MatrixXd* w, Eigen::Vector
 
 }  // namespace
 
-std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range, bool periodic_u) {
+std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range, bool periodic_u,
+                                                 bool periodic_v) {
   auto f = std::make_unique<LaplacianFactor>();
   f->nu = nu;
   f->nv = nv;
   f->range = range;
   f->periodic_u = periodic_u;
+  f->periodic_v = periodic_v;
   Eigen::VectorXd mu_u, mu_v;
   BandSpectrum(nu, range, periodic_u, &f->wu, &mu_u, &f->ru);
-  BandSpectrum(nv, range, false, &f->wv, &mu_v, &f->rv);
+  BandSpectrum(nv, range, periodic_v, &f->wv, &mu_v, &f->rv);
   f->inverse_spectrum.resize(nu, nv);
   for (int b = 0; b < nv; ++b) {
     for (int a = 0; a < nu; ++a) {

@@ -140,10 +140,11 @@ Status CheckKnots(const std::vector<double>& knots, int count, int degree, const
   return Status::Ok();
 }
 
-// A surface declared periodic in u must close: S(0, v) = S(1, v) to 1e-9
-// of the size of `points` (its control net or grid). `seam` gives the gap
-// and where along v it is largest.
-Status CheckSeamCloses(const std::vector<Vec3>& points,
+// A surface declared periodic in u (`in_v` false) or v must close:
+// S(0, v) = S(1, v) (or S(u, 0) = S(u, 1)) to 1e-9 of the size of `points`
+// (its control net or grid). `seam` gives the gap and where along the seam
+// it is largest.
+Status CheckSeamCloses(const std::vector<Vec3>& points, bool in_v,
                        const std::function<double(double* at)>& seam) {
   Eigen::AlignedBox3d box;
   for (const Vec3& p : points) box.extend(p);
@@ -151,27 +152,44 @@ Status CheckSeamCloses(const std::vector<Vec3>& points,
   double at = 0.0;
   const double gap = seam(&at);
   if (!(gap <= 1e-9 * size)) {
-    return InvalidArgument(
-        "the surface does not close in u: its seam (u = 0 against u = 1) "
-        "fails to meet by " +
-            Num(gap) + " at v = " + Num(at) + " (" + Num(gap / size) +
-            " of its size; at most 1e-9). Make the last column of points "
-            "repeat the first, or leave periodic_u false",
-        "periodic_u");
+    std::string message = "the surface does not close in ";
+    message += in_v ? "v: its seam (v = 0 against v = 1)" : "u: its seam (u = 0 against u = 1)";
+    message += " fails to meet by " + Num(gap) + (in_v ? " at u = " : " at v = ") + Num(at);
+    message += " (" + Num(gap / size) + " of its size; at most 1e-9). Make the last ";
+    message += in_v ? "row of points repeat the first, or leave periodic_v false"
+                    : "column of points repeat the first, or leave periodic_u false";
+    return InvalidArgument(message, in_v ? "periodic_v" : "periodic_u");
   }
   return Status::Ok();
 }
 
-// The largest |S(0, v) - S(1, v)| along v, sampled at and between the rows.
-double SurfaceSeamGap(const Surface& surface, int rows, double* at) {
-  const int samples = std::max(64, 4 * rows);
+// The largest gap across the seam in u (or v), sampled along it at and
+// between the `lines` (rows or columns of the net).
+double SurfaceSeamGap(const Surface& surface, bool in_v, int lines, double* at) {
+  const int samples = std::max(64, 4 * lines);
   double gap = 0.0;
   for (int k = 0; k <= samples; ++k) {
-    const double v = static_cast<double>(k) / samples;
-    const double d = (surface.Position(0.0, v) - surface.Position(1.0, v)).norm();
+    const double t = static_cast<double>(k) / samples;
+    const double d = in_v ? (surface.Position(t, 0.0) - surface.Position(t, 1.0)).norm()
+                          : (surface.Position(0.0, t) - surface.Position(1.0, t)).norm();
     if (d > gap) {
       gap = d;
-      *at = v;
+      *at = t;
+    }
+  }
+  return gap;
+}
+
+// The largest gap between a grid's first and last column (or row).
+double GridSeamGap(const GridSpec& s, bool in_v, double* at) {
+  const int lines = in_v ? s.nu : s.nv;
+  double gap = 0.0;
+  for (int k = 0; k < lines; ++k) {
+    const Vec3& a = in_v ? s.points[k] : s.points[s.nu * k];
+    const Vec3& b = in_v ? s.points[k + s.nu * (s.nv - 1)] : s.points[s.nu - 1 + s.nu * k];
+    if ((a - b).norm() > gap) {
+      gap = (a - b).norm();
+      *at = static_cast<double>(k) / (lines - 1);
     }
   }
   return gap;
@@ -226,7 +244,7 @@ Result<std::unique_ptr<Surface>> Build(const BSplineSpec& s) {
   }
   SURFDEFORM_RETURN_IF_ERROR(CheckPoints(s.control_points, "control_points"));
   SURFDEFORM_RETURN_IF_ERROR(CheckKnots(s.knots_u, s.count_u, s.degree_u, "knots_u", s.periodic_u));
-  SURFDEFORM_RETURN_IF_ERROR(CheckKnots(s.knots_v, s.count_v, s.degree_v, "knots_v"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckKnots(s.knots_v, s.count_v, s.degree_v, "knots_v", s.periodic_v));
   if (s.rational && s.weights.size() != n) {
     return InvalidArgument("a NURBS needs one weight per control point (" + std::to_string(n) +
                                "), got " + std::to_string(s.weights.size()),
@@ -249,10 +267,13 @@ Result<std::unique_ptr<Surface>> Build(const BSplineSpec& s) {
   d.knots_v = s.knots_v;
   d.weights = s.weights;
   d.closed_u = s.periodic_u;
+  d.closed_v = s.periodic_v;
   auto surface = MakeSplineSurface(std::move(d), s.rational ? "nurbs" : "bspline");
-  if (s.periodic_u) {
-    SURFDEFORM_RETURN_IF_ERROR(CheckSeamCloses(
-        s.control_points, [&](double* at) { return SurfaceSeamGap(*surface, s.count_v, at); }));
+  for (const bool in_v : {false, true}) {
+    if (!(in_v ? s.periodic_v : s.periodic_u)) continue;
+    SURFDEFORM_RETURN_IF_ERROR(CheckSeamCloses(s.control_points, in_v, [&](double* at) {
+      return SurfaceSeamGap(*surface, in_v, in_v ? s.count_u : s.count_v, at);
+    }));
   }
   return surface;
 }
@@ -271,25 +292,16 @@ Result<std::unique_ptr<Surface>> Build(const GridSpec& s) {
                            "points");
   }
   SURFDEFORM_RETURN_IF_ERROR(CheckPoints(s.points, "points"));
-  if (s.periodic_u && s.nu < 4) {
-    return InvalidArgument(
-        "a grid closed in u needs at least 4 columns (3 and the first again), "
-        "got " +
-            std::to_string(s.nu),
-        "nu");
-  }
-  if (s.periodic_u) {  // the last column repeats the first
-    SURFDEFORM_RETURN_IF_ERROR(CheckSeamCloses(s.points, [&](double* at) {
-      double gap = 0.0;
-      for (int j = 0; j < s.nv; ++j) {
-        const double d = (s.points[s.nu * j] - s.points[s.nu - 1 + s.nu * j]).norm();
-        if (d > gap) {
-          gap = d;
-          *at = static_cast<double>(j) / (s.nv - 1);
-        }
-      }
-      return gap;
-    }));
+  for (const bool in_v : {false, true}) {
+    if (!(in_v ? s.periodic_v : s.periodic_u)) continue;
+    if ((in_v ? s.nv : s.nu) < 4) {
+      return InvalidArgument(std::string("a grid closed in ") + (in_v ? "v" : "u") +
+                                 " needs at least 4 points that way (3 and the first again), got " +
+                                 std::to_string(in_v ? s.nv : s.nu),
+                             in_v ? "nv" : "nu");
+    }
+    SURFDEFORM_RETURN_IF_ERROR(
+        CheckSeamCloses(s.points, in_v, [&](double* at) { return GridSeamGap(s, in_v, at); }));
   }
   // Interpolate along u (each row j), then along v (each control column).
   Eigen::MatrixXd rows(s.nu, 3 * s.nv);
@@ -307,7 +319,9 @@ Result<std::unique_ptr<Surface>> Build(const GridSpec& s) {
   for (int j = 0; j < s.nv; ++j) {
     for (int i = 0; i < d.count_u; ++i) cols.block<1, 3>(j, 3 * i) = cu.block<1, 3>(i, 3 * j);
   }
-  const Eigen::MatrixXd cv = InterpolateCubicNatural(cols, &d.knots_v);  // (nv+2) x 3(nu+2)
+  const Eigen::MatrixXd cv = s.periodic_v
+                                 ? InterpolateCubicPeriodic(cols, &d.knots_v)
+                                 : InterpolateCubicNatural(cols, &d.knots_v);  // (nv+2) x 3(nu+2)
   d.control_points.resize(static_cast<size_t>(d.count_u) * d.count_v);
   for (int j = 0; j < d.count_v; ++j) {
     for (int i = 0; i < d.count_u; ++i) {
@@ -315,6 +329,7 @@ Result<std::unique_ptr<Surface>> Build(const GridSpec& s) {
     }
   }
   d.closed_u = s.periodic_u;
+  d.closed_v = s.periodic_v;
   return MakeSplineSurface(std::move(d), "grid");
 }
 
@@ -402,6 +417,14 @@ bool ClosesInU(const SurfaceSpec& spec) {
   if (const auto* t = std::get_if<TorusSpec>(&spec)) return t->u_max_deg - t->u_min_deg >= kTurn;
   if (const auto* b = std::get_if<BSplineSpec>(&spec)) return b->periodic_u;
   if (const auto* g = std::get_if<GridSpec>(&spec)) return g->periodic_u;
+  return false;
+}
+
+bool ClosesInV(const SurfaceSpec& spec) {
+  constexpr double kTurn = 360.0 * (1.0 - 1e-12);
+  if (const auto* t = std::get_if<TorusSpec>(&spec)) return t->v_max_deg - t->v_min_deg >= kTurn;
+  if (const auto* b = std::get_if<BSplineSpec>(&spec)) return b->periodic_v;
+  if (const auto* g = std::get_if<GridSpec>(&spec)) return g->periodic_v;
   return false;
 }
 

@@ -132,16 +132,21 @@ std::string Num(double x) {
   return os.str();
 }
 
-// The grid columns (i + s) that located points of a sheet cover: on a sheet
-// continued past its seam, how far round the surface they go.
-struct ColumnSpan {
-  double lo = std::numeric_limits<double>::infinity();
-  double hi = -std::numeric_limits<double>::infinity();
-  void Add(const SheetLocation& l) {
-    lo = std::min(lo, l.i + l.s);
-    hi = std::max(hi, l.i + l.s);
+// The grid columns (i + s) and rows (j + t) that located points of a sheet
+// cover: on a sheet continued past its seams, how far round the surface
+// they go.
+struct GridSpan {
+  Eigen::AlignedBox2d box;
+  void Add(const SheetLocation& l) { box.extend(Vec2(l.i + l.s, l.j + l.t)); }
+  double columns() const { return box.isEmpty() ? 0.0 : box.sizes().x(); }
+  double rows() const { return box.isEmpty() ? 0.0 : box.sizes().y(); }
+  // The most times round a closed direction of `map` (0 when none is).
+  double Turns(const SheetMap& map) const {
+    double turns = 0.0;
+    if (map.period_columns() > 0) turns = columns() / map.period_columns();
+    if (map.period_rows() > 0) turns = std::max(turns, rows() / map.period_rows());
+    return turns;
   }
-  double width() const { return hi >= lo ? hi - lo : 0.0; }
 };
 
 // The footprint's outline for fitting: its convex hull, and its farthest
@@ -167,18 +172,19 @@ Result<Outline> OutlineOf(const std::vector<Vec2>& footprint, const Vec2& centre
 // point of the outline is at least margin - spacing / 2 > 0 from it. The sheet
 // is simply connected, so an outline inside it encloses only sheet points.
 //
-// On a sheet continued past its seam (SheetMap::periodic_u), the outline
-// must also span at most one period of columns: a longer model would lie on
-// the surface over itself. The footprint's extent round the surface is its
-// outline's, on a cylinder's strip and on a cone's sector alike.
+// On a sheet continued past its seams (SheetMap::periodic_u, periodic_v),
+// the outline must also span at most one period of columns (rows): a
+// longer model would lie on the surface over itself. The footprint's extent
+// round the surface is its outline's, on a cylinder's strip and on a cone's
+// sector alike.
 bool OutlineInside(const SheetMap& map, const Outline& outline, const Placement& base, double s,
                    double margin) {
   const FlatLocator& locator = map.locator();
   const std::vector<Vec2>& hull = outline.hull;
   const double spacing =
       margin > 0.0 ? margin : 0.01 * map.given_locator().bounds().sizes().minCoeff();  // 1%
-  const double period = map.period_columns();
-  ColumnSpan span;
+  const bool periodic = map.period_columns() > 0 || map.period_rows() > 0;
+  GridSpan span;
   int hint = -1;
   for (size_t k = 0; k < hull.size(); ++k) {
     const Vec2 a = base.target + s * (base.rotation * (hull[k] - base.centre));
@@ -189,9 +195,9 @@ bool OutlineInside(const SheetMap& map, const Outline& outline, const Placement&
       SheetLocation l;
       if (!locator.Locate(placed, &l, &hint)) return false;
       if (locator.BoundaryWithin(placed, margin)) return false;
-      if (period > 0.0) {
+      if (periodic) {
         span.Add(l);
-        if (span.width() > period) return false;
+        if (span.Turns(map) > 1.0) return false;
       }
     }
   }
@@ -349,16 +355,16 @@ Result<Placement> ComputePlacement(const SheetMap& map, const std::vector<Vec3>&
 }
 
 double TurnsRound(const SheetMap& map, const Placement& pl, std::span<const Vec3> positions) {
-  if (!map.periodic_u() || positions.empty()) return 0.0;
+  if ((!map.periodic_u() && !map.periodic_v()) || positions.empty()) return 0.0;
   std::vector<Vec2> footprint(positions.size());
   for (size_t k = 0; k < positions.size(); ++k) footprint[k] = pl.Apply(positions[k]).head<2>();
-  ColumnSpan span;
+  GridSpan span;
   int hint = -1;
   for (const Vec2& p : ConvexHull(footprint)) {
     SheetLocation l;
     if (map.locator().Locate(p, &l, &hint)) span.Add(l);  // off the sheet: reported as such
   }
-  return span.width() / map.period_columns();
+  return span.Turns(map);
 }
 
 Result<FramePlacements> ComputeFramePlacements(std::span<const SheetMap* const> maps,

@@ -25,10 +25,12 @@
 
 namespace surfdeform {
 
-// A surface closed in u over the parameters u' in [0, 1] for its
-// u = u0 + u_scale u', wrapped into [0, 1); derivatives scaled to match.
-// Keeps a reference to `given`.
-std::unique_ptr<const Surface> ContinuedInU(const Surface& given, double u0, double u_scale);
+// `given` over the parameters (u', v') in [0, 1]^2 for its
+// (u, v) = (u0 + u_scale u', v0 + v_scale v'), wrapped into [0, 1) in the
+// directions where it closes (Surface::ClosedInU, ClosedInV); derivatives
+// scaled to match. Keeps a reference to `given`.
+std::unique_ptr<const Surface> Continued(const Surface& given, double u0, double u_scale,
+                                         double v0 = 0.0, double v_scale = 1.0);
 
 // Whether a model on `sheet` may cross the seam of `surface`: the surface
 // closes in u and the sheet is its closed-form unrolling or was flattened
@@ -47,17 +49,27 @@ struct SheetPeriod {
 // The period of a periodic sheet (PeriodicInU), else std::nullopt.
 std::optional<SheetPeriod> PeriodOf(const Surface& surface, const FlatSheet& sheet);
 
-struct SeamExtension {
-  std::unique_ptr<const Surface> surface;  // the given one over the extended columns
-  FlatSheet sheet;                         // nu + 2 columns, the given columns in the middle
-  int columns = 0;                         // added on each side
-  int period_columns = 0;                  // columns of one period: the given sheet's nu - 1
-  double u0 = 0.0;                         // the given surface's u at extended u' = 0
-  double u_scale = 1.0;                    // d(given u)/d(extended u')
+// Whether a model on `sheet` may cross the seam of `surface` in v: the
+// surface closes in v and the sheet was flattened periodic there
+// (FlatSheet::period_v; a whole torus, or a tube).
+bool PeriodicInV(const Surface& surface, const FlatSheet& sheet);
 
-  // The given surface's parameters of extended parameters, u in [0, 1).
+struct SeamExtension {
+  std::unique_ptr<const Surface> surface;  // the given one over the extended columns and rows
+  FlatSheet sheet;             // nu + 2 columns, nv + 2 rows, the given ones in the middle
+  int columns = 0;             // added on each side in u
+  int rows = 0;                // added on each side in v
+  int period_columns = 0;      // columns of one period (the given nu - 1), 0 unless periodic in u
+  int period_rows = 0;         // the same in v
+  double u0 = 0.0;             // the given surface's u at extended u' = 0
+  double u_scale = 1.0;        // d(given u)/d(extended u')
+  double v0 = 0.0;             // likewise in v
+  double v_scale = 1.0;
+
+  // The given surface's parameters of extended parameters, wrapped into
+  // [0, 1) in the periodic directions.
   Vec2 GivenParameters(const Vec2& extended) const;
-  // The extended parameters of the given surface's (u in [0, 1]: the middle copy).
+  // The extended parameters of the given surface's (in [0, 1]: the middle copy).
   Vec2 ExtendedParameters(const Vec2& given) const;
 };
 
@@ -67,8 +79,13 @@ struct SeamExtension {
 // periodic or leaves no room.
 int SeamColumns(const Surface& surface, const FlatSheet& sheet);
 
-// The extension of a periodic sheet (PeriodicInU) by `columns` on each side
-// (-1: SeamColumns; more than that is taken as that), or null when that is 0.
+// The rows the extension adds on each side: a period where the sheet is
+// periodic in v (PeriodicInV), else 0.
+int SeamRows(const Surface& surface, const FlatSheet& sheet);
+
+// The extension of a periodic sheet by `columns` on each side in u (-1:
+// SeamColumns; more than that is taken as that) and SeamRows in v, or null
+// when both are 0.
 std::unique_ptr<const SeamExtension> ExtendAcrossSeam(const Surface& surface,
                                                       const FlatSheet& sheet, int columns = -1);
 

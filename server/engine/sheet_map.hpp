@@ -94,8 +94,11 @@ class SheetMap {
   const FlatLocator& given_locator() const { return given_locator_ ? *given_locator_ : locator_; }
   // Whether a model may cross the seam (the sheet is extended); then the
   // columns of one period of locator()'s grid.
-  bool periodic_u() const { return extension_ != nullptr; }
+  bool periodic_u() const { return extension_ != nullptr && extension_->period_columns > 0; }
   int period_columns() const { return extension_ ? extension_->period_columns : 0; }
+  // The same in v (a whole torus, a tube): rows of one period of locator()'s grid.
+  bool periodic_v() const { return extension_ != nullptr && extension_->period_rows > 0; }
+  int period_rows() const { return extension_ ? extension_->period_rows : 0; }
   // The given surface's parameters of this map's (u in [0, 1) when periodic).
   Vec2 GivenParameters(const Vec2& uv) const {
     return extension_ ? extension_->GivenParameters(uv) : uv;

@@ -77,6 +77,7 @@ class SplineSurface final : public Surface {
   const char* Kind() const override { return kind_; }
 
   bool ClosedInU() const override { return d_.closed_u; }
+  bool ClosedInV() const override { return d_.closed_v; }
 
   SurfacePoint Evaluate(double u, double v, int order) const override {
     const int p = d_.degree_u;

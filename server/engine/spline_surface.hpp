@@ -24,6 +24,7 @@ struct SplineData {
   std::vector<double> knots_v;
   std::vector<double> weights;  // empty, or one per control point
   bool closed_u = false;        // S(0, v) = S(1, v) (checked by the caller): Surface::ClosedInU
+  bool closed_v = false;        // S(u, 0) = S(u, 1) likewise: Surface::ClosedInV
 };
 
 // Builds a spline surface from already validated data (see MakeSurface).

@@ -86,6 +86,8 @@ class Surface {
   // Whether the surface closes in u: S(u + 1, v) = S(u, v) for every v, and
   // evaluation past [0, 1] in u goes round again (a full cylinder or cone).
   virtual bool ClosedInU() const { return false; }
+  // The same in v: S(u, v + 1) = S(u, v) (a torus all round its tube).
+  virtual bool ClosedInV() const { return false; }
 
   Vec3 Position(double u, double v) const { return Evaluate(u, v, 0).p; }
 };

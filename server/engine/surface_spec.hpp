@@ -53,6 +53,7 @@ struct BSplineSpec {
   // fails to meet by more than 1e-9 of the net's size is refused, saying by
   // how much. Such a surface is flattened periodic (issue #36).
   bool periodic_u = false;
+  bool periodic_v = false;  // the same in v (knots_v, the first and last rows)
 };
 
 // Cylinder patch: u is the angle from the frame's +X towards +Y over angle_deg,
@@ -123,6 +124,7 @@ struct GridSpec {
   // for BSplineSpec::periodic_u), and the spline interpolates the columns
   // periodically (C2 across the seam) instead of with natural ends.
   bool periodic_u = false;
+  bool periodic_v = false;  // the same in v: the last row repeats the first
 };
 
 using SurfaceSpec = std::variant<BezierSpec, BSplineSpec, CylinderSpec, ConeSpec, SphereSpec,
@@ -173,5 +175,8 @@ Result<std::unique_ptr<Surface>> MakeSurface(const SurfaceSpec& spec);
 // the surface MakeSurface builds): a cylinder or cone of 360 degrees, a
 // sphere's whole longitude, a torus whole round its axis.
 bool ClosesInU(const SurfaceSpec& spec);
+// The same in v (Surface::ClosedInV): a torus all round its tube, a spline
+// or grid with periodic_v.
+bool ClosesInV(const SurfaceSpec& spec);
 
 }  // namespace surfdeform

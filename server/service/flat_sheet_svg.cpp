@@ -38,7 +38,8 @@ double TriangleArea(const Vec2& a, const Vec2& b, const Vec2& c) {
 
 }  // namespace
 
-std::string FlatSheetSvg(const FlatSheet& sheet, const std::string& title, bool periodic_u) {
+std::string FlatSheetSvg(const FlatSheet& sheet, const std::string& title, bool periodic_u,
+                         bool periodic_v) {
   Eigen::AlignedBox2d box;
   for (const Vec2& p : sheet.flat) box.extend(p);
   const double extent = std::max(box.sizes().maxCoeff(), 1e-300);
@@ -90,18 +91,24 @@ std::string FlatSheetSvg(const FlatSheet& sheet, const std::string& title, bool 
     }
   }
   svg += "</g>\n";
-  if (periodic_u && cu > 0) {
-    // The seam: its two sides are one line on the surface.
+  if ((periodic_u || periodic_v) && cu > 0 && cv > 0) {
+    // The seams: the two sides of each are one line on the surface.
     svg +=
         "<g class=\"seam\" fill=\"none\" stroke=\"#c60\" stroke-width=\"2\" "
         "stroke-dasharray=\"6 4\"><title>the seam: a model may cross it</title>\n";
-    for (int i : {0, cu}) {
+    auto line = [&](int start, int step, int count) {
       svg += "<polyline points=\"";
-      for (int j = 0; j <= cv; ++j) {
-        if (j > 0) svg += ' ';
-        svg += map(sheet.flat[i + sheet.nu * j]);
+      for (int k = 0; k <= count; ++k) {
+        if (k > 0) svg += ' ';
+        svg += map(sheet.flat[start + step * k]);
       }
       svg += "\"/>\n";
+    };
+    if (periodic_u) {
+      for (int i : {0, cu}) line(i, sheet.nu, cv);
+    }
+    if (periodic_v) {
+      for (int j : {0, cv}) line(sheet.nu * j, 1, cu);
     }
     svg += "</g>\n";
   }

@@ -24,14 +24,15 @@ Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& s) {
 
 namespace {
 
-// Whether some key of the animation is a surface whose sheet the map
-// continues past the seam (one closed in u: ClosesInU): its frames' maps
-// take more memory.
-bool ContinuedPastSeam(const proto::AnimationRequest& request) {
+// The copies of the sheet a frame's map holds: 1; 3 where some key closes
+// in u or v (the map continues it a period past the seam each way); 9 past
+// both seams (a whole torus). Its frames' maps take that much more memory.
+int SheetCopies(const proto::AnimationRequest& request) {
+  int copies = 1;
   for (const Keyframe& key : request.animation.keyframes) {
-    if (ClosesInU(key.surface)) return true;
+    copies = std::max(copies, (ClosesInU(key.surface) ? 3 : 1) * (ClosesInV(key.surface) ? 3 : 1));
   }
-  return false;
+  return copies;
 }
 
 }  // namespace
@@ -46,8 +47,9 @@ Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& r
                                  "animation.frames", limit, frames);
   }
   const SamplingOptions& s = request.sampling;
-  const double per_frame_sample = ContinuedPastSeam(request) ? kClosedAnimationBytesPerFrameSample
-                                                             : kAnimationBytesPerFrameSample;
+  const int copies = SheetCopies(request);
+  const double per_frame_sample = copies == 1 ? kAnimationBytesPerFrameSample
+                                              : kClosedAnimationBytesPerFrameSample * copies / 3;
   return CheckMemory(per_frame_sample * frames * s.nu * s.nv, limits.request_memory_bytes,
                      "flattening " + std::to_string(frames) + " frames of " + std::to_string(s.nu) +
                          " x " + std::to_string(s.nv),

@@ -21,6 +21,8 @@ inline constexpr double kAnimationBytesPerFrameSample = 512;
 // The same for a surface closed in u (a whole cylinder or cone), whose every
 // frame's map is continued past the seam (three periods of columns and their
 // locator, beside the given sheet's): measured 1.1 KB, 600 frames of 32^2.
+// Continued past both seams (a whole torus), three times that (nine
+// copies; an estimate, scaled from the measure).
 inline constexpr double kClosedAnimationBytesPerFrameSample = 1536;
 // A subdivided, deformed and encoded mesh, per output vertex (measured
 // 216 B at 1M vertices, PLY out).

@@ -129,6 +129,7 @@ json SheetSummary(const StoredSurface& s, bool cached) {
             {"grid", {{"nu", s.sheet.nu}, {"nv", s.sheet.nv}}},
             {"method", s.sheet.method},
             {"periodic_u", false},
+            {"periodic_v", false},
             {"quality", proto::QualityJson(s.sheet.quality)},
             {"timing_ms", {{"flatten", s.flatten_ms}}}};
   if (const std::optional<SheetPeriod> period = PeriodOf(*s.surface, s.sheet)) {
@@ -137,6 +138,12 @@ json SheetSummary(const StoredSurface& s, bool cached) {
     j["periodic_u"] = true;
     j["period"] = {{"angle_deg", period->angle * 180.0 / std::numbers::pi},
                    {"translation", {period->translation.x(), period->translation.y()}}};
+  }
+  if (PeriodicInV(*s.surface, s.sheet)) {
+    // The same in v (a whole torus, a tube): the row v = 0 moved by the
+    // translation is the row v = 1.
+    j["periodic_v"] = true;
+    j["period_v"] = {{"translation", {s.sheet.period_v.x(), s.sheet.period_v.y()}}};
   }
   return j;
 }
@@ -404,6 +411,7 @@ std::string InfoJson(const ServiceLimits& l) {
             {"surface_kinds", NamesOf<proto::SurfaceKind>(proto::kSurfaceKinds)},
             {"closed_surfaces",
              {{"periodic_u", {"cylinder", "cone", "sphere", "torus", "bspline", "nurbs", "grid"}},
+              {"periodic_v", {"torus", "bspline", "nurbs", "grid"}},
               {"description",
                "a surface whose u closes is periodic in u: a cylinder or cone with angle_deg "
                "360, a sphere with 360 degrees of longitude, a torus with 360 degrees in u, a "
@@ -416,7 +424,9 @@ std::string InfoJson(const ServiceLimits& l) {
                "pairs across the seam in the stress, into a strip whose period (a translation) "
                "is solved with the sheet. That needs at least 2 max(range, 3) + 2 samples in "
                "u and method majorization; otherwise the sheet keeps a seam no model may "
-               "cross"}}},
+               "cross. The same holds in v for a torus with 360 degrees in v and a bspline, "
+               "nurbs or grid with periodic_v (the sheet's periodic_v and period_v); a "
+               "surface closed both ways (a whole torus) flattens to a flat torus"}}},
             {"flatten_methods", NamesOf<FlattenMethod>(kFlattenMethods)},
             {"subdivision_modes", NamesOf<SubdivisionMode>(kSubdivisionModes)}};
   // Every named choice of the request, by its field: {name, description}.

@@ -486,7 +486,8 @@ Result<Reply> Service::GetSurfaceField(std::string_view id, std::string_view sid
 Result<Reply> Service::GetSurfaceSvg(std::string_view id) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto entry, impl_->store.Find(id));
   Reply reply = BytesReply(FlatSheetSvg(entry->sheet, "surfdeform flat sheet " + entry->id,
-                                        PeriodicInU(*entry->surface, entry->sheet)),
+                                        PeriodicInU(*entry->surface, entry->sheet),
+                                        PeriodicInV(*entry->surface, entry->sheet)),
                            "image/svg+xml");
   reply.cache_hit = true;
   return reply;

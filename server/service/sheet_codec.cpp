@@ -122,6 +122,7 @@ std::string EncodeSheet(const FlatSheet& sheet, const EncodedSheetParts& parts) 
                       {sheet.frame_linear(0, 0), sheet.frame_linear(1, 0), sheet.frame_linear(0, 1),
                        sheet.frame_linear(1, 1), sheet.frame_offset.x(), sheet.frame_offset.y()}},
                      {"period_u", {sheet.period_u.x(), sheet.period_u.y()}},
+                     {"period_v", {sheet.period_v.x(), sheet.period_v.y()}},
                      {"quality", QualityJson(sheet.quality)}};
   Writer w;
   w.Bytes(kMagic, sizeof kMagic);
@@ -176,10 +177,13 @@ Result<DecodedSheet> DecodeSheet(std::string_view bytes, int max_grid_side) {
     s.frame_linear << f[0].get<double>(), f[2].get<double>(), f[1].get<double>(),
         f[3].get<double>();
     s.frame_offset = Vec2(f[4].get<double>(), f[5].get<double>());
-    const json& t = meta.at("period_u");
-    if (!t.is_array() || t.size() != 2) return Corrupt("has a malformed period");
-    s.period_u = Vec2(t[0].get<double>(), t[1].get<double>());
-    if (!s.frame_linear.allFinite() || !s.frame_offset.allFinite() || !s.period_u.allFinite()) {
+    for (auto [key, period] : {std::pair{"period_u", &s.period_u}, {"period_v", &s.period_v}}) {
+      const json& t = meta.at(key);
+      if (!t.is_array() || t.size() != 2) return Corrupt("has a malformed period");
+      *period = Vec2(t[0].get<double>(), t[1].get<double>());
+    }
+    if (!s.frame_linear.allFinite() || !s.frame_offset.allFinite() || !s.period_u.allFinite() ||
+        !s.period_v.allFinite()) {
       return Corrupt("has a non-finite frame");
     }
     s.quality = QualityOf(meta.at("quality"));

@@ -40,6 +40,7 @@ std::string SheetDigest(const FlatSheet& sheet) {
   XXH3_128bits_update(state, sheet.frame_linear.data(), 4 * sizeof(double));
   XXH3_128bits_update(state, sheet.frame_offset.data(), 2 * sizeof(double));
   XXH3_128bits_update(state, sheet.period_u.data(), 2 * sizeof(double));
+  XXH3_128bits_update(state, sheet.period_v.data(), 2 * sizeof(double));
   XXH3_128bits_update(state, sheet.method.data(), sheet.method.size());
   const XXH128_hash_t digest = XXH3_128bits_digest(state);
   XXH3_freeState(state);

@@ -32,7 +32,7 @@ id=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["id"])' "$o
 curl -sS -f -o "$out/flat.svg" "$base/v1/surfaces/$id/flat.svg"
 [[ $(grep -c '<polyline' "$out/flat.svg") == 2 ]] && grep -q 'class="seam"' "$out/flat.svg" ||
   fail "the sheet's SVG does not draw the seam"
-curl -sS -f "$base/v1/info" | grep -q '"closed_surfaces":{"description":"[^"]*","periodic_u":\["cylinder","cone","sphere","torus","bspline","nurbs","grid"\]}' ||
+curl -sS -f "$base/v1/info" | grep -q '"closed_surfaces":{"description":"[^"]*","periodic_u":\["cylinder","cone","sphere","torus","bspline","nurbs","grid"\],"periodic_v":\["torus","bspline","nurbs","grid"\]}' ||
   fail "/v1/info does not describe the closed surfaces"
 
 # The bunny across the seam (sheet x = 0) and half a turn away (x = pi R):
@@ -105,6 +105,27 @@ status=$(deform belt "{\"surface\":$belt,\"sampling\":$sampling,\"placement\":{\
 node "$gltf/validate.mjs" "$out/belt.glb"
 python3 "$gltf/glb_positions.py" radius "$out/belt.glb" 1.0 1e-6 ||
   fail "the band across the belt's seam is off the sphere"
+
+# A whole torus is a flat torus: periodic both ways, both seams drawn, and
+# a band across the corner where they cross deforms onto the torus.
+torus='{"kind":"torus","major_radius":3,"minor_radius":1,"u_min_deg":0,"u_max_deg":360,"v_min_deg":0,"v_max_deg":360}'
+curl -sS -f -o "$out/torus.json" -H 'Content-Type: application/json' \
+  -d "{\"surface\":$torus,\"sampling\":{\"nu\":33,\"nv\":17}}" "$base/v1/surfaces"
+python3 - "$out/torus.json" << 'PY' || fail "the flat torus: $(cat "$out/torus.json")"
+import json, math, sys
+s = json.load(open(sys.argv[1]))
+assert s["periodic_u"] is True and s["periodic_v"] is True, s
+tu, tv = s["period"]["translation"], s["period_v"]["translation"]
+assert 2 * math.pi * 2 < math.hypot(*tu) < 2 * math.pi * 4, tu
+assert abs(math.hypot(*tv) - 2 * math.pi) < 0.2 * 2 * math.pi, tv
+PY
+id=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["id"])' "$out/torus.json")
+curl -sS -f -o "$out/torus.svg" "$base/v1/surfaces/$id/flat.svg"
+[[ $(grep -c '<polyline' "$out/torus.svg") == 4 ]] || fail "the flat torus's SVG does not draw both seams"
+status=$(deform torus "{\"surface\":$torus,\"sampling\":{\"nu\":33,\"nv\":17},
+  \"placement\":{\"center\":[0,0]},\"output\":{\"format\":\"glb_plain\"}}" "$out/short.obj")
+[[ $status == 200 ]] || fail "the band across the torus's seams: $status $(cat "$out/torus.glb")"
+node "$gltf/validate.mjs" "$out/torus.glb"
 
 # The sample bottle (a NURBS surface of revolution, periodic_u): a label of
 # 24 glyphs exactly one period long, centred on the seam, goes all round,

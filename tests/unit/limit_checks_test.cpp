@@ -41,6 +41,15 @@ TEST(LimitChecks, AnAnimationAcrossTheSeamIsEstimatedAtItsMapsCost) {
     key.surface = SphereSpec{1.0, 0.0, 180.0, -40.0, 40.0, {}};
   }
   EXPECT_TRUE(CheckFrames(limits, belts).ok());
+  // A whole torus, continued past both seams: nine copies of every frame's
+  // sheet, so 600 frames of 32 x 32 (2.8 GB estimated) are refused too.
+  proto::AnimationRequest tori = Can(360.0, 600, 32);
+  for (Keyframe& key : tori.animation.keyframes) {
+    key.surface = TorusSpec{3.0, 1.0, 0.0, 360.0, 0.0, 360.0, {}};
+  }
+  EXPECT_EQ(CheckFrames(limits, tori).code(), ErrorCode::kLimitExceeded);
+  tori.animation.frames = 200;
+  EXPECT_TRUE(CheckFrames(limits, tori).ok());
 }
 
 TEST(LimitChecks, ClosesInUAgreesWithTheSurfaces) {
@@ -57,6 +66,7 @@ TEST(LimitChecks, ClosesInUAgreesWithTheSurfaces) {
     auto surface = MakeSurface(spec);
     ASSERT_TRUE(surface.ok()) << surface.status().ToString();
     EXPECT_EQ(ClosesInU(spec), (*surface)->ClosedInU()) << KindName(KindOf(spec));
+    EXPECT_EQ(ClosesInV(spec), (*surface)->ClosedInV()) << KindName(KindOf(spec));
     closed += ClosesInU(spec) ? 1 : 0;
   }
   EXPECT_EQ(closed, 4);

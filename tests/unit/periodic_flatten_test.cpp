@@ -67,6 +67,24 @@ double RigidResidual(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
   return worst;
 }
 
+// 24 rigid glyphs in a row one period_u long, centred on surface point `uv`
+// of a periodic sheet: each keeps its shape (to 1e-9) and none is off the
+// sheet. Returns the deformed glyphs.
+Mesh RigidGlyphsRound(const Flat& f, const Vec2& uv) {
+  const SheetMap map(*f.surface, f.sheet);
+  constexpr int kGlyphs = 24;
+  const Mesh glyphs = testing::GlyphRow(kGlyphs, f.sheet.period_u.norm());
+  PlacementOptions o = testing::KeepCoordinates(glyphs, map.SheetPoint(map.MapParameters(uv)));
+  o.rigid = RigidMode::kComponents;
+  auto r = DeformMesh(*f.surface, f.sheet, Mesh(glyphs), o, Off());
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  if (!r.ok()) return Mesh();
+  EXPECT_EQ(r->stats.rigid.parts, kGlyphs);
+  EXPECT_EQ(r->stats.outside, 0u);
+  EXPECT_LT(testing::WorstGlyphStretch(glyphs, r->mesh), 1e-9);
+  return std::move(r->mesh);
+}
+
 TEST(PeriodicFlatten, AWholeCylinderFlattenedByStressHasItsCircumferenceForPeriod) {
   const double radius = 2.0, turn = 2.0 * kPi * radius;
   FlattenOptions o;
@@ -178,23 +196,12 @@ TEST(PeriodicFlatten, RigidGlyphsAllRoundATorusKeepTheirShape) {
   // 24 boxes all round a torus ring (its whole turn about the axis, the
   // outer half of the tube), the row centred on the seam.
   const Flat f = FlattenSpec(TorusSpec{3.0, 1.0, 0.0, 360.0, -70.0, 70.0, {}}, 73, 17);
-  const SheetMap map(*f.surface, f.sheet);
-  ASSERT_TRUE(map.periodic_u());
-  const double period = f.sheet.period_u.norm();
-  constexpr int kGlyphs = 24;
-  const Mesh glyphs = testing::GlyphRow(kGlyphs, period);
-  const Vec2 seam = map.SheetPoint(map.MapParameters(Vec2(0.0, 0.5)));
-  PlacementOptions o = testing::KeepCoordinates(glyphs, seam);
-  o.rigid = RigidMode::kComponents;
-  auto r = DeformMesh(*f.surface, f.sheet, Mesh(glyphs), o, Off());
-  ASSERT_TRUE(r.ok()) << r.status().ToString();
-  EXPECT_EQ(r->stats.rigid.parts, kGlyphs);
-  EXPECT_EQ(r->stats.outside, 0u);
-  EXPECT_LT(testing::WorstGlyphStretch(glyphs, r->mesh), 1e-9);
+  ASSERT_TRUE(SheetMap(*f.surface, f.sheet).periodic_u());
+  const Mesh r = RigidGlyphsRound(f, Vec2(0.0, 0.5));
   // Each box stands on the outer equator, the seam's neighbours as well.
-  for (size_t g = 0; g < kGlyphs; ++g) {
+  for (size_t g = 0; g < 24; ++g) {
     Vec3 base = Vec3::Zero();
-    for (size_t k = 8 * g; k < 8 * g + 4; ++k) base += r->mesh.positions[k] / 4;
+    for (size_t k = 8 * g; k < 8 * g + 4; ++k) base += r.positions[k] / 4;
     EXPECT_NEAR(std::hypot(base.x(), base.y()), 4.0, 0.02) << g;
   }
 }
@@ -347,6 +354,119 @@ TEST(PeriodicFlatten, ALabelAllRoundABottleCloses) {
   }
   // On the body, a cylinder of radius 1 there.
   for (const Vec3& q : p) EXPECT_NEAR(std::hypot(q.x(), q.y()), 1.0, 1e-9);
+}
+
+TEST(PeriodicFlatten, AWholeTorusIsAFlatTorus) {
+  // Periodic both ways: two periods, the last column the first a T_u on, the
+  // last row the first a T_v on. The tube's circles (v) are all 2 pi r long,
+  // so T_v is about that; T_u lies between the inner and outer equators.
+  FlattenOptions o;
+  o.tolerance = 1e-10;
+  const Flat f = FlattenSpec(TorusSpec{3.0, 1.0, 0.0, 360.0, 0.0, 360.0, {}}, 49, 25, o);
+  ASSERT_FALSE(f.sheet.period_u.isZero());
+  ASSERT_FALSE(f.sheet.period_v.isZero());
+  EXPECT_EQ(f.sheet.quality.folded_cells, 0);
+  EXPECT_GT(f.sheet.period_u.norm(), 2.0 * kPi * 2.0);
+  EXPECT_LT(f.sheet.period_u.norm(), 2.0 * kPi * 4.0);
+  EXPECT_NEAR(f.sheet.period_v.norm(), 2.0 * kPi, 0.2 * 2.0 * kPi);
+  const int nu = 49, nv = 25;
+  for (int j = 0; j < nv; ++j) {
+    EXPECT_LT((f.sheet.flat[48 + nu * j] - f.sheet.flat[nu * j] - f.sheet.period_u).norm(), 1e-12);
+  }
+  for (int i = 0; i < nu; ++i) {
+    EXPECT_LT((f.sheet.flat[i + nu * 24] - f.sheet.flat[i] - f.sheet.period_v).norm(), 1e-12);
+  }
+}
+
+// Distance from the tube's centre circle (radius 3 about +Z): 1 on the torus.
+double OffTube(const Vec3& p) { return std::hypot(std::hypot(p.x(), p.y()) - 3.0, p.z()); }
+
+TEST(PeriodicFlatten, ABandRoundATubeCrossesItsSeamInV) {
+  // A quarter of a torus, closed round its tube only: periodic in v. A band
+  // once round the tube, centred on the seam, closes, and lies on the tube.
+  const Flat f = FlattenSpec(TorusSpec{3.0, 1.0, 0.0, 90.0, 0.0, 360.0, {}}, 17, 33);
+  EXPECT_TRUE(f.sheet.period_u.isZero());
+  ASSERT_FALSE(f.sheet.period_v.isZero());
+  EXPECT_EQ(f.sheet.quality.folded_cells, 0);
+  const SheetMap map(*f.surface, f.sheet);
+  EXPECT_FALSE(map.periodic_u());
+  ASSERT_TRUE(map.periodic_v());
+  const double period = f.sheet.period_v.norm();
+  const int n = 64;
+  Mesh band = testing::FlatGrid(-0.2, -period / 2, 0.4, period, 2, n, 0.0);
+  const Eigen::Rotation2Dd along(std::atan2(f.sheet.period_v.y(), f.sheet.period_v.x()) - kPi / 2);
+  for (Vec3& q : band.positions) q.head<2>() = along * Vec2(q.head<2>());
+  const Vec2 seam = map.SheetPoint(map.MapParameters(Vec2(0.5, 0.0)));
+  auto r = DeformMesh(*f.surface, f.sheet, Mesh(band), testing::KeepCoordinates(band, seam), Off());
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_EQ(r->stats.outside, 0u);
+  EXPECT_NEAR(r->stats.turns, 1.0, 1e-9);
+  for (const Vec3& q : r->mesh.positions) EXPECT_NEAR(OffTube(q), 1.0, 1e-9);
+  for (int column = 0; column <= 2; ++column) {  // the ends of each line along the band meet
+    const Vec3 first = r->mesh.positions[static_cast<size_t>(column)];
+    const Vec3 last = r->mesh.positions[static_cast<size_t>(column + 3 * n)];
+    EXPECT_LT((first - last).norm(), 1e-9) << column;
+  }
+  // Longer than the tube's round: fit stops at one turn.
+  PlacementOptions fit = testing::KeepCoordinates(band, seam);
+  fit.fit = true;
+  auto fitted = DeformMesh(*f.surface, f.sheet, Mesh(band), fit, Off());
+  ASSERT_TRUE(fitted.ok()) << fitted.status().ToString();
+  EXPECT_LE(fitted->stats.turns, 1.0);
+  EXPECT_GT(fitted->stats.turns, 0.99);
+}
+
+TEST(PeriodicFlatten, GlyphsAcrossBothSeamsOfAWholeTorus) {
+  // The flat torus continued past both seams: glyphs round the ring through
+  // the corner where the two seams cross keep their shape and stand on it.
+  const Flat f = FlattenSpec(TorusSpec{3.0, 1.0, 0.0, 360.0, 0.0, 360.0, {}}, 49, 25);
+  const SheetMap map(*f.surface, f.sheet);
+  ASSERT_TRUE(map.periodic_u());
+  ASSERT_TRUE(map.periodic_v());
+  RigidGlyphsRound(f, Vec2(0.0, 0.0));
+  const Vec2 corner = map.SheetPoint(map.MapParameters(Vec2(0.0, 0.0)));
+  // A plain band across the corner lies on the torus.
+  const Mesh band = testing::FlatGrid(-1.0, -1.0, 2.0, 2.0, 8, 8, 0.0);
+  auto b =
+      DeformMesh(*f.surface, f.sheet, Mesh(band), testing::KeepCoordinates(band, corner), Off());
+  ASSERT_TRUE(b.ok()) << b.status().ToString();
+  for (const Vec3& q : b->mesh.positions) EXPECT_NEAR(OffTube(q), 1.0, 1e-9);
+}
+
+TEST(PeriodicFlatten, AGridClosedBothWaysIsAFlatTorus) {
+  // A whole torus given as a grid of points, its last column and last row
+  // repeating the first: periodic_u and periodic_v make it C2 all round and
+  // flatten it with two periods.
+  GridSpec grid;
+  grid.nu = 25;
+  grid.nv = 13;
+  for (int j = 0; j < grid.nv; ++j) {
+    for (int i = 0; i < grid.nu; ++i) {
+      const double a = 2.0 * kPi * (i % 24) / 24, b = 2.0 * kPi * (j % 12) / 12;
+      grid.points.emplace_back((3.0 + std::cos(b)) * std::cos(a), (3.0 + std::cos(b)) * std::sin(a),
+                               std::sin(b));
+    }
+  }
+  grid.periodic_u = grid.periodic_v = true;
+  EXPECT_TRUE(ClosesInV(grid));
+  auto surface = MakeSurface(grid);
+  ASSERT_TRUE(surface.ok()) << surface.status().ToString();
+  ASSERT_TRUE((*surface)->ClosedInV());
+  const SurfacePoint a = (*surface)->Evaluate(0.3, 0.0, 2), b = (*surface)->Evaluate(0.3, 1.0, 2);
+  EXPECT_LT((a.p - b.p).norm(), 1e-12);
+  EXPECT_LT((a.sv - b.sv).norm(), 1e-9 * a.sv.norm());
+  auto sheet = FlattenSurface(**surface, {33, 17});
+  ASSERT_TRUE(sheet.ok()) << sheet.status().ToString();
+  EXPECT_FALSE(sheet->period_u.isZero());
+  EXPECT_NEAR(sheet->period_v.norm(), 2.0 * kPi, 0.2 * 2.0 * kPi);
+  // Its last row moved: 422 on periodic_v, with the gap.
+  grid.points[grid.nu * (grid.nv - 1) + 5].z() += 0.25;
+  auto open = MakeSurface(grid);
+  ASSERT_FALSE(open.ok());
+  EXPECT_EQ(open.status().field(), "periodic_v");
+  EXPECT_NE(open.status().message().find("does not close in v"), std::string::npos);
+  EXPECT_NE(open.status().message().find("fails to meet by 0.25 "), std::string::npos)
+      << open.status().message();
 }
 
 }  // namespace

@@ -54,6 +54,7 @@ TEST(SheetCodec, APeriodicSheetKeepsItsPeriod) {
   auto back = DecodeSheet(EncodeSheet(*sheet, kParts), 256);
   ASSERT_TRUE(back.ok()) << back.status().ToString();
   EXPECT_EQ(back->sheet.period_u, sheet->period_u);
+  EXPECT_EQ(back->sheet.period_v, sheet->period_v);
   EXPECT_EQ(back->sheet.flat, sheet->flat);
 }
 
