@@ -520,6 +520,27 @@ try {
     }
   }
 
+  // The ring, a whole torus: a flat torus, periodic both ways. The model
+  // placed on the corner where the two seams cross is deformed.
+  await page.select('#preset', 'ring');
+  await sleep(300);
+  if (await settled('ready', 'on the ring')) {
+    const periods = await page.evaluate(() => {
+      const s = window.surfdeformViewer.sheet();
+      return s && { u: s.period && s.period.t, v: s.periodV };
+    });
+    check(periods && periods.u && periods.v && Math.hypot(...periods.v) > 3,
+          `the ring's sheet is periodic both ways (${JSON.stringify(periods)})`);
+    await page.evaluate(() => window.surfdeformViewer.placeAt([0, 0]));
+    await sleep(400);
+    if (await settled('ready', 'with the model on the corner of the ring\'s seams')) {
+      const s = await stats();
+      check(s && s.placement.turns > 0 && s.placement.outside === 0,
+            `deformed across both seams of the ring (turns ${s && s.placement.turns})`);
+      await shot('ring');
+    }
+  }
+
   // A broken upload through the file input: the server's problem detail
   // appears on the page.
   const broken = path.join(artifacts, 'broken.obj');

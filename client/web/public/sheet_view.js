@@ -2,9 +2,9 @@
 // their area (like the paper's Figure 11), and the model's footprint on it,
 // which the person drags (move), wheels (scale) and Shift-wheels (rotate).
 // In marking mode a click adds a point to the mark (a polyline) instead.
-// On a closed surface the seam is drawn, the footprint is drawn where it
-// lands past the seam too, and a footprint released past the seam comes back
-// onto the sheet by the period.
+// On a closed surface the seam is drawn (both seams on a whole torus), the
+// footprint is drawn where it lands past the seam too, and a footprint
+// released past the seam comes back onto the sheet by the period.
 
 function cellArea(p, q, r, s) {  // quad p q r s, as two triangles (2D or 3D)
   const tri = (a, b, c) => {
@@ -56,16 +56,35 @@ export class SheetView {
     // the seam's column u = 0 onto u = 1, and the sheet's outline.
     const period = sheet.periodic_u && sheet.period
       ? { angle: (sheet.period.angle_deg * Math.PI) / 180, t: sheet.period.translation } : null;
+    // Closed in v too (a torus round its tube): the translation of row v = 0 onto v = 1.
+    const periodV = sheet.periodic_v && sheet.period_v ? sheet.period_v.translation : null;
     const outline = [];
     for (let i = 0; i < nu; ++i) outline.push(sheet.flat[i]);
     for (let j = 1; j < nv; ++j) outline.push(sheet.flat[nu - 1 + nu * j]);
     for (let i = nu - 2; i >= 0; --i) outline.push(sheet.flat[i + nu * (nv - 1)]);
     for (let j = nv - 2; j > 0; --j) outline.push(sheet.flat[nu * j]);
-    this.sheet = { nu, nv, flat: sheet.flat, ratios, spread, lo, hi, period, outline };
+    this.sheet = { nu, nv, flat: sheet.flat, ratios, spread, lo, hi, period, periodV, outline };
     this.draw();
   }
 
-  // Point p moved by the period k times (k = 1 or -1): the same surface point.
+  // The moves by whole periods that land a point on the same surface point:
+  // [ku, kv] for the periods in u and v (each -1, 0 or 1, not both 0).
+  periodMoves() {
+    const us = this.sheet.period ? [0, 1, -1] : [0];
+    const vs = this.sheet.periodV ? [0, 1, -1] : [0];
+    const moves = [];
+    for (const ku of us) for (const kv of vs) if (ku || kv) moves.push([ku, kv]);
+    return moves;
+  }
+
+  // Point p moved by [ku, kv] periods (periodMoves).
+  byPeriods(p, [ku, kv]) {
+    const [x, y] = ku ? this.byPeriod(p, ku) : p;
+    const t = this.sheet.periodV;
+    return kv ? [x + kv * t[0], y + kv * t[1]] : [x, y];
+  }
+
+  // Point p moved by the period in u k times (k = 1 or -1): the same surface point.
   byPeriod([x, y], k) {
     const { angle, t } = this.sheet.period;
     if (k > 0) {
@@ -91,12 +110,12 @@ export class SheetView {
   // back onto the sheet by the period (turned with it on a cone): the same
   // placement on the surface. True when it moved.
   wrapAcrossSeam(placement) {
-    if (!this.sheet || !this.sheet.period || this.onSheet(placement.center)) return false;
-    for (const k of [1, -1]) {
-      const moved = this.byPeriod(placement.center, k);
+    if (!this.sheet || this.onSheet(placement.center)) return false;
+    for (const move of this.periodMoves()) {
+      const moved = this.byPeriods(placement.center, move);
       if (!this.onSheet(moved)) continue;
       placement.center = moved;
-      placement.rotation_deg += (k * this.sheet.period.angle * 180) / Math.PI;
+      if (move[0]) placement.rotation_deg += (move[0] * this.sheet.period.angle * 180) / Math.PI;
       placement.rotation_deg = ((placement.rotation_deg + 540) % 360) - 180;
       return true;
     }
@@ -168,13 +187,18 @@ export class SheetView {
         ctx.stroke();
       }
     }
-    if (this.sheet.period) {  // the seam, both of its sides
+    if (this.sheet.period || this.sheet.periodV) {  // the seams, both sides of each
       ctx.strokeStyle = '#c60';
       ctx.lineWidth = 2;
       ctx.setLineDash([6, 4]);
-      for (const i of [0, nu - 1]) {
+      for (const i of this.sheet.period ? [0, nu - 1] : []) {
         ctx.beginPath();
         for (let j = 0; j < nv; ++j) ctx.lineTo(...toPx(flat[i + nu * j]));
+        ctx.stroke();
+      }
+      for (const j of this.sheet.periodV ? [0, nv - 1] : []) {
+        ctx.beginPath();
+        for (let i = 0; i < nu; ++i) ctx.lineTo(...toPx(flat[i + nu * j]));
         ctx.stroke();
       }
       ctx.setLineDash([]);
@@ -184,13 +208,12 @@ export class SheetView {
     if (hull) {
       // On a closed surface, the footprint also where it lands past the
       // seam, a period away (paler).
-      const copies = this.sheet.period ? [0, 1, -1] : [0];
-      for (const k of copies) {
-        ctx.fillStyle = k ? 'rgba(30, 120, 60, 0.12)' : 'rgba(30, 120, 60, 0.25)';
-        ctx.strokeStyle = k ? '#1746' : '#174';
+      for (const move of [null, ...this.periodMoves()]) {
+        ctx.fillStyle = move ? 'rgba(30, 120, 60, 0.12)' : 'rgba(30, 120, 60, 0.25)';
+        ctx.strokeStyle = move ? '#1746' : '#174';
         ctx.lineWidth = 2;
         ctx.beginPath();
-        for (const p of hull) ctx.lineTo(...toPx(k ? this.byPeriod(p, k) : p));
+        for (const p of hull) ctx.lineTo(...toPx(move ? this.byPeriods(p, move) : p));
         ctx.closePath();
         ctx.fill();
         ctx.stroke();
