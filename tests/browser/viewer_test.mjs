@@ -537,6 +537,10 @@ try {
       const s = await stats();
       check(s && s.placement.turns > 0 && s.placement.outside === 0,
             `deformed across both seams of the ring (turns ${s && s.placement.turns})`);
+      const p = await page.evaluate(() => window.surfdeformViewer.state.lastPreview);
+      check(p && p.relative < 2e-3,
+            `the preview across both seams was within 2e-3 of the sheet's diagonal of the ` +
+            `exact result (${p && p.relative.toExponential(2)})`);
       await shot('ring');
     }
   }

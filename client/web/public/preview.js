@@ -48,6 +48,7 @@ export function sampleField(field, a, b) {
 // On a surface closed in u whose sheet repeats by a translation `period` (a
 // whole cylinder's strip, (2 pi R, 0)): sheet point (a, b) moved by whole
 // periods onto the field's box, as the shader does. Unchanged without one.
+// A sheet closed in v too (a whole torus) is wrapped by each period in turn.
 export function wrapByPeriod(a, b, field, period) {
   if (!period) return [a, b];
   const lo = field.bounds[0];
@@ -57,11 +58,12 @@ export function wrapByPeriod(a, b, field, period) {
 }
 
 // The preview's position of every model vertex (`positions`: x, y, z, ...).
-export function previewPositions(positions, frame, placement, field, period = null) {
+export function previewPositions(positions, frame, placement, field, period = null,
+                                 periodV = null) {
   const out = new Float64Array(positions.length);
   for (let k = 0; k < positions.length; k += 3) {
     const [a0, b0, h] = placePoint(positions[k], positions[k + 1], positions[k + 2], frame, placement);
-    const [a, b] = wrapByPeriod(a0, b0, field, period);
+    const [a, b] = wrapByPeriod(...wrapByPeriod(a0, b0, field, period), field, periodV);
     const f = sampleField(field, a, b);
     for (let c = 0; c < 3; ++c) out[k + c] = f.p[c] + h * f.n[c];
   }
@@ -113,6 +115,7 @@ uniform vec2 sdRotation;  // cos, sin
 uniform float sdScale;
 uniform vec2 sdTarget;
 uniform vec2 sdPeriod;  // a sheet that repeats by this translation; (0, 0): none
+uniform vec2 sdPeriodV;  // the same in v (a whole torus)
 varying float sdOff;
 `;
 
@@ -124,6 +127,9 @@ vec2 sdAB = sdTarget + sdScale * vec2(sdRotation.x * sdQab.x - sdRotation.y * sd
 float sdH = sdScale * (sdQ.z - sdH0);
 if (dot(sdPeriod, sdPeriod) > 0.0) {  // past the seam: the same point a period away
   sdAB -= floor(dot(sdAB - sdLo, sdPeriod) / dot(sdPeriod, sdPeriod)) * sdPeriod;
+}
+if (dot(sdPeriodV, sdPeriodV) > 0.0) {
+  sdAB -= floor(dot(sdAB - sdLo, sdPeriodV) / dot(sdPeriodV, sdPeriodV)) * sdPeriodV;
 }
 vec2 sdT = (sdAB - sdLo) / (sdHi - sdLo) * (sdN - 1.0);
 vec2 sdI = clamp(floor(sdT), vec2(0.0), vec2(sdN - 2.0));
@@ -167,6 +173,7 @@ export class FieldPreview {
       sdRotation: { value: new THREE.Vector2(1, 0) }, sdScale: { value: 1 },
       sdTarget: { value: new THREE.Vector2() },
       sdPeriod: { value: new THREE.Vector2() },
+      sdPeriodV: { value: new THREE.Vector2() },
     };
     this.material = new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
                                                      side: THREE.DoubleSide });
@@ -185,6 +192,7 @@ export class FieldPreview {
     this.frame = null;
     this.placement = null;
     this.period = null;
+    this.periodV = null;
   }
 
   // The sheet's period when it repeats by a translation (a whole cylinder,
@@ -194,6 +202,9 @@ export class FieldPreview {
     const p = sheet && sheet.periodic_u && sheet.period;
     this.period = p && Math.abs(p.angle_deg) < 1e-9 ? [...p.translation] : null;
     this.uniforms.sdPeriod.value.set(...(this.period || [0, 0]));
+    const pv = sheet && sheet.periodic_v && sheet.period_v;
+    this.periodV = pv ? [...pv.translation] : null;
+    this.uniforms.sdPeriodV.value.set(...(this.periodV || [0, 0]));
   }
 
   // The field as GET /v1/surfaces/{id}/field returns it in JSON.
