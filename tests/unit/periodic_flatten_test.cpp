@@ -13,6 +13,7 @@
 #include "engine/flatten.hpp"
 #include "engine/seam_extension.hpp"
 #include "engine/sheet_map.hpp"
+#include "engine/sheet_marks.hpp"
 #include "engine/surface_spec.hpp"
 #include "support/test_meshes.hpp"
 #include "support/test_surfaces.hpp"
@@ -190,6 +191,25 @@ TEST(PeriodicFlatten, ABandAcrossASphereBeltsSeamLiesOnTheSphere) {
   }
   EXPECT_LT(worst, 1e-6);
   EXPECT_LT(worst_distortion, 1e-5);
+  // Refined: the faces across the seam are subdivided like any other, and
+  // the points added lie on the sphere too.
+  SubdivisionOptions fine;
+  fine.tolerance = 0.002;
+  auto refined =
+      DeformMesh(*f.surface, f.sheet, Mesh(band), testing::KeepCoordinates(band, seam), fine);
+  ASSERT_TRUE(refined.ok()) << refined.status().ToString();
+  EXPECT_GT(refined->mesh.positions.size(), band.positions.size());
+  for (const Vec3& p : refined->mesh.positions) EXPECT_NEAR(p.norm(), 1.5, 1e-9);
+  // The map answers modulo the period: a sheet point and the point a
+  // period on are one surface point, with u in [0, 1).
+  for (const Vec2& p : {Vec2(seam + Vec2(0.1, 0.2)), Vec2(half - Vec2(0.3, 0.1))}) {
+    const SheetMark on = MarkAt(map, p), round = MarkAt(map, p + f.sheet.period_u);
+    EXPECT_TRUE(on.on_sheet && round.on_sheet);
+    EXPECT_LT((on.point - round.point).norm(), 1e-9);
+    EXPECT_NEAR(on.uv.x(), round.uv.x(), 1e-9);
+    EXPECT_GE(on.uv.x(), 0.0);
+    EXPECT_LT(on.uv.x(), 1.0);
+  }
 }
 
 TEST(PeriodicFlatten, RigidGlyphsAllRoundATorusKeepTheirShape) {
