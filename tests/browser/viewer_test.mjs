@@ -498,7 +498,10 @@ try {
   }
 
   // The bottle, a NURBS surface of revolution closed in u: flattened
-  // periodic, its seam drawn, and the model across the seam deformed.
+  // periodic, its seam drawn, and the sample label across the seam deformed.
+  await page.select('#sample', 'label');
+  await sleep(300);
+  await settled('ready', 'with the label sample');
   await page.select('#preset', 'bottle');
   await sleep(300);
   if (await settled('ready', 'on the bottle')) {

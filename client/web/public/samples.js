@@ -33,7 +33,8 @@ export async function sampleModel(name) {
   if (name === 'plate') {
     return { name: 'thin-plate.obj', bytes: new TextEncoder().encode(thinPlateObj()).buffer };
   }
-  const file = name === 'word' ? 'word.obj' : 'bunny.ply';
+  const files = { word: 'word.obj', label: 'label.obj' };
+  const file = files[name] || 'bunny.ply';
   const r = await fetch(`/samples/${file}`);
   if (!r.ok) throw new Error(`cannot load the sample ${file}`);
   return { name: file, bytes: await r.arrayBuffer() };
