@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "engine/deform.hpp"
+#include "engine/sheet_map.hpp"
 #include "harness.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
@@ -36,15 +37,27 @@ double Diagonal(const Mesh& m) {
 // The bunny on a whole cylinder across its seam (the sheet continued past
 // it: engine/seam_extension) against the same bunny on the open cylinder
 // of 359.99 degrees (no extension), at the sheet's middle: the cost of a
-// closed surface per request (the map with its extension built, placed,
-// mapped, refined), at 32^2 and 128^2 samples.
+// closed surface per request (placed, mapped, refined), at 32^2 and 128^2
+// samples, with the map built per request (as DeformMesh alone does) and
+// kept (DeformExtras::map, as the service keeps one per stored surface).
+// Then the same on a whole torus, across both seams at their corner (nine
+// copies of the sheet): built against kept.
 void ClosedAgainstOpen(const Mesh& bunny, int repeat) {
   std::printf(
       "\nclosed cylinder (across the seam) vs open (359.99 deg, at the middle); bunny, adaptive "
-      "subdivision; median of %d runs\n",
+      "subdivision; median of %d runs; the map built per request | kept\n",
       repeat);
+  auto run = [&](const Surface& surface, const FlatSheet& sheet, const PlacementOptions& o,
+                 const SheetMap* kept, size_t* vertices) {
+    return MedianMs(repeat, [&] {
+      DeformExtras extras;
+      extras.map = kept;
+      auto r = DeformMesh(surface, sheet, Mesh(bunny), o, SubdivisionOptions{}, extras);
+      *vertices = r.ok() ? r->mesh.positions.size() : 0;
+    });
+  };
   for (int n : {32, 128}) {
-    double ms[2] = {0.0, 0.0};
+    double built[2] = {0.0, 0.0}, kept[2] = {0.0, 0.0};
     size_t vertices[2] = {0, 0};
     for (int closed = 0; closed < 2; ++closed) {
       auto surface = MakeSurface(CylinderSpec{2.0, 3.0, closed ? 360.0 : 359.99, {}});
@@ -53,15 +66,31 @@ void ClosedAgainstOpen(const Mesh& bunny, int repeat) {
       PlacementOptions o;
       o.center_mode = CenterMode::kSheetUnits;
       o.center = Vec2(closed ? 0.0 : 2.0 * std::numbers::pi, 1.5);  // the seam; the middle
-      ms[closed] = MedianMs(repeat, [&] {
-        auto r = DeformMesh(**surface, *sheet, Mesh(bunny), o, SubdivisionOptions{});
-        vertices[closed] = r.ok() ? r->mesh.positions.size() : 0;
-      });
+      const SheetMap map(**surface, *sheet);
+      built[closed] = run(**surface, *sheet, o, nullptr, &vertices[closed]);
+      kept[closed] = run(**surface, *sheet, o, &map, &vertices[closed]);
     }
     std::printf(
-        "  %3dx%-3d open %.3f ms (%zu vertices out) | closed %.3f ms (%zu) | closed / open "
-        "%.3f\n",
-        n, n, ms[0], vertices[0], ms[1], vertices[1], ms[1] / ms[0]);
+        "  %3dx%-3d open %.3f | %.3f ms (%zu vertices out) | closed %.3f | %.3f ms (%zu) | "
+        "closed / open %.3f | %.3f; kept / built: open %.3f, closed %.3f\n",
+        n, n, built[0], kept[0], vertices[0], built[1], kept[1], vertices[1], built[1] / built[0],
+        kept[1] / kept[0], kept[0] / built[0], kept[1] / built[1]);
+  }
+  for (int n : {32, 128}) {
+    auto surface = MakeSurface(TorusSpec{3.0, 1.0, 0.0, 360.0, 0.0, 360.0, {}});
+    auto sheet = FlattenSurface(**surface, {n, n});
+    if (!surface.ok() || !sheet.ok()) return;
+    PlacementOptions o;
+    o.center_mode = CenterMode::kSheetUnits;
+    o.center = sheet->flat[0];  // where the two seams cross
+    const SheetMap map(**surface, *sheet);
+    size_t vertices = 0;
+    const double b = run(**surface, *sheet, o, nullptr, &vertices);
+    const double k = run(**surface, *sheet, o, &map, &vertices);
+    std::printf(
+        "  whole torus %3dx%-3d at the seams' corner: %.3f | %.3f ms (%zu vertices out); "
+        "kept / built %.3f\n",
+        n, n, b, k, vertices, k / b);
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <span>
 
 #include "engine/elapsed.hpp"
@@ -353,7 +354,8 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
               const DeformExtras& extras, DeformResult* result) {
   const auto t0 = std::chrono::steady_clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidateInput(sheet, mesh, o, subdivision));
-  const SheetMap map(surface, sheet);
+  std::optional<SheetMap> own;
+  const SheetMap& map = extras.map != nullptr ? *extras.map : own.emplace(surface, sheet);
   if (extras.placement != nullptr) {
     result->placement = *extras.placement;
   } else {

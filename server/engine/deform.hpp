@@ -63,6 +63,10 @@ struct DeformStats {
 // What a deformation computes besides the deformed mesh.
 struct DeformExtras {
   bool distortion = false;  // Mesh::distortion per output vertex, and its stats
+  // The map of the same surface and sheet built before (SheetMap(surface,
+  // sheet)), to use instead of building one: a stored surface keeps its map,
+  // with its locator and its continuation past a seam, for every request.
+  const SheetMap* map = nullptr;
   // Only the geometry the map computes (positions, normals, tangents, and the
   // distortion when asked for) is written: for callers that keep the rest
   // (triangles, texture coordinates, colours, groups) from the model, as an

@@ -167,8 +167,7 @@ struct Service::Impl {
   // max_field_side^2 surface evaluations).
   Result<SheetField> FieldOf(const StoredSurface& entry, int side, RequestWork& work) {
     SURFDEFORM_RETURN_IF_ERROR(work.Admit(admission, options.engine_threads));
-    const SheetMap map(*entry.surface, entry.sheet);
-    return SampleSheetField(map, side, work.threads());
+    return SampleSheetField(*entry.map, side, work.threads());
   }
 
   Result<AnimatedModel> PrepareAnimated(const proto::AnimationRequest& request, Mesh&& mesh,
@@ -218,6 +217,7 @@ struct Service::Impl {
     const SubdivisionOptions subdivision = SubdivisionFor(params.subdivision, limits, work);
     DeformExtras extras;
     extras.distortion = params.output.distortion;
+    extras.map = entry.map.get();
     PlacementMemo::Use memo(placements, entry.id, placement, subdivision, imported.mesh, &extras);
     auto deformed = DeformMesh(*entry.surface, entry.sheet, std::move(imported.mesh), placement,
                                subdivision, extras);
@@ -537,7 +537,7 @@ Result<Reply> Service::MapOnSurface(std::string_view id, std::string_view body) 
   // Up to a million surface evaluations: a slot like any other work.
   SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
   const auto t1 = Clock::now();
-  const SheetMap map(*entry->surface, entry->sheet);
+  const SheetMap& map = *entry->map;
   std::vector<std::vector<SheetMark>> marks;
   switch (request.kind) {
     case proto::MapRequest::Kind::kPoints:

@@ -47,6 +47,11 @@ std::string SheetDigest(const FlatSheet& sheet) {
   return DigestHex(digest);
 }
 
+void KeepMap(StoredSurface* entry) {
+  entry->map = std::make_unique<const SheetMap>(*entry->surface, entry->sheet);
+  entry->bytes = EstimateBytes(*entry);
+}
+
 size_t EstimateBytes(const StoredSurface& s) {
   const size_t samples = s.sheet.points.size();
   size_t spec = 0;
@@ -62,7 +67,16 @@ size_t EstimateBytes(const StoredSurface& s) {
       s.request.surface);
   // Samples: position, normal and flat position; the surface keeps about as
   // much again as its spec (copies, derived coefficients).
-  return sizeof(StoredSurface) + samples * (24 + 24 + 16) + 2 * spec + 1024;
+  // The kept map: its locator (about 64 B a sample), and past a seam the
+  // continued sheet's samples and locator beside the given sheet's locator.
+  size_t map = 0;
+  if (s.map != nullptr) {
+    const size_t mapped = s.map->sheet().flat.size();
+    map = 64 * mapped + (s.map->periodic_u() || s.map->periodic_v()
+                             ? mapped * (24 + 24 + 16) + 64 * samples
+                             : 0);
+  }
+  return sizeof(StoredSurface) + samples * (24 + 24 + 16) + 2 * spec + map + 1024;
 }
 
 // Releases a cross-replica flattening lock however the flattening ends.
@@ -159,7 +173,7 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
   entry->surface = std::move(*surface);
   entry->sheet = std::move(*sheet);
   entry->flatten_ms = MsSince(t0);
-  entry->bytes = EstimateBytes(*entry);
+  KeepMap(entry.get());
   if (shared_ != nullptr) {
     shared_->Put(SheetKey(id), EncodeSheet(entry->sheet, {proto::CanonicalJson(request).dump(),
                                                           entry->flatten_ms}));
@@ -199,7 +213,7 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Rebuild(const std::st
   entry->surface = std::move(surface);
   entry->sheet = std::move(decoded.sheet);
   entry->flatten_ms = decoded.parts.flatten_ms;
-  entry->bytes = EstimateBytes(*entry);
+  KeepMap(entry.get());
   return std::shared_ptr<const StoredSurface>(std::move(entry));
 }
 

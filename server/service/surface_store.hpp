@@ -18,6 +18,7 @@
 #include "base/status.hpp"
 #include "engine/animation.hpp"
 #include "engine/flatten.hpp"
+#include "engine/sheet_map.hpp"
 #include "engine/surface.hpp"
 #include "proto/api.hpp"
 #include "service/admission.hpp"
@@ -34,6 +35,10 @@ struct StoredSurface {
   proto::SurfaceRequest request;
   std::unique_ptr<const Surface> surface;
   FlatSheet sheet;
+  // The map of `surface` and `sheet` (their locator, and their continuation
+  // past a seam), built once with the entry (KeepMap) and used by every
+  // request on it; it refers to the two above, so the entry never moves.
+  std::unique_ptr<const SheetMap> map;
   double flatten_ms = 0.0;
   size_t bytes = 0;
 };
@@ -54,6 +59,8 @@ std::string SheetDigest(const FlatSheet& sheet);
 
 // What the store's entries take in memory, estimated (for the LRU's budget).
 size_t EstimateBytes(const StoredSurface& s);
+// Builds the entry's map (StoredSurface::map) and sets its estimated bytes.
+void KeepMap(StoredSurface* entry);
 size_t EstimateBytes(const StoredAnimation& a);
 
 class SurfaceStore {
