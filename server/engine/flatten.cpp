@@ -39,8 +39,8 @@ std::vector<Vec2> ScaledParameterLayout(const SurfaceDistances& dist) {
 // of one period, those across the seams included: measured on the grid
 // continued past them, as its distances were.
 void MeasurePeriodicQuality(const SurfaceDistances& continued, const internal::GridPeriods& g,
-                            const std::vector<Vec2>& x, const Vec2& period_u,
-                            const Vec2& period_v, FlattenQuality* quality) {
+                            const std::vector<Vec2>& x, const Vec2& period_u, const Vec2& period_v,
+                            FlattenQuality* quality) {
   const int pu = g.period_u, pv = g.period_v, columns = continued.nu, rows = continued.nv;
   std::vector<Vec2> xc(static_cast<size_t>(columns) * rows);
   for (int j = 0; j < rows; ++j) {
@@ -239,8 +239,7 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const FlatSheet* wa
   const SurfaceDistances& d = measured.distances;
   const Vec2i size =
       MeasuredSize(PeriodsOf(surface, measured.grid.nu, measured.grid.nv, options_), options_);
-  if (d.nu != size.x() || d.nv != size.y() ||
-      d.range != std::max(options_.range, 3)) {
+  if (d.nu != size.x() || d.nv != size.y() || d.range != std::max(options_.range, 3)) {
     return InvalidArgument("the distances were measured for another grid or range");
   }
   return Solve(surface, std::move(measured.grid), warm_start, std::move(measured.distances), 0.0,

@@ -63,8 +63,7 @@ class LaplacianFactor {
 
 // The solvers take the edges of the neighbourhood they minimise over (ring <= r).
 
-std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range,
-                                                 bool periodic_u = false,
+std::unique_ptr<LaplacianFactor> FactorLaplacian(int nu, int nv, int range, bool periodic_u = false,
                                                  bool periodic_v = false);
 
 // One step of stress majorization as a map of the unknowns X (a vector):

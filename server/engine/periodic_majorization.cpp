@@ -165,8 +165,7 @@ SolveStats SolvePeriodicMajorization(const LaplacianFactor& factor, const GridPe
   };
   double total = 0.0;
   for (const SeamEdge& e : edges) total += e.d * e.d;
-  const SolveStats stats =
-      IterateMajorization(map, total, tolerance, max_iterations, &x, deadline);
+  const SolveStats stats = IterateMajorization(map, total, tolerance, max_iterations, &x, deadline);
   for (int i = 0; i < n; ++i) (*nodes)[i] = Vec2(x(i), x(n + i));
   *period_u = x.segment<2>(2 * n);
   *period_v = x.segment<2>(2 * n + 2);

@@ -83,8 +83,8 @@ bool Flattened(const FlatSheet& sheet) { return !sheet.period_u.isZero(); }
 
 }  // namespace
 
-std::unique_ptr<const Surface> Continued(const Surface& given, double u0, double u_scale,
-                                         double v0, double v_scale) {
+std::unique_ptr<const Surface> Continued(const Surface& given, double u0, double u_scale, double v0,
+                                         double v_scale) {
   return std::make_unique<AcrossSeam>(given, u0, u_scale, v0, v_scale);
 }
 
@@ -178,8 +178,8 @@ std::unique_ptr<const SeamExtension> ExtendAcrossSeam(const Surface& surface,
   s.points.resize(n);
   s.normals.resize(n);
   s.flat.resize(n);
-  const bool samples = sheet.points.size() == sheet.flat.size() &&
-                       sheet.normals.size() == sheet.flat.size();
+  const bool samples =
+      sheet.points.size() == sheet.flat.size() && sheet.normals.size() == sheet.flat.size();
   auto floor_div = [](int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); };
   for (int j = 0; j < s.nv; ++j) {
     for (int i = 0; i < s.nu; ++i) {

@@ -56,14 +56,14 @@ bool PeriodicInV(const Surface& surface, const FlatSheet& sheet);
 
 struct SeamExtension {
   std::unique_ptr<const Surface> surface;  // the given one over the extended columns and rows
-  FlatSheet sheet;             // nu + 2 columns, nv + 2 rows, the given ones in the middle
-  int columns = 0;             // added on each side in u
-  int rows = 0;                // added on each side in v
-  int period_columns = 0;      // columns of one period (the given nu - 1), 0 unless periodic in u
-  int period_rows = 0;         // the same in v
-  double u0 = 0.0;             // the given surface's u at extended u' = 0
-  double u_scale = 1.0;        // d(given u)/d(extended u')
-  double v0 = 0.0;             // likewise in v
+  FlatSheet sheet;         // nu + 2 columns, nv + 2 rows, the given ones in the middle
+  int columns = 0;         // added on each side in u
+  int rows = 0;            // added on each side in v
+  int period_columns = 0;  // columns of one period (the given nu - 1), 0 unless periodic in u
+  int period_rows = 0;     // the same in v
+  double u0 = 0.0;         // the given surface's u at extended u' = 0
+  double u_scale = 1.0;    // d(given u)/d(extended u')
+  double v0 = 0.0;         // likewise in v
   double v_scale = 1.0;
 
   // The given surface's parameters of extended parameters, wrapped into

@@ -72,9 +72,8 @@ size_t EstimateBytes(const StoredSurface& s) {
   size_t map = 0;
   if (s.map != nullptr) {
     const size_t mapped = s.map->sheet().flat.size();
-    map = 64 * mapped + (s.map->periodic_u() || s.map->periodic_v()
-                             ? mapped * (24 + 24 + 16) + 64 * samples
-                             : 0);
+    map = 64 * mapped +
+          (s.map->periodic_u() || s.map->periodic_v() ? mapped * (24 + 24 + 16) + 64 * samples : 0);
   }
   return sizeof(StoredSurface) + samples * (24 + 24 + 16) + 2 * spec + map + 1024;
 }
