@@ -1,5 +1,5 @@
-// A sheet of a surface closed in u (issue #36), continued past its seam, so
-// that a model may lie across the seam and wrap round the surface.
+// A sheet of a surface closed in u or v (issue #36), continued past its
+// seams, so that a model may lie across a seam and wrap round the surface.
 //
 // The sheet a surface is flattened to is cut at the seam u = 0 = 1. The
 // extension adds columns on both sides that continue the sheet: flat points
@@ -11,10 +11,12 @@
 // placing run on it unchanged. A point and the point one period away on the
 // extended sheet map to the same surface point.
 //
-// Phase one: sheets unrolled in closed form (a full cylinder: the strip
-// continues by the translation (2 pi R, 0); a full cone: the annular sector
-// continues by a rotation about the apex, as far as the plane allows before
-// the continued sector would meet itself).
+// Sheets unrolled in closed form (a full cylinder: the strip continues by
+// the translation (2 pi R, 0); a full cone: the annular sector continues by
+// a rotation about the apex, as far as the plane allows before the
+// continued sector would meet itself), and sheets flattened periodic
+// (FlatSheet::period_u, period_v: the sheet continues by translated copies,
+// a period each way, in u and in v; nine copies for a whole torus).
 #pragma once
 
 #include <memory>
