@@ -548,6 +548,35 @@ try {
     }
   }
 
+  // The lampshade, a whole cone: its sheet repeats by a rotation about the
+  // apex. The plate on the seam is deformed, and the preview turns the part
+  // past the seam a sector's turn back, as the server does.
+  await page.select('#sample', 'plate');
+  await sleep(300);
+  await settled('ready', 'with the plate sample');
+  await page.select('#preset', 'lampshade');
+  await sleep(300);
+  if (await settled('ready', 'on the lampshade')) {
+    const angle = await page.evaluate(() => {
+      const s = window.surfdeformViewer.sheet();
+      return s && s.period && s.period.angle;
+    });
+    check(angle && Math.abs(angle) > 1, `the lampshade's sheet repeats by a rotation (${angle})`);
+    // Sample (0, 0) is at the origin and the seam runs up from it.
+    await page.evaluate(() => window.surfdeformViewer.placeAt([0, 0.55]));
+    await sleep(400);
+    if (await settled('ready', 'with the plate on the lampshade\'s seam')) {
+      const s = await stats();
+      check(s && s.placement.turns > 0 && s.placement.outside === 0,
+            `deformed across the seam of the lampshade (turns ${s && s.placement.turns})`);
+      const p = await page.evaluate(() => window.surfdeformViewer.state.lastPreview);
+      check(p && p.relative < 2e-3,
+            `the preview across a cone's seam was within 2e-3 of the sheet's diagonal of the ` +
+            `exact result (${p && p.relative.toExponential(2)})`);
+      await shot('lampshade');
+    }
+  }
+
   // A broken upload through the file input: the server's problem detail
   // appears on the page.
   const broken = path.join(artifacts, 'broken.obj');

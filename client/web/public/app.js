@@ -306,7 +306,7 @@ function measurePreview(placement) {
   if (!m || !m.positions || !state.field || typeof placement.scale !== 'number') return null;
   const frame = placementFrame(m.positions, effectiveUp(), $('anchor').value);
   const shown = previewPositions(m.positions, frame, placement, state.field, preview.period,
-                                 preview.periodV);
+                                 preview.periodV, preview.rotation);
   const [lo, hi] = state.field.bounds;
   const diagonal = Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
   const d = nearestDistances(shown, modelView.shownPositions(), diagonal / 100);

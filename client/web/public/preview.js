@@ -57,13 +57,31 @@ export function wrapByPeriod(a, b, field, period) {
   return [a - k * period[0], b - k * period[1]];
 }
 
+// On a surface closed in u whose sheet repeats by a rotation (a whole
+// cone's sector: `rotation` {angle, centre (the apex), start (the seam's
+// angle about it)}): sheet point (a, b) turned by whole periods into the
+// sector, as the shader does. Points in the gap the sector leaves go to the
+// nearer side. Unchanged without one.
+export function wrapByRotation(a, b, rotation) {
+  if (!rotation) return [a, b];
+  const { angle, centre, start } = rotation;
+  const turn = 2 * Math.PI, span = Math.abs(angle), gap = turn - span;
+  const x = a - centre[0], y = b - centre[1];
+  let phi = Math.sign(angle) * (Math.atan2(y, x) - start);
+  phi -= turn * Math.floor((phi + gap / 2) / turn);
+  const r = -Math.floor(phi / span) * angle;
+  const c = Math.cos(r), s = Math.sin(r);
+  return [centre[0] + c * x - s * y, centre[1] + s * x + c * y];
+}
+
 // The preview's position of every model vertex (`positions`: x, y, z, ...).
 export function previewPositions(positions, frame, placement, field, period = null,
-                                 periodV = null) {
+                                 periodV = null, rotation = null) {
   const out = new Float64Array(positions.length);
   for (let k = 0; k < positions.length; k += 3) {
     const [a0, b0, h] = placePoint(positions[k], positions[k + 1], positions[k + 2], frame, placement);
-    const [a, b] = wrapByPeriod(...wrapByPeriod(a0, b0, field, period), field, periodV);
+    const [a1, b1] = wrapByRotation(a0, b0, rotation);
+    const [a, b] = wrapByPeriod(...wrapByPeriod(a1, b1, field, period), field, periodV);
     const f = sampleField(field, a, b);
     for (let c = 0; c < 3; ++c) out[k + c] = f.p[c] + h * f.n[c];
   }
@@ -116,6 +134,9 @@ uniform float sdScale;
 uniform vec2 sdTarget;
 uniform vec2 sdPeriod;  // a sheet that repeats by this translation; (0, 0): none
 uniform vec2 sdPeriodV;  // the same in v (a whole torus)
+uniform float sdRotAngle;  // a sheet that repeats by this rotation (a whole cone); 0: none
+uniform vec2 sdRotCentre;  // about this point (the apex)
+uniform float sdRotStart;  // the seam's angle about it
 varying float sdOff;
 `;
 
@@ -125,6 +146,14 @@ vec2 sdQab = sdQ.xy - sdCentre;
 vec2 sdAB = sdTarget + sdScale * vec2(sdRotation.x * sdQab.x - sdRotation.y * sdQab.y,
                                       sdRotation.y * sdQab.x + sdRotation.x * sdQab.y);
 float sdH = sdScale * (sdQ.z - sdH0);
+if (sdRotAngle != 0.0) {  // past a cone's seam: the same point a turn of the sector away
+  vec2 sdD = sdAB - sdRotCentre;
+  float sdSpan = abs(sdRotAngle), sdGap = 6.283185307179586 - sdSpan;
+  float sdPhi = sign(sdRotAngle) * (atan(sdD.y, sdD.x) - sdRotStart);
+  sdPhi -= 6.283185307179586 * floor((sdPhi + 0.5 * sdGap) / 6.283185307179586);
+  float sdR = -floor(sdPhi / sdSpan) * sdRotAngle;
+  sdAB = sdRotCentre + mat2(cos(sdR), sin(sdR), -sin(sdR), cos(sdR)) * sdD;
+}
 if (dot(sdPeriod, sdPeriod) > 0.0) {  // past the seam: the same point a period away
   sdAB -= floor(dot(sdAB - sdLo, sdPeriod) / dot(sdPeriod, sdPeriod)) * sdPeriod;
 }
@@ -174,6 +203,9 @@ export class FieldPreview {
       sdTarget: { value: new THREE.Vector2() },
       sdPeriod: { value: new THREE.Vector2() },
       sdPeriodV: { value: new THREE.Vector2() },
+      sdRotAngle: { value: 0 },
+      sdRotCentre: { value: new THREE.Vector2() },
+      sdRotStart: { value: 0 },
     };
     this.material = new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
                                                      side: THREE.DoubleSide });
@@ -193,6 +225,7 @@ export class FieldPreview {
     this.placement = null;
     this.period = null;
     this.periodV = null;
+    this.rotation = null;
   }
 
   // The sheet's period when it repeats by a translation (a whole cylinder,
@@ -205,6 +238,20 @@ export class FieldPreview {
     const pv = sheet && sheet.periodic_v && sheet.period_v;
     this.periodV = pv ? [...pv.translation] : null;
     this.uniforms.sdPeriodV.value.set(...(this.periodV || [0, 0]));
+    // A rotation (a whole cone): about its fixed point c = (I - R)^-1 t, the
+    // apex; the seam's column u = 0 (sample (0, 0) on it) leaves c at `start`.
+    this.rotation = null;
+    if (p && Math.abs(p.angle_deg) >= 1e-9 && sheet.flat && sheet.flat.length) {
+      const angle = (p.angle_deg * Math.PI) / 180, [tx, ty] = p.translation;
+      const c = Math.cos(angle), s = Math.sin(angle);
+      const det = (1 - c) * (1 - c) + s * s;  // det(I - R)
+      const centre = [((1 - c) * tx - s * ty) / det, (s * tx + (1 - c) * ty) / det];
+      const start = Math.atan2(sheet.flat[0][1] - centre[1], sheet.flat[0][0] - centre[0]);
+      this.rotation = { angle, centre, start };
+    }
+    this.uniforms.sdRotAngle.value = this.rotation ? this.rotation.angle : 0;
+    this.uniforms.sdRotCentre.value.set(...(this.rotation ? this.rotation.centre : [0, 0]));
+    this.uniforms.sdRotStart.value = this.rotation ? this.rotation.start : 0;
   }
 
   // The field as GET /v1/surfaces/{id}/field returns it in JSON.

@@ -15,6 +15,8 @@ export async function surfacePreset(name) {
     case 'ring': return { kind: 'torus', major_radius: 2, minor_radius: 0.6, u_min_deg: 0,
                           u_max_deg: 360, v_min_deg: 0, v_max_deg: 360 };
     case 'cone': return { kind: 'cone', radius_bottom: 1, radius_top: 0.5, height: 1, angle_deg: 240 };
+    case 'lampshade': return { kind: 'cone', radius_bottom: 1, radius_top: 0.5, height: 1,
+                               angle_deg: 360 };
     case 'wave': return { kind: 'wave', length: 4, width: 1.5, amplitude: 0.25, wavelength: 2 };
     default: throw new Error(`no preset ${name}`);
   }
