@@ -6,6 +6,7 @@
 
 #include "engine/elapsed.hpp"
 #include "engine/flatten_solvers.hpp"
+#include "engine/mesh_flatten.hpp"
 #include "engine/seam_extension.hpp"
 #include "engine/surface_distance.hpp"
 
@@ -218,10 +219,42 @@ Result<MeasuredGrid> FlattenDistancesBetween(const Surface& surface,
   return out;
 }
 
+namespace {
+
+// The sheet of a surface given as a flattened mesh: its parameter box
+// sampled, laid out by its exact unrolling (the flat mesh's own frame,
+// moved to the canonical position), with the mesh flattening's quality.
+Result<FlatSheet> MeshSheet(const Surface& surface, const FlatMesh& mesh,
+                            const SamplingOptions& sampling, Clock::time_point t0) {
+  SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
+  const int nu = grid.nu, nv = grid.nv;
+  FlatSheet sheet;
+  std::vector<Vec2> x(static_cast<size_t>(nu) * nv);
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      x[i + nu * j] = *surface.ExactUnrolling(static_cast<double>(i) / (nu - 1),
+                                              static_cast<double>(j) / (nv - 1));
+    }
+  }
+  internal::Canonicalize(nu, nv, &x, &sheet.frame_linear, &sheet.frame_offset);
+  sheet.method = FlattenMethodName(FlattenMethod::kMajorization);
+  sheet.quality = mesh.quality;
+  sheet.nu = nu;
+  sheet.nv = nv;
+  sheet.points = std::move(grid.points);
+  sheet.normals = std::move(grid.normals);
+  sheet.flat = std::move(x);
+  sheet.quality.total_ms += MsSince(t0);
+  return sheet;
+}
+
+}  // namespace
+
 Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,
                                      const FlatSheet* warm_start) {
   const auto t0 = Clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
+  if (const FlatMesh* mesh = surface.flat_mesh()) return MeshSheet(surface, *mesh, sampling, t0);
   SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
   // Distances over the solve's range and over r = 3 for the quality measures.
   const auto td = Clock::now();

@@ -30,6 +30,12 @@ inline bool StressSettled(double before, double after, double tolerance, double 
   return change <= tolerance * before || after <= 1e-28 * scale;
 }
 
+// B(X) X for the Guttman transform, (B(X) X)_i = sum_j d_ij / |X_i - X_j| (X_i - X_j),
+// over edges [begin, end) of n points, added into `rhs` (x block then y
+// block, like X); returns their stress.
+double GuttmanTerms(const std::vector<GridEdge>& edges, size_t begin, size_t end,
+                    const Eigen::VectorXd& x, int n, Eigen::VectorXd* rhs);
+
 // sum over edges of d_ij^2.
 double SquaredDistanceSum(const std::vector<GridEdge>& edges);
 

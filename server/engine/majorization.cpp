@@ -78,11 +78,6 @@ void LaplacianFactor::Solve(Eigen::Ref<Eigen::MatrixXd> b, int threads) const {
   });
 }
 
-namespace {
-
-// B(X) X for the Guttman transform, (B(X) X)_i = sum_j d_ij / |X_i - X_j| (X_i - X_j),
-// over edges [begin, end), added into `rhs` (x block then y block, like X);
-// returns their stress.
 double GuttmanTerms(const std::vector<GridEdge>& edges, size_t begin, size_t end,
                     const Eigen::VectorXd& x, int n, Eigen::VectorXd* rhs) {
   double* bx = rhs->data();
@@ -105,8 +100,6 @@ double GuttmanTerms(const std::vector<GridEdge>& edges, size_t begin, size_t end
   }
   return stress;
 }
-
-}  // namespace
 
 ChunkedGuttmanSum::ChunkedGuttmanSum(size_t edges, int size, int threads)
     : chunks_(edges >= 50000 ? ResolveThreads(threads) : 1) {

@@ -195,6 +195,9 @@ bool OutlineInside(const SheetMap& map, const Outline& outline, const Placement&
       SheetLocation l;
       if (!locator.Locate(placed, &l, &hint)) return false;
       if (locator.BoundaryWithin(placed, margin)) return false;
+      if (const std::optional<double> depth = map.DomainDepth(placed)) {
+        if (!(*depth > 0.0 && *depth >= margin)) return false;  // off a mesh's flat triangles
+      }
       if (periodic) {
         span.Add(l);
         if (span.Turns(map) > 1.0) return false;

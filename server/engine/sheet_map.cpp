@@ -13,7 +13,8 @@ SheetMap::SheetMap(const Surface& surface, const FlatSheet& sheet, int seam_colu
       sheet_(extension_ ? extension_->sheet : sheet),
       locator_(sheet_),
       given_locator_(extension_ ? std::make_shared<const FlatLocator>(sheet) : nullptr) {
-  exact_ = sheet_.method == "exact" && surface_.InverseUnrolling(Vec2(1, 1)).has_value();
+  exact_ = (sheet_.method == "exact" || surface_.flat_mesh() != nullptr) &&
+           surface_.InverseUnrolling(Vec2(1, 1)).has_value();
   raw_from_sheet_ = sheet_.frame_linear.inverse();
   sheet_size_ = locator_.bounds().diagonal().norm();
 }
@@ -28,8 +29,16 @@ SheetParameters SheetMap::Parameters(const Vec2& ab, OutsideMode outside, bool w
       return *surface_.InverseUnrolling(raw_from_sheet_ * (p - sheet_.frame_offset));
     };
     r.uv = inverse(ab);
-    constexpr double kIn = 1e-9;
-    if (!(r.uv.x() >= -kIn && r.uv.x() <= 1 + kIn && r.uv.y() >= -kIn && r.uv.y() <= 1 + kIn)) {
+    Vec2 nearest;
+    if (const std::optional<double> gap = surface_.DomainGap(r.uv, &nearest)) {
+      // A surface over part of the square (a mesh): off it is outside.
+      if (*gap > 0.0) {
+        r.outside = true;
+        r.outside_distance = *gap;
+        if (outside == OutsideMode::kClamp) r.uv = nearest;
+      }
+    } else if (constexpr double kIn = 1e-9; !(r.uv.x() >= -kIn && r.uv.x() <= 1 + kIn &&
+                                              r.uv.y() >= -kIn && r.uv.y() <= 1 + kIn)) {
       r.outside = true;
       locator_.NearestOnBoundary(ab, &r.outside_distance);
       if (outside == OutsideMode::kClamp) r.uv = r.uv.cwiseMax(0.0).cwiseMin(1.0);
@@ -57,6 +66,12 @@ SheetParameters SheetMap::Parameters(const Vec2& ab, OutsideMode outside, bool w
   r.uv = locator_.Parameters(loc);
   if (want_jacobian) r.duv = ParameterJacobian(loc);
   return r;
+}
+
+std::optional<double> SheetMap::DomainDepth(const Vec2& ab) const {
+  if (!exact_) return std::nullopt;
+  return surface_.DomainDepth(
+      *surface_.InverseUnrolling(raw_from_sheet_ * (ab - sheet_.frame_offset)));
 }
 
 SheetParameters SheetMap::ParametersAt(const SheetLocation& location, bool want_jacobian) const {

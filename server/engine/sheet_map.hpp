@@ -81,6 +81,10 @@ class SheetMap {
   void SurfaceAndNormal(const Vec2& ab, OutsideMode outside, int* hint, Vec3* point,
                         Vec3* normal) const;
 
+  // On a surface that covers part of its parameter square (a mesh): how
+  // deep flat point `ab` lies in it (Surface::DomainDepth); else std::nullopt.
+  std::optional<double> DomainDepth(const Vec2& ab) const;
+
   // Parameters are found by locating the point's cell (else the map inverts
   // a closed-form unrolling, and there is no cell to keep).
   bool cell_wise() const { return !exact_; }

@@ -19,6 +19,8 @@
 
 namespace surfdeform {
 
+struct FlatMesh;
+
 // Position and partial derivatives at one parameter point. Derivatives beyond
 // the order asked for in Surface::Evaluate are left unset (zero).
 struct SurfacePoint {
@@ -88,6 +90,23 @@ class Surface {
   virtual bool ClosedInU() const { return false; }
   // The same in v: S(u, v + 1) = S(u, v) (a torus all round its tube).
   virtual bool ClosedInV() const { return false; }
+
+  // Kinds whose surface covers only part of the unit square of parameters
+  // (a mesh surface: its flat triangles within a box round them): how far
+  // (u, v) is from that part, in the unrolling's units (0 on it), and the
+  // nearest parameters on it (to `nearest`, when not null). std::nullopt for
+  // the kinds defined over the whole square.
+  virtual std::optional<double> DomainGap(const Vec2& /*uv*/, Vec2* /*nearest*/) const {
+    return std::nullopt;
+  }
+
+  // For the same kinds: how deep (u, v) lies in that part, its distance from
+  // the part's boundary in the unrolling's units (negative off it).
+  virtual std::optional<double> DomainDepth(const Vec2& /*uv*/) const { return std::nullopt; }
+
+  // A surface given as a mesh: its flattening (the mesh, the flat position
+  // of every vertex and the quality), which the sheet takes as it is.
+  virtual const FlatMesh* flat_mesh() const { return nullptr; }
 
   Vec3 Position(double u, double v) const { return Evaluate(u, v, 0).p; }
 };

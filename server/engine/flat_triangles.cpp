@@ -1,0 +1,139 @@
+#include "engine/flat_triangles.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace surfdeform {
+namespace {
+
+// The point of segment [a, b] nearest p.
+Vec2 NearestOnSegment(const Vec2& a, const Vec2& b, const Vec2& p) {
+  const Vec2 e = b - a;
+  const double ee = e.squaredNorm();
+  const double t = ee > 0.0 ? std::clamp((p - a).dot(e) / ee, 0.0, 1.0) : 0.0;
+  return a + t * e;
+}
+
+}  // namespace
+
+FlatTriangles::FlatTriangles(const std::vector<Vec2>& flat,
+                             const std::vector<std::array<int, 3>>& triangles,
+                             const std::vector<int>& boundary,
+                             const std::vector<int>& boundary_triangles) {
+  const int nf = static_cast<int>(triangles.size());
+  origin_.resize(nf);
+  inverse_.resize(nf);
+  for (int f = 0; f < nf; ++f) {
+    const auto& t = triangles[f];
+    origin_[f] = flat[t[0]];
+    Eigen::Matrix2d m;
+    m.col(0) = flat[t[1]] - flat[t[0]];
+    m.col(1) = flat[t[2]] - flat[t[0]];
+    inverse_[f] = m.inverse();
+  }
+  const int nb = static_cast<int>(boundary.size());
+  segments_.resize(nb);
+  segment_triangle_ = boundary_triangles;
+  for (int k = 0; k < nb; ++k) {
+    segments_[k] = {flat[boundary[k]], flat[boundary[(k + 1) % nb]]};
+  }
+  for (const Vec2& p : flat) bounds_.extend(p);
+  // About one triangle per bucket, square cells.
+  const Vec2 size = bounds_.sizes().cwiseMax(1e-300);
+  const double cell = std::sqrt(size.x() * size.y() / std::max(nf, 1));
+  columns_ = std::clamp(static_cast<int>(std::ceil(size.x() / cell)), 1, 4096);
+  rows_ = std::clamp(static_cast<int>(std::ceil(size.y() / cell)), 1, 4096);
+  cell_ = Vec2(size.x() / columns_, size.y() / rows_);
+
+  auto fill = [&](int items, auto box_of, std::vector<int>* start, std::vector<int>* ids) {
+    start->assign(columns_ * rows_ + 1, 0);
+    auto each_cell = [&](int k, auto visit) {
+      const Eigen::AlignedBox2d b = box_of(k);
+      const Eigen::Vector2i lo = CellOf(b.min()), hi = CellOf(b.max());
+      for (int y = lo.y(); y <= hi.y(); ++y) {
+        for (int x = lo.x(); x <= hi.x(); ++x) visit(Bucket(Eigen::Vector2i(x, y)));
+      }
+    };
+    for (int k = 0; k < items; ++k) each_cell(k, [&](int b) { ++(*start)[b + 1]; });
+    for (size_t b = 1; b < start->size(); ++b) (*start)[b] += (*start)[b - 1];
+    ids->resize(start->back());
+    std::vector<int> next(start->begin(), start->end() - 1);
+    for (int k = 0; k < items; ++k) each_cell(k, [&](int b) { (*ids)[next[b]++] = k; });
+  };
+  fill(
+      nf,
+      [&](int f) {
+        Eigen::AlignedBox2d b;
+        for (int v : triangles[f]) b.extend(flat[v]);
+        return b;
+      },
+      &triangle_start_, &triangle_ids_);
+  fill(
+      nb,
+      [&](int k) {
+        Eigen::AlignedBox2d b;
+        b.extend(segments_[k][0]);
+        b.extend(segments_[k][1]);
+        return b;
+      },
+      &segment_start_, &segment_ids_);
+}
+
+Eigen::Vector2i FlatTriangles::CellOf(const Vec2& p) const {
+  const Vec2 g = (p - bounds_.min()).cwiseQuotient(cell_);
+  return Eigen::Vector2i(std::clamp(static_cast<int>(std::floor(g.x())), 0, columns_ - 1),
+                         std::clamp(static_cast<int>(std::floor(g.y())), 0, rows_ - 1));
+}
+
+Vec3 FlatTriangles::Barycentric(int f, const Vec2& p) const {
+  const Vec2 st = inverse_[f] * (p - origin_[f]);
+  return Vec3(1.0 - st.x() - st.y(), st.x(), st.y());
+}
+
+int FlatTriangles::Locate(const Vec2& p, Vec3* bary) const {
+  constexpr double kIn = -1e-12;
+  if (bounds_.exteriorDistance(p) > 0.0) return -1;
+  const int b = Bucket(CellOf(p));
+  for (int k = triangle_start_[b]; k < triangle_start_[b + 1]; ++k) {
+    const int f = triangle_ids_[k];
+    const Vec3 l = Barycentric(f, p);
+    if (l.minCoeff() >= kIn) {
+      *bary = l;
+      return f;
+    }
+  }
+  return -1;
+}
+
+FlatTriangles::Nearest FlatTriangles::NearestOnBoundary(const Vec2& p) const {
+  Nearest best;
+  best.distance = std::numeric_limits<double>::infinity();
+  const Eigen::Vector2i c = CellOf(p);
+  const double step = cell_.minCoeff();
+  const int most = std::max(columns_, rows_);
+  for (int r = 0; r <= most; ++r) {
+    if (r > 0 && (r - 1) * step > best.distance) break;
+    for (int y = c.y() - r; y <= c.y() + r; ++y) {
+      if (y < 0 || y >= rows_) continue;
+      const bool edge_row = y == c.y() - r || y == c.y() + r;
+      for (int x = c.x() - r; x <= c.x() + r; x += edge_row ? 1 : 2 * std::max(r, 1)) {
+        if (x < 0 || x >= columns_) continue;
+        const int b = Bucket(Eigen::Vector2i(x, y));
+        for (int k = segment_start_[b]; k < segment_start_[b + 1]; ++k) {
+          const int s = segment_ids_[k];
+          const Vec2 q = NearestOnSegment(segments_[s][0], segments_[s][1], p);
+          const double d = (q - p).norm();
+          if (d < best.distance) {
+            best.distance = d;
+            best.point = q;
+            best.triangle = segment_triangle_[s];
+          }
+        }
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace surfdeform

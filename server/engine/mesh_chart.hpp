@@ -1,0 +1,43 @@
+// Internal to the mesh flattening (mesh_flatten.hpp): the conformal start,
+// the vertex pairs within a number of rings, and their distances along a
+// chart's straight segments. Not part of the engine's public surface.
+#pragma once
+
+#include <vector>
+
+#include "base/status.hpp"
+#include "engine/disk_mesh.hpp"
+#include "engine/geometry_types.hpp"
+#include "engine/surface_distance.hpp"
+
+namespace surfdeform::internal {
+
+// Vertex to neighbours and vertex to triangles, compressed rows.
+struct MeshAdjacency {
+  std::vector<int>
+      vertex_start;  // neighbours of v: vertices[vertex_start[v] .. vertex_start[v + 1])
+  std::vector<int> vertices;
+  std::vector<int> triangle_start;  // likewise triangles of v
+  std::vector<int> triangles;
+};
+MeshAdjacency Adjacency(const DiskMesh& mesh);
+
+// The least-squares conformal map of the mesh (its boundary free), with the
+// two boundary vertices farthest apart pinned at their distance in space
+// along +X. kNotConverged when the factorisation fails.
+Result<std::vector<Vec2>> ConformalChart(const DiskMesh& mesh);
+
+// The pairs i < j within `rings` rings (ring = the fewest mesh edges between
+// them), ordered by i then j; d unset. On `threads` threads; the order does
+// not depend on them.
+std::vector<GridEdge> RingPairs(const MeshAdjacency& adjacency, int rings, int threads);
+
+// Sets each pair's d to the mesh length of the straight segment between its
+// vertices in `chart` (a layout of the mesh's vertices without folds; ring-1
+// pairs: the edge's length). Pairs whose segment leaves the mesh keep their
+// d if it is positive and get d = -1 otherwise. Deterministic on any
+// number of threads.
+void MeasureAlongChart(const DiskMesh& mesh, const MeshAdjacency& adjacency,
+                       const std::vector<Vec2>& chart, int threads, std::vector<GridEdge>* pairs);
+
+}  // namespace surfdeform::internal

@@ -1,0 +1,254 @@
+#include "engine/mesh_flatten.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "engine/elapsed.hpp"
+#include "engine/flatten_solvers.hpp"
+#include "engine/mesh_chart.hpp"
+#include "engine/parallel.hpp"
+
+namespace surfdeform {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The Laplacian of the pairs' graph (unit weights) without the row and
+// column of the last vertex, which the solves hold at the origin, factored.
+class GroundedLaplacian {
+ public:
+  GroundedLaplacian(int n, const std::vector<GridEdge>& pairs) : n_(n) {
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(pairs.size() * 2 + n);
+    std::vector<double> degree(n, 0.0);
+    const int g = n - 1;
+    for (const GridEdge& e : pairs) {
+      degree[e.i] += 1.0;
+      degree[e.j] += 1.0;
+      if (e.i != g && e.j != g) {
+        entries.emplace_back(std::max(e.i, e.j), std::min(e.i, e.j), -1.0);  // lower triangle
+      }
+    }
+    for (int v = 0; v < g; ++v) entries.emplace_back(v, v, degree[v]);
+    Eigen::SparseMatrix<double> l(g, g);
+    l.setFromTriplets(entries.begin(), entries.end());
+    ldlt_.compute(l);
+  }
+  bool ok() const { return ldlt_.info() == Eigen::Success; }
+  // b (x block then y block of n) -> L^+ b with the last vertex at the origin.
+  void Solve(Eigen::VectorXd* b) const {
+    Eigen::Map<Eigen::MatrixXd> m(b->data(), n_, 2);
+    const Eigen::MatrixXd top = m.topRows(n_ - 1);
+    m.topRows(n_ - 1) = ldlt_.solve(top);
+    m.row(n_ - 1).setZero();
+  }
+
+ private:
+  int n_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;
+};
+
+internal::SolveStats Majorize(const GroundedLaplacian& laplacian,
+                              const std::vector<GridEdge>& pairs, const FlattenOptions& options,
+                              int max_iterations, internal::Deadline deadline,
+                              std::vector<Vec2>* positions) {
+  const int n = static_cast<int>(positions->size());
+  Eigen::VectorXd x(2 * n);
+  for (int i = 0; i < n; ++i) {
+    x(i) = (*positions)[i].x();
+    x(n + i) = (*positions)[i].y();
+  }
+  internal::ChunkedGuttmanSum sum(pairs.size(), 2 * n, options.threads);
+  internal::MajorizationMap map;
+  map.right_hand_side = [&](const Eigen::VectorXd& at, Eigen::VectorXd* rhs) {
+    return sum.Sum(static_cast<int>(pairs.size()), rhs,
+                   [&](int begin, int end, Eigen::VectorXd* out) {
+                     return internal::GuttmanTerms(pairs, begin, end, at, n, out);
+                   });
+  };
+  map.solve = [&](Eigen::VectorXd* rhs) { laplacian.Solve(rhs); };
+  const internal::SolveStats stats = internal::IterateMajorization(
+      map, internal::SquaredDistanceSum(pairs), options.tolerance, max_iterations, &x, deadline);
+  for (int i = 0; i < n; ++i) (*positions)[i] = Vec2(x(i), x(n + i));
+  return stats;
+}
+
+double SignedArea(const std::vector<Vec2>& x, const std::array<int, 3>& t) {
+  return 0.5 * Cross2(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
+}
+
+// Moves `x` to the canonical frame: counter-clockwise triangles, the area
+// centroid at the origin, the axis of least spread along Y.
+void Canonicalize(const DiskMesh& mesh, std::vector<Vec2>* x) {
+  double total = 0.0;
+  for (const auto& t : mesh.triangles) total += SignedArea(*x, t);
+  if (total < 0.0) {
+    for (Vec2& p : *x) p.x() = -p.x();
+    total = -total;
+  }
+  Vec2 centroid = Vec2::Zero();
+  for (const auto& t : mesh.triangles) {
+    centroid += SignedArea(*x, t) * ((*x)[t[0]] + (*x)[t[1]] + (*x)[t[2]]) / 3.0;
+  }
+  centroid /= total;
+  Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
+  for (const auto& t : mesh.triangles) {
+    const Vec2 c = ((*x)[t[0]] + (*x)[t[1]] + (*x)[t[2]]) / 3.0 - centroid;
+    spread += SignedArea(*x, t) * c * c.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(spread);
+  Vec2 axis = eig.eigenvectors().col(1);  // the largest spread
+  if (axis.x() < 0.0 || (axis.x() == 0.0 && axis.y() < 0.0)) axis = -axis;
+  Eigen::Matrix2d rotation;
+  rotation << axis.x(), axis.y(), -axis.y(), axis.x();
+  for (Vec2& p : *x) p = rotation * (p - centroid);
+}
+
+void MeasureMeshQuality(const DiskMesh& mesh, const std::vector<GridEdge>& pairs,
+                        const std::vector<Vec2>& x, FlattenQuality* q) {
+  double c = 0.0, total = 0.0;
+  q->max_edge_error = 0.0;
+  for (const GridEdge& e : pairs) {
+    const double len = (x[e.i] - x[e.j]).norm();
+    c += (e.d - len) * (e.d - len);
+    total += e.d * e.d;
+    if (e.ring == 1) q->max_edge_error = std::max(q->max_edge_error, std::abs(len - e.d) / e.d);
+  }
+  q->stress = total > 0.0 ? std::sqrt(c / total) : 0.0;
+  q->area_ratio_min = std::numeric_limits<double>::infinity();
+  q->area_ratio_max = 0.0;
+  q->folded_cells = 0;
+  for (const auto& t : mesh.triangles) {
+    const double flat = SignedArea(x, t);
+    const Vec3& a = mesh.positions[t[0]];
+    const double area = 0.5 * (mesh.positions[t[1]] - a).cross(mesh.positions[t[2]] - a).norm();
+    if (!(flat > 0.0)) ++q->folded_cells;
+    q->area_ratio_min = std::min(q->area_ratio_min, flat / area);
+    q->area_ratio_max = std::max(q->area_ratio_max, flat / area);
+  }
+}
+
+std::vector<Vec3> VertexNormals(const DiskMesh& mesh) {
+  std::vector<Vec3> normals(mesh.positions.size(), Vec3::Zero());
+  for (const auto& t : mesh.triangles) {
+    const Vec3 n = (mesh.positions[t[1]] - mesh.positions[t[0]])
+                       .cross(mesh.positions[t[2]] - mesh.positions[t[0]])
+                       .normalized();
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 a = (mesh.positions[t[(k + 1) % 3]] - mesh.positions[t[k]]).normalized();
+      const Vec3 b = (mesh.positions[t[(k + 2) % 3]] - mesh.positions[t[k]]).normalized();
+      normals[t[k]] += std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * n;
+    }
+  }
+  for (Vec3& n : normals) n.normalize();
+  return normals;
+}
+
+}  // namespace
+
+Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options) {
+  const auto t0 = Clock::now();
+  SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options));
+  if (options.method != FlattenMethod::kMajorization) {
+    return InvalidArgument("a mesh surface is flattened by \"majorization\" only",
+                           "flatten.method");
+  }
+  const internal::Deadline deadline = DeadlineAfter(t0, options.time_budget_ms);
+  auto out_of_time = [&](const char* stage) {
+    return Status::DeadlineExceeded(
+        std::string("the mesh flattening ran out of its time budget of ") +
+            std::to_string(static_cast<long long>(options.time_budget_ms)) + " ms (" + stage +
+            "); decimate the mesh, use a smaller range or a looser tolerance",
+        "flatten", options.time_budget_ms, MsSince(t0));
+  };
+  const int n = static_cast<int>(mesh.positions.size());
+  FlatMesh out;
+  const internal::MeshAdjacency adjacency = internal::Adjacency(mesh);
+  SURFDEFORM_ASSIGN_OR_RETURN(std::vector<Vec2> x, internal::ConformalChart(mesh));
+  if (Clock::now() > deadline) return out_of_time("the conformal start");
+
+  // Pairs within max(range, 3) rings (3 for the quality measures), measured
+  // along the conformal chart.
+  const auto td = Clock::now();
+  std::vector<GridEdge> all =
+      internal::RingPairs(adjacency, std::max(options.range, 3), options.threads);
+  internal::MeasureAlongChart(mesh, adjacency, x, options.threads, &all);
+  out.quality.distance_ms += MsSince(td);
+  if (Clock::now() > deadline) return out_of_time("the distances");
+
+  const int max_it = options.max_iterations > 0 ? options.max_iterations : 3000;
+  std::vector<GridEdge> solved;
+  auto select = [&] {
+    solved.clear();
+    for (const GridEdge& e : all) {
+      if (e.ring <= options.range && e.d > 0.0) solved.push_back(e);
+    }
+  };
+  select();
+  const auto tf = Clock::now();
+  const GroundedLaplacian laplacian(n, solved);
+  out.quality.solve_ms += MsSince(tf);
+  if (!laplacian.ok()) {
+    return Status(ErrorCode::kNotConverged,
+                  "the stress Laplacian of the mesh could not be factored");
+  }
+  // Round 1 from the conformal chart; round 2 measures again along the first
+  // result (closer to an isometry) and continues from it. The pairs kept
+  // are those measured in round 1, so the factor stays valid.
+  for (int round = 0; round < 2; ++round) {
+    if (round == 1) {
+      const auto tr = Clock::now();
+      internal::MeasureAlongChart(mesh, adjacency, x, options.threads, &all);
+      out.quality.distance_ms += MsSince(tr);
+      // solved is all's subsequence of ring <= range with d > 0 in round 1.
+      size_t k = 0;
+      for (const GridEdge& e : all) {
+        if (e.ring <= options.range && k < solved.size() && solved[k].i == e.i &&
+            solved[k].j == e.j) {
+          if (e.d > 0.0) solved[k].d = e.d;
+          ++k;
+        }
+      }
+    }
+    const auto tm = Clock::now();
+    const internal::SolveStats stats = Majorize(laplacian, solved, options, max_it, deadline, &x);
+    out.quality.solve_ms += MsSince(tm);
+    out.quality.iterations += stats.iterations;
+    out.quality.converged = stats.converged;
+    if (stats.out_of_time) return out_of_time("the stress solve");
+  }
+  for (const Vec2& p : x) {
+    if (!p.allFinite()) {
+      return Status(ErrorCode::kNotConverged, "the mesh flattening diverged");
+    }
+  }
+  Canonicalize(mesh, &x);
+  std::vector<GridEdge> measured;
+  for (const GridEdge& e : all) {
+    if (e.ring <= 3 && e.d > 0.0) measured.push_back(e);
+  }
+  out.pairs = solved.size();
+  out.dropped_pairs = static_cast<size_t>(
+      std::count_if(all.begin(), all.end(), [](const GridEdge& e) { return !(e.d > 0.0); }));
+  MeasureMeshQuality(mesh, measured, x, &out.quality);
+  if (out.quality.folded_cells > 0) {
+    return Status(ErrorCode::kNotConverged,
+                  std::to_string(out.quality.folded_cells) + " of " +
+                      std::to_string(mesh.triangles.size()) +
+                      " triangles fold over in the flat sheet, so it cannot be inverted; the "
+                      "surface bends too much to lie flat in one piece: cut it into flatter "
+                      "pieces, or use a larger range");
+  }
+  out.normals = VertexNormals(mesh);
+  out.flat = std::move(x);
+  out.mesh = std::move(mesh);
+  out.quality.total_ms = MsSince(t0);
+  return out;
+}
+
+}  // namespace surfdeform

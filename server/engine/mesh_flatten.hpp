@@ -1,0 +1,56 @@
+// Flattening a surface given as a triangle mesh (issue #37): Ma & Lin's
+// stress over the mesh's vertices, as for sampled surfaces.
+//
+// Objective: C = sum over pairs (d_ij - |X_i - X_j|)^2, the pairs being the
+// vertices within `range` rings of each other in the mesh (FlattenOptions::
+// range counts rings here), d_ij their distance on the mesh.
+//
+// Distances: the mesh length of the straight segment between the two
+// vertices in a near-isometric chart: the segment is traced across the
+// chart's triangles and each piece measured through its triangle's affine
+// map onto the mesh. Mesh edges are their own length. On a developable mesh
+// (a triangulated cylinder) the chart is an isometry, the segment is the
+// geodesic and the distance is exact; elsewhere a straight segment of a
+// near-isometric chart is a geodesic to second order in its length. The
+// first chart is the least-squares conformal map (Levy et al. 2002; its
+// boundary free, two vertices pinned), the second the first stress solve's
+// result, from which the distances are measured again and the solve
+// continued. A pair whose segment leaves the mesh (a concave boundary) is
+// left out.
+//
+// Solver: stress majorization (the Guttman transform with unit weights)
+// with the pair graph's Laplacian, grounded at one vertex, factored once
+// (Eigen's SimplicialLDLT, AMD ordering) and reused by every iteration, and
+// Anderson acceleration as for sampled surfaces (flatten_solvers.hpp).
+//
+// The result is in a canonical frame: the flat mesh's area centroid at the
+// origin, its principal axis of least spread along +Y (the longer side along
+// X), counter-clockwise triangles seen from the side the mesh's normals
+// point to. A folded triangle is an error (kNotConverged) that counts them.
+#pragma once
+
+#include <vector>
+
+#include "base/status.hpp"
+#include "engine/disk_mesh.hpp"
+#include "engine/flatten.hpp"
+#include "engine/geometry_types.hpp"
+
+namespace surfdeform {
+
+struct FlatMesh {
+  DiskMesh mesh;
+  std::vector<Vec2> flat;     // per vertex, the canonical frame
+  std::vector<Vec3> normals;  // per vertex, unit: the angle-weighted mean of its triangles'
+  // stress over the pairs within 3 rings, max_edge_error over mesh edges,
+  // area ratios and folded_cells over triangles.
+  FlattenQuality quality;
+  size_t pairs = 0;          // vertex pairs in the stress (ring <= range)
+  size_t dropped_pairs = 0;  // pairs whose straight segment left the mesh
+};
+
+// Flattens `mesh`. options.method must be kMajorization; range counts
+// rings (1..8); time_budget_ms bounds the whole call (kDeadlineExceeded).
+Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options);
+
+}  // namespace surfdeform

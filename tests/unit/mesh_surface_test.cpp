@@ -1,0 +1,370 @@
+// Surfaces given as meshes (issue #37): the disk checks and their messages,
+// the flattening (a flat mesh, a triangulated cylinder), and the map.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "engine/deform.hpp"
+#include "engine/disk_mesh.hpp"
+#include "engine/mesh_flatten.hpp"
+#include "engine/mesh_surface.hpp"
+#include "engine/sheet_map.hpp"
+#include "engine/surface_spec.hpp"
+#include "support/test_meshes.hpp"
+
+namespace surfdeform {
+namespace {
+
+using Triangles = std::vector<std::array<uint32_t, 3>>;
+
+struct Soup {
+  std::vector<Vec3> positions;
+  Triangles triangles;
+  std::vector<Vec2> st;  // the parameters each vertex was made from
+};
+
+// An nx x ny grid over (s, t) in [0, 1]^2, interior points moved at random
+// by up to `jitter` of a cell, split into triangles along alternating
+// diagonals, mapped through `f`.
+template <typename F>
+Soup Grid(int nx, int ny, double jitter, unsigned seed, const F& f) {
+  Soup m;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(-jitter, jitter);
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      double s = static_cast<double>(i) / (nx - 1), t = static_cast<double>(j) / (ny - 1);
+      if (i > 0 && i < nx - 1) s += uniform(rng) / (nx - 1);
+      if (j > 0 && j < ny - 1) t += uniform(rng) / (ny - 1);
+      m.st.emplace_back(s, t);
+      m.positions.push_back(f(s, t));
+    }
+  }
+  auto at = [&](int i, int j) { return static_cast<uint32_t>(i + nx * j); };
+  for (int j = 0; j + 1 < ny; ++j) {
+    for (int i = 0; i + 1 < nx; ++i) {
+      if ((i + j) % 2 == 0) {
+        m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+        m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+      } else {
+        m.triangles.push_back({at(i, j), at(i + 1, j), at(i, j + 1)});
+        m.triangles.push_back({at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+      }
+    }
+  }
+  return m;
+}
+
+Vec3 Plane(double s, double t) { return Vec3(3.0 * s, 2.0 * t, 0.0); }
+
+Status CheckOf(const Soup& m) { return MakeDiskMesh(m.positions, m.triangles).status(); }
+
+void ExpectRefused(const Soup& m, const std::string& part) {
+  const Status s = CheckOf(m);
+  EXPECT_EQ(s.code(), ErrorCode::kDegenerate) << s.ToString();
+  EXPECT_NE(s.message().find(part), std::string::npos) << s.message();
+  EXPECT_EQ(s.field(), "model_id");
+}
+
+TEST(DiskMesh, AcceptsAJitteredGridAndFindsItsBoundary) {
+  const Soup m = Grid(6, 5, 0.3, 1, Plane);
+  auto disk = MakeDiskMesh(m.positions, m.triangles);
+  ASSERT_TRUE(disk.ok()) << disk.status().ToString();
+  EXPECT_EQ(disk->positions.size(), 30u);
+  EXPECT_EQ(disk->boundary.size(), 2u * (5 + 4));
+  EXPECT_EQ(disk->welded, 0u);
+}
+
+TEST(DiskMesh, WeldsRepeatedVerticesBeforeChecking) {
+  // Every triangle with its own three vertices (an STL file): one disk after welding.
+  const Soup grid = Grid(4, 4, 0.2, 2, Plane);
+  Soup soup;
+  for (const auto& t : grid.triangles) {
+    std::array<uint32_t, 3> u;
+    for (int k = 0; k < 3; ++k) {
+      u[k] = static_cast<uint32_t>(soup.positions.size());
+      soup.positions.push_back(grid.positions[t[k]] + Vec3(1e-12, 0, 0));
+    }
+    soup.triangles.push_back(u);
+  }
+  auto disk = MakeDiskMesh(soup.positions, soup.triangles);
+  ASSERT_TRUE(disk.ok()) << disk.status().ToString();
+  EXPECT_EQ(disk->positions.size(), 16u);
+  EXPECT_EQ(disk->welded, soup.positions.size() - 16);
+}
+
+TEST(DiskMesh, RefusesAClosedMesh) {
+  Soup tetra;
+  tetra.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  tetra.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  ExpectRefused(tetra, "the mesh is closed");
+  ExpectRefused(tetra, "cut it open");
+}
+
+TEST(DiskMesh, RefusesHolesSayingHowManyAndTheLongest) {
+  Soup m = Grid(7, 7, 0.0, 3, Plane);
+  // Two holes: drop the two triangles of two interior cells apart.
+  const size_t cells[] = {1 + 6 * 1, 4 + 6 * 4};
+  Triangles kept;
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    if (f / 2 != cells[0] && f / 2 != cells[1]) kept.push_back(m.triangles[f]);
+  }
+  m.triangles = kept;
+  ExpectRefused(m, "has 2 holes besides its outer boundary (the longest 1.66667 units round");
+  ExpectRefused(m, "fill the holes");
+}
+
+TEST(DiskMesh, RefusesSeveralComponentsWithTheirSizes) {
+  Soup a = Grid(3, 3, 0.0, 4, Plane);
+  const Soup b = Grid(2, 2, 0.0, 4, [](double s, double t) -> Vec3 { return Vec3(s + 10, t, 0); });
+  const uint32_t offset = static_cast<uint32_t>(a.positions.size());
+  a.positions.insert(a.positions.end(), b.positions.begin(), b.positions.end());
+  for (auto t : b.triangles) a.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  ExpectRefused(a, "2 separate components (of 8, 2 triangles)");
+}
+
+TEST(DiskMesh, RefusesAnEdgeInThreeTriangles) {
+  Soup m = Grid(3, 2, 0.0, 5, Plane);
+  const uint32_t apex = static_cast<uint32_t>(m.positions.size());
+  m.positions.emplace_back(0.5, 0.5, 1.0);
+  const auto first = m.triangles[0];
+  m.triangles.push_back({first[0], first[2], apex});  // the diagonal (0, 4)
+  ExpectRefused(m, "is shared by 3 triangles");
+}
+
+TEST(DiskMesh, RefusesANonManifoldVertex) {
+  // Two triangles that touch only at vertex 0 (a bow tie).
+  Soup m;
+  m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(-1, 0, 0), Vec3(-1, -1, 0)};
+  m.triangles = {{0, 1, 2}, {0, 3, 4}};
+  ExpectRefused(m, "vertex 0 joins triangles that meet nowhere else");
+}
+
+TEST(DiskMesh, RefusesZeroAreaTriangles) {
+  Soup m = Grid(3, 3, 0.0, 6, Plane);
+  m.positions[4] = 0.5 * (m.positions[0] + m.positions[1]);  // triangle (0, 1, 4) is a line
+  ExpectRefused(m, "triangle 0 has zero area");
+}
+
+TEST(DiskMesh, RefusesAFlippedTriangleNamingIt) {
+  Soup m = Grid(4, 4, 0.1, 7, Plane);
+  std::swap(m.triangles[5][1], m.triangles[5][2]);
+  ExpectRefused(m, "is flipped");
+  ExpectRefused(m, "triangle 5");
+}
+
+TEST(DiskMesh, RefusesAHandle) {
+  // A torus cut open at one cell: one boundary loop, one handle.
+  const int nu = 8, nv = 6;
+  Soup m;
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      const double a = 2 * std::numbers::pi * i / nu, b = 2 * std::numbers::pi * j / nv;
+      m.positions.emplace_back((2 + 0.5 * std::cos(b)) * std::cos(a),
+                               (2 + 0.5 * std::cos(b)) * std::sin(a), 0.5 * std::sin(b));
+    }
+  }
+  auto at = [&](int i, int j) { return static_cast<uint32_t>(i % nu + nu * (j % nv)); };
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      if (i == 0 && j == 0) continue;
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  ExpectRefused(m, "1 handle");
+}
+
+TEST(DiskMesh, RefusesPastTheVertexLimit) {
+  const Soup m = Grid(5, 5, 0.0, 8, Plane);
+  DiskMeshOptions o;
+  o.max_vertices = 20;
+  const Status s = MakeDiskMesh(m.positions, m.triangles, o).status();
+  EXPECT_EQ(s.code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(s.limit(), 20);
+  EXPECT_EQ(s.actual(), 25);
+}
+
+FlatMesh Flatten(const Soup& m, FlattenOptions o = {}) {
+  auto disk = MakeDiskMesh(m.positions, m.triangles);
+  EXPECT_TRUE(disk.ok()) << disk.status().ToString();
+  auto flat = FlattenMesh(std::move(*disk), o);
+  EXPECT_TRUE(flat.ok()) << flat.status().ToString();
+  return flat.ok() ? std::move(*flat) : FlatMesh{};
+}
+
+TEST(MeshFlatten, AFlatMeshMapsToItselfByARigidMotion) {
+  const Soup m = Grid(12, 9, 0.35, 9, [](double s, double t) -> Vec3 {
+    // A plane tilted in space.
+    return Vec3(1, 2, 3) + 3.0 * s * Vec3(0.6, 0.8, 0) + 2.0 * t * Vec3(0, 0, 1);
+  });
+  const FlatMesh f = Flatten(m);
+  ASSERT_EQ(f.flat.size(), m.positions.size());
+  // Every vertex pair keeps its distance (so the layout is a rigid motion or a
+  // reflection), and the triangles keep their orientation (so not a reflection).
+  double worst = 0.0;
+  for (size_t i = 0; i < f.flat.size(); ++i) {
+    for (size_t j = i + 1; j < f.flat.size(); ++j) {
+      const double space = (f.mesh.positions[i] - f.mesh.positions[j]).norm();
+      worst = std::max(worst, std::abs((f.flat[i] - f.flat[j]).norm() - space));
+    }
+  }
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_EQ(f.quality.folded_cells, 0);
+  EXPECT_LT(f.quality.stress, 1e-12);
+  EXPECT_NEAR(f.quality.area_ratio_min, 1.0, 1e-12);
+  EXPECT_NEAR(f.quality.area_ratio_max, 1.0, 1e-12);
+}
+
+// The largest distance between the flat layout and the exact development
+// `develop` of each vertex's parameters, after the best rigid motion (in
+// the plane: Kabsch), relative to the layout's size.
+template <typename D>
+double DevelopmentError(const FlatMesh& f, const Soup& m, const D& develop) {
+  const size_t n = f.flat.size();
+  std::vector<Vec2> exact(n);
+  // The disk keeps the soup's vertex order (no welding, all used).
+  for (size_t v = 0; v < n; ++v) exact[v] = develop(m.st[v]);
+  Vec2 ca = Vec2::Zero(), cb = Vec2::Zero();
+  for (size_t v = 0; v < n; ++v) {
+    ca += f.flat[v];
+    cb += exact[v];
+  }
+  ca /= static_cast<double>(n);
+  cb /= static_cast<double>(n);
+  Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
+  for (size_t v = 0; v < n; ++v) h += (f.flat[v] - ca) * (exact[v] - cb).transpose();
+  const Eigen::JacobiSVD<Eigen::Matrix2d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix2d r = svd.matrixV() * svd.matrixU().transpose();
+  double worst = 0.0, size = 0.0;
+  for (size_t v = 0; v < n; ++v) {
+    worst = std::max(worst, (r * (f.flat[v] - ca) + cb - exact[v]).norm());
+    size = std::max(size, (exact[v] - cb).norm());
+  }
+  EXPECT_GT(r.determinant(), 0.0);
+  return worst / size;
+}
+
+TEST(MeshFlatten, ATriangulatedCylinderUnrollsToItsDevelopment) {
+  // Half a cylinder of radius 1 and height 2, triangulated irregularly.
+  constexpr double kAngle = std::numbers::pi;
+  for (int cells : {12, 24}) {
+    const Soup m = Grid(cells + 1, cells + 1, 0.3, 10, [](double s, double t) -> Vec3 {
+      return Vec3(std::cos(kAngle * s), std::sin(kAngle * s), 2.0 * t);
+    });
+    const FlatMesh f = Flatten(m);
+    const double error = DevelopmentError(
+        f, m, [](const Vec2& st) -> Vec2 { return Vec2(kAngle * st.x(), 2.0 * st.y()); });
+    // The tessellation's own error: a chord short of its arc by
+    // (angle^2 / 24) of it, the angle up to 1.6 cells.
+    const double chord = std::pow(1.6 * kAngle / cells, 2) / 24;
+    EXPECT_LT(error, chord);
+  }
+}
+
+std::shared_ptr<const FlatMesh> Shared(const Soup& m) {
+  return std::make_shared<const FlatMesh>(Flatten(m));
+}
+
+TEST(MeshSurface, EvaluatesToTheMeshAndKnowsWhereItEnds) {
+  const Soup m = Grid(9, 7, 0.3, 11, [](double s, double t) -> Vec3 {
+    return Vec3(2 * s, t, 0.3 * std::sin(2 * s) * t);
+  });
+  const auto flat = Shared(m);
+  const MeshSurface surface(flat);
+  for (size_t v = 0; v < flat->flat.size(); ++v) {
+    const Vec2 uv = *surface.InverseUnrolling(flat->flat[v]);
+    const SurfacePoint s = surface.Evaluate(uv.x(), uv.y(), 1);
+    EXPECT_LT((s.p - m.positions[v]).norm(), 1e-12) << v;
+    // The normal there is the vertex's (the interpolated field).
+    EXPECT_LT((UnitNormal(s) - flat->normals[v]).norm(), 1e-9) << v;
+    EXPECT_EQ(*surface.DomainGap(uv, nullptr), 0.0);
+  }
+  // Off the mesh, the gap is the distance to the nearest boundary point; on
+  // it, the depth is the distance to the boundary (by brute force here).
+  const std::vector<int>& loop = flat->mesh.boundary;
+  auto to_boundary = [&](const Vec2& p) {
+    double d = 1e300;
+    for (size_t k = 0; k < loop.size(); ++k) {
+      const Vec2 a = flat->flat[loop[k]], b = flat->flat[loop[(k + 1) % loop.size()]];
+      const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+      d = std::min(d, (a + t * (b - a) - p).norm());
+    }
+    return d;
+  };
+  const Vec2 off = surface.index().bounds().min() - Vec2(0.3, 0.2);
+  Vec2 nearest;
+  const double gap = *surface.DomainGap(*surface.InverseUnrolling(off), &nearest);
+  EXPECT_NEAR(gap, to_boundary(off), 1e-12);
+  EXPECT_GT(gap, 0.3);
+  EXPECT_EQ(*surface.DomainGap(nearest, nullptr), 0.0);
+  EXPECT_NEAR(*surface.DomainDepth(*surface.InverseUnrolling(off)), -gap, 1e-12);
+  const Vec2 centre(0.1, 0.05);
+  EXPECT_NEAR(*surface.DomainDepth(*surface.InverseUnrolling(centre)), to_boundary(centre), 1e-12);
+}
+
+TEST(MeshSurface, AModelOnAFlatMeshMovesRigidly) {
+  const Soup m =
+      Grid(10, 8, 0.3, 12, [](double s, double t) -> Vec3 { return Vec3(4 * s, 3 * t, 0.0); });
+  const MeshSurface surface(Shared(m));
+  auto sheet = FlattenSurface(surface, SamplingOptions{32, 32});
+  ASSERT_TRUE(sheet.ok()) << sheet.status().ToString();
+  const Mesh model = testing::FlatGrid(-1, -0.5, 2, 1, 6, 3, 0.25);
+  auto out = DeformMesh(surface, *sheet, Mesh(model), PlacementOptions{});
+  ASSERT_TRUE(out.ok()) << out.status().ToString();
+  double worst = 0.0;
+  for (size_t i = 0; i < model.positions.size(); ++i) {
+    for (size_t j = i + 1; j < model.positions.size(); ++j) {
+      const double before = (model.positions[i] - model.positions[j]).norm();
+      worst = std::max(worst,
+                       std::abs((out->mesh.positions[i] - out->mesh.positions[j]).norm() - before));
+    }
+    EXPECT_NEAR(out->mesh.positions[i].z(), 0.0, 1e-12);  // heights from the bottom
+  }
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_EQ(out->stats.outside, 0u);
+}
+
+TEST(MeshSurface, APlateAlongATriangulatedCylinderMatchesTheCylinder) {
+  // The paper's thin plate along half a cylinder given as control data and
+  // as an irregular triangulation of it: equal to within the triangulation's
+  // chordal error (the sagitta of its longest edges) and the unrolling's.
+  constexpr double kAngle = std::numbers::pi;
+  const int cells = 24;
+  const Soup m = Grid(cells + 1, cells + 1, 0.3, 13, [](double s, double t) -> Vec3 {
+    return Vec3(std::cos(kAngle * s), std::sin(kAngle * s), 2.0 * t);
+  });
+  const MeshSurface mesh_surface(Shared(m));
+  CylinderSpec spec;
+  spec.radius = 1.0;
+  spec.height = 2.0;
+  spec.angle_deg = 180.0;
+  auto cylinder = MakeSurface(spec);
+  ASSERT_TRUE(cylinder.ok());
+  const Mesh plate = testing::ThinPlate(2.0, 1.0, 0.1);
+  std::vector<Vec3> along[2];
+  for (int k = 0; k < 2; ++k) {
+    const Surface& surface = k == 0 ? static_cast<const Surface&>(mesh_surface) : **cylinder;
+    auto sheet = FlattenSurface(surface, SamplingOptions{33, 33});
+    ASSERT_TRUE(sheet.ok()) << sheet.status().ToString();
+    auto out = DeformMesh(surface, *sheet, Mesh(plate), PlacementOptions{});
+    ASSERT_TRUE(out.ok()) << out.status().ToString();
+    along[k] = out->mesh.positions;
+  }
+  // The sheets' frames may differ by a half turn, which maps the plate onto
+  // itself: compare as point sets.
+  const double sagitta = 1.0 - std::cos(1.6 * kAngle / cells / 2);
+  double worst = 0.0;
+  for (const Vec3& p : along[0]) {
+    double nearest = 1e300;
+    for (const Vec3& q : along[1]) nearest = std::min(nearest, (p - q).norm());
+    worst = std::max(worst, nearest);
+  }
+  EXPECT_LT(worst, 2 * sagitta);
+  EXPECT_GT(worst, 0.0);
+}
+
+}  // namespace
+}  // namespace surfdeform
