@@ -132,6 +132,17 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
       spec = std::move(s);
       break;
     }
+    case SurfaceKind::kMesh: {
+      MeshSpec s;
+      SURFDEFORM_RETURN_IF_ERROR(o.String("model_id", &s.model_id));
+      if (!IsSurfaceIdShaped(s.model_id)) {
+        return InvalidArgument(
+            "must be the id of an uploaded mesh, returned by POST /v1/models (32 hex digits)",
+            o.PathOf("model_id"));
+      }
+      spec = std::move(s);
+      break;
+    }
   }
   SURFDEFORM_RETURN_IF_ERROR(o.Finish());
   return spec;
@@ -198,6 +209,8 @@ json SurfaceJson(const SurfaceSpec& spec) {
                   {"speed", s.speed},
                   {"time", s.time},
                   {"frame", FrameJson(s.frame)}};
+        } else if constexpr (std::is_same_v<T, MeshSpec>) {
+          return {{"kind", KindName(SurfaceKind::kMesh)}, {"model_id", s.model_id}};
         } else {
           json j = {{"kind", KindName(SurfaceKind::kGrid)},
                     {"nu", s.nu},

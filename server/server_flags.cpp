@@ -69,6 +69,9 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
   Flag(app, "--max-body-mib", c->body_mib, "Largest request body, MiB", 1, 4096);
   Flag(app, "--max-vertices", l.max_vertices, "Largest input mesh, vertices", 1, 100'000'000);
   Flag(app, "--max-triangles", l.max_triangles, "Largest input mesh, triangles", 1, 200'000'000);
+  Flag(app, "--max-surface-mesh-vertices", l.max_surface_mesh_vertices,
+       "Largest surface given as a mesh (surface kind \"mesh\"), vertices after welding", 3,
+       10'000'000);
   Flag(app, "--max-grid-side", l.max_grid_side,
        "Largest flattening grid, samples per side (2..512)", 2, 512);
   Flag(app, "--max-field-side", l.max_field_side,

@@ -141,6 +141,12 @@ Status ValidateAnimation(const AnimationSpec& spec, int max_frames) {
         "keyframes");
   }
   const SurfaceSpec& first = spec.keyframes[0].surface;
+  if (std::holds_alternative<MeshSpec>(first)) {
+    return InvalidArgument(
+        "surfaces of kind \"mesh\" are not animated yet: deform along each frame's mesh "
+        "with POST /v1/deform",
+        "keyframes[0].surface.kind");
+  }
   for (size_t k = 0; k < spec.keyframes.size(); ++k) {
     const std::string key = "keyframes[" + std::to_string(k) + "]";
     const Keyframe& kf = spec.keyframes[k];

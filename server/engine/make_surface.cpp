@@ -10,6 +10,7 @@
 #include "base/format.hpp"
 #include "engine/analytic_surfaces.hpp"
 #include "engine/bspline_basis.hpp"
+#include "engine/mesh_surface.hpp"
 #include "engine/spline_surface.hpp"
 #include "engine/surface_fields.hpp"
 #include "engine/surface_spec.hpp"
@@ -278,6 +279,14 @@ Result<std::unique_ptr<Surface>> Build(const BSplineSpec& s) {
   return surface;
 }
 
+Result<std::unique_ptr<Surface>> Build(const MeshSpec& s) {
+  if (s.flattened == nullptr) {
+    return Status(ErrorCode::kInternal, "the mesh surface was not resolved before it was built",
+                  "model_id");
+  }
+  return std::unique_ptr<Surface>(std::make_unique<MeshSurface>(s.flattened));
+}
+
 Result<std::unique_ptr<Surface>> Build(const GridSpec& s) {
   for (auto [n, name] : {std::pair{s.nu, "nu"}, std::pair{s.nv, "nv"}}) {
     if (n < 2 || n > kMaxGridSide) {
@@ -430,8 +439,9 @@ bool ClosesInV(const SurfaceSpec& spec) {
 
 SurfaceKind KindOf(const SurfaceSpec& spec) {
   static constexpr SurfaceKind kByIndex[] = {
-      SurfaceKind::kBezier, SurfaceKind::kBSpline, SurfaceKind::kCylinder, SurfaceKind::kCone,
-      SurfaceKind::kSphere, SurfaceKind::kTorus,   SurfaceKind::kWave,     SurfaceKind::kGrid};
+      SurfaceKind::kBezier, SurfaceKind::kBSpline, SurfaceKind::kCylinder,
+      SurfaceKind::kCone,   SurfaceKind::kSphere,  SurfaceKind::kTorus,
+      SurfaceKind::kWave,   SurfaceKind::kGrid,    SurfaceKind::kMesh};
   static_assert(std::size(kByIndex) == std::variant_size_v<SurfaceSpec>);
   if (const auto* b = std::get_if<BSplineSpec>(&spec); b != nullptr && b->rational) {
     return SurfaceKind::kNurbs;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <variant>
 #include <vector>
 
@@ -127,8 +128,17 @@ struct GridSpec {
   bool periodic_v = false;  // the same in v: the last row repeats the first
 };
 
+// A surface given as a triangle mesh (issue #37): an uploaded model, by id,
+// which must be a disk (disk_mesh.hpp). The service resolves the id and
+// flattens the mesh (`flattened`, not part of the description) before
+// MakeSurface, which wraps the flattening as a MeshSurface.
+struct MeshSpec {
+  std::string model_id;
+  std::shared_ptr<const FlatMesh> flattened;
+};
+
 using SurfaceSpec = std::variant<BezierSpec, BSplineSpec, CylinderSpec, ConeSpec, SphereSpec,
-                                 TorusSpec, WaveSpec, GridSpec>;
+                                 TorusSpec, WaveSpec, GridSpec, MeshSpec>;
 
 // The kinds of surface, by their names in the API (`surface.kind`): one per
 // spec, but for BSplineSpec, which is "nurbs" when rational.
@@ -141,7 +151,8 @@ enum class SurfaceKind {
   kSphere,
   kTorus,
   kWave,
-  kGrid
+  kGrid,
+  kMesh
 };
 inline constexpr EnumEntry<SurfaceKind> kSurfaceKinds[] = {
     {SurfaceKind::kBezier, "bezier", "tensor-product Bezier patch of any degree"},
@@ -153,6 +164,7 @@ inline constexpr EnumEntry<SurfaceKind> kSurfaceKinds[] = {
     {SurfaceKind::kTorus, "torus", "torus patch (v around the tube)"},
     {SurfaceKind::kWave, "wave", "travelling wave sheet, with a time"},
     {SurfaceKind::kGrid, "grid", "a grid of points, interpolated smoothly"},
+    {SurfaceKind::kMesh, "mesh", "an uploaded triangle mesh (model_id) that is a disk"},
 };
 
 SurfaceKind KindOf(const SurfaceSpec& spec);

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
+
+#include "engine/mesh_flatten.hpp"
 
 namespace surfdeform {
 namespace {
@@ -36,12 +40,62 @@ double TriangleArea(const Vec2& a, const Vec2& b, const Vec2& c) {
   return 0.5 * std::abs(e.x() * f.y() - e.y() * f.x());
 }
 
+// One coloured piece of the picture: a grid cell or a mesh triangle, in
+// sheet coordinates, with its log area ratio.
+struct Patch {
+  std::vector<Vec2> corners;
+  double log_ratio = 0.0;
+  std::string title;
+};
+
+double LogRatio(double surface, double flat) {
+  return surface > 0 && flat > 0 ? std::log(flat / surface) : 0.0;
+}
+
+// The patches of the sheet: its grid's cells, or a mesh surface's flat
+// triangles (in the sheet's frame).
+std::vector<Patch> PatchesOf(const FlatSheet& sheet, const FlatMesh* mesh) {
+  std::vector<Patch> patches;
+  if (mesh != nullptr) {
+    const std::vector<Vec3>& x = mesh->mesh.positions;
+    for (size_t f = 0; f < mesh->mesh.triangles.size(); ++f) {
+      const auto& t = mesh->mesh.triangles[f];
+      Patch p;
+      for (int v : t) p.corners.push_back(sheet.frame_linear * mesh->flat[v] + sheet.frame_offset);
+      p.log_ratio = LogRatio(TriangleArea(x[t[0]], x[t[1]], x[t[2]]),
+                             TriangleArea(p.corners[0], p.corners[1], p.corners[2]));
+      p.title = "triangle " + std::to_string(f);
+      patches.push_back(std::move(p));
+    }
+    return patches;
+  }
+  for (int j = 0; j + 1 < sheet.nv; ++j) {
+    for (int i = 0; i + 1 < sheet.nu; ++i) {
+      const int a = i + sheet.nu * j, b = a + 1, c = a + 1 + sheet.nu, d = a + sheet.nu;
+      const double surface = TriangleArea(sheet.points[a], sheet.points[b], sheet.points[c]) +
+                             TriangleArea(sheet.points[a], sheet.points[c], sheet.points[d]);
+      const double flat = TriangleArea(sheet.flat[a], sheet.flat[b], sheet.flat[c]) +
+                          TriangleArea(sheet.flat[a], sheet.flat[c], sheet.flat[d]);
+      Patch p;
+      p.corners = {sheet.flat[a], sheet.flat[b], sheet.flat[c], sheet.flat[d]};
+      p.log_ratio = LogRatio(surface, flat);
+      p.title = "cell (" + std::to_string(i) + ", " + std::to_string(j) + ")";
+      patches.push_back(std::move(p));
+    }
+  }
+  return patches;
+}
+
 }  // namespace
 
 std::string FlatSheetSvg(const FlatSheet& sheet, const std::string& title, bool periodic_u,
-                         bool periodic_v) {
+                         bool periodic_v, const FlatMesh* mesh) {
+  const std::vector<Patch> patches = PatchesOf(sheet, mesh);
   Eigen::AlignedBox2d box;
-  for (const Vec2& p : sheet.flat) box.extend(p);
+  for (const Patch& p : patches) {
+    for (const Vec2& c : p.corners) box.extend(c);
+  }
+  if (patches.empty()) box.extend(Vec2::Zero());
   const double extent = std::max(box.sizes().maxCoeff(), 1e-300);
   const double size = 800.0;  // drawing units for the longer side
   const double scale = size / extent;
@@ -54,24 +108,8 @@ std::string FlatSheetSvg(const FlatSheet& sheet, const std::string& title, bool 
     return Fixed(margin + (p.x() - box.min().x()) * scale) + "," +
            Fixed(margin + (box.max().y() - p.y()) * scale);
   };
-
-  // Log area ratio per cell, and the colour scale's range.
-  const int cu = sheet.nu - 1;
-  const int cv = sheet.nv - 1;
-  std::vector<double> log_ratio(static_cast<size_t>(std::max(cu, 0)) * std::max(cv, 0), 0.0);
   double worst = 0.0;
-  for (int j = 0; j < cv; ++j) {
-    for (int i = 0; i < cu; ++i) {
-      const int a = i + sheet.nu * j, b = a + 1, c = a + 1 + sheet.nu, d = a + sheet.nu;
-      const double surface = TriangleArea(sheet.points[a], sheet.points[b], sheet.points[c]) +
-                             TriangleArea(sheet.points[a], sheet.points[c], sheet.points[d]);
-      const double flat = TriangleArea(sheet.flat[a], sheet.flat[b], sheet.flat[c]) +
-                          TriangleArea(sheet.flat[a], sheet.flat[c], sheet.flat[d]);
-      const double r = surface > 0 && flat > 0 ? std::log(flat / surface) : 0.0;
-      log_ratio[i + cu * j] = r;
-      worst = std::max(worst, std::abs(r));
-    }
-  }
+  for (const Patch& p : patches) worst = std::max(worst, std::abs(p.log_ratio));
   const double range = std::max(worst, 1e-3);  // never exaggerate round-off
 
   std::string svg;
@@ -79,19 +117,21 @@ std::string FlatSheetSvg(const FlatSheet& sheet, const std::string& title, bool 
   svg += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + Fixed(width, 0) + "\" height=\"" +
          Fixed(height, 0) + "\" viewBox=\"0 0 " + Fixed(width) + " " + Fixed(height) + "\">\n";
   svg += "<title>" + title + "</title>\n";
-  svg += "<g stroke=\"#333\" stroke-width=\"0.5\">\n";
-  for (int j = 0; j < cv; ++j) {
-    for (int i = 0; i < cu; ++i) {
-      const int a = i + sheet.nu * j, b = a + 1, c = a + 1 + sheet.nu, d = a + sheet.nu;
-      const double r = log_ratio[i + cu * j];
-      svg += "<polygon points=\"" + map(sheet.flat[a]) + " " + map(sheet.flat[b]) + " " +
-             map(sheet.flat[c]) + " " + map(sheet.flat[d]) + "\" fill=\"" + Colour(r / range) +
-             "\"><title>cell (" + std::to_string(i) + ", " + std::to_string(j) + "): area ratio " +
-             Fixed(std::exp(r), 5) + "</title></polygon>\n";
+  svg +=
+      "<g stroke=\"#333\" stroke-width=\"" + std::string(mesh != nullptr ? "0.2" : "0.5") + "\">\n";
+  for (const Patch& p : patches) {
+    svg += "<polygon points=\"";
+    for (size_t k = 0; k < p.corners.size(); ++k) {
+      if (k > 0) svg += ' ';
+      svg += map(p.corners[k]);
     }
+    svg += "\" fill=\"" + Colour(p.log_ratio / range) + "\"><title>" + p.title + ": area ratio " +
+           Fixed(std::exp(p.log_ratio), 5) + "</title></polygon>\n";
   }
   svg += "</g>\n";
-  if ((periodic_u || periodic_v) && cu > 0 && cv > 0) {
+  const int cu = sheet.nu - 1;
+  const int cv = sheet.nv - 1;
+  if (mesh == nullptr && (periodic_u || periodic_v) && cu > 0 && cv > 0) {
     // The seams: the two sides of each are one line on the surface.
     svg +=
         "<g class=\"seam\" fill=\"none\" stroke=\"#c60\" stroke-width=\"2\" "

@@ -11,7 +11,9 @@
 
 namespace surfdeform {
 
+// A surface given as a mesh (`mesh`) is drawn as its flat triangles, in
+// the sheet's frame, each coloured by its own area ratio.
 std::string FlatSheetSvg(const FlatSheet& sheet, const std::string& title, bool periodic_u = false,
-                         bool periodic_v = false);
+                         bool periodic_v = false, const FlatMesh* mesh = nullptr);
 
 }  // namespace surfdeform

@@ -13,6 +13,7 @@
 #include "base/format.hpp"
 #include "engine/elapsed.hpp"
 #include "engine/flatten.hpp"
+#include "engine/mesh_flatten.hpp"
 #include "engine/placement.hpp"
 #include "engine/seam_extension.hpp"
 #include "engine/sheet_map.hpp"
@@ -145,6 +146,16 @@ json SheetSummary(const StoredSurface& s, bool cached) {
     j["periodic_v"] = true;
     j["period_v"] = {{"translation", {s.sheet.period_v.x(), s.sheet.period_v.y()}}};
   }
+  if (const FlatMesh* m = s.surface->flat_mesh()) {
+    // A surface given as a mesh: what was flattened.
+    j["mesh"] = {{"vertices", m->flat.size()},
+                 {"triangles", m->mesh.triangles.size()},
+                 {"boundary_vertices", m->mesh.boundary.size()},
+                 {"welded", m->mesh.welded},
+                 {"unused_vertices", m->mesh.dropped},
+                 {"pairs", m->pairs},
+                 {"pairs_off_the_mesh", m->dropped_pairs}};
+  }
   return j;
 }
 
@@ -157,6 +168,19 @@ json SheetJson(const StoredSurface& s) {
   for (const Vec2& p : s.sheet.flat) flat.push_back({p.x(), p.y()});
   j["points"] = std::move(points);
   j["flat"] = std::move(flat);
+  if (const FlatMesh* m = s.surface->flat_mesh()) {
+    // The flat triangles in the sheet's frame: the sheet itself, where the
+    // grid above only samples its box.
+    json vertices = json::array();
+    json triangles = json::array();
+    for (const Vec2& p : m->flat) {
+      const Vec2 q = s.sheet.frame_linear * p + s.sheet.frame_offset;
+      vertices.push_back({q.x(), q.y()});
+    }
+    for (const auto& t : m->mesh.triangles) triangles.push_back({t[0], t[1], t[2]});
+    j["mesh"]["flat"] = std::move(vertices);
+    j["mesh"]["triangles"] = std::move(triangles);
+  }
   return j;
 }
 
@@ -386,6 +410,7 @@ std::string InfoJson(const ServiceLimits& l) {
               {"max_vertices", l.max_vertices},
               {"max_triangles", l.max_triangles},
               {"max_grid_side", l.max_grid_side},
+              {"max_surface_mesh_vertices", l.max_surface_mesh_vertices},
               {"max_output_vertices", MaxOutputVertices(l)},
               {"max_output_triangles", l.max_output_triangles},
               {"max_json_depth", l.max_json_depth},

@@ -122,7 +122,9 @@ struct Service::Impl {
         store(options.limits, options.engine_threads, options.shared_tier),
         models(options.limits, options.shared_tier),
         admission(AdmissionOptions{options.limits.max_in_flight, options.limits.max_queued,
-                                   options.limits.queue_timeout_ms, Cores()}) {}
+                                   options.limits.queue_timeout_ms, Cores()}) {
+    store.UseModels(&models);
+  }
 
   static int Cores() { return ResolveThreads(0); }  // one per core
 
@@ -485,10 +487,11 @@ Result<Reply> Service::GetSurfaceField(std::string_view id, std::string_view sid
 
 Result<Reply> Service::GetSurfaceSvg(std::string_view id) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto entry, impl_->store.Find(id));
-  Reply reply = BytesReply(FlatSheetSvg(entry->sheet, "surfdeform flat sheet " + entry->id,
-                                        PeriodicInU(*entry->surface, entry->sheet),
-                                        PeriodicInV(*entry->surface, entry->sheet)),
-                           "image/svg+xml");
+  Reply reply = BytesReply(
+      FlatSheetSvg(entry->sheet, "surfdeform flat sheet " + entry->id,
+                   PeriodicInU(*entry->surface, entry->sheet),
+                   PeriodicInV(*entry->surface, entry->sheet), entry->surface->flat_mesh()),
+      "image/svg+xml");
   reply.cache_hit = true;
   return reply;
 }

@@ -12,7 +12,9 @@ struct ServiceLimits {
   size_t max_body_bytes = 64u << 20;  // request body (mesh plus parameters)
   size_t max_vertices = 2'000'000;    // input mesh, after triangulation
   size_t max_triangles = 4'000'000;
-  int max_grid_side = 256;                 // sampling nu and nv (the engine allows 512)
+  int max_grid_side = 256;  // sampling nu and nv (the engine allows 512)
+  // A surface given as a mesh (kind "mesh"): its vertices after welding.
+  size_t max_surface_mesh_vertices = 200'000;
   size_t max_output_vertices = 4'000'000;  // the mesh after subdivision
   size_t max_output_triangles = 8'000'000;
   int max_json_depth = 32;                // request JSON nesting (glTF JSON: twice this)

@@ -9,7 +9,9 @@
 #include <type_traits>
 #include <variant>
 
+#include "engine/disk_mesh.hpp"
 #include "engine/elapsed.hpp"
+#include "engine/mesh_flatten.hpp"
 #include "engine/surface_spec.hpp"
 #include "proto/content_hash.hpp"
 #include "proto/json_object.hpp"
@@ -74,6 +76,13 @@ size_t EstimateBytes(const StoredSurface& s) {
     const size_t mapped = s.map->sheet().flat.size();
     map = 64 * mapped +
           (s.map->periodic_u() || s.map->periodic_v() ? mapped * (24 + 24 + 16) + 64 * samples : 0);
+  }
+  // A mesh surface's flattening: per vertex its position, flat position and
+  // normal; per triangle its corners, neighbours and index entries.
+  if (s.surface != nullptr) {
+    if (const FlatMesh* m = s.surface->flat_mesh()) {
+      spec += m->flat.size() * (24 + 16 + 24) + m->mesh.triangles.size() * (12 + 12 + 56);
+    }
   }
   return sizeof(StoredSurface) + samples * (24 + 24 + 16) + 2 * spec + map + 1024;
 }
@@ -143,6 +152,26 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flattened(
   return result;
 }
 
+Result<std::optional<SurfaceSpec>> SurfaceStore::ResolveMesh(const SurfaceSpec& spec,
+                                                             const FlattenOptions& options) {
+  const auto* given = std::get_if<MeshSpec>(&spec);
+  if (given == nullptr) return std::optional<SurfaceSpec>();
+  if (models_ == nullptr) {
+    return Status(ErrorCode::kInternal, "this store has no models for mesh surfaces");
+  }
+  auto model = models_->Find(given->model_id);
+  if (!model.ok()) return model.status().WithFieldPrefix("surface");
+  const Mesh& mesh = (*model)->imported.mesh;
+  DiskMeshOptions disk_options;
+  disk_options.max_vertices = limits_.max_surface_mesh_vertices;
+  auto disk = MakeDiskMesh(mesh.positions, mesh.triangles, disk_options);
+  if (!disk.ok()) return disk.status().WithFieldPrefix("surface");
+  SURFDEFORM_ASSIGN_OR_RETURN(FlatMesh flat, FlattenMesh(std::move(*disk), options));
+  MeshSpec out = *given;
+  out.flattened = std::make_shared<const FlatMesh>(std::move(flat));
+  return std::optional<SurfaceSpec>(std::move(out));
+}
+
 Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
     const std::string& id, const proto::SurfaceRequest& request, const RequestClock& clock,
     Admission* admission, const FlatSheet* warm) {
@@ -152,11 +181,16 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
     ticket.emplace(std::move(t));
   }
   const auto t0 = Clock::now();
-  auto surface = MakeSurface(request.surface);
-  if (!surface.ok()) return surface.status().WithFieldPrefix("surface");
   FlattenOptions flatten = request.flatten;
   flatten.threads = ticket ? ThreadsFor(*ticket, engine_threads_) : engine_threads_;
   flatten.time_budget_ms = clock.BudgetFor(limits_.flatten_time_budget_ms);
+  auto resolved = ResolveMesh(request.surface, flatten);
+  if (!resolved.ok()) {
+    const Status& s = resolved.status();
+    return s.field().empty() ? Status(s.code(), s.message(), "surface") : s;
+  }
+  auto surface = MakeSurface(*resolved ? **resolved : request.surface);
+  if (!surface.ok()) return surface.status().WithFieldPrefix("surface");
   Flattener flattener(flatten);
   const bool fits =
       warm != nullptr && warm->nu == request.sampling.nu && warm->nv == request.sampling.nv;
@@ -173,7 +207,9 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
   entry->sheet = std::move(*sheet);
   entry->flatten_ms = MsSince(t0);
   KeepMap(entry.get());
-  if (shared_ != nullptr) {
+  // A mesh surface is not shared: another replica would need the mesh's
+  // flattening, which the sheet does not hold (it flattens the mesh itself).
+  if (shared_ != nullptr && !std::holds_alternative<MeshSpec>(request.surface)) {
     shared_->Put(SheetKey(id), EncodeSheet(entry->sheet, {proto::CanonicalJson(request).dump(),
                                                           entry->flatten_ms}));
   }
@@ -205,6 +241,9 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Rebuild(const std::st
     return Status(ErrorCode::kMalformed, "the shared sheet answers another request", "shared_tier");
   }
   SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling));
+  if (std::holds_alternative<MeshSpec>(request.surface)) {
+    return Status(ErrorCode::kMalformed, "mesh surfaces are not shared", "shared_tier");
+  }
   SURFDEFORM_ASSIGN_OR_RETURN(auto surface, MakeSurface(request.surface));
   auto entry = std::make_shared<StoredSurface>();
   entry->id = id;

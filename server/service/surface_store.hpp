@@ -12,6 +12,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -22,6 +23,7 @@
 #include "engine/surface.hpp"
 #include "proto/api.hpp"
 #include "service/admission.hpp"
+#include "service/model_store.hpp"
 #include "service/request_clock.hpp"
 #include "service/service_limits.hpp"
 #include "service/shared_tier.hpp"
@@ -95,7 +97,16 @@ class SurfaceStore {
   CacheStats animation_stats() const { return animations_.stats(); }
   SharedTierStats shared_tier_stats() const;  // enabled = false without one
 
+  // Where surfaces of kind "mesh" find their meshes (by model id); until it
+  // is set they fail (kInternal). Kept, not owned.
+  void UseModels(ModelStore* models) { models_ = models; }
+
  private:
+  // `spec` with its mesh found and flattened, for kind "mesh": the mesh
+  // checked as a disk (limits.max_surface_mesh_vertices) and flattened with
+  // `options`. nullopt for the other kinds, which need nothing.
+  Result<std::optional<SurfaceSpec>> ResolveMesh(const SurfaceSpec& spec,
+                                                 const FlattenOptions& options);
   class SharedLock;
   std::shared_ptr<const StoredSurface> FromShared(const std::string& id);
   Result<std::shared_ptr<const StoredSurface>> Rebuild(const std::string& id,
@@ -110,6 +121,7 @@ class SurfaceStore {
   const ServiceLimits limits_;
   const int engine_threads_;
   const std::shared_ptr<SharedTier> shared_;  // may be null
+  ModelStore* models_ = nullptr;
   SingleFlightCache<StoredSurface> surfaces_;
   SingleFlightCache<StoredAnimation> animations_;
 };

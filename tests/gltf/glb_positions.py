@@ -2,6 +2,7 @@
 
   glb_positions.py compare A.glb B.glb TOLERANCE [--half-turn]
   glb_positions.py radius A.glb RADIUS TOLERANCE
+  glb_positions.py nearest A.glb B.glb TOLERANCE
 
 compares the first min(count) positions (the input's vertices come first, in
 order, in every answer): their largest coordinate difference must stay
@@ -10,6 +11,10 @@ within TOLERANCE. With --half-turn, B is turned half a turn about +Z first,
 
 radius checks that every position lies RADIUS from the origin (on a sphere
 about it), within TOLERANCE.
+
+nearest compares the two as point sets: every position of A must have one of
+B within TOLERANCE (for answers whose frames may differ by a symmetry of the
+model).
 """
 import json
 import math
@@ -35,6 +40,11 @@ def main(argv):
         worst = max(abs(math.sqrt(x * x + y * y + z * z) - radius) for x, y, z in positions(argv[2]))
         print("off the sphere of radius %g by at most %.3g" % (radius, worst))
         return 0 if worst <= tolerance else 1
+    if len(argv) == 5 and argv[1] == "nearest":
+        a, b = positions(argv[2]), positions(argv[3])
+        worst = max(min(math.dist(p, q) for q in b) for p in a)
+        print("%d positions each within %.3g of one of %d" % (len(a), worst, len(b)))
+        return 0 if worst <= float(argv[4]) else 1
     if len(argv) < 5 or argv[1] != "compare":
         print(__doc__, file=sys.stderr)
         return 2

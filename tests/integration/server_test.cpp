@@ -170,7 +170,7 @@ TEST_F(ServerTest, HealthReadinessInfoContractAndIndex) {
   const json info = json::parse(r->body);
   EXPECT_EQ(info.at("limits").at("max_body_bytes"), 4 << 20);
   EXPECT_EQ(info.at("limits").at("max_grid_side"), 64);
-  EXPECT_EQ(info.at("surface_kinds").size(), 9u);
+  EXPECT_EQ(info.at("surface_kinds").size(), 10u);
   r = c.Get("/openapi.yaml");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->body.rfind("openapi: 3", 0), 0u);

@@ -39,7 +39,7 @@ TEST(EnumTables, EveryTableNamesEachValueOnce) {
   ExpectComplete<OutsideMode>(kOutsideModes, 3);
   ExpectComplete<SubdivisionMode>(kSubdivisionModes, 3);
   ExpectComplete<proto::OutputFormat>(proto::kOutputFormats, 5);
-  ExpectComplete<proto::SurfaceKind>(proto::kSurfaceKinds, 9);
+  ExpectComplete<proto::SurfaceKind>(proto::kSurfaceKinds, 10);
   ExpectComplete<ErrorCode>(kErrorCodes, static_cast<int>(ErrorCode::kUnavailable) + 1);
 }
 
@@ -56,7 +56,7 @@ TEST(EnumTables, KindOfNamesEachSpecAsTheApiDoes) {
   BSplineSpec rational;
   rational.rational = true;
   const SurfaceSpec specs[] = {BezierSpec{}, BSplineSpec{}, rational,   CylinderSpec{}, ConeSpec{},
-                               SphereSpec{}, TorusSpec{},   WaveSpec{}, GridSpec{}};
+                               SphereSpec{}, TorusSpec{},   WaveSpec{}, GridSpec{},     MeshSpec{}};
   std::set<SurfaceKind> seen;
   for (const SurfaceSpec& spec : specs) {
     proto::SurfaceRequest request;
