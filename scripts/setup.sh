@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git clang-format
   libeigen3-dev            # engine: dense and sparse linear algebra
+  libsuitesparse-dev libopenblas0-serial  # CHOLMOD for the mesh flattening, on OpenBLAS (serial: no threads of its own)
   libgtest-dev libgmock-dev googletest  # unit tests
   libbenchmark-dev         # benchmark executables
   libcli11-dev             # command-line flags

@@ -24,10 +24,11 @@ inline constexpr Deadline kNoDeadline = Deadline::max();
 
 // The stopping rule shared by the iterative solvers: C changed by at most
 // `tolerance` of itself in the last iteration, or reached zero (relative to
-// sum d_ij^2 = `scale`).
-inline bool StressSettled(double before, double after, double tolerance, double scale) {
+// sum d_ij^2 = `scale`; below `zero` of it).
+inline bool StressSettled(double before, double after, double tolerance, double scale,
+                          double zero = 1e-28) {
   const double change = before > after ? before - after : after - before;
-  return change <= tolerance * before || after <= 1e-28 * scale;
+  return change <= tolerance * before || after <= zero * scale;
 }
 
 // B(X) X for the Guttman transform, (B(X) X)_i = sum_j d_ij / |X_i - X_j| (X_i - X_j),
@@ -83,8 +84,10 @@ struct MajorizationMap {
 // Iterates X <- G(X) from `x`, in place, with safeguarded Anderson
 // acceleration, until the stress settles (StressSettled with `total` =
 // sum d_ij^2), max_iterations or the deadline.
+// `zero`: the stress, as a fraction of `total`, that counts as none.
 SolveStats IterateMajorization(const MajorizationMap& map, double total, double tolerance,
-                               int max_iterations, Eigen::VectorXd* x, Deadline deadline);
+                               int max_iterations, Eigen::VectorXd* x, Deadline deadline,
+                               double zero = 1e-28);
 
 // Sums a right-hand side over [0, count) items split into partial sums, one
 // per thread for large sets (50000 items and more), added in a fixed order:

@@ -122,7 +122,8 @@ double ChunkedGuttmanSum::Sum(int count, Eigen::VectorXd* rhs, const Terms& term
 }
 
 SolveStats IterateMajorization(const MajorizationMap& map, double total, double tolerance,
-                               int max_iterations, Eigen::VectorXd* x_io, Deadline deadline) {
+                               int max_iterations, Eigen::VectorXd* x_io, Deadline deadline,
+                               double zero) {
   Eigen::VectorXd& x = *x_io;
   Eigen::VectorXd g(x.size());  // B(X) X, then G(X) after the solve
 
@@ -146,7 +147,7 @@ SolveStats IterateMajorization(const MajorizationMap& map, double total, double 
       hist_g.clear();
       stress = map.right_hand_side(x, &g);
     }
-    if (it > 0 && StressSettled(previous, stress, tolerance, total)) {
+    if (it > 0 && StressSettled(previous, stress, tolerance, total, zero)) {
       stats.converged = true;
       break;
     }

@@ -1,12 +1,12 @@
 #include "engine/mesh_chart.hpp"
 
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
 #include "engine/parallel.hpp"
+#include "engine/sparse_cholesky.hpp"
 
 namespace surfdeform::internal {
 
@@ -112,12 +112,12 @@ Result<std::vector<Vec2>> ConformalChart(const DiskMesh& mesh) {
   a.setFromTriplets(entries.begin(), entries.end());
   const Eigen::SparseMatrix<double> at = a.transpose();
   const Eigen::SparseMatrix<double> normal = at * a;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(normal);
-  if (ldlt.info() != Eigen::Success) {
+  const SparseCholesky factor(normal);
+  if (!factor.ok()) {
     return Status(ErrorCode::kNotConverged,
                   "the conformal start of the mesh flattening could not be factored");
   }
-  const Eigen::VectorXd solution = ldlt.solve(at * rhs_rows);
+  const Eigen::VectorXd solution = factor.Solve(Eigen::MatrixXd(at * rhs_rows));
   std::vector<Vec2> chart(n);
   for (int v = 0; v < n; ++v) {
     const double u = column[v] >= 0 ? solution(column[v]) : pinned(v);
@@ -184,12 +184,18 @@ class SegmentTracer {
     const Vec2 d = x_[j] - p;
     const double dd = d.squaredNorm();
     if (!(dd > 0.0)) return -1.0;
-    double total = 0.0, tau = 0.0;
+    const double nd = std::sqrt(dd);
+    const std::vector<Vec3>& space = mesh_.positions;
+    // The length is summed in space, between the points where the segment
+    // crosses the mesh's edges (placed along each edge by the chart): a
+    // chart's slight misshape of a thin triangle moves a crossing a little
+    // along its edge, never far off.
+    double total = 0.0;
+    Vec3 at = space[i];
     int v = i;
     for (int steps = 0; steps < kMaxSteps;) {
-      // At vertex v (parameter tau along the segment): the triangle whose
-      // corner at v holds the direction d.
-      int cur = -1, right = -1, left = -1;
+      // At vertex v: the triangle whose corner at v holds the direction d.
+      int cur = -1, right = -1, left = -1, through = -1;
       for (int k = adj_.triangle_start[v]; k < adj_.triangle_start[v + 1]; ++k) {
         const int f = adj_.triangles[k];
         const auto& t = mesh_.triangles[f];
@@ -197,41 +203,36 @@ class SegmentTracer {
         const int b = t[(c + 1) % 3], e = t[(c + 2) % 3];
         const Vec2 xb = x_[b] - x_[v], xe = x_[e] - x_[v];
         const double sb = Cross2(xb, d), se = Cross2(d, xe);
-        const double tb = 1e-12 * xb.norm() * std::sqrt(dd), te = 1e-12 * xe.norm() * std::sqrt(dd);
+        const double tb = kCollinear * xb.norm() * nd, te = kCollinear * xe.norm() * nd;
         if (sb < -tb || se < -te) continue;
         // Along an edge: the segment runs through that vertex.
-        int through = -1;
         if (std::abs(sb) <= tb && xb.dot(d) > 0.0) {
           through = b;
         } else if (std::abs(se) <= te && xe.dot(d) > 0.0) {
           through = e;
+        } else {
+          cur = f;
+          right = b;
+          left = e;
         }
-        if (through >= 0) {
-          const double tw = (x_[through] - p).dot(d) / dd;
-          if (through != j && tw >= 1.0) return -1.0;  // passes j without meeting it
-          total += (mesh_.positions[through] - mesh_.positions[v]).norm();
-          if (through == j) return total;
-          tau = tw;
-          v = through;
-          cur = -2;
-          break;
-        }
-        cur = f;
-        right = b;
-        left = e;
         break;
       }
-      if (cur == -2) {
+      if (through >= 0) {
+        if (through != j && (x_[through] - p).dot(d) >= dd) return -1.0;  // passes j
+        total += (space[through] - at).norm();
+        if (through == j) return total;
+        at = space[through];
+        v = through;
         ++steps;
         continue;
       }
       if (cur < 0) return -1.0;
-      // Walk across triangles: the segment crosses edge (right, left) of cur.
+      // Walk across triangles: the segment leaves cur through edge (right, left).
       for (;; ++steps) {
         if (steps >= kMaxSteps) return -1.0;
-        const double t_exit = Crossing(p, d, right, left);
-        total += Stretch(cur, d) * (t_exit - tau);
-        tau = t_exit;
+        const Vec3 exit = Crossing(p, d, right, left);
+        total += (exit - at).norm();
+        at = exit;
         const auto& t = mesh_.triangles[cur];
         const int cr = t[0] == right ? 0 : t[1] == right ? 1 : 2;
         const int next = mesh_.neighbours[cur][cr];
@@ -240,16 +241,14 @@ class SegmentTracer {
         const int w = u[0] != right && u[0] != left   ? u[0]
                       : u[1] != right && u[1] != left ? u[1]
                                                       : u[2];
-        if (w == j) return total + Stretch(next, d) * (1.0 - tau);
+        if (w == j) return total + (space[j] - at).norm();
         const Vec2 xw = x_[w] - p;
         const double side = Cross2(d, xw);
-        if (std::abs(side) <= 1e-12 * std::sqrt(dd) * xw.norm()) {
-          const double tw = xw.dot(d) / dd;
-          if (tw >= 1.0) return -1.0;
-          total += Stretch(next, d) * (tw - tau);
-          tau = tw;
+        if (std::abs(side) <= kCollinear * nd * xw.norm()) {
+          if (xw.dot(d) >= dd) return -1.0;
+          total += (space[w] - at).norm();
+          at = space[w];
           v = w;
-          cur = next;
           ++steps;
           break;
         }
@@ -266,22 +265,16 @@ class SegmentTracer {
 
  private:
   static constexpr int kMaxSteps = 256;
+  // A vertex within this fraction of the lengths involved of the segment is
+  // on it (the chart is solved to about 1e-10).
+  static constexpr double kCollinear = 1e-9;
 
-  // tau where p + tau d crosses the line through vertices a and b.
-  double Crossing(const Vec2& p, const Vec2& d, int a, int b) const {
+  // Where p + tau d crosses edge (a, b), in space: the point that far along
+  // the edge.
+  Vec3 Crossing(const Vec2& p, const Vec2& d, int a, int b) const {
     const Vec2 e = x_[b] - x_[a];
-    return Cross2(x_[a] - p, e) / Cross2(d, e);
-  }
-  // |A_f d|: the mesh length of chart vector d in triangle f.
-  double Stretch(int f, const Vec2& d) const {
-    const auto& t = mesh_.triangles[f];
-    Eigen::Matrix2d flat;
-    flat.col(0) = x_[t[1]] - x_[t[0]];
-    flat.col(1) = x_[t[2]] - x_[t[0]];
-    Eigen::Matrix<double, 3, 2> space;
-    space.col(0) = mesh_.positions[t[1]] - mesh_.positions[t[0]];
-    space.col(1) = mesh_.positions[t[2]] - mesh_.positions[t[0]];
-    return (space * flat.inverse() * d).norm();
+    const double lambda = std::clamp(Cross2(p - x_[a], d) / Cross2(e, d), 0.0, 1.0);
+    return mesh_.positions[a] + lambda * (mesh_.positions[b] - mesh_.positions[a]);
   }
 
   const DiskMesh& mesh_;

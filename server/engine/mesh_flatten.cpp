@@ -1,7 +1,6 @@
 #include "engine/mesh_flatten.hpp"
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <chrono>
@@ -12,6 +11,7 @@
 #include "engine/flatten_solvers.hpp"
 #include "engine/mesh_chart.hpp"
 #include "engine/parallel.hpp"
+#include "engine/sparse_cholesky.hpp"
 
 namespace surfdeform {
 namespace {
@@ -37,20 +37,20 @@ class GroundedLaplacian {
     for (int v = 0; v < g; ++v) entries.emplace_back(v, v, degree[v]);
     Eigen::SparseMatrix<double> l(g, g);
     l.setFromTriplets(entries.begin(), entries.end());
-    ldlt_.compute(l);
+    factor_ = std::make_unique<SparseCholesky>(l);
   }
-  bool ok() const { return ldlt_.info() == Eigen::Success; }
+  bool ok() const { return factor_->ok(); }
   // b (x block then y block of n) -> L^+ b with the last vertex at the origin.
   void Solve(Eigen::VectorXd* b) const {
     Eigen::Map<Eigen::MatrixXd> m(b->data(), n_, 2);
     const Eigen::MatrixXd top = m.topRows(n_ - 1);
-    m.topRows(n_ - 1) = ldlt_.solve(top);
+    m.topRows(n_ - 1) = factor_->Solve(top);
     m.row(n_ - 1).setZero();
   }
 
  private:
   int n_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;
+  std::unique_ptr<SparseCholesky> factor_;
 };
 
 internal::SolveStats Majorize(const GroundedLaplacian& laplacian,
@@ -73,13 +73,59 @@ internal::SolveStats Majorize(const GroundedLaplacian& laplacian,
   };
   map.solve = [&](Eigen::VectorXd* rhs) { laplacian.Solve(rhs); };
   const internal::SolveStats stats = internal::IterateMajorization(
-      map, internal::SquaredDistanceSum(pairs), options.tolerance, max_iterations, &x, deadline);
+      map, internal::SquaredDistanceSum(pairs), options.tolerance, max_iterations, &x, deadline,
+      1e-24);  // a stress of 1e-12: none (a developable mesh crawls to its last bits otherwise)
   for (int i = 0; i < n; ++i) (*positions)[i] = Vec2(x(i), x(n + i));
   return stats;
 }
 
 double SignedArea(const std::vector<Vec2>& x, const std::array<int, 3>& t) {
   return 0.5 * Cross2(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
+}
+
+// Turns back triangles the stress let fold: it barely sees a thin one flip.
+// Each interior vertex of a folded triangle moves to the mean-value
+// combination of its neighbours (Floater 2003; weights from the angles of
+// its one-ring in space), which reproduces a planar one-ring exactly and
+// lies within the convex hull of the ring. Up to `passes` passes over the
+// folded triangles; returns how many stay folded.
+int Untangle(const DiskMesh& mesh, const internal::MeshAdjacency& adjacency, int passes,
+             std::vector<Vec2>* x) {
+  std::vector<char> on_boundary(mesh.positions.size(), 0);
+  for (int v : mesh.boundary) on_boundary[v] = 1;
+  const std::vector<Vec3>& p = mesh.positions;
+  std::vector<int> moving;
+  for (int pass = 0;; ++pass) {
+    moving.clear();
+    for (const auto& t : mesh.triangles) {
+      if (SignedArea(*x, t) > 0.0) continue;
+      for (int v : t) {
+        if (!on_boundary[v]) moving.push_back(v);
+      }
+    }
+    if (moving.empty() || pass == passes) {
+      int folded = 0;
+      for (const auto& t : mesh.triangles) folded += SignedArea(*x, t) > 0.0 ? 0 : 1;
+      return folded;
+    }
+    std::sort(moving.begin(), moving.end());
+    moving.erase(std::unique(moving.begin(), moving.end()), moving.end());
+    for (int v : moving) {
+      Vec2 sum = Vec2::Zero();
+      double weights = 0.0;
+      for (int k = adjacency.triangle_start[v]; k < adjacency.triangle_start[v + 1]; ++k) {
+        const auto& t = mesh.triangles[adjacency.triangles[k]];
+        const int c = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+        const int a = t[(c + 1) % 3], b = t[(c + 2) % 3];
+        const Vec3 ea = p[a] - p[v], eb = p[b] - p[v];
+        const double half = 0.5 * std::atan2(ea.cross(eb).norm(), ea.dot(eb));
+        const double wa = std::tan(half) / ea.norm(), wb = std::tan(half) / eb.norm();
+        sum += wa * (*x)[a] + wb * (*x)[b];
+        weights += wa + wb;
+      }
+      if (weights > 0.0) (*x)[v] = sum / weights;
+    }
+  }
 }
 
 // Moves `x` to the canonical frame: counter-clockwise triangles, the area
@@ -150,6 +196,22 @@ std::vector<Vec3> VertexNormals(const DiskMesh& mesh) {
 }
 
 }  // namespace
+
+FlattenQuality MeasureMeshLayout(const FlatMesh& reference, std::vector<Vec2> layout, int threads) {
+  const DiskMesh& mesh = reference.mesh;
+  const internal::MeshAdjacency adjacency = internal::Adjacency(mesh);
+  std::vector<GridEdge> pairs = internal::RingPairs(adjacency, 3, threads);
+  internal::MeasureAlongChart(mesh, adjacency, reference.flat, threads, &pairs);
+  std::erase_if(pairs, [](const GridEdge& e) { return !(e.d > 0.0); });
+  double total = 0.0;
+  for (const auto& t : mesh.triangles) total += SignedArea(layout, t);
+  if (total < 0.0) {
+    for (Vec2& p : layout) p.x() = -p.x();
+  }
+  FlattenQuality q;
+  MeasureMeshQuality(mesh, pairs, layout, &q);
+  return q;
+}
 
 Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options) {
   const auto t0 = Clock::now();
@@ -228,6 +290,7 @@ Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options) {
     }
   }
   Canonicalize(mesh, &x);
+  Untangle(mesh, adjacency, 100, &x);
   std::vector<GridEdge> measured;
   for (const GridEdge& e : all) {
     if (e.ring <= 3 && e.d > 0.0) measured.push_back(e);

@@ -53,4 +53,12 @@ struct FlatMesh {
 // rings (1..8); time_budget_ms bounds the whole call (kDeadlineExceeded).
 Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options);
 
+// The quality of any layout of `reference`'s mesh (another method's, for
+// comparisons) on the flattening's terms: the pairs within 3 rings, their
+// distances measured along the reference's own flat layout. A mirrored
+// layout (clockwise triangles) is mirrored back first: a reflection keeps
+// every distance.
+FlattenQuality MeasureMeshLayout(const FlatMesh& reference, std::vector<Vec2> layout,
+                                 int threads = 0);
+
 }  // namespace surfdeform
