@@ -1,6 +1,7 @@
 // CGAL's surface parameterizers as a benchmark peer (optional dependency).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -18,5 +19,14 @@ struct PeerResult {
 // and parameterizes it with CGAL's ARAP ("arap") or LSCM ("lscm") parameterizer
 // with a free border, as CGAL's defaults do.
 PeerResult CgalParameterize(const Surface& surface, int nu, int nv, const std::string& method);
+
+// The Delaunay triangulation of points in the plane (CGAL's
+// Delaunay_triangulation_2), counter-clockwise, by the points' indices.
+std::vector<std::array<int, 3>> DelaunayTriangles(const std::vector<Vec2>& points);
+
+// The same for a triangle mesh (a disk): `flat` per vertex.
+PeerResult CgalParameterizeMesh(const std::vector<Vec3>& positions,
+                                const std::vector<std::array<int, 3>>& triangles,
+                                const std::string& method);
 
 }  // namespace surfdeform::bench

@@ -1,0 +1,245 @@
+// mesh_flatten_bench: surfaces given as meshes (issue #37). Irregular
+// triangulations (with CGAL: the Delaunay triangulation of random points of
+// the parameter square and points evenly along its sides; without: a grid
+// with each interior vertex moved at random by up to 0.2 of a cell and each
+// cell split along a random diagonal) of half a cylinder and of the paper's
+// Figure 10 patch, flattened by FlattenMesh
+// and, in the same run, by CGAL's ARAP and LSCM parameterizers. Prints time,
+// stress on our terms (pairs within 3 rings), folded triangles, the ratios,
+// and for the cylinder each layout's largest distance from the exact
+// development after the best rigid motion, against the tessellation's own
+// error (the largest chord's shortfall from its arc).
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "engine/disk_mesh.hpp"
+#include "engine/mesh_flatten.hpp"
+#include "engine/surface_spec.hpp"
+#include "harness.hpp"
+#include "support/surface_file.hpp"
+#ifdef SURFDEFORM_HAVE_CGAL
+#include "cgal_peer.hpp"
+#endif
+
+namespace surfdeform {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Triangulation {
+  std::vector<Vec3> positions;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  std::vector<Vec2> st;  // each vertex's parameters
+};
+
+// About `vertices` vertices over the parameter square, mapped through f.
+template <typename F>
+Triangulation Irregular(int vertices, unsigned seed, const F& f) {
+  Triangulation m;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+#ifdef SURFDEFORM_HAVE_CGAL
+  const int side = static_cast<int>(std::sqrt(static_cast<double>(vertices)));
+  for (int k = 0; k < side; ++k) {  // the sides, evenly
+    const double a = static_cast<double>(k) / side;
+    m.st.insert(m.st.end(), {Vec2(a, 0), Vec2(1, a), Vec2(1 - a, 1), Vec2(0, 1 - a)});
+  }
+  while (static_cast<int>(m.st.size()) < vertices) m.st.emplace_back(unit(rng), unit(rng));
+  for (const auto& t : bench::DelaunayTriangles(m.st)) {
+    m.triangles.push_back(
+        {static_cast<uint32_t>(t[0]), static_cast<uint32_t>(t[1]), static_cast<uint32_t>(t[2])});
+  }
+#else
+  const int cells = static_cast<int>(std::sqrt(static_cast<double>(vertices))) - 1;
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  std::bernoulli_distribution flip(0.5);
+  const int n = cells + 1;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      double s = static_cast<double>(i) / cells, t = static_cast<double>(j) / cells;
+      if (i > 0 && i < cells) s += jitter(rng) / cells;
+      if (j > 0 && j < cells) t += jitter(rng) / cells;
+      m.st.emplace_back(s, t);
+    }
+  }
+  for (int j = 0; j < cells; ++j) {
+    for (int i = 0; i < cells; ++i) {
+      const uint32_t a = i + n * j, b = a + 1, c = a + 1 + n, d = a + n;
+      if (flip(rng)) {
+        m.triangles.push_back({a, b, c});
+        m.triangles.push_back({a, c, d});
+      } else {
+        m.triangles.push_back({a, b, d});
+        m.triangles.push_back({b, c, d});
+      }
+    }
+  }
+  (void)unit;
+#endif
+  for (const Vec2& st : m.st) m.positions.push_back(f(st.x(), st.y()));
+  return m;
+}
+
+// The largest distance of `flat` from `exact` after the best rigid motion
+// (Kabsch in the plane; a mirrored layout is mirrored back first), and
+// with `scale` the best uniform scale too.
+double AlignedError(std::vector<Vec2> flat, const std::vector<Vec2>& exact, bool scale) {
+  const size_t n = flat.size();
+  for (int pass = 0; pass < 2; ++pass) {
+    Vec2 ca = Vec2::Zero(), cb = Vec2::Zero();
+    for (size_t v = 0; v < n; ++v) {
+      ca += flat[v];
+      cb += exact[v];
+    }
+    ca /= static_cast<double>(n);
+    cb /= static_cast<double>(n);
+    Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
+    double aa = 0.0;
+    for (size_t v = 0; v < n; ++v) {
+      h += (flat[v] - ca) * (exact[v] - cb).transpose();
+      aa += (flat[v] - ca).squaredNorm();
+    }
+    const Eigen::JacobiSVD<Eigen::Matrix2d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::Matrix2d r = svd.matrixV() * svd.matrixU().transpose();
+    if (r.determinant() < 0.0 && pass == 0) {
+      for (Vec2& p : flat) p.x() = -p.x();
+      continue;
+    }
+    const double k = scale ? svd.singularValues().sum() / aa : 1.0;
+    double worst = 0.0;
+    for (size_t v = 0; v < n; ++v) {
+      worst = std::max(worst, (k * r * (flat[v] - ca) + cb - exact[v]).norm());
+    }
+    return worst;
+  }
+  return -1.0;
+}
+
+struct Row {
+  std::string method;
+  double ms = 0.0;
+  FlattenQuality quality;
+  double development = -1.0;  // cylinder only
+  std::string note;
+};
+
+void Print(const Row& r, const Row& ours) {
+  std::printf("  %-12s %9.1f ms (%5.2fx ours)  stress %.3e  folded %6d", r.method.c_str(), r.ms,
+              r.ms / ours.ms, r.quality.stress, r.quality.folded_cells);
+  if (r.development >= 0.0) std::printf("  development error %.3e", r.development);
+  std::printf("%s%s\n", r.note.empty() ? "" : "  ", r.note.c_str());
+}
+
+int Run(int argc, char** argv) {
+  CLI::App app("Surfaces given as meshes: FlattenMesh against CGAL's ARAP and LSCM");
+  std::vector<int> sizes = {5000, 50000};
+  int repeat = 1;
+  app.add_option("--vertices", sizes, "vertices of each triangulation");
+  app.add_option("--repeat", repeat, "runs per method (the median is printed)");
+  CLI11_PARSE(app, argc, argv);
+
+  auto figure10 = MakeSurface(testing::LoadBezierFile(testing::DataPath("figure10.json")));
+  if (!figure10.ok()) return 1;
+  constexpr double kAngle = std::numbers::pi;
+  for (int c : sizes) {
+    for (int kind = 0; kind < 2; ++kind) {
+      const Triangulation m =
+          kind == 0 ? Irregular(c, 1,
+                                [](double s, double t) -> Vec3 {
+                                  return Vec3(std::cos(kAngle * s), std::sin(kAngle * s), 2.0 * t);
+                                })
+                    : Irregular(c, 2, [&](double s, double t) -> Vec3 {
+                        return (*figure10)->Position(s, t);
+                      });
+      std::vector<Vec2> exact;
+      for (const Vec2& st : m.st) exact.emplace_back(kAngle * st.x(), 2.0 * st.y());
+      std::printf("%s, %zu vertices, %zu triangles\n",
+                  kind == 0 ? "half cylinder (r 1, h 2)" : "figure 10 patch", m.positions.size(),
+                  m.triangles.size());
+      if (kind == 0) {
+        // The chord spanning the most angle: its shortfall from its arc.
+        double widest = 0.0;
+        for (const auto& t : m.triangles) {
+          for (int k = 0; k < 3; ++k) {
+            widest = std::max(widest, std::abs(m.st[t[k]].x() - m.st[t[(k + 1) % 3]].x()));
+          }
+        }
+        const double a = kAngle * widest;
+        std::printf("  tessellation error: widest edge %.3g rad, chord short of its arc by %.3e\n",
+                    a, a - 2 * std::sin(a / 2));
+      }
+      std::vector<double> times;
+      Result<FlatMesh> flat = Status(ErrorCode::kInternal, "not run");
+      for (int r = 0; r < repeat; ++r) {
+        const auto t0 = Clock::now();
+        auto disk = MakeDiskMesh(m.positions, m.triangles);
+        if (!disk.ok()) return 1;
+        flat = FlattenMesh(std::move(*disk), FlattenOptions{});
+        times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        if (!flat.ok()) {
+          std::printf("  ours: %s\n", flat.status().ToString().c_str());
+          break;
+        }
+      }
+      if (!flat.ok()) continue;
+      Row ours{"ours", bench::Median(times), flat->quality, -1.0, ""};
+      ours.note = std::to_string(flat->quality.iterations) + " iterations, distances " +
+                  std::to_string(static_cast<int>(flat->quality.distance_ms)) + " ms, solve " +
+                  std::to_string(static_cast<int>(flat->quality.solve_ms)) + " ms";
+      if (kind == 0) ours.development = AlignedError(flat->flat, exact, false);
+      Print(ours, ours);
+#ifdef SURFDEFORM_HAVE_CGAL
+      std::vector<std::array<int, 3>> tris;
+      for (const auto& t : m.triangles) {
+        tris.push_back({static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])});
+      }
+      for (const char* method : {"arap", "lscm"}) {
+        std::vector<double> peer_times;
+        bench::PeerResult p;
+        for (int r = 0; r < repeat; ++r) {
+          const auto t0 = Clock::now();
+          p = bench::CgalParameterizeMesh(m.positions, tris, method);
+          peer_times.push_back(
+              std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        }
+        Row row{std::string("cgal-") + method, bench::Median(peer_times), {}, -1.0, ""};
+        if (!p.ok) {
+          row.note = p.error;
+          Print(row, ours);
+          continue;
+        }
+        std::vector<Vec2> x = p.flat;
+        if (std::string(method) == "lscm") {
+          // LSCM's scale is arbitrary: the uniform scale that best fits the edges.
+          double dl = 0.0, ll = 0.0;
+          for (const auto& t : m.triangles) {
+            for (int k = 0; k < 3; ++k) {
+              const int a = static_cast<int>(t[k]), b = static_cast<int>(t[(k + 1) % 3]);
+              const double l = (x[a] - x[b]).norm();
+              dl += (m.positions[a] - m.positions[b]).norm() * l;
+              ll += l * l;
+            }
+          }
+          for (Vec2& q : x) q *= dl / ll;
+          row.note = "after the best uniform scale";
+        }
+        row.quality = MeasureMeshLayout(*flat, x);
+        if (kind == 0) row.development = AlignedError(x, exact, false);
+        Print(row, ours);
+      }
+#endif
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace surfdeform
+
+int main(int argc, char** argv) { return surfdeform::Run(argc, argv); }
