@@ -172,13 +172,16 @@ json SheetJson(const StoredSurface& s) {
     // The flat triangles in the sheet's frame: the sheet itself, where the
     // grid above only samples its box.
     json vertices = json::array();
+    json space = json::array();
     json triangles = json::array();
     for (const Vec2& p : m->flat) {
       const Vec2 q = s.sheet.frame_linear * p + s.sheet.frame_offset;
       vertices.push_back({q.x(), q.y()});
     }
+    for (const Vec3& p : m->mesh.positions) space.push_back({p.x(), p.y(), p.z()});
     for (const auto& t : m->mesh.triangles) triangles.push_back({t[0], t[1], t[2]});
     j["mesh"]["flat"] = std::move(vertices);
+    j["mesh"]["points"] = std::move(space);  // the vertices in space (welded)
     j["mesh"]["triangles"] = std::move(triangles);
   }
   return j;

@@ -577,6 +577,57 @@ try {
     }
   }
 
+  // Surfaces given as meshes (issue #37): the panel preset (a triangle mesh
+  // uploaded as a model) flattens to its flat triangles, drawn on the sheet,
+  // and the plate deforms along it; a mesh dropped on the sheet becomes the
+  // surface.
+  await page.select('#preset', 'panel');
+  await sleep(300);
+  if (await settled('ready', 'on the panel mesh')) {
+    const triangles = await page.evaluate(() => {
+      const s = window.surfdeformViewer.sheet();
+      return s && s.mesh ? s.mesh.triangles.length : 0;
+    });
+    check(triangles === 1728, `the panel's sheet is its 1728 flat triangles (${triangles})`);
+    const s = await stats();
+    check(s && s.vertices >= 8 && s.placement.outside === 0,
+          `the plate deformed along the panel mesh (${s && s.vertices} vertices)`);
+    const quality = await text('#quality');
+    check(/925 vertices, 1728 triangles/.test(quality) && /folded triangles/.test(quality),
+          `the quality panel describes the mesh: ${quality.replace(/\s+/g, ' ').slice(0, 100)}`);
+    await shot('panel');
+  }
+  await page.evaluate(() => {
+    // Half a cylinder, 6 x 4 cells: 35 vertices, 48 triangles.
+    const lines = [];
+    for (let j = 0; j <= 4; ++j) {
+      for (let i = 0; i <= 6; ++i) {
+        const a = (Math.PI * i) / 6;
+        lines.push(`v ${Math.cos(a)} ${Math.sin(a)} ${0.5 * j}`);
+      }
+    }
+    for (let j = 0; j < 4; ++j) {
+      for (let i = 0; i < 6; ++i) {
+        const a = 1 + i + 7 * j, b = a + 1, c = a + 8, d = a + 7;
+        lines.push(`f ${a} ${b} ${c}`, `f ${a} ${c} ${d}`);
+      }
+    }
+    const file = new File([lines.join('\n') + '\n'], 'half-cylinder.obj');
+    const transfer = new DataTransfer();
+    transfer.items.add(file);
+    document.querySelector('#sheet').dispatchEvent(
+        new DragEvent('drop', { dataTransfer: transfer, bubbles: true, cancelable: true }));
+  });
+  await sleep(300);
+  if (await settled('ready', 'after dropping a surface mesh on the sheet')) {
+    const dropped = await page.evaluate(() => {
+      const s = window.surfdeformViewer.sheet();
+      return s && s.mesh ? s.mesh.triangles.length : 0;
+    });
+    check(dropped === 48, `a mesh dropped on the sheet is the surface: 48 flat triangles (${dropped})`);
+    await shot('dropped-surface');
+  }
+
   // A broken upload through the file input: the server's problem detail
   // appears on the page.
   const broken = path.join(artifacts, 'broken.obj');

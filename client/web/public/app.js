@@ -21,7 +21,7 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 
-import { createSurface, deform, getSurface, mapOnSurface } from './api.js';
+import { createSurface, deform, getSurface, mapOnSurface, uploadModel } from './api.js';
 import { AnimationPanel } from './animation_panel.js';
 import { dracoLoader, footprint, placementFrame, readModel } from './footprint.js';
 import { ModelView } from './model_view.js';
@@ -221,18 +221,24 @@ async function refreshSurface(known = null) {
     const sheet = await getSurface(summary.id);
     if (run !== surfaceRun) return;
     const q = summary.quality;
+    const piece = sheet.mesh ? 'triangle' : 'cell';
     state.surfaceInfo = [
       ['surface id', summary.id.slice(0, 12) + '…'],
+      ...(sheet.mesh ? [['mesh', `${summary.mesh.vertices} vertices, ${summary.mesh.triangles} triangles`]] : []),
       ['flatten', `${summary.method}, ${fmt(summary.timing_ms.flatten, 3)} ms${summary.cached ? ' (cached)' : ''}`],
       ['stress', fmt(q.stress)],
       ['max edge error', fmt(q.max_edge_error)],
-      ['cell area ratio', `${fmt(q.area_ratio_min)} … ${fmt(q.area_ratio_max)}`],
-      ['folded cells', q.folded_cells],
+      [`${piece} area ratio`, `${fmt(q.area_ratio_min)} … ${fmt(q.area_ratio_max)}`],
+      [`folded ${piece}s`, q.folded_cells],
     ];
     list($('quality'), state.surfaceInfo);
     sheetView.setSheet(sheet);
     preview.setPeriod(sheet);
-    modelView.setSurface(sheet.points, sheet.grid.nu, sheet.grid.nv);
+    if (sheet.mesh) {
+      modelView.setSurfaceMesh(sheet.mesh.points, sheet.mesh.triangles.flat());
+    } else {
+      modelView.setSurface(sheet.points, sheet.grid.nu, sheet.grid.nv);
+    }
     showMark(sheetView.mark);  // the mark stays where it was on the sheet
     modelView.setControlPoints(state.spec.kind === 'bezier' ? state.spec.control_points : []);
     if (!state.placement.center || state.recentre) {
@@ -440,6 +446,27 @@ async function useModel(name, bytes) {
   scheduleDeform(0);
 }
 
+// A surface given as a mesh (a disk-shaped triangle mesh file): uploaded as
+// a model, then flattened as the surface {kind: "mesh", model_id}.
+async function useSurfaceMesh(name, bytes) {
+  const model = await uploadModel(bytes, name);
+  state.spec = { kind: 'mesh', model_id: model.id };
+  state.surfaceMeshName = name;
+  state.recentre = true;
+  modelView.framed = false;
+  scheduleSurface();
+}
+
+async function useSurfaceFile(file) {
+  if (!file) return;
+  setState('loading');
+  try {
+    await useSurfaceMesh(file.name, await file.arrayBuffer());
+  } catch (e) {
+    showError(e);
+  }
+}
+
 async function useFile(file) {
   if (!file) return;
   setState('loading');
@@ -478,6 +505,7 @@ $('sample').addEventListener('change', async () => {
   }
 });
 $('upload').addEventListener('change', (e) => useFile(e.target.files[0]));
+$('surface-upload').addEventListener('change', (e) => useSurfaceFile(e.target.files[0]));
 document.addEventListener('dragover', (e) => {
   e.preventDefault();
   document.body.classList.add('dragover');
@@ -486,7 +514,12 @@ document.addEventListener('dragleave', () => document.body.classList.remove('dra
 document.addEventListener('drop', (e) => {
   e.preventDefault();
   document.body.classList.remove('dragover');
-  useFile(e.dataTransfer.files[0]);
+  // On the flat sheet: the file is the surface (a mesh); anywhere else, the model.
+  if (e.target.closest && e.target.closest('#sheet')) {
+    useSurfaceFile(e.dataTransfer.files[0]);
+  } else {
+    useFile(e.dataTransfer.files[0]);
+  }
 });
 $('rotation').addEventListener('input', () => {
   state.placement.rotation_deg = Number($('rotation').value);

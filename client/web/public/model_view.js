@@ -97,9 +97,6 @@ export class ModelView {
   // The sampled surface (points u fastest), a translucent sheet; `keep`
   // (optional, per quad) leaves quads out.
   setSurface(points, nu, nv, keep = null) {
-    if (this.surface) this.scene.remove(this.surface);
-    const geometry = new THREE.BufferGeometry();
-    geometry.setAttribute('position', new THREE.Float32BufferAttribute(points.flat(), 3));
     const index = [];
     for (let j = 0; j + 1 < nv; ++j) {
       for (let i = 0; i + 1 < nu; ++i) {
@@ -107,6 +104,15 @@ export class ModelView {
         if (!keep || keep(a, b, c, d)) index.push(a, b, c, a, c, d);
       }
     }
+    this.setSurfaceMesh(points, index);
+  }
+
+  // The surface as triangles: points [x, y, z] and a flat index list (a
+  // surface given as a mesh is drawn as its own triangles).
+  setSurfaceMesh(points, index) {
+    if (this.surface) this.scene.remove(this.surface);
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.Float32BufferAttribute(points.flat(), 3));
     geometry.setIndex(index);
     geometry.computeVertexNormals();
     this.surface = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({

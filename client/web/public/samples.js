@@ -1,5 +1,8 @@
 // Surface presets (the paper's Bezier figures and the NURBS bottle, served
-// from /samples/, and analytic kinds) and sample models.
+// from /samples/, analytic kinds, and the panel: a surface given as a mesh,
+// uploaded as a model) and sample models.
+
+import { uploadModel } from './api.js';
 
 export async function surfacePreset(name) {
   if (name.startsWith('figure') || name === 'bottle') {
@@ -8,6 +11,12 @@ export async function surfacePreset(name) {
     const spec = await r.json();
     delete spec.description;  // a note for people; the API takes surface fields only
     return spec;
+  }
+  if (name === 'panel') {
+    const r = await fetch('/samples/panel.obj');
+    if (!r.ok) throw new Error('cannot load the panel mesh');
+    const model = await uploadModel(await r.arrayBuffer(), 'panel.obj');
+    return { kind: 'mesh', model_id: model.id };
   }
   switch (name) {
     case 'cylinder': return { kind: 'cylinder', radius: 1, height: 2, angle_deg: 180 };

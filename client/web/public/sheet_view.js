@@ -37,6 +37,10 @@ export class SheetView {
 
   setSheet(sheet) {
     const { nu, nv } = sheet.grid;
+    if (sheet.mesh) {
+      this.setMeshSheet(sheet);
+      return;
+    }
     const ratios = [];
     for (let j = 0; j + 1 < nv; ++j) {
       for (let i = 0; i + 1 < nu; ++i) {
@@ -64,6 +68,27 @@ export class SheetView {
     for (let i = nu - 2; i >= 0; --i) outline.push(sheet.flat[i + nu * (nv - 1)]);
     for (let j = nv - 2; j > 0; --j) outline.push(sheet.flat[nu * j]);
     this.sheet = { nu, nv, flat: sheet.flat, ratios, spread, lo, hi, period, periodV, outline };
+    this.draw();
+  }
+
+  // A surface given as a mesh: the sheet is its flat triangles (their box's
+  // lattice is only sampled), each coloured by its own area ratio.
+  setMeshSheet(sheet) {
+    const { flat, points, triangles } = sheet.mesh;
+    const ratios = triangles.map(([a, b, c]) => {
+      const s = cellArea(points[a], points[b], points[c], points[c]);
+      return s > 0 ? cellArea(flat[a], flat[b], flat[c], flat[c]) / s : 1;
+    });
+    let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+    for (const [x, y] of flat) {
+      lo = [Math.min(lo[0], x), Math.min(lo[1], y)];
+      hi = [Math.max(hi[0], x), Math.max(hi[1], y)];
+    }
+    const spread = Math.max(0.01, ...ratios.map((r) => Math.abs(Math.log(r))));
+    const { nu, nv } = sheet.grid;
+    const outline = [sheet.flat[0], sheet.flat[nu - 1], sheet.flat[nu * nv - 1], sheet.flat[nu * (nv - 1)]];
+    this.sheet = { nu, nv, flat: sheet.flat, ratios, spread, lo, hi, period: null, periodV: null,
+                   outline, mesh: { flat, triangles } };
     this.draw();
   }
 
@@ -170,21 +195,27 @@ export class SheetView {
     ctx.fillStyle = '#fafafa';
     ctx.fillRect(0, 0, this.canvas.width, this.canvas.height);
     if (!this.sheet) return;
-    const { nu, nv, flat, ratios, spread } = this.sheet;
+    const { nu, nv, flat, ratios, spread, mesh } = this.sheet;
     const { toPx } = this.frame();
-    for (let j = 0; j + 1 < nv; ++j) {
-      for (let i = 0; i + 1 < nu; ++i) {
-        const x = Math.log(ratios[i + (nu - 1) * j]) / spread;  // -1 .. 1
-        const w = Math.round(255 * (1 - Math.abs(x)));
-        ctx.fillStyle = x > 0 ? `rgb(255,${w},${w})` : `rgb(${w},${w},255)`;
-        ctx.strokeStyle = '#8888';
-        ctx.beginPath();
-        for (const [a, b] of [[i, j], [i + 1, j], [i + 1, j + 1], [i, j + 1]]) {
-          ctx.lineTo(...toPx(flat[a + nu * b]));
+    const patch = (corners, ratio) => {
+      const x = Math.log(ratio) / spread;  // -1 .. 1
+      const w = Math.round(255 * (1 - Math.abs(x)));
+      ctx.fillStyle = x > 0 ? `rgb(255,${w},${w})` : `rgb(${w},${w},255)`;
+      ctx.strokeStyle = mesh ? '#8884' : '#8888';
+      ctx.beginPath();
+      for (const p of corners) ctx.lineTo(...toPx(p));
+      ctx.closePath();
+      ctx.fill();
+      ctx.stroke();
+    };
+    if (mesh) {
+      mesh.triangles.forEach((t, k) => patch(t.map((v) => mesh.flat[v]), ratios[k]));
+    } else {
+      for (let j = 0; j + 1 < nv; ++j) {
+        for (let i = 0; i + 1 < nu; ++i) {
+          patch([[i, j], [i + 1, j], [i + 1, j + 1], [i, j + 1]].map(([a, b]) => flat[a + nu * b]),
+                ratios[i + (nu - 1) * j]);
         }
-        ctx.closePath();
-        ctx.fill();
-        ctx.stroke();
       }
     }
     if (this.sheet.period || this.sheet.periodV) {  // the seams, both sides of each
