@@ -109,27 +109,40 @@ int FlatTriangles::Locate(const Vec2& p, Vec3* bary) const {
 FlatTriangles::Nearest FlatTriangles::NearestOnBoundary(const Vec2& p) const {
   Nearest best;
   best.distance = std::numeric_limits<double>::infinity();
+  auto consider = [&](int s) {
+    const Vec2 q = NearestOnSegment(segments_[s][0], segments_[s][1], p);
+    const double d = (q - p).norm();
+    if (d < best.distance) {
+      best.distance = d;
+      best.point = q;
+      best.triangle = segment_triangle_[s];
+    }
+  };
+  // Rings of buckets round p's (its projection's, from outside the box: no
+  // point of ring r is nearer than `outside` and (r - 1) cells together),
+  // until no nearer segment can be left; past as many buckets as there are
+  // segments, every segment instead: a query costs at most O(segments).
   const Eigen::Vector2i c = CellOf(p);
   const double step = cell_.minCoeff();
+  const double outside = bounds_.exteriorDistance(p);
   const int most = std::max(columns_, rows_);
+  long long visited = 0;
+  const long long budget = static_cast<long long>(segments_.size());
   for (int r = 0; r <= most; ++r) {
-    if (r > 0 && (r - 1) * step > best.distance) break;
+    const double ring = std::max(r - 1, 0) * step;
+    if (r > 0 && std::sqrt(outside * outside + ring * ring) > best.distance) break;
+    if (visited > budget) {
+      for (size_t s = 0; s < segments_.size(); ++s) consider(static_cast<int>(s));
+      break;
+    }
     for (int y = c.y() - r; y <= c.y() + r; ++y) {
       if (y < 0 || y >= rows_) continue;
       const bool edge_row = y == c.y() - r || y == c.y() + r;
       for (int x = c.x() - r; x <= c.x() + r; x += edge_row ? 1 : 2 * std::max(r, 1)) {
         if (x < 0 || x >= columns_) continue;
         const int b = Bucket(Eigen::Vector2i(x, y));
-        for (int k = segment_start_[b]; k < segment_start_[b + 1]; ++k) {
-          const int s = segment_ids_[k];
-          const Vec2 q = NearestOnSegment(segments_[s][0], segments_[s][1], p);
-          const double d = (q - p).norm();
-          if (d < best.distance) {
-            best.distance = d;
-            best.point = q;
-            best.triangle = segment_triangle_[s];
-          }
-        }
+        ++visited;
+        for (int k = segment_start_[b]; k < segment_start_[b + 1]; ++k) consider(segment_ids_[k]);
       }
     }
   }

@@ -302,6 +302,10 @@ TEST(MeshSurface, EvaluatesToTheMeshAndKnowsWhereItEnds) {
   EXPECT_GT(gap, 0.3);
   EXPECT_EQ(*surface.DomainGap(nearest, nullptr), 0.0);
   EXPECT_NEAR(*surface.DomainDepth(*surface.InverseUnrolling(off)), -gap, 1e-12);
+  // Far off (the rings would be many; every segment is measured instead).
+  const Vec2 far = surface.index().bounds().max() + Vec2(40.0, 25.0);
+  EXPECT_NEAR(*surface.DomainGap(*surface.InverseUnrolling(far), nullptr), to_boundary(far),
+              1e-12);
   const Vec2 centre(0.1, 0.05);
   EXPECT_NEAR(*surface.DomainDepth(*surface.InverseUnrolling(centre)), to_boundary(centre), 1e-12);
 }
