@@ -197,12 +197,37 @@ std::vector<Vec3> VertexNormals(const DiskMesh& mesh) {
 
 }  // namespace
 
+Result<FlatMesh> AssembleFlatMesh(DiskMesh mesh, std::vector<Vec2> flat,
+                                  const FlattenQuality& quality) {
+  if (flat.size() != mesh.positions.size()) {
+    return InvalidArgument("the flat positions are " + std::to_string(flat.size()) +
+                           " for a mesh of " + std::to_string(mesh.positions.size()) + " vertices");
+  }
+  for (const Vec2& p : flat) {
+    if (!p.allFinite()) return InvalidArgument("a flat position is not finite");
+  }
+  for (const auto& t : mesh.triangles) {
+    if (!(SignedArea(flat, t) > 0.0)) return InvalidArgument("a flat triangle is folded");
+  }
+  FlatMesh out;
+  out.normals = VertexNormals(mesh);
+  out.mesh = std::move(mesh);
+  out.flat = std::move(flat);
+  out.quality = quality;
+  return out;
+}
+
+std::vector<GridEdge> MeshPairDistances(const FlatMesh& reference, int rings, int threads) {
+  const internal::MeshAdjacency adjacency = internal::Adjacency(reference.mesh);
+  std::vector<GridEdge> pairs = internal::RingPairs(adjacency, rings, threads);
+  internal::MeasureAlongChart(reference.mesh, adjacency, reference.flat, threads, &pairs);
+  std::erase_if(pairs, [](const GridEdge& e) { return !(e.d > 0.0); });
+  return pairs;
+}
+
 FlattenQuality MeasureMeshLayout(const FlatMesh& reference, std::vector<Vec2> layout, int threads) {
   const DiskMesh& mesh = reference.mesh;
-  const internal::MeshAdjacency adjacency = internal::Adjacency(mesh);
-  std::vector<GridEdge> pairs = internal::RingPairs(adjacency, 3, threads);
-  internal::MeasureAlongChart(mesh, adjacency, reference.flat, threads, &pairs);
-  std::erase_if(pairs, [](const GridEdge& e) { return !(e.d > 0.0); });
+  const std::vector<GridEdge> pairs = MeshPairDistances(reference, 3, threads);
   double total = 0.0;
   for (const auto& t : mesh.triangles) total += SignedArea(layout, t);
   if (total < 0.0) {

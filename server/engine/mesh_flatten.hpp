@@ -53,6 +53,19 @@ struct FlatMesh {
 // rings (1..8); time_budget_ms bounds the whole call (kDeadlineExceeded).
 Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options);
 
+// A flattening made before (another replica's, from the shared tier): `mesh`
+// with the flat positions `flat` (FlatMesh::flat of a FlattenMesh of it) and
+// their quality; the normals are computed again. kInvalidArgument when the
+// positions do not fit the mesh (their count, a non-finite or folded one).
+Result<FlatMesh> AssembleFlatMesh(DiskMesh mesh, std::vector<Vec2> flat,
+                                  const FlattenQuality& quality);
+
+// The vertex pairs within `rings` rings of `reference`'s mesh and their
+// distances as the flattening measures them (along its flat layout; pairs
+// whose segment leaves the mesh left out): for comparisons with exact
+// geodesics.
+std::vector<GridEdge> MeshPairDistances(const FlatMesh& reference, int rings, int threads = 0);
+
 // The quality of any layout of `reference`'s mesh (another method's, for
 // comparisons) on the flattening's terms: the pairs within 3 rings, their
 // distances measured along the reference's own flat layout. A mirrored

@@ -123,7 +123,9 @@ std::string EncodeSheet(const FlatSheet& sheet, const EncodedSheetParts& parts) 
                        sheet.frame_linear(1, 1), sheet.frame_offset.x(), sheet.frame_offset.y()}},
                      {"period_u", {sheet.period_u.x(), sheet.period_u.y()}},
                      {"period_v", {sheet.period_v.x(), sheet.period_v.y()}},
-                     {"quality", QualityJson(sheet.quality)}};
+                     {"quality", QualityJson(sheet.quality)},
+                     {"mesh_pairs", parts.mesh_pairs},
+                     {"mesh_dropped_pairs", parts.mesh_dropped_pairs}};
   Writer w;
   w.Bytes(kMagic, sizeof kMagic);
   w.U32(kSheetFormatVersion);
@@ -134,10 +136,13 @@ std::string EncodeSheet(const FlatSheet& sheet, const EncodedSheetParts& parts) 
   w.Vectors(sheet.points);
   w.Vectors(sheet.normals);
   w.Vectors(sheet.flat);
+  w.U32(static_cast<uint32_t>(parts.mesh_flat.size()));
+  w.Vectors(parts.mesh_flat);
   return w.Finish();
 }
 
-Result<DecodedSheet> DecodeSheet(std::string_view bytes, int max_grid_side) {
+Result<DecodedSheet> DecodeSheet(std::string_view bytes, int max_grid_side,
+                                 size_t max_mesh_vertices) {
   if (bytes.size() < sizeof kMagic + kChecksumDigits) return Corrupt("is too short");
   const std::string_view body = bytes.substr(0, bytes.size() - kChecksumDigits);
   if (std::memcmp(body.data(), kMagic, sizeof kMagic) != 0) return Corrupt("is not a sheet");
@@ -165,6 +170,11 @@ Result<DecodedSheet> DecodeSheet(std::string_view bytes, int max_grid_side) {
   if (!r.Vectors(n, &s.points) || !r.Vectors(n, &s.normals) || !r.Vectors(n, &s.flat)) {
     return Corrupt("has truncated or non-finite samples");
   }
+  uint32_t mesh_vertices = 0;
+  if (!r.U32(&mesh_vertices) || mesh_vertices > max_mesh_vertices ||
+      !r.Vectors(mesh_vertices, &out.parts.mesh_flat)) {
+    return Corrupt("has a truncated, oversized or non-finite mesh sheet");
+  }
   if (r.left() != 0) return Corrupt("has bytes after its samples");
   const json meta = json::parse(meta_text, nullptr, false);
   if (meta.is_discarded() || !meta.is_object()) return Corrupt("has an unreadable header");
@@ -187,6 +197,8 @@ Result<DecodedSheet> DecodeSheet(std::string_view bytes, int max_grid_side) {
       return Corrupt("has a non-finite frame");
     }
     s.quality = QualityOf(meta.at("quality"));
+    out.parts.mesh_pairs = meta.at("mesh_pairs").get<size_t>();
+    out.parts.mesh_dropped_pairs = meta.at("mesh_dropped_pairs").get<size_t>();
   } catch (const json::exception&) {
     return Corrupt("has a header with missing or mistyped fields");
   }

@@ -153,7 +153,9 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flattened(
 }
 
 Result<std::optional<SurfaceSpec>> SurfaceStore::ResolveMesh(const SurfaceSpec& spec,
-                                                             const FlattenOptions& options) {
+                                                             const FlattenOptions& options,
+                                                             const EncodedSheetParts* shared,
+                                                             const FlattenQuality& quality) {
   const auto* given = std::get_if<MeshSpec>(&spec);
   if (given == nullptr) return std::optional<SurfaceSpec>();
   if (models_ == nullptr) {
@@ -166,9 +168,15 @@ Result<std::optional<SurfaceSpec>> SurfaceStore::ResolveMesh(const SurfaceSpec& 
   disk_options.max_vertices = limits_.max_surface_mesh_vertices;
   auto disk = MakeDiskMesh(mesh.positions, mesh.triangles, disk_options);
   if (!disk.ok()) return disk.status().WithFieldPrefix("surface");
-  SURFDEFORM_ASSIGN_OR_RETURN(FlatMesh flat, FlattenMesh(std::move(*disk), options));
+  auto made = shared == nullptr ? FlattenMesh(std::move(*disk), options)
+                                : AssembleFlatMesh(std::move(*disk), shared->mesh_flat, quality);
+  if (!made.ok()) return made.status();
+  if (shared != nullptr) {
+    made->pairs = shared->mesh_pairs;
+    made->dropped_pairs = shared->mesh_dropped_pairs;
+  }
   MeshSpec out = *given;
-  out.flattened = std::make_shared<const FlatMesh>(std::move(flat));
+  out.flattened = std::make_shared<const FlatMesh>(std::move(*made));
   return std::optional<SurfaceSpec>(std::move(out));
 }
 
@@ -207,11 +215,16 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
   entry->sheet = std::move(*sheet);
   entry->flatten_ms = MsSince(t0);
   KeepMap(entry.get());
-  // A mesh surface is not shared: another replica would need the mesh's
-  // flattening, which the sheet does not hold (it flattens the mesh itself).
-  if (shared_ != nullptr && !std::holds_alternative<MeshSpec>(request.surface)) {
-    shared_->Put(SheetKey(id), EncodeSheet(entry->sheet, {proto::CanonicalJson(request).dump(),
-                                                          entry->flatten_ms}));
+  if (shared_ != nullptr) {
+    EncodedSheetParts parts{proto::CanonicalJson(request).dump(), entry->flatten_ms, {}, 0, 0};
+    if (const FlatMesh* m = entry->surface->flat_mesh()) {
+      // A mesh surface's flat vertices too: another replica needs them, with
+      // the mesh (which it finds by its model id), not to flatten again.
+      parts.mesh_flat = m->flat;
+      parts.mesh_pairs = m->pairs;
+      parts.mesh_dropped_pairs = m->dropped_pairs;
+    }
+    shared_->Put(SheetKey(id), EncodeSheet(entry->sheet, parts));
   }
   return std::shared_ptr<const StoredSurface>(std::move(entry));
 }
@@ -231,7 +244,8 @@ std::shared_ptr<const StoredSurface> SurfaceStore::FromShared(const std::string&
 
 Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Rebuild(const std::string& id,
                                                                    std::string_view value) {
-  SURFDEFORM_ASSIGN_OR_RETURN(auto decoded, DecodeSheet(value, limits_.max_grid_side));
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      auto decoded, DecodeSheet(value, limits_.max_grid_side, limits_.max_surface_mesh_vertices));
   SURFDEFORM_ASSIGN_OR_RETURN(
       auto parsed, proto::ParseRequestJson(decoded.parts.canonical_request, limits_.max_json_depth,
                                            "shared_tier"));
@@ -241,10 +255,16 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Rebuild(const std::st
     return Status(ErrorCode::kMalformed, "the shared sheet answers another request", "shared_tier");
   }
   SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling));
-  if (std::holds_alternative<MeshSpec>(request.surface)) {
-    return Status(ErrorCode::kMalformed, "mesh surfaces are not shared", "shared_tier");
+  // A mesh surface: its mesh by its model id (either level of the models),
+  // laid out as the value says.
+  const bool mesh = std::holds_alternative<MeshSpec>(request.surface);
+  if (mesh != !decoded.parts.mesh_flat.empty()) {
+    return Status(ErrorCode::kMalformed, "the shared sheet's mesh does not match its surface",
+                  "shared_tier");
   }
-  SURFDEFORM_ASSIGN_OR_RETURN(auto surface, MakeSurface(request.surface));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto resolved, ResolveMesh(request.surface, request.flatten,
+                                                         &decoded.parts, decoded.sheet.quality));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto surface, MakeSurface(resolved ? *resolved : request.surface));
   auto entry = std::make_shared<StoredSurface>();
   entry->id = id;
   entry->request = std::move(request);

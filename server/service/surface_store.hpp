@@ -27,6 +27,7 @@
 #include "service/request_clock.hpp"
 #include "service/service_limits.hpp"
 #include "service/shared_tier.hpp"
+#include "service/sheet_codec.hpp"
 #include "service/single_flight_cache.hpp"
 
 namespace surfdeform {
@@ -105,8 +106,13 @@ class SurfaceStore {
   // `spec` with its mesh found and flattened, for kind "mesh": the mesh
   // checked as a disk (limits.max_surface_mesh_vertices) and flattened with
   // `options`. nullopt for the other kinds, which need nothing.
+  // With `shared` (a value of the second level), the mesh is checked but
+  // not flattened again: its FlatMesh is assembled from the value's flat
+  // vertices and the sheet's `quality`.
   Result<std::optional<SurfaceSpec>> ResolveMesh(const SurfaceSpec& spec,
-                                                 const FlattenOptions& options);
+                                                 const FlattenOptions& options,
+                                                 const EncodedSheetParts* shared = nullptr,
+                                                 const FlattenQuality& quality = {});
   class SharedLock;
   std::shared_ptr<const StoredSurface> FromShared(const std::string& id);
   Result<std::shared_ptr<const StoredSurface>> Rebuild(const std::string& id,

@@ -21,8 +21,8 @@ FlatSheet SmallSheet() {
   return sheet.ok() ? *sheet : FlatSheet{};
 }
 
-const EncodedSheetParts kParts = {R"({"sampling":{"nu":5,"nv":4},"surface":{"kind":"wave"}})",
-                                  12.5};
+const EncodedSheetParts kParts = {
+    R"({"sampling":{"nu":5,"nv":4},"surface":{"kind":"wave"}})", 12.5, {}, 0, 0};
 
 TEST(SheetCodec, RoundTripIsExact) {
   const FlatSheet sheet = SmallSheet();
@@ -44,6 +44,28 @@ TEST(SheetCodec, RoundTripIsExact) {
   EXPECT_EQ(b.quality.converged, sheet.quality.converged);
   EXPECT_EQ(back->parts.canonical_request, kParts.canonical_request);
   EXPECT_EQ(back->parts.flatten_ms, 12.5);
+}
+
+TEST(SheetCodec, AMeshSurfaceKeepsItsFlatVerticesWithinTheLimit) {
+  const FlatSheet sheet = SmallSheet();
+  EncodedSheetParts parts = kParts;
+  parts.mesh_flat = {Vec2(0.5, -1.25), Vec2(3.0, 1e-300), Vec2(-7.0, 2.0)};
+  parts.mesh_pairs = 11;
+  parts.mesh_dropped_pairs = 2;
+  const std::string bytes = EncodeSheet(sheet, parts);
+  auto back = DecodeSheet(bytes, 256);
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->parts.mesh_flat, parts.mesh_flat);
+  EXPECT_EQ(back->parts.mesh_pairs, 11u);
+  EXPECT_EQ(back->parts.mesh_dropped_pairs, 2u);
+  EXPECT_EQ(back->sheet.flat, sheet.flat);
+  // More flat vertices than the reader allows: refused before they are read.
+  EXPECT_FALSE(DecodeSheet(bytes, 256, 2).ok());
+  EXPECT_TRUE(DecodeSheet(bytes, 256, 3).ok());
+  // A sheet without a mesh has none.
+  auto plain = DecodeSheet(EncodeSheet(sheet, kParts), 256);
+  ASSERT_TRUE(plain.ok());
+  EXPECT_TRUE(plain->parts.mesh_flat.empty());
 }
 
 TEST(SheetCodec, APeriodicSheetKeepsItsPeriod) {

@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "engine/mesh_flatten.hpp"
 #include "proto/api.hpp"
 #include "service/sheet_codec.hpp"
 #include "support/redis_process.hpp"
@@ -207,6 +208,71 @@ TEST(SurfaceStore, TheSecondLevelServesAnotherStoreAndIgnoresWhatFailsItsChecks)
   ASSERT_TRUE(rebuilt.ok());
   EXPECT_FALSE(hit);
   EXPECT_EQ(d.surface_stats().misses, 2u);  // the failed read, then the flattening
+}
+
+// Half a cylinder as an OBJ of 7 x 5 vertices: a surface given as a mesh.
+std::string HalfCylinderObj() {
+  std::string obj;
+  for (int j = 0; j < 5; ++j) {
+    for (int i = 0; i < 7; ++i) {
+      const double a = 3.141592653589793 * i / 6;
+      obj += "v " + std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " " +
+             std::to_string(0.5 * j) + "\n";
+    }
+  }
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 6; ++i) {
+      const int a = 1 + i + 7 * j, b = a + 1, c = a + 8, d = a + 7;
+      obj += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + "\n";
+      obj += "f " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(d) + "\n";
+    }
+  }
+  return obj;
+}
+
+// A surface given as a mesh is shared too: another store, whose models
+// reach the same second level, rebuilds it from the value and the model,
+// with the same flat vertices and no flattening.
+TEST(SurfaceStore, AMeshSurfaceIsSharedWithItsFlatVertices) {
+  testing::RedisProcess redis;
+  ASSERT_NE(redis.port(), 0) << "redis-server did not start (scripts/setup.sh installs it)";
+  ModelStore models_a(Limits(), testing::SharedTierAt(redis.url()));
+  ModelStore models_b(Limits(), testing::SharedTierAt(redis.url()));
+  SurfaceStore a(Limits(), 1, testing::SharedTierAt(redis.url()));
+  SurfaceStore b(Limits(), 1, testing::SharedTierAt(redis.url()));
+  a.UseModels(&models_a);
+  b.UseModels(&models_b);
+  const std::string obj = HalfCylinderObj();
+  const std::string model = proto::ModelId(obj);
+  bool known = true;
+  ASSERT_TRUE(models_a.Put(model, obj, &known).ok());
+  auto request = proto::ParseSurfaceRequest(json{
+      {"surface", {{"kind", "mesh"}, {"model_id", model}}}, {"sampling", {{"nu", 9}, {"nv", 9}}}});
+  ASSERT_TRUE(request.ok()) << request.status().ToString();
+  const RequestClock clock(60000);
+  bool hit = true;
+  auto flat = a.Flattened(*request, clock, &hit);
+  ASSERT_TRUE(flat.ok()) << flat.status().ToString();
+  EXPECT_FALSE(hit);
+  const FlatMesh* made = (*flat)->surface->flat_mesh();
+  ASSERT_NE(made, nullptr);
+  EXPECT_EQ(made->flat.size(), 35u);
+  EXPECT_EQ(a.shared_tier_stats().writes, 1u);
+
+  auto found = b.Find((*flat)->id);
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  const FlatMesh* rebuilt = (*found)->surface->flat_mesh();
+  ASSERT_NE(rebuilt, nullptr);
+  EXPECT_EQ(rebuilt->flat, made->flat);
+  EXPECT_EQ(rebuilt->pairs, made->pairs);
+  EXPECT_EQ((*found)->sheet.flat, (*flat)->sheet.flat);
+  EXPECT_EQ((*found)->sheet.quality.stress, (*flat)->sheet.quality.stress);
+  EXPECT_EQ(b.shared_tier_stats().hits, 1u);
+  // The same surface point through either store's map.
+  int hint = -1;
+  const Vec3 at(0.3, 0.4, 0.05);
+  EXPECT_EQ((*found)->map->Position(at, OutsideMode::kClamp, &hint),
+            (*flat)->map->Position(at, OutsideMode::kClamp, &hint));
 }
 
 // An edit started from the previous sheet (a live edit's warm start): the
