@@ -8,6 +8,7 @@
 #include <CGAL/Surface_mesh_parameterization/ARAP_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/LSCM_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/parameterize.h>
+#include <CGAL/Surface_mesh_shortest_path.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 namespace surfdeform::bench {
@@ -55,6 +56,24 @@ std::vector<std::array<int, 3>> DelaunayTriangles(const std::vector<Vec2>& point
     triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
   }
   return triangles;
+}
+
+std::vector<double> ExactGeodesics(const std::vector<Vec3>& positions,
+                                   const std::vector<std::array<int, 3>>& triangles, int source) {
+  using Traits = CGAL::Surface_mesh_shortest_path_traits<Kernel, Mesh>;
+  using ShortestPath = CGAL::Surface_mesh_shortest_path<Traits>;
+  Mesh mesh;
+  std::vector<VertexIndex> vertices;
+  for (const Vec3& p : positions) {
+    vertices.push_back(mesh.add_vertex(Kernel::Point_3(p.x(), p.y(), p.z())));
+  }
+  for (const auto& t : triangles) mesh.add_face(vertices[t[0]], vertices[t[1]], vertices[t[2]]);
+  ShortestPath paths(mesh);
+  paths.add_source_point(vertices[source]);
+  paths.build_sequence_tree();
+  std::vector<double> d;
+  for (VertexIndex v : vertices) d.push_back(paths.shortest_distance_to_source_points(v).first);
+  return d;
 }
 
 PeerResult CgalParameterizeMesh(const std::vector<Vec3>& positions,

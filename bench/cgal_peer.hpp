@@ -24,6 +24,12 @@ PeerResult CgalParameterize(const Surface& surface, int nu, int nv, const std::s
 // Delaunay_triangulation_2), counter-clockwise, by the points' indices.
 std::vector<std::array<int, 3>> DelaunayTriangles(const std::vector<Vec2>& points);
 
+// Exact geodesic distances on a triangle mesh (CGAL's
+// Surface_mesh_shortest_path, Chen & Han's algorithm) from vertex `source`
+// to every vertex.
+std::vector<double> ExactGeodesics(const std::vector<Vec3>& positions,
+                                   const std::vector<std::array<int, 3>>& triangles, int source);
+
 // The same for a triangle mesh (a disk): `flat` per vertex.
 PeerResult CgalParameterizeMesh(const std::vector<Vec3>& positions,
                                 const std::vector<std::array<int, 3>>& triangles,
