@@ -72,6 +72,9 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
   Flag(app, "--max-surface-mesh-vertices", l.max_surface_mesh_vertices,
        "Largest surface given as a mesh (surface kind \"mesh\"), vertices after welding", 3,
        10'000'000);
+  Flag(app, "--max-surface-mesh-pairs", l.max_surface_mesh_pairs,
+       "Most vertex pairs a surface given as a mesh may have within max(flatten.range, 3) rings",
+       1000, 1'000'000'000);
   Flag(app, "--max-grid-side", l.max_grid_side,
        "Largest flattening grid, samples per side (2..512)", 2, 512);
   Flag(app, "--max-field-side", l.max_field_side,

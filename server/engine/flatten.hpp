@@ -64,6 +64,10 @@ struct FlattenOptions {
   int relax_steps = 2;            // geodesic relaxation steps per pair; 0 = straight segments
   int threads = 0;                // worker threads; 0 = one per core. Results do not depend on it.
   double time_budget_ms = 0.0;    // the solver stops with kLimitExceeded past this; 0 = none
+  // A surface given as a mesh: the most vertex pairs within max(range, 3)
+  // rings it may have (kLimitExceeded past it, found before they are all
+  // listed); 0 = no limit. Set by the service, not by requests.
+  size_t max_mesh_pairs = 0;
 };
 
 // Quality of a flat sheet. Stress and the other measures are always taken over

@@ -2,6 +2,7 @@
 
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 
@@ -131,14 +132,18 @@ Result<std::vector<Vec2>> ConformalChart(const DiskMesh& mesh) {
   return chart;
 }
 
-std::vector<GridEdge> RingPairs(const MeshAdjacency& adjacency, int rings, int threads) {
+std::optional<std::vector<GridEdge>> RingPairs(const MeshAdjacency& adjacency, int rings,
+                                               int threads, size_t max_pairs) {
   const int n = static_cast<int>(adjacency.vertex_start.size()) - 1;
   threads = std::max(1, std::min(ResolveThreads(threads), n / 4096 + 1));
   std::vector<std::vector<GridEdge>> parts(threads);
+  std::atomic<size_t> listed{0};
+  std::atomic<bool> over{false};
   ParallelChunks(n, threads, [&](int chunk, int begin, int end) {
     std::vector<int> stamp(n, -1), frontier, next;
     std::vector<GridEdge>& out = parts[chunk];
     for (int i = begin; i < end; ++i) {
+      if (over.load(std::memory_order_relaxed)) return;
       frontier.assign(1, i);
       stamp[i] = i;
       const size_t first = out.size();
@@ -163,8 +168,15 @@ std::vector<GridEdge> RingPairs(const MeshAdjacency& adjacency, int rings, int t
       }
       std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
                 [](const GridEdge& a, const GridEdge& b) { return a.j < b.j; });
+      if (max_pairs > 0 &&
+          listed.fetch_add(out.size() - first, std::memory_order_relaxed) + (out.size() - first) >
+              max_pairs) {
+        over.store(true, std::memory_order_relaxed);
+        return;
+      }
     }
   });
+  if (over.load()) return std::nullopt;
   std::vector<GridEdge> pairs;
   for (auto& p : parts) pairs.insert(pairs.end(), p.begin(), p.end());
   return pairs;
@@ -284,26 +296,34 @@ class SegmentTracer {
 
 }  // namespace
 
-void MeasureAlongChart(const DiskMesh& mesh, const MeshAdjacency& adjacency,
-                       const std::vector<Vec2>& chart, int threads, std::vector<GridEdge>* pairs) {
+bool MeasureAlongChart(const DiskMesh& mesh, const MeshAdjacency& adjacency,
+                       const std::vector<Vec2>& chart, int threads, std::vector<GridEdge>* pairs,
+                       std::chrono::steady_clock::time_point deadline) {
   const SegmentTracer tracer(mesh, adjacency, chart);
   std::vector<GridEdge>& e = *pairs;
   const int count = static_cast<int>(e.size());
-  ParallelChunks(count, std::min(ResolveThreads(threads), count / 20000 + 1),
-                 [&](int, int begin, int end) {
-                   for (int k = begin; k < end; ++k) {
-                     if (e[k].ring == 1) {
-                       e[k].d = (mesh.positions[e[k].i] - mesh.positions[e[k].j]).norm();
-                       continue;
-                     }
-                     const double d = tracer.Length(e[k].i, e[k].j);
-                     if (d > 0.0) {
-                       e[k].d = d;
-                     } else if (!(e[k].d > 0.0)) {
-                       e[k].d = -1.0;
-                     }
-                   }
-                 });
+  std::atomic<bool> late{false};
+  ParallelChunks(
+      count, std::min(ResolveThreads(threads), count / 20000 + 1), [&](int, int begin, int end) {
+        for (int k = begin; k < end; ++k) {
+          if ((k - begin) % 4096 == 4095 && (late.load(std::memory_order_relaxed) ||
+                                             std::chrono::steady_clock::now() > deadline)) {
+            late.store(true, std::memory_order_relaxed);
+            return;
+          }
+          if (e[k].ring == 1) {
+            e[k].d = (mesh.positions[e[k].i] - mesh.positions[e[k].j]).norm();
+            continue;
+          }
+          const double d = tracer.Length(e[k].i, e[k].j);
+          if (d > 0.0) {
+            e[k].d = d;
+          } else if (!(e[k].d > 0.0)) {
+            e[k].d = -1.0;
+          }
+        }
+      });
+  return !late.load();
 }
 
 }  // namespace surfdeform::internal

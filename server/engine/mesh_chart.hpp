@@ -3,6 +3,8 @@
 // chart's straight segments. Not part of the engine's public surface.
 #pragma once
 
+#include <chrono>
+#include <optional>
 #include <vector>
 
 #include "base/status.hpp"
@@ -29,15 +31,21 @@ Result<std::vector<Vec2>> ConformalChart(const DiskMesh& mesh);
 
 // The pairs i < j within `rings` rings (ring = the fewest mesh edges between
 // them), ordered by i then j; d unset. On `threads` threads; the order does
-// not depend on them.
-std::vector<GridEdge> RingPairs(const MeshAdjacency& adjacency, int rings, int threads);
+// not depend on them. With `max_pairs` > 0, std::nullopt as soon as there
+// are more (the listing stops there: a vertex that joins very many
+// triangles would otherwise make its neighbourhoods quadratic).
+std::optional<std::vector<GridEdge>> RingPairs(const MeshAdjacency& adjacency, int rings,
+                                               int threads, size_t max_pairs = 0);
 
 // Sets each pair's d to the mesh length of the straight segment between its
 // vertices in `chart` (a layout of the mesh's vertices without folds; ring-1
 // pairs: the edge's length). Pairs whose segment leaves the mesh keep their
 // d if it is positive and get d = -1 otherwise. Deterministic on any
-// number of threads.
-void MeasureAlongChart(const DiskMesh& mesh, const MeshAdjacency& adjacency,
-                       const std::vector<Vec2>& chart, int threads, std::vector<GridEdge>* pairs);
+// number of threads. False when it stopped at `deadline` (the pairs then
+// half measured).
+bool MeasureAlongChart(
+    const DiskMesh& mesh, const MeshAdjacency& adjacency, const std::vector<Vec2>& chart,
+    int threads, std::vector<GridEdge>* pairs,
+    std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
 
 }  // namespace surfdeform::internal

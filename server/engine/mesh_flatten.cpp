@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "engine/elapsed.hpp"
@@ -219,7 +220,7 @@ Result<FlatMesh> AssembleFlatMesh(DiskMesh mesh, std::vector<Vec2> flat,
 
 std::vector<GridEdge> MeshPairDistances(const FlatMesh& reference, int rings, int threads) {
   const internal::MeshAdjacency adjacency = internal::Adjacency(reference.mesh);
-  std::vector<GridEdge> pairs = internal::RingPairs(adjacency, rings, threads);
+  std::vector<GridEdge> pairs = *internal::RingPairs(adjacency, rings, threads);
   internal::MeasureAlongChart(reference.mesh, adjacency, reference.flat, threads, &pairs);
   std::erase_if(pairs, [](const GridEdge& e) { return !(e.d > 0.0); });
   return pairs;
@@ -262,9 +263,22 @@ Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options) {
   // Pairs within max(range, 3) rings (3 for the quality measures), measured
   // along the conformal chart.
   const auto td = Clock::now();
-  std::vector<GridEdge> all =
-      internal::RingPairs(adjacency, std::max(options.range, 3), options.threads);
-  internal::MeasureAlongChart(mesh, adjacency, x, options.threads, &all);
+  const int rings = std::max(options.range, 3);
+  std::optional<std::vector<GridEdge>> listed =
+      internal::RingPairs(adjacency, rings, options.threads, options.max_mesh_pairs);
+  if (!listed) {
+    return Status::LimitExceeded(
+        "the mesh has more than " + std::to_string(options.max_mesh_pairs) +
+            " vertex pairs within " + std::to_string(rings) +
+            " rings (some vertex joins very many triangles, or the range is large): use a "
+            "smaller flatten.range, or remesh the surface more evenly",
+        "flatten.range", static_cast<double>(options.max_mesh_pairs),
+        static_cast<double>(options.max_mesh_pairs) + 1);
+  }
+  std::vector<GridEdge> all = std::move(*listed);
+  if (!internal::MeasureAlongChart(mesh, adjacency, x, options.threads, &all, deadline)) {
+    return out_of_time("the distances");
+  }
   out.quality.distance_ms += MsSince(td);
   if (Clock::now() > deadline) return out_of_time("the distances");
 
@@ -290,7 +304,9 @@ Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options) {
   for (int round = 0; round < 2; ++round) {
     if (round == 1) {
       const auto tr = Clock::now();
-      internal::MeasureAlongChart(mesh, adjacency, x, options.threads, &all);
+      if (!internal::MeasureAlongChart(mesh, adjacency, x, options.threads, &all, deadline)) {
+        return out_of_time("the distances");
+      }
       out.quality.distance_ms += MsSince(tr);
       // solved is all's subsequence of ring <= range with d > 0 in round 1.
       size_t k = 0;

@@ -414,6 +414,7 @@ std::string InfoJson(const ServiceLimits& l) {
               {"max_triangles", l.max_triangles},
               {"max_grid_side", l.max_grid_side},
               {"max_surface_mesh_vertices", l.max_surface_mesh_vertices},
+              {"max_surface_mesh_pairs", l.max_surface_mesh_pairs},
               {"max_output_vertices", MaxOutputVertices(l)},
               {"max_output_triangles", l.max_output_triangles},
               {"max_json_depth", l.max_json_depth},

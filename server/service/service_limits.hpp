@@ -15,6 +15,10 @@ struct ServiceLimits {
   int max_grid_side = 256;  // sampling nu and nv (the engine allows 512)
   // A surface given as a mesh (kind "mesh"): its vertices after welding.
   size_t max_surface_mesh_vertices = 200'000;
+  // And its vertex pairs within max(flatten.range, 3) rings (some 18 a
+  // vertex at range 3 on an even mesh; a vertex joining very many triangles
+  // makes them quadratic).
+  size_t max_surface_mesh_pairs = 8'000'000;
   size_t max_output_vertices = 4'000'000;  // the mesh after subdivision
   size_t max_output_triangles = 8'000'000;
   int max_json_depth = 32;                // request JSON nesting (glTF JSON: twice this)

@@ -168,7 +168,9 @@ Result<std::optional<SurfaceSpec>> SurfaceStore::ResolveMesh(const SurfaceSpec& 
   disk_options.max_vertices = limits_.max_surface_mesh_vertices;
   auto disk = MakeDiskMesh(mesh.positions, mesh.triangles, disk_options);
   if (!disk.ok()) return disk.status().WithFieldPrefix("surface");
-  auto made = shared == nullptr ? FlattenMesh(std::move(*disk), options)
+  FlattenOptions bounded = options;
+  bounded.max_mesh_pairs = limits_.max_surface_mesh_pairs;
+  auto made = shared == nullptr ? FlattenMesh(std::move(*disk), bounded)
                                 : AssembleFlatMesh(std::move(*disk), shared->mesh_flat, quality);
   if (!made.ok()) return made.status();
   if (shared != nullptr) {

@@ -12,7 +12,8 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 gltf="$here/../gltf"
 source "$here/launch_server.sh"
-serve_for_test "$1" --answer-cache-mib 0 --max-surface-mesh-vertices 5000
+serve_for_test "$1" --answer-cache-mib 0 --max-surface-mesh-vertices 5000 \
+  --max-surface-mesh-pairs 20000
 
 # OBJ writers: half a cylinder of radius 1 and height 2 as a jittered
 # CELLS x CELLS grid of triangles, optionally with a hole (one cell left out).
@@ -134,6 +135,17 @@ refused holed 422 "1 hole besides its outer boundary" "$status"
 cylinder_obj "$out/large.obj" 80
 status=$(surface large "$(upload "$out/large.obj")")
 refused large 413 "6561 vertices, more than 5000" "$status"
+# Range 6 on the half cylinder: some 39k vertex pairs, more than 20000.
+curl -sS -o "$out/wide.json" -w '%{http_code}' -H 'Content-Type: application/json' \
+  -d "{\"surface\":{\"kind\":\"mesh\",\"model_id\":\"$half\"},\"flatten\":{\"range\":6}}" \
+  "$base/v1/surfaces" > "$out/wide.status"
+python3 - "$out/wide.json" "$(cat "$out/wide.status")" << 'PY' || fail "range 6: $(cat "$out/wide.json")"
+import json, sys
+body = json.load(open(sys.argv[1]))
+assert sys.argv[2] == "413" and body["status"] == 413, body
+assert body["field"] == "flatten.range" and body["limit"] == 20000, body
+assert "more than 20000 vertex pairs within 6 rings" in body["detail"], body
+PY
 status=$(surface unknown 0123456789abcdef0123456789abcdef)
 refused unknown 404 "POST the mesh to /v1/models again" "$status"
 stop_served_server

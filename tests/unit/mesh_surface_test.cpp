@@ -219,6 +219,35 @@ TEST(MeshFlatten, AFlatMeshMapsToItselfByARigidMotion) {
   EXPECT_NEAR(f.quality.area_ratio_max, 1.0, 1e-12);
 }
 
+TEST(MeshFlatten, AVertexJoiningVeryManyTrianglesIsRefusedBeforeItsPairsAreListed) {
+  // A fan: a disk whose centre joins all 3000 rim vertices, so that every
+  // pair of vertices is within 2 rings (4.5M pairs).
+  Soup fan;
+  const int rim = 3000;
+  fan.positions.emplace_back(0, 0, 0);
+  for (int k = 0; k < rim; ++k) {
+    const double a = 2 * std::numbers::pi * k / rim;
+    fan.positions.emplace_back(std::cos(a), std::sin(a), 0.0);
+  }
+  for (int k = 0; k + 1 < rim; ++k) {
+    fan.triangles.push_back({0, static_cast<uint32_t>(k + 1), static_cast<uint32_t>(k + 2)});
+  }
+  auto disk = MakeDiskMesh(fan.positions, fan.triangles);
+  ASSERT_TRUE(disk.ok()) << disk.status().ToString();
+  FlattenOptions o;
+  o.max_mesh_pairs = 100'000;
+  const Status s = FlattenMesh(std::move(*disk), o).status();
+  EXPECT_EQ(s.code(), ErrorCode::kLimitExceeded) << s.ToString();
+  EXPECT_EQ(s.field(), "flatten.range");
+  EXPECT_EQ(s.limit(), 100'000);
+  EXPECT_NE(s.message().find("more than 100000 vertex pairs within 3 rings"), std::string::npos)
+      << s.message();
+  // An even mesh of the same size is well within it.
+  const Soup even = Grid(55, 55, 0.2, 15, Plane);
+  auto flat = FlattenMesh(*MakeDiskMesh(even.positions, even.triangles), o);
+  EXPECT_TRUE(flat.ok()) << flat.status().ToString();
+}
+
 // The largest distance between the flat layout and the exact development
 // `develop` of each vertex's parameters, after the best rigid motion (in
 // the plane: Kabsch), relative to the layout's size.
@@ -304,8 +333,7 @@ TEST(MeshSurface, EvaluatesToTheMeshAndKnowsWhereItEnds) {
   EXPECT_NEAR(*surface.DomainDepth(*surface.InverseUnrolling(off)), -gap, 1e-12);
   // Far off (the rings would be many; every segment is measured instead).
   const Vec2 far = surface.index().bounds().max() + Vec2(40.0, 25.0);
-  EXPECT_NEAR(*surface.DomainGap(*surface.InverseUnrolling(far), nullptr), to_boundary(far),
-              1e-12);
+  EXPECT_NEAR(*surface.DomainGap(*surface.InverseUnrolling(far), nullptr), to_boundary(far), 1e-12);
   const Vec2 centre(0.1, 0.05);
   EXPECT_NEAR(*surface.DomainDepth(*surface.InverseUnrolling(centre)), to_boundary(centre), 1e-12);
 }
