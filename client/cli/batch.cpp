@@ -159,7 +159,8 @@ int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std:
     ApiClient client(c.server, c.retry, c.timeout_s);
     HttpReply r;
     HttpFailure f;
-    if (!client.PostJson("/v1/surfaces", surface_request.dump(), &r, &f)) {
+    if (!UploadSurfaceMesh(client, probe, &f) ||
+        !client.PostJson("/v1/surfaces", surface_request.dump(), &r, &f)) {
       std::fprintf(stderr, "surfdeform: the surface: %s\n", f.message.c_str());
       return f.unreachable || f.status >= 500 ? kExitUnavailable : kExitRefused;
     }

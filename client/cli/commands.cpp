@@ -1,5 +1,6 @@
 #include "cli/commands.hpp"
 
+#include <cctype>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -42,9 +43,33 @@ bool ReadJsonArgument(const std::string& text_or_file, nlohmann::json* out, CliE
 
 namespace {
 
+// Whether `file` is named as a mesh file (a surface given as a mesh).
+bool IsMeshFile(const std::string& file) {
+  const auto dot = file.rfind('.');
+  if (dot == std::string::npos) return false;
+  std::string ext = file.substr(dot);
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  for (const char* e : {".obj", ".ply", ".stl", ".off", ".glb", ".gltf", ".drc"}) {
+    if (ext == e) return true;
+  }
+  return false;
+}
+
 // {"surface": ..., "sampling": ..., "flatten": ...} from a surface file: a
-// whole surface request, or a bare surface ({"kind": ...}).
-bool ReadSurfaceRequest(const std::string& file, json* out, CliError* error) {
+// whole surface request, a bare surface ({"kind": ...}), or a mesh file,
+// which is the surface {"kind": "mesh", "model_id": <its id>} (its bytes to
+// `mesh`, for the caller to upload).
+bool ReadSurfaceRequest(const std::string& file, json* out, CliError* error,
+                        std::string* mesh = nullptr) {
+  if (IsMeshFile(file) && mesh != nullptr) {
+    std::string message;
+    if (!ReadFileBytes(file, mesh, &message)) {
+      *error = {CliError::Kind::kLocalFile, message};
+      return false;
+    }
+    *out = {{"surface", {{"kind", "mesh"}, {"model_id", proto::Sha256Hex(*mesh, 32)}}}};
+    return true;
+  }
   json j;
   if (!ReadJsonArgument(file, &j, error)) return false;
   if (!j.is_object()) {
@@ -130,7 +155,8 @@ int RunFlatten(const Connection& c, const std::string& surface_file, const std::
                bool json_output) {
   json request;
   CliError error;
-  if (!ReadSurfaceRequest(surface_file, &request, &error)) {
+  std::string mesh;
+  if (!ReadSurfaceRequest(surface_file, &request, &error, &mesh)) {
     std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
     return kExitLocalFile;  // the surface file is the one input: unreadable or unusable
   }
@@ -138,6 +164,10 @@ int RunFlatten(const Connection& c, const std::string& surface_file, const std::
   ConfigureRetries(c, &client);
   HttpReply r;
   HttpFailure f;
+  if (!mesh.empty() && !client.PostModel(mesh, proto::Sha256Hex(mesh, 32), &r, &f)) {
+    std::fprintf(stderr, "surfdeform: %s: %s\n", surface_file.c_str(), f.message.c_str());
+    return ExitFor(f);
+  }
   if (!client.PostJson("/v1/surfaces", request.dump(), &r, &f)) {
     std::fprintf(stderr, "surfdeform: %s\n", f.message.c_str());
     return ExitFor(f);
@@ -184,7 +214,7 @@ bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* 
   }
   if (!o.surface_file.empty()) {
     json request;
-    if (!ReadSurfaceRequest(o.surface_file, &request, error)) return false;
+    if (!ReadSurfaceRequest(o.surface_file, &request, error, &out->surface_mesh)) return false;
     params.erase("surface_id");
     for (const char* key : {"surface", "sampling", "flatten"}) {
       if (request.contains(key)) params[key] = request[key];
@@ -262,6 +292,13 @@ bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* 
   return true;
 }
 
+bool UploadSurfaceMesh(ApiClient& client, const DeformRequest& request, HttpFailure* failure) {
+  if (request.surface_mesh.empty()) return true;
+  HttpReply uploaded;
+  return client.PostModel(request.surface_mesh, proto::Sha256Hex(request.surface_mesh, 32),
+                          &uploaded, failure);
+}
+
 bool PostWithModel(ApiClient& client, const std::string& path, const std::string& mesh,
                    const std::string& params, const std::string& accept, HttpReply* out,
                    HttpFailure* failure) {
@@ -308,6 +345,10 @@ int DeformFile(ApiClient& client, const DeformRequest& request, const std::strin
   HttpReply r;
   HttpFailure f;
   bool sent = false;
+  if (!UploadSurfaceMesh(client, request, &f)) {
+    *message = f.message;
+    return ExitFor(f);
+  }
   if (mesh_path.empty()) {
     sent = client.PostJson("/v1/deform", request.params, &r, &f, request.accept);
   } else {

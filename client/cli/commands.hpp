@@ -90,10 +90,18 @@ bool ReadJsonArgument(const std::string& text_or_file, nlohmann::json* out, CliE
 // Shared by deform, batch and animate.
 struct DeformRequest {
   std::string params;  // the JSON sent
+  // A surface given as a mesh file (--surface panel.obj): its bytes, which
+  // the params name by id ({"kind": "mesh", "model_id"}) and which go to the
+  // server first (UploadSurfaceMesh); empty otherwise.
+  std::string surface_mesh;
   std::string accept;
   OutputKind kind = OutputKind::kDrc;
   bool decode = false;  // the reply is Draco to turn into OBJ/PLY here
 };
+
+// Uploads request.surface_mesh (POST /v1/models; a mesh the server holds
+// already costs a reply), when there is one.
+bool UploadSurfaceMesh(ApiClient& client, const DeformRequest& request, HttpFailure* failure);
 
 // The request for an output of `kind`, from the options; false with the
 // error (a file that cannot be read, or options that make no request).

@@ -53,7 +53,8 @@ int main(int argc, char** argv) {
   flatten
       ->add_option("surface", surface_file,
                    "JSON file: a surface request {surface, sampling, flatten} or a bare surface "
-                   "{kind, ...}")
+                   "{kind, ...}; or a mesh file (.obj .ply .stl .off .glb .gltf .drc): a "
+                   "surface given as a mesh, uploaded first")
       ->required();
   flatten->add_option("--svg", svg_path, "Save the flat sheet, coloured by stretch, as SVG");
   flatten->add_flag("--json", json_output, "Print the server's JSON reply");
@@ -74,7 +75,8 @@ int main(int argc, char** argv) {
   DeformOptions d;
   auto add_deform_options = [&d](CLI::App* sub) {
     sub->add_option("--surface", d.surface_file,
-                    "JSON file: a surface request {surface, sampling, flatten} or a bare surface");
+                    "JSON file: a surface request {surface, sampling, flatten} or a bare surface; "
+                    "or a mesh file: a surface given as a mesh (a disk), uploaded first");
     sub->add_option("--surface-id", d.surface_id, "A surface already flattened (see flatten)");
     sub->add_option("--params", d.params,
                     "The deform parameters (placement, subdivision, output.draco ...): JSON text "

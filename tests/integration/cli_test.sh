@@ -212,4 +212,16 @@ grep -q "0 done, 2 skipped, 1 failed" "$out/e" || fail "resumed batch: $(cat "$o
 rm "$out/in/broken.obj"
 expect 0 batch "$out/in" -o "$out/batch" --ext .glb --surface "$out/cylinder.json" --scale fit --force
 grep -q "2 done, 0 skipped, 0 failed" "$out/e" || fail "forced batch: $(cat "$out/e")"
+# A mesh file as the surface (issue #37): uploaded, flattened as kind "mesh";
+# a deformation along it by --surface; a closed mesh is the server's 422, exit 2.
+expect 0 flatten "$samples/panel.obj"
+grep -q "stress" "$out/o" || fail "flatten of a mesh file printed no quality: $(cat "$out/o")"
+expect 0 deform "$samples/word.obj" --surface "$samples/panel.obj" --scale fit -o "$out/word-on-panel.glb"
+[[ -s $out/word-on-panel.glb ]] || fail "no GLB along the panel mesh"
+expect 0 batch "$out/in" -o "$out/batch-panel" --ext .glb --surface "$samples/panel.obj" --scale fit
+grep -q "2 done, 0 skipped, 0 failed" "$out/e" || fail "batch along the panel mesh: $(cat "$out/e")"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n' > "$out/tetra.obj"
+expect 2 flatten "$out/tetra.obj"
+grep -q "the mesh is closed" "$out/e" || fail "a closed surface mesh: $(cat "$out/e")"
+
 echo "cli: all checks passed"
