@@ -106,6 +106,16 @@ class ChunkedGuttmanSum {
   std::vector<double> stress_;
 };
 
+// Stress majorization over `edges` from the layout in `positions`, in place,
+// with `solve` the Guttman transform's solve (b -> L^+ b, b the x block then
+// the y block): the grid's solver and the mesh's differ only there.
+// IterateMajorization's rules (`zero` as there); threads for the right-hand
+// sides (0 = one per core), results independent of them.
+SolveStats MajorizeLayout(const std::function<void(Eigen::VectorXd*)>& solve,
+                          const std::vector<GridEdge>& edges, double tolerance, int max_iterations,
+                          int threads, std::vector<Vec2>* positions, Deadline deadline,
+                          double zero = 1e-28);
+
 // Stress majorization from the layout in `x` (n points), in place.
 // threads: workers for the large passes (0 = one per core); results do not
 // depend on it.

@@ -195,10 +195,21 @@ SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<Gr
                              double tolerance, int max_iterations, int threads,
                              std::vector<Vec2>* positions, Deadline deadline) {
   threads = ResolveThreads(threads);
-  const int n = static_cast<int>(positions->size());
   const int nu = factor.nu, nv = factor.nv;
-  // X as one vector: all x coordinates, then all y coordinates (the layout of
-  // the nu x 2nv right-hand side).
+  // The x block then the y block is the layout of the nu x 2nv right-hand side.
+  return MajorizeLayout(
+      [&](Eigen::VectorXd* rhs) {
+        factor.Solve(Eigen::Map<Eigen::MatrixXd>(rhs->data(), nu, 2 * nv), threads);
+      },
+      edges, tolerance, max_iterations, threads, positions, deadline);
+}
+
+SolveStats MajorizeLayout(const std::function<void(Eigen::VectorXd*)>& solve,
+                          const std::vector<GridEdge>& edges, double tolerance, int max_iterations,
+                          int threads, std::vector<Vec2>* positions, Deadline deadline,
+                          double zero) {
+  const int n = static_cast<int>(positions->size());
+  // X as one vector: all x coordinates, then all y coordinates.
   Eigen::VectorXd x(2 * n);
   for (int i = 0; i < n; ++i) {
     x(i) = (*positions)[i].x();
@@ -212,11 +223,9 @@ SolveStats SolveMajorization(const LaplacianFactor& factor, const std::vector<Gr
                      return GuttmanTerms(edges, begin, end, at, n, out);
                    });
   };
-  map.solve = [&](Eigen::VectorXd* rhs) {
-    factor.Solve(Eigen::Map<Eigen::MatrixXd>(rhs->data(), nu, 2 * nv), threads);
-  };
-  const SolveStats stats =
-      IterateMajorization(map, SquaredDistanceSum(edges), tolerance, max_iterations, &x, deadline);
+  map.solve = solve;
+  const SolveStats stats = IterateMajorization(map, SquaredDistanceSum(edges), tolerance,
+                                               max_iterations, &x, deadline, zero);
   for (int i = 0; i < n; ++i) (*positions)[i] = Vec2(x(i), x(n + i));
   return stats;
 }

@@ -54,32 +54,6 @@ class GroundedLaplacian {
   std::unique_ptr<SparseCholesky> factor_;
 };
 
-internal::SolveStats Majorize(const GroundedLaplacian& laplacian,
-                              const std::vector<GridEdge>& pairs, const FlattenOptions& options,
-                              int max_iterations, internal::Deadline deadline,
-                              std::vector<Vec2>* positions) {
-  const int n = static_cast<int>(positions->size());
-  Eigen::VectorXd x(2 * n);
-  for (int i = 0; i < n; ++i) {
-    x(i) = (*positions)[i].x();
-    x(n + i) = (*positions)[i].y();
-  }
-  internal::ChunkedGuttmanSum sum(pairs.size(), 2 * n, options.threads);
-  internal::MajorizationMap map;
-  map.right_hand_side = [&](const Eigen::VectorXd& at, Eigen::VectorXd* rhs) {
-    return sum.Sum(static_cast<int>(pairs.size()), rhs,
-                   [&](int begin, int end, Eigen::VectorXd* out) {
-                     return internal::GuttmanTerms(pairs, begin, end, at, n, out);
-                   });
-  };
-  map.solve = [&](Eigen::VectorXd* rhs) { laplacian.Solve(rhs); };
-  const internal::SolveStats stats = internal::IterateMajorization(
-      map, internal::SquaredDistanceSum(pairs), options.tolerance, max_iterations, &x, deadline,
-      1e-24);  // a stress of 1e-12: none (a developable mesh crawls to its last bits otherwise)
-  for (int i = 0; i < n; ++i) (*positions)[i] = Vec2(x(i), x(n + i));
-  return stats;
-}
-
 double SignedArea(const std::vector<Vec2>& x, const std::array<int, 3>& t) {
   return 0.5 * Cross2(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
 }
@@ -283,14 +257,16 @@ Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options) {
   if (Clock::now() > deadline) return out_of_time("the distances");
 
   const int max_it = options.max_iterations > 0 ? options.max_iterations : 3000;
+  // The pairs the stress sums: within range, measured along the conformal
+  // chart; and where each is in `all`, to take round 2's distances.
   std::vector<GridEdge> solved;
-  auto select = [&] {
-    solved.clear();
-    for (const GridEdge& e : all) {
-      if (e.ring <= options.range && e.d > 0.0) solved.push_back(e);
+  std::vector<size_t> solved_at;
+  for (size_t k = 0; k < all.size(); ++k) {
+    if (all[k].ring <= options.range && all[k].d > 0.0) {
+      solved.push_back(all[k]);
+      solved_at.push_back(k);
     }
-  };
-  select();
+  }
   const auto tf = Clock::now();
   const GroundedLaplacian laplacian(n, solved);
   out.quality.solve_ms += MsSince(tf);
@@ -308,18 +284,15 @@ Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options) {
         return out_of_time("the distances");
       }
       out.quality.distance_ms += MsSince(tr);
-      // solved is all's subsequence of ring <= range with d > 0 in round 1.
-      size_t k = 0;
-      for (const GridEdge& e : all) {
-        if (e.ring <= options.range && k < solved.size() && solved[k].i == e.i &&
-            solved[k].j == e.j) {
-          if (e.d > 0.0) solved[k].d = e.d;
-          ++k;
-        }
-      }
+      // (A pair whose segment now leaves the mesh keeps its round-1 distance.)
+      for (size_t k = 0; k < solved.size(); ++k) solved[k].d = all[solved_at[k]].d;
     }
     const auto tm = Clock::now();
-    const internal::SolveStats stats = Majorize(laplacian, solved, options, max_it, deadline, &x);
+    // A stress of 1e-12 counts as none: a developable mesh would otherwise
+    // crawl from its exact conformal start to the last bits.
+    const internal::SolveStats stats =
+        internal::MajorizeLayout([&](Eigen::VectorXd* b) { laplacian.Solve(b); }, solved,
+                                 options.tolerance, max_it, options.threads, &x, deadline, 1e-24);
     out.quality.solve_ms += MsSince(tm);
     out.quality.iterations += stats.iterations;
     out.quality.converged = stats.converged;
