@@ -22,6 +22,7 @@
 #include "engine/mesh_flatten.hpp"
 #include "engine/surface_spec.hpp"
 #include "harness.hpp"
+#include "support/sheet_compare.hpp"
 #include "support/surface_file.hpp"
 #ifdef SURFDEFORM_HAVE_CGAL
 #include "cgal_peer.hpp"
@@ -86,39 +87,17 @@ Triangulation Irregular(int vertices, unsigned seed, const F& f) {
   return m;
 }
 
-// The largest distance of `flat` from `exact` after the best rigid motion
-// (Kabsch in the plane; a mirrored layout is mirrored back first), and
-// with `scale` the best uniform scale too.
-double AlignedError(std::vector<Vec2> flat, const std::vector<Vec2>& exact, bool scale) {
-  const size_t n = flat.size();
-  for (int pass = 0; pass < 2; ++pass) {
-    Vec2 ca = Vec2::Zero(), cb = Vec2::Zero();
-    for (size_t v = 0; v < n; ++v) {
-      ca += flat[v];
-      cb += exact[v];
-    }
-    ca /= static_cast<double>(n);
-    cb /= static_cast<double>(n);
-    Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
-    double aa = 0.0;
-    for (size_t v = 0; v < n; ++v) {
-      h += (flat[v] - ca) * (exact[v] - cb).transpose();
-      aa += (flat[v] - ca).squaredNorm();
-    }
-    const Eigen::JacobiSVD<Eigen::Matrix2d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    const Eigen::Matrix2d r = svd.matrixV() * svd.matrixU().transpose();
-    if (r.determinant() < 0.0 && pass == 0) {
-      for (Vec2& p : flat) p.x() = -p.x();
-      continue;
-    }
-    const double k = scale ? svd.singularValues().sum() / aa : 1.0;
-    double worst = 0.0;
-    for (size_t v = 0; v < n; ++v) {
-      worst = std::max(worst, (k * r * (flat[v] - ca) + cb - exact[v]).norm());
-    }
-    return worst;
+// The largest distance of `flat` from the exact development `exact` after
+// the best rigid motion (a layout with clockwise triangles is mirrored
+// first: a peer's may be).
+double DevelopmentError(std::vector<Vec2> flat, const std::vector<Vec2>& exact,
+                        const std::vector<std::array<uint32_t, 3>>& triangles) {
+  double area = 0.0;
+  for (const auto& t : triangles) area += Cross2(flat[t[1]] - flat[t[0]], flat[t[2]] - flat[t[0]]);
+  if (area < 0.0) {
+    for (Vec2& p : flat) p.x() = -p.x();
   }
-  return -1.0;
+  return testing::RigidError(exact, flat);
 }
 
 struct Row {
@@ -196,7 +175,7 @@ int Run(int argc, char** argv) {
       ours.note = std::to_string(flat->quality.iterations) + " iterations, distances " +
                   std::to_string(static_cast<int>(flat->quality.distance_ms)) + " ms, solve " +
                   std::to_string(static_cast<int>(flat->quality.solve_ms)) + " ms";
-      if (kind == 0) ours.development = AlignedError(flat->flat, exact, false);
+      if (kind == 0) ours.development = DevelopmentError(flat->flat, exact, m.triangles);
       Print(ours, ours);
 #ifdef SURFDEFORM_HAVE_CGAL
       std::vector<std::array<int, 3>> tris;
@@ -266,7 +245,7 @@ int Run(int argc, char** argv) {
           row.note = "after the best uniform scale";
         }
         row.quality = MeasureMeshLayout(*flat, x);
-        if (kind == 0) row.development = AlignedError(x, exact, false);
+        if (kind == 0) row.development = DevelopmentError(x, exact, m.triangles);
         Print(row, ours);
       }
 #endif

@@ -12,6 +12,7 @@
 #include "engine/mesh_surface.hpp"
 #include "engine/sheet_map.hpp"
 #include "engine/surface_spec.hpp"
+#include "support/sheet_compare.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"
 
@@ -249,32 +250,20 @@ TEST(MeshFlatten, AVertexJoiningVeryManyTrianglesIsRefusedBeforeItsPairsAreListe
 }
 
 // The largest distance between the flat layout and the exact development
-// `develop` of each vertex's parameters, after the best rigid motion (in
-// the plane: Kabsch), relative to the layout's size.
+// `develop` of each vertex's parameters, after the best rigid motion in the
+// plane (no reflection: a mirrored layout is far off), relative to the
+// development's size (its farthest point from its centroid).
 template <typename D>
 double DevelopmentError(const FlatMesh& f, const Soup& m, const D& develop) {
   const size_t n = f.flat.size();
   std::vector<Vec2> exact(n);
   // The disk keeps the soup's vertex order (no welding, all used).
   for (size_t v = 0; v < n; ++v) exact[v] = develop(m.st[v]);
-  Vec2 ca = Vec2::Zero(), cb = Vec2::Zero();
-  for (size_t v = 0; v < n; ++v) {
-    ca += f.flat[v];
-    cb += exact[v];
-  }
-  ca /= static_cast<double>(n);
-  cb /= static_cast<double>(n);
-  Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
-  for (size_t v = 0; v < n; ++v) h += (f.flat[v] - ca) * (exact[v] - cb).transpose();
-  const Eigen::JacobiSVD<Eigen::Matrix2d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix2d r = svd.matrixV() * svd.matrixU().transpose();
-  double worst = 0.0, size = 0.0;
-  for (size_t v = 0; v < n; ++v) {
-    worst = std::max(worst, (r * (f.flat[v] - ca) + cb - exact[v]).norm());
-    size = std::max(size, (exact[v] - cb).norm());
-  }
-  EXPECT_GT(r.determinant(), 0.0);
-  return worst / size;
+  Vec2 centroid = Vec2::Zero();
+  for (const Vec2& p : exact) centroid += p / static_cast<double>(n);
+  double size = 0.0;
+  for (const Vec2& p : exact) size = std::max(size, (p - centroid).norm());
+  return testing::RigidError(exact, f.flat) / size;
 }
 
 TEST(MeshFlatten, ATriangulatedCylinderUnrollsToItsDevelopment) {
@@ -420,31 +409,23 @@ TEST(MeshSurface, ThePlateAlongATriangulatedFigure10MatchesTheParametricOne) {
   auto sheet = FlattenSurface(patch, SamplingOptions{33, 33});
   ASSERT_TRUE(mesh_sheet.ok() && sheet.ok());
   const SheetMap map(patch, *sheet), mesh_map(mesh_surface, *mesh_sheet);
-  // The rigid motion from the parametric sheet to the mesh's (Kabsch over
+  // The rigid motion from the parametric sheet to the mesh's (the best over
   // the mesh's vertices, each at its parameters on the one and its flat
   // position on the other).
   const FlatMesh& flat = *mesh_surface.flat_mesh();
-  std::vector<Vec2> a, b;
+  std::vector<Vec2> patch_points, mesh_points;
   for (size_t v = 0; v < m.st.size(); ++v) {
-    a.push_back(map.SheetPoint(m.st[v]));
-    b.push_back(mesh_sheet->frame_linear * flat.flat[v] + mesh_sheet->frame_offset);
+    patch_points.push_back(map.SheetPoint(m.st[v]));
+    mesh_points.push_back(mesh_sheet->frame_linear * flat.flat[v] + mesh_sheet->frame_offset);
   }
-  Vec2 ca = Vec2::Zero(), cb = Vec2::Zero();
-  for (size_t v = 0; v < a.size(); ++v) {
-    ca += a[v] / static_cast<double>(a.size());
-    cb += b[v] / static_cast<double>(b.size());
-  }
-  Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
-  for (size_t v = 0; v < a.size(); ++v) h += (a[v] - ca) * (b[v] - cb).transpose();
-  const Eigen::JacobiSVD<Eigen::Matrix2d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Matrix2d r = svd.matrixV() * svd.matrixU().transpose();
-  ASSERT_GT(r.determinant(), 0.0);
+  const testing::RigidMotion to_mesh = testing::BestRigidMotion(mesh_points, patch_points);
+  const Eigen::Matrix2d& r = to_mesh.rotation;
   const Mesh plate = testing::ThinPlate(1.5, 1.0, 0.1);
   PlacementOptions on_patch;
   on_patch.center_mode = CenterMode::kSheetUnits;
   on_patch.center = map.SheetPoint(Vec2(0.5, 0.5));
   PlacementOptions on_mesh = on_patch;
-  on_mesh.center = r * (on_patch.center - ca) + cb;
+  on_mesh.center = to_mesh(on_patch.center);
   on_mesh.rotation_deg = std::atan2(r(1, 0), r(0, 0)) * 180.0 / std::numbers::pi;
   auto along_patch = DeformMesh(patch, *sheet, Mesh(plate), on_patch);
   auto along_mesh = DeformMesh(mesh_surface, *mesh_sheet, Mesh(plate), on_mesh);
