@@ -457,21 +457,13 @@ async function useSurfaceMesh(name, bytes) {
   scheduleSurface();
 }
 
-async function useSurfaceFile(file) {
+// A chosen or dropped file, read and handed to use(name, bytes): the model
+// (useModel) or the surface (useSurfaceMesh).
+async function useFile(file, use = useModel) {
   if (!file) return;
   setState('loading');
   try {
-    await useSurfaceMesh(file.name, await file.arrayBuffer());
-  } catch (e) {
-    showError(e);
-  }
-}
-
-async function useFile(file) {
-  if (!file) return;
-  setState('loading');
-  try {
-    await useModel(file.name, await file.arrayBuffer());
+    await use(file.name, await file.arrayBuffer());
   } catch (e) {
     showError(e);
   }
@@ -505,7 +497,7 @@ $('sample').addEventListener('change', async () => {
   }
 });
 $('upload').addEventListener('change', (e) => useFile(e.target.files[0]));
-$('surface-upload').addEventListener('change', (e) => useSurfaceFile(e.target.files[0]));
+$('surface-upload').addEventListener('change', (e) => useFile(e.target.files[0], useSurfaceMesh));
 document.addEventListener('dragover', (e) => {
   e.preventDefault();
   document.body.classList.add('dragover');
@@ -515,11 +507,8 @@ document.addEventListener('drop', (e) => {
   e.preventDefault();
   document.body.classList.remove('dragover');
   // On the flat sheet: the file is the surface (a mesh); anywhere else, the model.
-  if (e.target.closest && e.target.closest('#sheet')) {
-    useSurfaceFile(e.dataTransfer.files[0]);
-  } else {
-    useFile(e.dataTransfer.files[0]);
-  }
+  const onSheet = e.target.closest && e.target.closest('#sheet');
+  useFile(e.dataTransfer.files[0], onSheet ? useSurfaceMesh : useModel);
 });
 $('rotation').addEventListener('input', () => {
   state.placement.rotation_deg = Number($('rotation').value);
