@@ -21,8 +21,9 @@ namespace {
 
 struct EditRun {
   std::vector<double> cold_ms, warm_ms;
-  int cold_iterations = 0, warm_iterations = 0;  // summed
-  double worst_stress = 0.0;                     // relative difference, over the edits
+  std::vector<double> cold_distance_ms, warm_distance_ms;  // the distances' part
+  int cold_iterations = 0, warm_iterations = 0;            // summed
+  double worst_stress = 0.0;                               // relative difference, over the edits
 };
 
 EditRun Edits(const BezierSpec& base, int n, int edits, int threads) {
@@ -31,7 +32,9 @@ EditRun Edits(const BezierSpec& base, int n, int edits, int threads) {
   EditRun run;
   BezierSpec spec = base;
   auto first = MakeSurface(SurfaceSpec(spec));
-  Flattener warm_flattener(o);  // kept across edits, as a live session keeps its sheet
+  FlattenOptions kept = o;
+  kept.keep_paths = true;          // as the service keeps them for surfaces made to be edited
+  Flattener warm_flattener(kept);  // kept across edits, as a live session keeps its sheet
   auto previous = warm_flattener.Flatten(**first, {n, n});
   for (int e = 0; e < edits; ++e) {
     spec.control_points[5].z() += 0.1;  // 1% of the 10-unit patch
@@ -47,6 +50,8 @@ EditRun Edits(const BezierSpec& base, int n, int edits, int threads) {
                    (cold.ok() ? warm.status() : cold.status()).ToString().c_str());
       std::exit(1);
     }
+    run.cold_distance_ms.push_back(cold->quality.distance_ms);
+    run.warm_distance_ms.push_back(warm->quality.distance_ms);
     run.cold_iterations += cold->quality.iterations;
     run.warm_iterations += warm->quality.iterations;
     run.worst_stress =
@@ -70,13 +75,14 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "threads per flattening");
   CLI11_PARSE(app, argc, argv);
   const BezierSpec figure10 = testing::LoadBezierFile(testing::DataPath("figure10.json"));
-  std::printf("%-6s %10s %10s %8s %14s %14s %12s\n", "grid", "cold ms", "warm ms", "ratio",
-              "cold iters", "warm iters", "stress diff");
+  std::printf("%-6s %10s %10s %8s %12s %12s %11s %11s %12s\n", "grid", "cold ms", "warm ms",
+              "ratio", "cold dist", "warm dist", "cold iters", "warm iters", "stress diff");
   for (int n : sides) {
     const EditRun r = Edits(figure10, n, edits, threads);
     const double cold = bench::Median(r.cold_ms), warm = bench::Median(r.warm_ms);
-    std::printf("%3dx%-3d %9.2f %10.2f %8.2f %14.1f %14.1f %12.1e\n", n, n, cold, warm, warm / cold,
-                static_cast<double>(r.cold_iterations) / edits,
+    std::printf("%3dx%-3d %9.2f %10.2f %8.2f %12.2f %12.2f %11.1f %11.1f %12.1e\n", n, n, cold,
+                warm, warm / cold, bench::Median(r.cold_distance_ms),
+                bench::Median(r.warm_distance_ms), static_cast<double>(r.cold_iterations) / edits,
                 static_cast<double>(r.warm_iterations) / edits, r.worst_stress);
   }
   return 0;

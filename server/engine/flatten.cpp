@@ -150,14 +150,25 @@ std::unique_ptr<const Surface> MeasuredSurface(const Surface& surface,
   return Continued(surface, 0.0, u_scale, 0.0, v_scale);
 }
 
-// The distances of the samples of an nu x nv grid (see FlattenDistances).
+// The distances of the samples of an nu x nv grid (see FlattenDistances),
+// from the paths `previous` followed when given and measured on the same
+// grid, range and lattice (RefollowSurfaceDistances), else afresh.
 Result<SurfaceDistances> MeasureDistances(const Surface& surface, int nu, int nv,
                                           const FlattenOptions& o, const DistanceOptions& d,
-                                          DistancePaths* paths) {
+                                          DistancePaths* paths,
+                                          const DistancePaths* previous = nullptr) {
   const internal::GridPeriods g = PeriodsOf(surface, nu, nv, o);
-  if (g.period_u == 0 && g.period_v == 0) return ComputeSurfaceDistances(surface, nu, nv, d, paths);
   const Vec2i size = MeasuredSize(g, o);
-  return ComputeSurfaceDistances(*MeasuredSurface(surface, g, o), size.x(), size.y(), d, paths);
+  std::unique_ptr<const Surface> continued;
+  if (g.period_u > 0 || g.period_v > 0) continued = MeasuredSurface(surface, g, o);
+  const Surface& measured = continued ? *continued : surface;
+  if (previous != nullptr && previous->nu == size.x() && previous->nv == size.y()) {
+    auto refollowed = RefollowSurfaceDistances(measured, *previous, d, paths);
+    if (refollowed.ok() || refollowed.status().code() != ErrorCode::kInvalidArgument) {
+      return refollowed;
+    }
+  }
+  return ComputeSurfaceDistances(measured, size.x(), size.y(), d, paths);
 }
 
 }  // namespace
@@ -251,18 +262,28 @@ Result<FlatSheet> MeshSheet(const Surface& surface, const FlatMesh& mesh,
 }  // namespace
 
 Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,
-                                     const FlatSheet* warm_start) {
+                                     const FlatSheet* warm_start, const DistancePaths* warm_paths) {
   const auto t0 = Clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
   if (const FlatMesh* mesh = surface.flat_mesh()) return MeshSheet(surface, *mesh, sampling, t0);
   SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
   // Distances over the solve's range and over r = 3 for the quality measures.
   const auto td = Clock::now();
-  SURFDEFORM_ASSIGN_OR_RETURN(auto dist,
-                              MeasureDistances(surface, grid.nu, grid.nv, options_,
-                                               DistanceOptionsFor(options_, t0), nullptr));
+  std::shared_ptr<DistancePaths> paths =
+      options_.keep_paths ? std::make_shared<DistancePaths>() : nullptr;
+  const DistancePaths* previous = warm_paths != nullptr   ? warm_paths
+                                  : warm_start != nullptr ? warm_start->paths.get()
+                                                          : nullptr;
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      auto dist, MeasureDistances(surface, grid.nu, grid.nv, options_,
+                                  DistanceOptionsFor(options_, t0), paths.get(), previous));
   const double distance_ms = MsSince(td);
-  return Solve(surface, std::move(grid), warm_start, std::move(dist), distance_ms, t0);
+  const int refollowed = dist.reused_paths;
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      auto sheet, Solve(surface, std::move(grid), warm_start, std::move(dist), distance_ms, t0));
+  sheet.quality.refollowed_paths = refollowed;
+  sheet.paths = std::move(paths);
+  return sheet;
 }
 
 Result<FlatSheet> Flattener::Flatten(const Surface& surface, const FlatSheet* warm_start,

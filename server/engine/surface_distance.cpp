@@ -212,32 +212,43 @@ double GaussNewtonStep(const std::vector<PathPoint>& path, std::vector<Vec2>* st
   d_scratch->resize(m);
   std::vector<Eigen::Matrix2d>& c = *c_scratch;
   std::vector<Vec2>& d = *d_scratch;
+  // The 3x2 products as dot products of the Jacobians' columns: Eigen's
+  // generic small products here cost a quarter of a warm measurement.
   Eigen::Matrix2d prev_upper = Eigen::Matrix2d::Zero();
   for (int k = 0; k < m; ++k) {
     const PathPoint& a = path[k];
     const PathPoint& b = path[k + 1];
     const PathPoint& n = path[k + 2];
-    const Eigen::Matrix2d diag = 4.0 * b.j.transpose() * b.j;
-    const Vec2 rhs = -2.0 * b.j.transpose() * (2.0 * b.p - a.p - n.p);
-    Eigen::Matrix2d s = diag;
-    Vec2 r = rhs;
+    const Vec3 bu = b.j.col(0), bv = b.j.col(1), nu = n.j.col(0), nv = n.j.col(1);
+    const Vec3 w = 2.0 * b.p - a.p - n.p;
+    const double uv = 4.0 * bu.dot(bv);
+    Eigen::Matrix2d s;
+    s << 4.0 * bu.squaredNorm(), uv, uv, 4.0 * bv.squaredNorm();
+    Vec2 r(-2.0 * bu.dot(w), -2.0 * bv.dot(w));
     if (k > 0) {
-      s -= prev_upper.transpose() * c[k - 1];
-      r -= prev_upper.transpose() * d[k - 1];
+      s.noalias() -= prev_upper.transpose() * c[k - 1];
+      r.noalias() -= prev_upper.transpose() * d[k - 1];
     }
-    const Eigen::Matrix2d upper = -2.0 * b.j.transpose() * n.j;
-    const double det = s.determinant();
+    Eigen::Matrix2d upper;
+    upper << -2.0 * bu.dot(nu), -2.0 * bu.dot(nv), -2.0 * bv.dot(nu), -2.0 * bv.dot(nv);
+    const double det = s(0, 0) * s(1, 1) - s(0, 1) * s(1, 0);
     if (!(std::abs(det) > 0.0)) return 0.0;
-    const Eigen::Matrix2d inv = s.inverse();
-    c[k] = inv * upper;
-    d[k] = inv * r;
+    Eigen::Matrix2d inv;
+    inv << s(1, 1), -s(0, 1), -s(1, 0), s(0, 0);
+    inv *= 1.0 / det;
+    c[k].noalias() = inv * upper;
+    d[k].noalias() = inv * r;
     prev_upper = upper;
   }
   (*step)[m - 1] = d[m - 1];
   for (int k = m - 2; k >= 0; --k) (*step)[k] = d[k] - c[k] * (*step)[k + 1];
-  double largest = 0.0;
-  for (int k = 0; k < m; ++k) largest = std::max(largest, (path[k + 1].j * (*step)[k]).norm());
-  return largest;
+  double largest2 = 0.0;
+  for (int k = 0; k < m; ++k) {
+    const Vec2& t = (*step)[k];
+    largest2 = std::max(
+        largest2, (path[k + 1].j.col(0) * t.x() + path[k + 1].j.col(1) * t.y()).squaredNorm());
+  }
+  return std::sqrt(largest2);
 }
 
 // The surface and its derivatives on a lattice `f` times finer than the
@@ -412,6 +423,67 @@ double MeasurePair(const Surface& surface, const Lattice& lattice, int i, int j,
   return PathLength(state.points.data(), state.normals.data(), f);
 }
 
+// RefollowPair measures a moved path again only when it moved by more than
+// this fraction of its length.
+constexpr double kRemeasuredMove = 1e-4;
+
+// Measures the pair from sample (i, j) to (i + di, j + dj) starting from the
+// path `q` (its interior points' parameters) that the measurement of an
+// earlier version of the surface followed (RefollowSurfaceDistances): directly
+// where the chord now turns little, else along that path evaluated exactly and
+// along the path moved by one Gauss-Newton step from those evaluations, the
+// shorter. The chord's turn goes to state.turn; the path measured goes to
+// `record` (if given) when a path is followed.
+double RefollowPair(const Surface& surface, const Lattice& lattice, int i, int j, int di, int dj,
+                    std::span<const Vec2> q, ChunkState& state, Vec2* record) {
+  const PathPoint& start = lattice.Sample(i, j);
+  const PathPoint& finish = lattice.Sample(i + di, j + dj);
+  double direct = 0.0;
+  if (MeasuredDirectly(start, finish, state, &direct)) return direct;
+  ++state.reused;
+  const size_t m = q.size();
+  const double before = LengthThrough(surface, start, finish, q, state);
+  // Its points with the first derivatives just evaluated: a Gauss-Newton
+  // step's (which needs no normals).
+  std::vector<PathPoint>& path = state.path;
+  path.resize(m + 2);
+  path[0] = start;
+  path[m + 1] = finish;
+  for (size_t k = 0; k < m; ++k) {
+    path[k + 1].p = state.evaluated[k].p;
+    path[k + 1].j.col(0) = state.evaluated[k].su;
+    path[k + 1].j.col(1) = state.evaluated[k].sv;
+  }
+  auto keep = [&](std::span<const Vec2> kept) {
+    if (record != nullptr) std::copy(kept.begin(), kept.end(), record);
+  };
+  const double moved = GaussNewtonStep(path, &state.step, &state.c, &state.d);
+  // As MeasurePair: a move below 1e-7 of the length is no move, and one of
+  // half the length is not a local correction.
+  if (!(moved > 1e-7 * before) || !(moved < 0.5 * before)) {
+    keep(q);
+    return before;
+  }
+  state.blended.resize(m);
+  for (size_t k = 0; k < m; ++k) state.blended[k] = q[k] + state.step[k];
+  // A path's length changes at second order in a move of it: below
+  // kRemeasuredMove of the length, the moved path is at most ~1e-8 of it
+  // shorter (measured: the stress stays within the solver's tolerance of a
+  // cold measurement's). It is kept for the next edit, unmeasured.
+  if (moved < kRemeasuredMove * before) {
+    keep(state.blended);
+    return before;
+  }
+  const double after = LengthThrough(surface, start, finish, state.blended, state);
+  if (!(after < before)) {  // also rejects NaN
+    keep(q);
+    return before;
+  }
+  ++state.relaxed;
+  keep(state.blended);
+  return after;
+}
+
 // Work items are (offset, row) with a fixed place in the edge list, so the
 // result is the same for any thread count. Half of the offsets: each
 // unordered pair once.
@@ -540,6 +612,19 @@ int DistanceThreads(int nu, int nv, const DistanceOptions& options) {
   return nu * nv < 64 ? 1 : ResolveThreads(options.threads);
 }
 
+// Empty paths for every pair of an nu x nv grid within `range`, lattice `f`.
+void StartPaths(int nu, int nv, int range, int f, DistancePaths* paths) {
+  size_t total = 0;
+  PairRows(nu, nv, range, &total);
+  *paths = DistancePaths{};
+  paths->nu = nu;
+  paths->nv = nv;
+  paths->range = range;
+  paths->lattice_factor = f;
+  paths->turn.assign(total, 0.0);
+  paths->q.resize(total * (f - 1));
+}
+
 }  // namespace
 
 bool DistancePaths::Followed(size_t edge) const { return !(turn[edge] < kDirectMaxTurn); }
@@ -551,17 +636,7 @@ Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu,
   const int f = LatticeFactor(nu, nv, options);
   const int threads = DistanceThreads(nu, nv, options);
   const Lattice lattice = BuildLattice(surface, nu, nv, f, threads);
-  if (paths != nullptr) {
-    size_t total = 0;
-    PairRows(nu, nv, options.range, &total);
-    *paths = DistancePaths{};
-    paths->nu = nu;
-    paths->nv = nv;
-    paths->range = options.range;
-    paths->lattice_factor = f;
-    paths->turn.assign(total, 0.0);
-    paths->q.resize(total * (f - 1));
-  }
+  if (paths != nullptr) StartPaths(nu, nv, options.range, f, paths);
   auto measure = [&](int i, int j, int di, int dj, size_t edge, ChunkState& state) {
     Vec2* record = paths != nullptr ? paths->q.data() + edge * (f - 1) : nullptr;
     const double d =
@@ -626,6 +701,36 @@ Result<SurfaceDistances> RemeasureSurfaceDistances(const Surface& surface,
     }
     ++state.reused;
     return LengthThrough(surface, start, finish, state.blended, state);
+  };
+  return MeasureAllPairs(nu, nv, threads, lattice, options, measure);
+}
+
+Result<SurfaceDistances> RefollowSurfaceDistances(const Surface& surface,
+                                                  const DistancePaths& previous,
+                                                  const DistanceOptions& options,
+                                                  DistancePaths* next) {
+  const int nu = previous.nu, nv = previous.nv;
+  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(nu, nv, options));
+  const int f = LatticeFactor(nu, nv, options);
+  size_t total = 0;
+  PairRows(nu, nv, options.range, &total);
+  if (options.range != previous.range || f != previous.lattice_factor ||
+      previous.turn.size() != total || previous.q.size() != total * (f - 1)) {
+    return InvalidArgument("the paths were followed on another grid, range or lattice");
+  }
+  const int threads = DistanceThreads(nu, nv, options);
+  const Lattice lattice = BuildLattice(surface, nu, nv, f, threads);
+  if (next != nullptr) StartPaths(nu, nv, options.range, f, next);
+  const size_t m = static_cast<size_t>(f - 1);
+  auto measure = [&](int i, int j, int di, int dj, size_t edge, ChunkState& state) {
+    Vec2* record = next != nullptr ? next->q.data() + edge * m : nullptr;
+    const double d =
+        previous.Followed(edge)
+            ? RefollowPair(surface, lattice, i, j, di, dj,
+                           std::span<const Vec2>(previous.q.data() + edge * m, m), state, record)
+            : MeasurePair(surface, lattice, i, j, di, dj, options.relax_steps, state, record);
+    if (next != nullptr) next->turn[edge] = state.turn;
+    return d;
   };
   return MeasureAllPairs(nu, nv, threads, lattice, options, measure);
 }

@@ -88,6 +88,10 @@ struct DistancePaths {
   // Whether the edge was measured along a path (its chord turned too much to
   // be measured directly); its q hold the path only then.
   bool Followed(size_t edge) const;
+  // What they take in memory.
+  size_t bytes() const {
+    return sizeof(*this) + turn.size() * sizeof(double) + q.size() * sizeof(Vec2);
+  }
 };
 
 // Measures the distances; fills `paths`, when given, with the paths followed.
@@ -117,5 +121,24 @@ using PathBlend = std::span<const WeightedPaths>;
 Result<SurfaceDistances> RemeasureSurfaceDistances(const Surface& surface,
                                                    std::span<const PathBlend> blends,
                                                    const DistanceOptions& options);
+
+// Measures `surface` starting from the paths that a measurement of an earlier
+// version of it followed (a live edit of the same surface: same kind, grid
+// and parameterisation), and fills `next`, when given, with the paths this
+// one followed, for the edit after it. Each pair the earlier measurement
+// followed a path for, and whose chord still turns too much to be measured
+// directly, is measured along that path on this surface, then along the
+// path moved by one Gauss-Newton step taken from those exact evaluations;
+// the shorter of the two counts and is kept. Both are lengths of real paths
+// on this surface, so never below the geodesic distance; since the earlier
+// path was relaxed on a nearby surface, the step lands within second order
+// of a path relaxed afresh, and the paths do not drift from edit to edit.
+// Other pairs are measured as ComputeSurfaceDistances measures them. Costs
+// two first-order evaluations per path point in place of a relaxation from
+// the straight segment.
+Result<SurfaceDistances> RefollowSurfaceDistances(const Surface& surface,
+                                                  const DistancePaths& previous,
+                                                  const DistanceOptions& options,
+                                                  DistancePaths* next = nullptr);
 
 }  // namespace surfdeform

@@ -429,7 +429,7 @@ Result<Reply> Service::CreateSurface(std::string_view body, std::string_view fie
   const RequestClock& clock = work.clock();
   const auto t1 = Clock::now();
   const WarmStart warm = WarmStartFor(create, impl_->store);
-  const FlatSheet* start = warm.entry != nullptr ? &warm.entry->sheet : nullptr;
+  const EditStart start{true, warm.entry.get()};
   bool hit = false;
   auto entry = impl_->store.Flattened(request, clock, &hit, &impl_->admission, start);
   if (!entry.ok() && entry.status().code() == ErrorCode::kUnavailable) {

@@ -107,7 +107,8 @@ SurfaceStore::SurfaceStore(const ServiceLimits& limits, int engine_threads,
       engine_threads_(engine_threads),
       shared_(std::move(shared)),
       surfaces_(limits.cache_bytes, [](const StoredSurface& s) { return s.bytes; }),
-      animations_(limits.cache_bytes, [](const StoredAnimation& a) { return a.bytes; }) {}
+      animations_(limits.cache_bytes, [](const StoredAnimation& a) { return a.bytes; }),
+      edit_paths_(kEditPathsBytes, [](const DistancePaths& p) { return p.bytes(); }) {}
 
 SharedTierStats SurfaceStore::shared_tier_stats() const {
   return shared_ != nullptr ? shared_->stats() : SharedTierStats{};
@@ -115,7 +116,7 @@ SharedTierStats SurfaceStore::shared_tier_stats() const {
 
 Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flattened(
     const proto::SurfaceRequest& request, const RequestClock& clock, bool* hit,
-    Admission* admission, const FlatSheet* warm) {
+    Admission* admission, const EditStart& edit) {
   SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling));
   const std::string id = proto::SurfaceId(request);
   bool from_shared = false;  // computed here, but read from the second level
@@ -145,7 +146,7 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flattened(
               break;
           }
         }
-        return Flatten(id, request, clock, admission, warm);
+        return Flatten(id, request, clock, admission, edit);
       },
       hit);
   if (from_shared) *hit = true;
@@ -184,7 +185,7 @@ Result<std::optional<SurfaceSpec>> SurfaceStore::ResolveMesh(const SurfaceSpec& 
 
 Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
     const std::string& id, const proto::SurfaceRequest& request, const RequestClock& clock,
-    Admission* admission, const FlatSheet* warm) {
+    Admission* admission, const EditStart& edit) {
   std::optional<Admission::Ticket> ticket;
   if (admission != nullptr) {
     SURFDEFORM_ASSIGN_OR_RETURN(auto t, admission->Enter(clock.remaining_ms()));
@@ -201,14 +202,24 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
   }
   auto surface = MakeSurface(*resolved ? **resolved : request.surface);
   if (!surface.ok()) return surface.status().WithFieldPrefix("surface");
+  flatten.keep_paths = edit.keep_paths;
   Flattener flattener(flatten);
+  const FlatSheet* warm = edit.from != nullptr ? &edit.from->sheet : nullptr;
   const bool fits =
       warm != nullptr && warm->nu == request.sampling.nu && warm->nv == request.sampling.nv;
-  auto sheet = flattener.Flatten(**surface, request.sampling, fits ? warm : nullptr);
+  const std::shared_ptr<const DistancePaths> warm_paths =
+      fits ? edit_paths_.Find(edit.from->id) : nullptr;
+  auto sheet =
+      flattener.Flatten(**surface, request.sampling, fits ? warm : nullptr, warm_paths.get());
   if (!sheet.ok()) {
     const Status& s = sheet.status();
     // Sampling errors name a sample of the surface.
     return s.field().empty() ? Status(s.code(), s.message(), "surface") : s;
+  }
+  if (std::shared_ptr<const DistancePaths> paths = std::move(sheet->paths)) {
+    bool kept = false;
+    (void)edit_paths_.GetOrCompute(
+        id, [&paths]() -> Result<std::shared_ptr<const DistancePaths>> { return paths; }, &kept);
   }
   auto entry = std::make_shared<StoredSurface>();
   entry->id = id;

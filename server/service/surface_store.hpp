@@ -66,6 +66,21 @@ size_t EstimateBytes(const StoredSurface& s);
 void KeepMap(StoredSurface* entry);
 size_t EstimateBytes(const StoredAnimation& a);
 
+// What the distance paths of edited surfaces take at most (see
+// SurfaceStore::Flattened): some 60 bytes a pair, 1.2 MB for a 32 x 32 grid
+// and 5 MB for 64 x 64, so a few dozen editors' latest surfaces.
+inline constexpr size_t kEditPathsBytes = size_t{64} << 20;
+
+// A flattening made for an edit (POST /v1/surfaces), which the next edit of
+// the surface may start from.
+struct EditStart {
+  // Keep the distance paths this flattening follows, for the next edit.
+  bool keep_paths = false;
+  // The surface this one is an edit of, whose sheet it starts from (a warm
+  // start), and whose kept paths, if any, it measures from; may be null.
+  const StoredSurface* from = nullptr;
+};
+
 class SurfaceStore {
  public:
   // `engine_threads`: threads per flattening (0: one per core). `shared`:
@@ -78,12 +93,14 @@ class SurfaceStore {
   // (then written to the second level). *hit says it was not flattened here.
   // With `admission`, the flattening takes a slot from it first, and as many
   // threads as the slot allows.
-  // `warm`, when given, is the layout a flattening here starts from (a
-  // sheet of the same grid: an edit's previous surface).
+  // `edit` says where a flattening here starts from (an edit's previous
+  // surface, of the same grid), and whether its distance paths are kept,
+  // apart from the entries, in an LRU of kEditPathsBytes (they are 20 times
+  // the size of the sheet; an entry rebuilt from the second level has none).
   Result<std::shared_ptr<const StoredSurface>> Flattened(const proto::SurfaceRequest& request,
                                                          const RequestClock& clock, bool* hit,
                                                          Admission* admission = nullptr,
-                                                         const FlatSheet* warm = nullptr);
+                                                         const EditStart& edit = {});
 
   // The surface with this id, from either level; kNotFound (field "id") for
   // an id of the wrong shape or one neither level holds.
@@ -96,6 +113,7 @@ class SurfaceStore {
 
   CacheStats surface_stats() const { return surfaces_.stats(); }
   CacheStats animation_stats() const { return animations_.stats(); }
+  CacheStats edit_paths_stats() const { return edit_paths_.stats(); }
   SharedTierStats shared_tier_stats() const;  // enabled = false without one
 
   // Where surfaces of kind "mesh" find their meshes (by model id); until it
@@ -122,7 +140,7 @@ class SurfaceStore {
   Result<std::shared_ptr<const StoredSurface>> Flatten(const std::string& id,
                                                        const proto::SurfaceRequest& request,
                                                        const RequestClock& clock,
-                                                       Admission* admission, const FlatSheet* warm);
+                                                       Admission* admission, const EditStart& edit);
 
   const ServiceLimits limits_;
   const int engine_threads_;
@@ -130,6 +148,7 @@ class SurfaceStore {
   ModelStore* models_ = nullptr;
   SingleFlightCache<StoredSurface> surfaces_;
   SingleFlightCache<StoredAnimation> animations_;
+  SingleFlightCache<DistancePaths> edit_paths_;  // by surface id
 };
 
 }  // namespace surfdeform

@@ -70,6 +70,9 @@ json WarmStartJson(const WarmStart& w, const StoredSurface& made, bool hit) {
   }
   j["iterations"] = q.iterations;
   j["iterations_saved_estimate"] = std::max(0, w.entry->sheet.quality.iterations - q.iterations);
+  // Pairs measured from the paths the previous surface's distances followed
+  // (0 when they were not kept, or were evicted: measured afresh).
+  j["paths_reused"] = q.refollowed_paths;
   return j;
 }
 

@@ -360,6 +360,10 @@ TEST_F(LiveEditingTest, AnEditStartsWarmFromTheSurfaceItNamesOrSaysWhyNot) {
   EXPECT_EQ(w.at("used"), true) << w.dump();
   EXPECT_LT(w.at("iterations").get<int>(), first.at("quality").at("iterations").get<int>());
   EXPECT_GT(w.at("iterations_saved_estimate").get<int>(), 0);
+  // The first surface was made by POST /v1/surfaces, so its distance paths
+  // were kept: the edit measured from them (a 12 x 12 bent patch: most of
+  // its ~1,700 pairs follow a path).
+  EXPECT_GT(w.at("paths_reused").get<int>(), 500) << w.dump();
   // Not an error when it cannot be used: a cold start, and why.
   const json unknown = post(with("0.54", R"(,"warm_start":")" + std::string(kUnknown) + "\""), 201);
   EXPECT_EQ(unknown.at("warm_start").at("used"), false);

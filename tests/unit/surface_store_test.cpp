@@ -294,7 +294,7 @@ TEST(SurfaceStore, AWarmStartFromTheSheetBeforeAnEditMatchesAColdStartInFewerIte
     SurfaceStore warm_store(Limits(), 1, nullptr), cold_store(Limits(), 1, nullptr);
     auto before = warm_store.Flattened(request(0.0, n), clock, &hit);
     ASSERT_TRUE(before.ok());
-    auto warm = warm_store.Flattened(request(0.1, n), clock, &hit, nullptr, &(*before)->sheet);
+    auto warm = warm_store.Flattened(request(0.1, n), clock, &hit, nullptr, {false, before->get()});
     auto cold = cold_store.Flattened(request(0.1, n), clock, &hit);
     ASSERT_TRUE(warm.ok() && cold.ok());
     const FlattenQuality& w = (*warm)->sheet.quality;
@@ -306,10 +306,57 @@ TEST(SurfaceStore, AWarmStartFromTheSheetBeforeAnEditMatchesAColdStartInFewerIte
   // A sheet of another grid is no start: the result is the cold one.
   SurfaceStore a(Limits(), 1, nullptr), b(Limits(), 1, nullptr);
   auto other_grid = a.Flattened(request(0.0, 16), clock, &hit);
-  auto ignored = a.Flattened(request(0.1, 24), clock, &hit, nullptr, &(*other_grid)->sheet);
+  auto ignored = a.Flattened(request(0.1, 24), clock, &hit, nullptr, {true, other_grid->get()});
   auto cold = b.Flattened(request(0.1, 24), clock, &hit);
   ASSERT_TRUE(ignored.ok() && cold.ok());
   EXPECT_EQ((*ignored)->sheet.flat, (*cold)->sheet.flat);
+  EXPECT_EQ((*ignored)->sheet.quality.refollowed_paths, 0);
+}
+
+// A chain of edits, each from the one before with the paths kept (as POST
+// /v1/surfaces does): the distances are measured from the previous edit's
+// paths, and the stress stays within 1e-6 of a cold flattening's on every
+// edit (the paths do not drift). Without kept paths, the edit measures
+// afresh and says so.
+TEST(SurfaceStore, EditsMeasureFromThePreviousEditsPathsWithoutDrift) {
+  const BezierSpec figure10 = testing::LoadBezierFile(testing::DataPath("figure10.json"));
+  auto request = [&](int edit) {
+    proto::SurfaceRequest r;
+    BezierSpec b = figure10;
+    b.control_points[5].z() += 0.1 * edit;  // 1% of the patch per edit
+    r.surface = b;
+    r.sampling = {16, 16};
+    return r;
+  };
+  const RequestClock clock(60000);
+  bool hit = false;
+  SurfaceStore store(Limits(), 1, nullptr);
+  auto previous = store.Flattened(request(0), clock, &hit, nullptr, {true, nullptr});
+  ASSERT_TRUE(previous.ok());
+  EXPECT_EQ((*previous)->sheet.quality.refollowed_paths, 0);
+  EXPECT_EQ(store.edit_paths_stats().entries, 1u);
+  for (int e = 1; e <= 6; ++e) {
+    auto warm = store.Flattened(request(e), clock, &hit, nullptr, {true, previous->get()});
+    SurfaceStore cold_store(Limits(), 1, nullptr);
+    auto cold = cold_store.Flattened(request(e), clock, &hit);
+    ASSERT_TRUE(warm.ok() && cold.ok());
+    const FlattenQuality& w = (*warm)->sheet.quality;
+    const FlattenQuality& c = (*cold)->sheet.quality;
+    // Figure 10 at 16 x 16 bends enough that nearly every pair follows a path.
+    EXPECT_GT(w.refollowed_paths, 3000) << e;
+    EXPECT_NEAR(w.stress, c.stress, 1e-6 * c.stress) << e;
+    EXPECT_EQ((*warm)->sheet.paths, nullptr);  // kept apart from the entry
+    previous = warm;
+  }
+  EXPECT_EQ(store.edit_paths_stats().entries, 7u);
+  // The first surface flattened without keeping its paths: the edit after it
+  // measures afresh.
+  SurfaceStore plain(Limits(), 1, nullptr);
+  auto first = plain.Flattened(request(0), clock, &hit);
+  auto edit = plain.Flattened(request(1), clock, &hit, nullptr, {true, first->get()});
+  ASSERT_TRUE(edit.ok());
+  EXPECT_EQ((*edit)->sheet.quality.refollowed_paths, 0);
+  EXPECT_EQ(plain.edit_paths_stats().entries, 1u);
 }
 
 }  // namespace
