@@ -25,6 +25,7 @@ Result<SheetField> SampleSheetField(const SheetMap& map, int n, int threads) {
   f.positions.resize(count);
   f.normals.resize(count);
   f.on_sheet.resize(count);
+  f.params.resize(count);
   const Vec2 step = (f.hi - f.lo) / (n - 1);
   // One row of the lattice per task; each row walks its cells in order, so
   // the previous point's cell is the search's first guess.
@@ -42,6 +43,7 @@ Result<SheetField> SampleSheetField(const SheetMap& map, int n, int threads) {
         f.positions[k] = s.p;
         f.normals[k] = UnitNormal(s);
         f.on_sheet[k] = p.outside ? 0 : 1;
+        f.params[k] = p.uv;
       }
     }
   });
@@ -49,7 +51,7 @@ Result<SheetField> SampleSheetField(const SheetMap& map, int n, int threads) {
   // domain (a normal that vanishes, a point that overflows): an error, never
   // a value a client would draw.
   for (size_t k = 0; k < count; ++k) {
-    if (f.positions[k].allFinite() && f.normals[k].allFinite()) continue;
+    if (f.positions[k].allFinite() && f.normals[k].allFinite() && f.params[k].allFinite()) continue;
     return Status(ErrorCode::kDegenerate,
                   "the map continued off the sheet is not finite at lattice point " +
                       std::to_string(k % n) + ", " + std::to_string(k / n),

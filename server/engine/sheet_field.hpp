@@ -28,6 +28,11 @@ struct SheetField {
   std::vector<Vec3> positions;    // n * n, index i + n * j (x varies fastest)
   std::vector<Vec3> normals;      // unit
   std::vector<uint8_t> on_sheet;  // 1 where the lattice point lies on the sheet
+  // The surface parameters (u, v) each point was evaluated at (continued past
+  // [0, 1] off the sheet): with them a client moves the field with an edit of
+  // a surface that is linear in its control points (a Bezier patch), before
+  // the edit's own field comes.
+  std::vector<Vec2> params;
 };
 
 // The field of `map` with n x n lattice points, lattice point (i, j) at

@@ -340,20 +340,23 @@ double AsFloat(double x) {
 }  // namespace
 
 json FieldJson(const SheetField& f) {
-  json positions = json::array(), normals = json::array(), on_sheet = json::array();
+  json positions = json::array(), normals = json::array(), on_sheet = json::array(),
+       params = json::array();
   for (size_t k = 0; k < f.positions.size(); ++k) {
     const Vec3& p = f.positions[k];
     const Vec3& q = f.normals[k];
     positions.push_back({AsFloat(p.x()), AsFloat(p.y()), AsFloat(p.z())});
     normals.push_back({AsFloat(q.x()), AsFloat(q.y()), AsFloat(q.z())});
     on_sheet.push_back(f.on_sheet[k] != 0);
+    params.push_back({AsFloat(f.params[k].x()), AsFloat(f.params[k].y())});
   }
   return {
       {"n", f.n},
       {"bounds", {{AsFloat(f.lo.x()), AsFloat(f.lo.y())}, {AsFloat(f.hi.x()), AsFloat(f.hi.y())}}},
       {"positions", std::move(positions)},
       {"normals", std::move(normals)},
-      {"on_sheet", std::move(on_sheet)}};
+      {"on_sheet", std::move(on_sheet)},
+      {"params", std::move(params)}};
 }
 
 std::string FieldBinary(const SheetField& f) {
@@ -366,7 +369,7 @@ std::string FieldBinary(const SheetField& f) {
     out.append(reinterpret_cast<const char*>(&x), sizeof x);
   };
   const size_t count = f.positions.size();
-  out.reserve(32 + count * 25);
+  out.reserve(32 + count * 33);
   u32(kFieldFormatVersion);
   u32(static_cast<uint32_t>(f.n));
   u32(0);
@@ -376,6 +379,8 @@ std::string FieldBinary(const SheetField& f) {
   for (const Vec3& q : f.normals)
     for (int c = 0; c < 3; ++c) f32(q[c]);
   out.append(reinterpret_cast<const char*>(f.on_sheet.data()), f.on_sheet.size());
+  for (const Vec2& uv : f.params)
+    for (int c = 0; c < 2; ++c) f32(uv[c]);
   return out;
 }
 

@@ -211,6 +211,7 @@ try {
     const m0 = await mask();
     const sent = (await posts()).length;
     const live0 = await viewer(() => window.surfdeformViewer.state.live.surfaces);
+    const moved0 = await viewer(() => window.surfdeformViewer.state.live.moved);
     await page.mouse.move(at[0], at[1]);
     await page.mouse.down();
     for (let s = 1; s <= 8; ++s) {
@@ -220,8 +221,17 @@ try {
     await sleep(300);
     const m1 = await mask();
     const live = (await viewer(() => window.surfdeformViewer.state.live.surfaces)) - live0;
+    const moved = (await viewer(() => window.surfdeformViewer.state.live.moved)) - moved0;
     const during = (await posts()).slice(sent);
     check(live >= 1, `the surface and the model follow a control-point drag (${live} surfaces shown)`);
+    // Every pointer move moves the surface and the model at once (the field
+    // moved with the patch), not only when the server's field comes.
+    check(moved >= 8, `each of the 8 pointer moves moved the field at once (${moved})`);
+    const gap = await viewer(() => window.surfdeformViewer.state.live.gap);
+    // (Measured 2.6e-3: what the flat sheet itself changes with the pose.
+    // A slower server leaves more pose between a field and the next.)
+    check(gap > 0 && gap < 1e-2,
+          `a field moved at once is within 1e-2 of the sheet's diagonal of the server's for that pose (${gap.toExponential(2)})`);
     check(during.length >= 1 && during.every((p) => p.path === '/v1/surfaces'),
           `only surfaces are asked for during it (${during.map((p) => p.path).join(', ')})`);
     check(during.every((p) => /"warm_start":"[0-9a-f]{32}"/.test(p.body)),
@@ -233,6 +243,12 @@ try {
     if (await settled('ready', 'the exact result after the control-point drag')) {
       const deforms = (await posts()).slice(before).filter((p) => p.path === '/v1/deform').length;
       check(deforms === 1, `the release sends one exact deformation (${deforms})`);
+      // The moved field lies on the edited surface: the server's, for a
+      // control point raised by 5% of the patch, at float32's precision.
+      const on = await viewer(() => window.surfdeformViewer.movedFieldOnSurface(5, 0.5));
+      check(on.points > 50 && on.shift > 1e-3 && on.worst < 1e-6,
+            `a moved field's ${on.points} points lie on the edited surface (${on.worst.toExponential(2)} ` +
+            `of the diagonal off, moved ${on.shift.toExponential(2)})`);
     }
   }
   {

@@ -260,7 +260,8 @@ TEST_F(LiveEditingTest, TheFieldsJsonAndBytesAgreeAndAreCachedForever) {
   EXPECT_EQ(bytes->get_header_value("Content-Type"), "application/octet-stream");
   EXPECT_NE(bytes->get_header_value("ETag"), text->get_header_value("ETag"));
   const std::string& b = bytes->body;
-  ASSERT_EQ(b.size(), 32u + 81u * 24u + 81u);  // the documented layout
+  ASSERT_EQ(j.at("params").size(), 81u);
+  ASSERT_EQ(b.size(), 32u + 81u * 24u + 81u + 81u * 8u);  // the documented layout
   EXPECT_EQ(b.substr(0, 4), "SDFD");
   auto u32 = [&b](size_t at) {
     uint32_t v;
@@ -272,7 +273,7 @@ TEST_F(LiveEditingTest, TheFieldsJsonAndBytesAgreeAndAreCachedForever) {
     std::memcpy(&v, b.data() + at, 4);
     return static_cast<double>(v);
   };
-  EXPECT_EQ(u32(4), 1u);
+  EXPECT_EQ(u32(4), 2u);
   EXPECT_EQ(u32(8), 9u);
   const json& bounds = j.at("bounds");
   EXPECT_EQ(f32(16), static_cast<float>(bounds[0][0].get<double>()));
@@ -285,6 +286,10 @@ TEST_F(LiveEditingTest, TheFieldsJsonAndBytesAgreeAndAreCachedForever) {
                 static_cast<float>(j["normals"][k][c3].get<double>()));
     }
     EXPECT_EQ(b[32 + 81 * 24 + k] == 1, j["on_sheet"][k].get<bool>());
+    for (size_t c2 = 0; c2 < 2; ++c2) {
+      EXPECT_EQ(f32(32 + 81 * 25 + 8 * k + 4 * c2),
+                static_cast<float>(j["params"][k][c2].get<double>()));
+    }
     on += j["on_sheet"][k].get<bool>();
   }
   EXPECT_EQ(on, 81);  // an unrolled cylinder is its bounding box

@@ -99,6 +99,10 @@ TEST(SheetField, PointsOffACurvedSheetAreFlaggedAndContinueTheMapSmoothly) {
       off += f->on_sheet[k] == 0;
       ASSERT_TRUE(f->positions[k].allFinite() && f->normals[k].allFinite());
       EXPECT_NEAR(f->normals[k].norm(), 1.0, 1e-12);
+      // Every point, on the sheet or continued off it, is the surface at
+      // its params.
+      const Vec2& uv = f->params[k];
+      EXPECT_EQ(f->positions[k], t.surface->Evaluate(uv.x(), uv.y(), 1).p) << i << ", " << j;
       if (i + 1 < n) {
         worst_jump = std::max(worst_jump, (f->positions[k + 1] - f->positions[k]).norm() / step);
       }

@@ -9,8 +9,10 @@
 //
 // Live editing: while the person drags, the model is a GPU preview bent by
 // the field (preview.js). Dragging, wheel-scaling or rotating the footprint
-// sends no request; dragging a control point sends one POST /v1/surfaces
-// per move (at most one in flight, the newest pose wins) for the new field.
+// sends no request; dragging a control point moves the field with the
+// patch at once (field_edit.js: a Bezier patch is linear in its control
+// points) and sends one POST /v1/surfaces per move (at most one in flight,
+// the newest pose wins) for the edited surface's own field.
 // The exact deformation replaces the preview on release (for the wheel, 150
 // ms after its last event; never while a button is held).
 //
@@ -25,6 +27,7 @@ import { createSurface, deform, getSurface, mapOnSurface, uploadModel } from './
 import { AnimationPanel } from './animation_panel.js';
 import { dracoLoader, footprint, placementFrame, readModel } from './footprint.js';
 import { ModelView } from './model_view.js';
+import { fieldGap, movedField } from './field_edit.js';
 import { FieldPreview, nearestDistances, previewPositions } from './preview.js';
 import { sampleModel, surfacePreset } from './samples.js';
 import { SheetView } from './sheet_view.js';
@@ -50,10 +53,14 @@ const state = {
   lastError: null,
   lastMark: null,        // the mark on the surface, as /map returned it
   upResolved: null,      // the axis "auto" chose for the current model
-  field: null,           // the current surface's field (preview.js)
+  field: null,           // the current surface's field (preview.js), as the server gave it
+  fieldSpec: null,       // the spec that field is of (a copy)
   specVersion: 0,        // bumped by every control-point move
   fieldVersion: -1,      // the spec version the field shows
-  live: { surfaces: 0, previews: 0 },  // live edits: surfaces fetched, previews shown
+  // Live edits: surfaces fetched, fields moved at once with a control point,
+  // previews shown, and the largest gap between a moved field and the
+  // server's field of the same pose (of the sheet's diagonal).
+  live: { surfaces: 0, moved: 0, previews: 0, gap: 0 },
   lastPreview: null,     // how far the last preview was from the exact result
 };
 
@@ -73,8 +80,9 @@ const modelView = new ModelView($('view3d'), (index, point, final) => {
   // A release where the last move left the point: the same surface.
   if (rounded.some((x, c) => x !== state.spec.control_points[index][c])) ++state.specVersion;
   state.spec.control_points[index] = rounded;
-  if (final) releaseControlPoint();
-  else liveSurface();
+  if (final) return releaseControlPoint();
+  showMovedField();
+  liveSurface();
 });
 modelView.setPreview(preview.mesh);
 // Exact results come as meshopt GLB (some 10x faster for the server to
@@ -135,10 +143,25 @@ function showLivePreview() {
   return true;
 }
 
-function useField(field, version) {
+function useField(field, version, spec) {
   state.field = field;
+  state.fieldSpec = spec;
   state.fieldVersion = version;
   preview.setField(field);
+}
+
+// The field of the surface being edited now (state.spec), moved at once
+// from the last field the server gave (field_edit.js), drawn as the surface
+// and under the preview; false where it cannot be moved (not a Bezier
+// patch), and the server's field is waited for.
+function showMovedField() {
+  const moved = movedField(state.field, state.fieldSpec, state.spec);
+  if (!moved) return false;
+  preview.setField(moved);
+  modelView.setSurfaceFromField(moved);
+  if (moved !== state.field) ++state.live.moved;
+  showLivePreview();
+  return true;
 }
 
 // A control point moved: the new surface's field, one request at a time,
@@ -157,18 +180,27 @@ async function liveSurface() {
       liveAgain = false;
       const version = state.specVersion;
       // Each pose starts from the sheet of the one before (warm_start).
-      const request = { surface: state.spec, sampling: { nu: state.grid, nv: state.grid },
-                        warm_start: state.liveSummary?.summary.id || state.surfaceId };
+      const request = JSON.parse(JSON.stringify({
+        surface: state.spec, sampling: { nu: state.grid, nv: state.grid },
+        warm_start: state.liveSummary?.summary.id || state.surfaceId }));
       const t0 = performance.now();
-      const summary = await createSurface(JSON.parse(JSON.stringify(request)), kLiveFieldSide);
+      const summary = await createSurface(request, kLiveFieldSide);
       const t1 = performance.now();
       if (version <= state.fieldVersion) continue;  // the release's surface came first
-      useField(summary.field, version);
-      modelView.setSurfaceFromField(summary.field);
+      // How far the field moved at once for this pose was from its own.
+      const moved = movedField(state.field, state.fieldSpec, request.surface);
+      if (moved && moved !== state.field && moved.n === summary.field.n) {
+        state.live.gap = Math.max(state.live.gap, fieldGap(moved, summary.field));
+      }
+      useField(summary.field, version, request.surface);
+      // Then moved on to where the control point is now.
+      if (!showMovedField()) {
+        modelView.setSurfaceFromField(summary.field);
+        showLivePreview();
+      }
       ++state.live.surfaces;
-      showLivePreview();
       state.live.last = { request_ms: t1 - t0, apply_ms: performance.now() - t1 };
-      state.liveSummary = { summary, version };
+      state.liveSummary = { summary, version, spec: request.surface };
     } while (liveAgain);
   } catch {
     // The release flattens the surface again and shows what went wrong.
@@ -210,10 +242,11 @@ async function refreshSurface(known = null) {
   setState('loading');
   try {
     const version = known ? known.version : state.specVersion;
-    const request = { surface: state.spec, sampling: { nu: state.grid, nv: state.grid } };
+    const request = JSON.parse(JSON.stringify({ surface: state.spec,
+                                                sampling: { nu: state.grid, nv: state.grid } }));
     const summary = known ? known.summary : await createSurface(request, kFieldSide);
     if (run !== surfaceRun) return;  // a newer edit is on its way
-    useField(summary.field, version);
+    useField(summary.field, version, known ? known.spec : request.surface);
     state.surfaceId = summary.id;
     state.surfacePending = false;
     const early = Boolean(state.placement.center) && !state.recentre;
@@ -370,6 +403,8 @@ async function runDeform() {
       ['round trip', `${fmt(performance.now() - t0, 3)} ms, ${bytes.byteLength} bytes`],
       ...(state.lastPreview ? [['preview vs exact', `${fmt(state.lastPreview.max, 2)} ` +
         `(${fmt(100 * state.lastPreview.relative, 2)}% of the sheet)`]] : []),
+      ...(state.live.gap ? [['moved field vs server', `${fmt(100 * state.live.gap, 2)}% of the sheet ` +
+        `(largest over ${state.live.surfaces} live surfaces)`]] : []),
     ]);
     showError(null);
     setState('ready');
@@ -610,8 +645,27 @@ async function decodeGlb(bytes) {
   return { primitives, vertices, triangles, distinct: distinct.size };
 }
 
+// For tests: the current field moved at once with control point `index`
+// raised by `lift` (field_edit.js), against the server's surface of that
+// pose: how far the moved field's points on the sheet lie from it (each
+// mapped onto it by /map's surface_points), relative to the sheet's diagonal.
+async function movedFieldOnSurface(index, lift) {
+  const after = JSON.parse(JSON.stringify(state.fieldSpec));
+  after.control_points[index][2] += lift;
+  const moved = movedField(state.field, state.fieldSpec, after);
+  const made = await createSurface({ surface: after, sampling: { nu: state.grid, nv: state.grid } });
+  const points = moved.positions.filter((p, k) => moved.on_sheet[k] && k % 7 === 0);
+  const marks = await mapOnSurface(made.id, { surface_points: points });
+  const [lo, hi] = moved.bounds;
+  const diagonal = Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
+  const worst = Math.max(...marks.surface_points.map((m) => m.distance));
+  const shift = Math.max(...moved.positions.map((p, k) => Math.hypot(...p.map((x, c) => x - state.field.positions[k][c]))));
+  return { points: points.length, worst: worst / diagonal, shift: shift / diagonal };
+}
+
 // For tests and the curious: the state and the model's share of the 3D canvas.
 window.surfdeformViewer = { state, animation: animationPanel, preview, compareEncodings, decodeGlb,
+                            movedFieldOnSurface,
                             sheet: () => sheetView.sheet,
                             placeAt: (center) => {
                               state.placement.center = center;
