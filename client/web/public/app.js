@@ -210,16 +210,18 @@ async function liveSurface() {
   }
 }
 
-// A control point let go: the exact result of its last pose, from the live
-// edit's surface when that is the last pose (no second flattening), once
-// the live request in flight is back.
+// A control point let go: the exact result of its last pose, at once, from
+// the live edit's surface when that is the last pose (no second
+// flattening), else flattened now, warm from the last live surface. A live
+// request still in flight is not waited for (its reply, of an older pose,
+// is dropped; for the same pose the server flattens it once).
 let releasePending = false;
 function releaseControlPoint() {
   performance.mark('surfdeform:release-control-point');
   releasePending = true;
   state.surfacePending = true;
   holdDeform();
-  if (!liveBusy) settleRelease();
+  settleRelease();
 }
 
 function settleRelease() {
@@ -244,6 +246,9 @@ async function refreshSurface(known = null) {
     const version = known ? known.version : state.specVersion;
     const request = JSON.parse(JSON.stringify({ surface: state.spec,
                                                 sampling: { nu: state.grid, nv: state.grid } }));
+    if (state.liveSummary && state.liveSummary.version < version) {
+      request.warm_start = state.liveSummary.summary.id;  // a release after live poses
+    }
     const summary = known ? known.summary : await createSurface(request, kFieldSide);
     if (run !== surfaceRun) return;  // a newer edit is on its way
     useField(summary.field, version, known ? known.spec : request.surface);
