@@ -1,7 +1,10 @@
 #include "service/warm_start.hpp"
 
 #include <algorithm>
+#include <numbers>
 #include <variant>
+
+#include "engine/sheet_motion.hpp"
 
 namespace surfdeform {
 
@@ -56,6 +59,16 @@ WarmStart WarmStartFor(const proto::CreateSurfaceRequest& create, SurfaceStore& 
 json WarmStartJson(const WarmStart& w, const StoredSurface& made, bool hit) {
   json j = {{"from", w.from}};
   const FlattenQuality& q = made.sheet.quality;
+  // Where the surface it names (same shape and grid) lies on the new sheet,
+  // used or not (a surface flattened already included): a client keeps its
+  // placement on the surface by moving it so.
+  if (w.entry != nullptr && w.entry->sheet.flat.size() == made.sheet.flat.size()) {
+    if (auto m = BestSheetMotion(w.entry->sheet.flat, made.sheet.flat); m.ok()) {
+      j["motion"] = {{"rotation_deg", m->angle * 180.0 / std::numbers::pi},
+                     {"translation", {m->translation.x(), m->translation.y()}},
+                     {"rms", m->rms}};
+    }
+  }
   std::string reason = w.reason;
   if (hit) {
     reason = "the surface was flattened already";

@@ -2,7 +2,9 @@
 // Firefox ESR (WebDriver BiDi), driven by puppeteer-core, loads the page from
 // the real server in a laptop's window, opens on a word in relief, edits live
 // with real pointer events (a footprint drag and a control-point drag change
-// the 3D view during the drag; the footprint's sends no request; a release
+// the 3D view during the drag, the latter on every pointer move, with the
+// model kept on the same part of the surface; the footprint's sends no
+// request; a release
 // sends one exact request, whose result the preview was within 1e-3 of the
 // sheet's diagonal of; parts dragged off the sheet are tinted, with no banner
 // until the exact request fails), deforms the bundled bunny, checks that the 3D canvas shows
@@ -212,6 +214,7 @@ try {
     const sent = (await posts()).length;
     const live0 = await viewer(() => window.surfdeformViewer.state.live.surfaces);
     const moved0 = await viewer(() => window.surfdeformViewer.state.live.moved);
+    const uv0 = await viewer(() => window.surfdeformViewer.placementParams());
     await page.mouse.move(at[0], at[1]);
     await page.mouse.down();
     for (let s = 1; s <= 8; ++s) {
@@ -227,11 +230,11 @@ try {
     // Every pointer move moves the surface and the model at once (the field
     // moved with the patch), not only when the server's field comes.
     check(moved >= 8, `each of the 8 pointer moves moved the field at once (${moved})`);
+    // How far a moved field was from the server's field of the same pose
+    // depends on how far the pose moved while a request was out (the
+    // machine's speed): reported, and bounded below for a fixed edit.
     const gap = await viewer(() => window.surfdeformViewer.state.live.gap);
-    // (Measured 2.6e-3: what the flat sheet itself changes with the pose.
-    // A slower server leaves more pose between a field and the next.)
-    check(gap > 0 && gap < 1e-2,
-          `a field moved at once is within 1e-2 of the sheet's diagonal of the server's for that pose (${gap.toExponential(2)})`);
+    check(gap > 0, `moved fields were compared with the server's during the drag (${gap.toExponential(2)} of the diagonal at most)`);
     check(during.length >= 1 && during.every((p) => p.path === '/v1/surfaces'),
           `only surfaces are asked for during it (${during.map((p) => p.path).join(', ')})`);
     check(during.every((p) => /"warm_start":"[0-9a-f]{32}"/.test(p.body)),
@@ -243,12 +246,25 @@ try {
     if (await settled('ready', 'the exact result after the control-point drag')) {
       const deforms = (await posts()).slice(before).filter((p) => p.path === '/v1/deform').length;
       check(deforms === 1, `the release sends one exact deformation (${deforms})`);
+      const uv1 = await viewer(() => window.surfdeformViewer.placementParams());
+      // The model stays on the same part of the surface: its placement moved
+      // with each new sheet (warm_start.motion). Measured: 2.1e-4 in (u, v);
+      // 7.2e-3 with the placement left where it was on the sheet.
+      const slid = Math.hypot(uv1[0] - uv0[0], uv1[1] - uv0[1]);
+      check(slid < 2e-3, `the placement stays on the same surface point through the edit (slid ${slid.toExponential(2)} in u, v)`);
       // The moved field lies on the edited surface: the server's, for a
       // control point raised by 5% of the patch, at float32's precision.
       const on = await viewer(() => window.surfdeformViewer.movedFieldOnSurface(5, 0.5));
       check(on.points > 50 && on.shift > 1e-3 && on.worst < 1e-6,
             `a moved field's ${on.points} points lie on the edited surface (${on.worst.toExponential(2)} ` +
             `of the diagonal off, moved ${on.shift.toExponential(2)})`);
+      // With the placement moved as the new sheet lies (warm_start.motion),
+      // it is much nearer the server's field of that pose than the field
+      // before the edit is: what is left is the flat sheet's own change.
+      check(on.gap < 0.5 * on.unmoved,
+            `the moved field is nearer the server's field for that pose than the unmoved one ` +
+            `(${on.gap.toExponential(2)} against ${on.unmoved.toExponential(2)} of the diagonal; ` +
+            `${on.raw.toExponential(2)} without the sheet's motion)`);
     }
   }
   {

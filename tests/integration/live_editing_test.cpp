@@ -369,6 +369,12 @@ TEST_F(LiveEditingTest, AnEditStartsWarmFromTheSurfaceItNamesOrSaysWhyNot) {
   // were kept: the edit measured from them (a 12 x 12 bent patch: most of
   // its ~1,700 pairs follow a path).
   EXPECT_GT(w.at("paths_reused").get<int>(), 500) << w.dump();
+  // How the new sheet lies against the one it started from: a small turn
+  // and shift of the canonical frame, and a small rest.
+  const json& motion = w.at("motion");
+  EXPECT_LT(std::abs(motion.at("rotation_deg").get<double>()), 5.0) << motion.dump();
+  EXPECT_EQ(motion.at("translation").size(), 2u);
+  EXPECT_LT(motion.at("rms").get<double>(), 0.05) << motion.dump();
   // Not an error when it cannot be used: a cold start, and why.
   const json unknown = post(with("0.54", R"(,"warm_start":")" + std::string(kUnknown) + "\""), 201);
   EXPECT_EQ(unknown.at("warm_start").at("used"), false);
@@ -381,7 +387,8 @@ TEST_F(LiveEditingTest, AnEditStartsWarmFromTheSurfaceItNamesOrSaysWhyNot) {
   EXPECT_NE(grid.at("warm_start").at("reason").get<std::string>().find("grid"), std::string::npos);
   const json cached = post(with("0.52", R"(,"warm_start":")" + id + "\""), 200);
   EXPECT_EQ(cached.at("warm_start").at("used"), false);
-  EXPECT_EQ(cached.at("id"), edit.at("id"));  // the id names the surface alone
+  EXPECT_TRUE(cached.at("warm_start").contains("motion"));  // found: said either way
+  EXPECT_EQ(cached.at("id"), edit.at("id"));                // the id names the surface alone
   json p =
       Problem(c.Post("/v1/surfaces", with("0.5", R"(,"warm_start":"nope")"), "application/json"),
               422, "invalid_argument");

@@ -27,8 +27,8 @@ import { createSurface, deform, getSurface, mapOnSurface, uploadModel } from './
 import { AnimationPanel } from './animation_panel.js';
 import { dracoLoader, footprint, placementFrame, readModel } from './footprint.js';
 import { ModelView } from './model_view.js';
-import { fieldGap, movedField } from './field_edit.js';
-import { FieldPreview, nearestDistances, previewPositions } from './preview.js';
+import { fieldGap, movedField, moveSheetPoint } from './field_edit.js';
+import { FieldPreview, nearestDistances, previewPositions, sampleField } from './preview.js';
 import { sampleModel, surfacePreset } from './samples.js';
 import { SheetView } from './sheet_view.js';
 
@@ -55,6 +55,7 @@ const state = {
   upResolved: null,      // the axis "auto" chose for the current model
   field: null,           // the current surface's field (preview.js), as the server gave it
   fieldSpec: null,       // the spec that field is of (a copy)
+  placementSheet: null,  // the id of the surface whose sheet the placement is on
   specVersion: 0,        // bumped by every control-point move
   fieldVersion: -1,      // the spec version the field shows
   // Live edits: surfaces fetched, fields moved at once with a control point,
@@ -150,6 +151,20 @@ function useField(field, version, spec) {
   preview.setField(field);
 }
 
+// An edited surface's sheet lies turned and shifted against the one it
+// started from (the canonical frame moves with an edit near sample (0, 0)):
+// the placement moves with it (the reply's warm_start.motion), so that the
+// model stays on the same part of the surface.
+function followSheet(summary) {
+  const w = summary.warm_start;
+  if (w && w.motion && w.from === state.placementSheet && state.placement.center) {
+    state.placement.center = moveSheetPoint(state.placement.center, w.motion);
+    state.placement.rotation_deg += w.motion.rotation_deg;
+    showPlacement();
+  }
+  state.placementSheet = summary.id;
+}
+
 // The field of the surface being edited now (state.spec), moved at once
 // from the last field the server gave (field_edit.js), drawn as the surface
 // and under the preview; false where it cannot be moved (not a Bezier
@@ -189,10 +204,11 @@ async function liveSurface() {
       if (version <= state.fieldVersion) continue;  // the release's surface came first
       // How far the field moved at once for this pose was from its own.
       const moved = movedField(state.field, state.fieldSpec, request.surface);
-      if (moved && moved !== state.field && moved.n === summary.field.n) {
-        state.live.gap = Math.max(state.live.gap, fieldGap(moved, summary.field));
+      if (moved && moved !== state.field) {
+        state.live.gap = Math.max(state.live.gap, fieldGap(moved, summary.field, summary.warm_start?.motion));
       }
       useField(summary.field, version, request.surface);
+      followSheet(summary);
       // Then moved on to where the control point is now.
       if (!showMovedField()) {
         modelView.setSurfaceFromField(summary.field);
@@ -252,6 +268,7 @@ async function refreshSurface(known = null) {
     const summary = known ? known.summary : await createSurface(request, kFieldSide);
     if (run !== surfaceRun) return;  // a newer edit is on its way
     useField(summary.field, version, known ? known.spec : request.surface);
+    if (!known) followSheet(summary);  // a live reply was followed when it came
     state.surfaceId = summary.id;
     state.surfacePending = false;
     const early = Boolean(state.placement.center) && !state.recentre;
@@ -653,24 +670,40 @@ async function decodeGlb(bytes) {
 // For tests: the current field moved at once with control point `index`
 // raised by `lift` (field_edit.js), against the server's surface of that
 // pose: how far the moved field's points on the sheet lie from it (each
-// mapped onto it by /map's surface_points), relative to the sheet's diagonal.
+// mapped onto it by /map's surface_points), how far they moved, and how far
+// they are from the server's field of that pose (which has the edited
+// surface's own sheet) against how far the unmoved field is, all relative to
+// the sheet's diagonal.
 async function movedFieldOnSurface(index, lift) {
   const after = JSON.parse(JSON.stringify(state.fieldSpec));
   after.control_points[index][2] += lift;
   const moved = movedField(state.field, state.fieldSpec, after);
-  const made = await createSurface({ surface: after, sampling: { nu: state.grid, nv: state.grid } });
+  const made = await createSurface({ surface: after, sampling: { nu: state.grid, nv: state.grid },
+                                     warm_start: state.placementSheet }, state.field.n);
+  const motion = made.warm_start && made.warm_start.motion;
   const points = moved.positions.filter((p, k) => moved.on_sheet[k] && k % 7 === 0);
   const marks = await mapOnSurface(made.id, { surface_points: points });
   const [lo, hi] = moved.bounds;
   const diagonal = Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
   const worst = Math.max(...marks.surface_points.map((m) => m.distance));
   const shift = Math.max(...moved.positions.map((p, k) => Math.hypot(...p.map((x, c) => x - state.field.positions[k][c]))));
-  return { points: points.length, worst: worst / diagonal, shift: shift / diagonal };
+  return { points: points.length, worst: worst / diagonal, shift: shift / diagonal,
+           gap: fieldGap(moved, made.field, motion), unmoved: fieldGap(state.field, made.field, motion),
+           raw: fieldGap(moved, made.field) };
+}
+
+// For tests: the surface parameters (u, v) under the placement's centre,
+// from the current field (bilinear, as the preview samples it).
+function placementParams() {
+  const f = state.field;
+  if (!f || !f.params || !state.placement.center) return null;
+  const asPoints = { ...f, positions: f.params.map(([u, v]) => [u, v, 0]), normals: f.params.map(() => [0, 0, 1]) };
+  return sampleField(asPoints, ...state.placement.center).p.slice(0, 2);
 }
 
 // For tests and the curious: the state and the model's share of the 3D canvas.
 window.surfdeformViewer = { state, animation: animationPanel, preview, compareEncodings, decodeGlb,
-                            movedFieldOnSurface,
+                            movedFieldOnSurface, placementParams,
                             sheet: () => sheetView.sheet,
                             placeAt: (center) => {
                               state.placement.center = center;

@@ -11,6 +11,8 @@
 // edited surface), second order in a small edit: the server's field for the
 // pose replaces the moved one when it comes.
 
+import { sampleField } from './preview.js';
+
 // The n + 1 Bernstein weights of degree n at t (de Casteljau's recurrence;
 // t may lie past [0, 1], where the field continues the surface).
 export function bernstein(n, t) {
@@ -88,15 +90,30 @@ export function movedField(field, before, after) {
   return { ...field, positions, normals, moved: true };
 }
 
-// How far two fields of one lattice are apart: the largest distance between
-// their positions on the sheet, relative to the sheet's diagonal.
-export function fieldGap(a, b) {
-  const [lo, hi] = a.bounds;
+// A sheet point moved as `motion` says ({rotation_deg, translation}, a
+// POST /v1/surfaces reply's warm_start.motion: from the sheet it started
+// from to its own); unmoved without one.
+export function moveSheetPoint([x, y], motion) {
+  if (!motion) return [x, y];
+  const t = (motion.rotation_deg * Math.PI) / 180, c = Math.cos(t), s = Math.sin(t);
+  return [c * x - s * y + motion.translation[0], s * x + c * y + motion.translation[1]];
+}
+
+// How far field `b` takes the sheet points of field `a`'s lattice (moved by
+// `motion` onto b's sheet, if given) from where `a` takes them (b sampled
+// there as the preview samples it), at most over the points on both sheets,
+// relative to a's sheet's diagonal: what a person sees move when b replaces
+// a under the preview (and the placement moves with the sheet).
+export function fieldGap(a, b, motion = null) {
+  const n = a.n, [lo, hi] = a.bounds;
   const diagonal = Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
   let worst = 0;
   a.positions.forEach((p, k) => {
-    if (!a.on_sheet[k] || !b.on_sheet[k]) return;
-    worst = Math.max(worst, Math.hypot(...p.map((x, c) => x - b.positions[k][c])));
+    if (!a.on_sheet[k]) return;
+    const x = lo[0] + ((k % n) * (hi[0] - lo[0])) / (n - 1);
+    const y = lo[1] + (Math.floor(k / n) * (hi[1] - lo[1])) / (n - 1);
+    const s = sampleField(b, ...moveSheetPoint([x, y], motion));
+    if (s.on) worst = Math.max(worst, Math.hypot(...p.map((v, c) => v - s.p[c])));
   });
   return worst / diagonal;
 }
