@@ -810,7 +810,7 @@ struct HttpServer::Impl {
     res.set_content(metrics.Render(service.cache_stats(), service.shared_tier_stats(),
                                    service.admission_stats(), server.connection_stats(),
                                    service.placement_memo_stats(), service.model_cache_stats(),
-                                   service.answer_cache_stats()),
+                                   service.answer_cache_stats(), service.edit_paths_stats()),
                     "text/plain; version=0.0.4");
   }
   void OpenApi(const httplib::Request&, httplib::Response& res) {

@@ -43,7 +43,7 @@ void Metrics::Rejected(const std::string& reason) {
 std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shared,
                             const AdmissionStats& admission, const ConnectionStats& connections,
                             const PlacementMemoStats& placements, const CacheStats& models,
-                            const CacheStats& answers) const {
+                            const CacheStats& answers, const CacheStats& edit_paths) const {
   std::string out;
   auto line = [&out](const std::string& text) { out += text + "\n"; };
   std::lock_guard lock(mutex_);
@@ -145,6 +145,11 @@ std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shar
                {"Answers of POST /v1/deform served from the cache (or from a concurrent "
                 "request's making of the same answer).",
                 "Answers that had to be made (parse, deformation, encoding).", "kept answers"});
+  cache_family(
+      "surfdeform_edit_paths_", edit_paths,
+      {"Warm-started edits that measured from the kept distance paths of the "
+       "surface they started from.",
+       "Warm-started edits that found no kept paths (measured afresh).", "kept distance paths"});
 
   auto plain = [&](const std::string& name, const char* type, const char* help,
                    const std::string& value) {

@@ -54,7 +54,7 @@ class Metrics {
   std::string Render(const CacheStats& cache, const SharedTierStats& shared = {},
                      const AdmissionStats& admission = {}, const ConnectionStats& connections = {},
                      const PlacementMemoStats& placements = {}, const CacheStats& models = {},
-                     const CacheStats& answers = {}) const;
+                     const CacheStats& answers = {}, const CacheStats& edit_paths = {}) const;
 
  private:
   struct Histogram {

@@ -410,6 +410,7 @@ const ServiceLimits& Service::limits() const { return impl_->options.limits; }
 CacheStats Service::cache_stats() const { return impl_->store.surface_stats(); }
 CacheStats Service::model_cache_stats() const { return impl_->models.stats(); }
 CacheStats Service::answer_cache_stats() const { return impl_->answers.stats(); }
+CacheStats Service::edit_paths_stats() const { return impl_->store.edit_paths_stats(); }
 PlacementMemoStats Service::placement_memo_stats() const { return impl_->placements.stats(); }
 AdmissionStats Service::admission_stats() const { return impl_->admission.stats(); }
 bool Service::Saturated() const { return impl_->admission.Full(); }

@@ -75,6 +75,8 @@ class Service {
   CacheStats cache_stats() const;
   CacheStats model_cache_stats() const;
   CacheStats answer_cache_stats() const;
+  // The distance paths kept for live edits (SurfaceStore::Flattened).
+  CacheStats edit_paths_stats() const;
   PlacementMemoStats placement_memo_stats() const;
   SharedTierStats shared_tier_stats() const;  // enabled = false without one
   AdmissionStats admission_stats() const;

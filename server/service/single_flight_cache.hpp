@@ -103,6 +103,18 @@ class SingleFlightCache {
     return result;
   }
 
+  // Keeps `value` under `key`, made elsewhere (counted neither a hit nor a
+  // miss); a value already there stays and is used again.
+  void Put(const std::string& key, const Value& value) {
+    if (value == nullptr) return;
+    std::lock_guard lock(mutex_);
+    if (auto it = index_.find(key); it != index_.end()) {
+      lru_.splice(lru_.begin(), lru_, it->second);
+      return;
+    }
+    Insert(key, value);
+  }
+
   CacheStats stats() const {
     std::lock_guard lock(mutex_);
     CacheStats s = stats_;

@@ -216,11 +216,9 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
     // Sampling errors name a sample of the surface.
     return s.field().empty() ? Status(s.code(), s.message(), "surface") : s;
   }
-  if (std::shared_ptr<const DistancePaths> paths = std::move(sheet->paths)) {
-    bool kept = false;
-    (void)edit_paths_.GetOrCompute(
-        id, [&paths]() -> Result<std::shared_ptr<const DistancePaths>> { return paths; }, &kept);
-  }
+  // The paths are kept apart from the entry (a sheet's 20 times over).
+  edit_paths_.Put(id, sheet->paths);
+  sheet->paths.reset();
   auto entry = std::make_shared<StoredSurface>();
   entry->id = id;
   entry->request = request;

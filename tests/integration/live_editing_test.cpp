@@ -356,6 +356,7 @@ TEST_F(LiveEditingTest, AnEditStartsWarmFromTheSurfaceItNamesOrSaysWhyNot) {
     EXPECT_TRUE(r && r->status == status) << (r ? r->body : "no reply");
     return r ? json::parse(r->body, nullptr, false) : json();
   };
+  const double paths_hits = ScrapeMetric(port(), "surfdeform_edit_paths_hits_total");
   const json first = post(with("0.5", ""), 201);
   EXPECT_FALSE(first.contains("warm_start"));
   const std::string id = first.at("id");
@@ -369,6 +370,8 @@ TEST_F(LiveEditingTest, AnEditStartsWarmFromTheSurfaceItNamesOrSaysWhyNot) {
   // were kept: the edit measured from them (a 12 x 12 bent patch: most of
   // its ~1,700 pairs follow a path).
   EXPECT_GT(w.at("paths_reused").get<int>(), 500) << w.dump();
+  EXPECT_EQ(ScrapeMetric(port(), "surfdeform_edit_paths_hits_total"), paths_hits + 1);
+  EXPECT_GE(ScrapeMetric(port(), "surfdeform_edit_paths_entries"), 2);
   // How the new sheet lies against the one it started from: a small turn
   // and shift of the canonical frame, and a small rest.
   const json& motion = w.at("motion");

@@ -349,6 +349,8 @@ TEST(SurfaceStore, EditsMeasureFromThePreviousEditsPathsWithoutDrift) {
     previous = warm;
   }
   EXPECT_EQ(store.edit_paths_stats().entries, 7u);
+  EXPECT_EQ(store.edit_paths_stats().hits, 6u);  // each edit found the paths before it
+  EXPECT_EQ(store.edit_paths_stats().misses, 0u);
   // The first surface flattened without keeping its paths: the edit after it
   // measures afresh.
   SurfaceStore plain(Limits(), 1, nullptr);
@@ -357,6 +359,7 @@ TEST(SurfaceStore, EditsMeasureFromThePreviousEditsPathsWithoutDrift) {
   ASSERT_TRUE(edit.ok());
   EXPECT_EQ((*edit)->sheet.quality.refollowed_paths, 0);
   EXPECT_EQ(plain.edit_paths_stats().entries, 1u);
+  EXPECT_EQ(plain.edit_paths_stats().misses, 1u);
 }
 
 }  // namespace
