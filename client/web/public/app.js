@@ -194,10 +194,11 @@ async function liveSurface() {
     do {
       liveAgain = false;
       const version = state.specVersion;
-      // Each pose starts from the sheet of the one before (warm_start).
+      // Each pose starts from the sheet of the one before (warm_start): the
+      // sheet the placement is on, whose motion to the new sheet it follows.
       const request = JSON.parse(JSON.stringify({
         surface: state.spec, sampling: { nu: state.grid, nv: state.grid },
-        warm_start: state.liveSummary?.summary.id || state.surfaceId }));
+        warm_start: state.placementSheet || state.surfaceId }));
       const t0 = performance.now();
       const summary = await createSurface(request, kLiveFieldSide);
       const t1 = performance.now();
@@ -262,9 +263,9 @@ async function refreshSurface(known = null) {
     const version = known ? known.version : state.specVersion;
     const request = JSON.parse(JSON.stringify({ surface: state.spec,
                                                 sampling: { nu: state.grid, nv: state.grid } }));
-    if (state.liveSummary && state.liveSummary.version < version) {
-      request.warm_start = state.liveSummary.summary.id;  // a release after live poses
-    }
+    // From the sheet the placement is on (after live poses, the last one):
+    // the reply's motion keeps the placement on the surface.
+    if (!known && state.placementSheet) request.warm_start = state.placementSheet;
     const summary = known ? known.summary : await createSurface(request, kFieldSide);
     if (run !== surfaceRun) return;  // a newer edit is on its way
     useField(summary.field, version, known ? known.spec : request.surface);
