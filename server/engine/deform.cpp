@@ -1,5 +1,6 @@
 #include "engine/deform.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -501,11 +502,34 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
     // for every map: measured once per pass.
     const std::vector<FaceExtent> extents = FaceExtents(model.mesh, model.placed);
     std::vector<Result<SubdivisionResult>> results(maps.size(), NotComputed());
+    // A measurement keeps only what the pass goes on to use: the refined
+    // mesh of the first frame that grows (the one the refinement starts
+    // from), and the input vertices' positions of the frames before it. The
+    // rest shrinks to its statistics as soon as it is made, so a pass holds
+    // a mesh per thread at most, not one per frame (300 frames of a refined
+    // label held 6.7 GB).
+    std::vector<char> grew(maps.size(), 0);
+    std::atomic<int> lowest_growth{n_maps};
     ParallelChunks(n_maps, threads, [&](int, int begin, int end) {
       std::vector<Vec3> moved;
       for (int k = begin; k < end; ++k) {
         results[k] = Subdivide(model.mesh, PlacedOn(model, k, model.placed, &moved), *maps[k],
                                o.outside, one, want, extents);
+        if (!results[k].ok()) continue;
+        SubdivisionResult& r = *results[k];
+        int lowest = lowest_growth.load();
+        if (grows(r)) {
+          grew[k] = 1;
+          while (k < lowest && !lowest_growth.compare_exchange_weak(lowest, k)) {
+          }
+          if (k < lowest) continue;  // the first to grow so far: kept whole
+        }
+        r.mesh = Mesh{};
+        r.placed = std::vector<Vec3>{};
+        if (k > lowest) {  // past a frame that grows: refined again, never kept
+          r.input_positions.reset();
+          r.on_sheet = std::vector<char>{};
+        }
       }
     });
     int first_growth = -1;
@@ -519,7 +543,7 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
       st.measured_points += rs.measured_points;
       st.epsilon = rs.epsilon;
       st.tolerance = rs.tolerance;
-      if (first_growth < 0 && grows(*results[k])) first_growth = k;
+      if (first_growth < 0 && grew[k]) first_growth = k;
       // A frame that adds no vertex may still re-triangulate faces it
       // measured; that is kept only if another frame adds points anyway.
       if (first_growth < 0 || k < first_growth) keep_positions(k, &*results[k]);

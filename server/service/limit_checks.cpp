@@ -108,4 +108,28 @@ size_t MaxOutputVertices(const ServiceLimits& limits) {
                      limits.max_output_vertices);
 }
 
+size_t MaxAnimationOutputVertices(const ServiceLimits& limits, size_t frames) {
+  frames = std::max<size_t>(frames, 1);
+  const size_t by_count = limits.max_animation_frame_vertices / frames;
+  const size_t by_memory =
+      CountWithin(limits.request_memory_bytes,
+                  kAnimationBytesPerFrameVertex * static_cast<double>(frames), by_count);
+  return std::max<size_t>(1, std::min(MaxOutputVertices(limits), by_memory));
+}
+
+Status AnimationSubdivisionError(const ServiceLimits& limits, size_t frames, Status error) {
+  const size_t bound = MaxAnimationOutputVertices(limits, frames);
+  if (error.code() != ErrorCode::kLimitExceeded || bound >= MaxOutputVertices(limits) ||
+      !error.has_limit() || error.limit() != static_cast<double>(bound)) {
+    return error;
+  }
+  return Status::LimitExceeded(
+      error.message() + "; each of the animation's " + std::to_string(frames) +
+          " frames holds the refined model, which is why the limit is " + std::to_string(bound) +
+          " (" + std::to_string(limits.max_animation_frame_vertices) +
+          " frame vertices in all, within the memory budget per request): fewer frames also "
+          "help",
+      error.field(), error.limit(), error.actual());
+}
+
 }  // namespace surfdeform

@@ -46,4 +46,14 @@ size_t MaxMapOutputPoints(const ServiceLimits& limits);
 // fit the request's memory budget.
 size_t MaxOutputVertices(const ServiceLimits& limits);
 
+// The same for an animation's model, which every one of its `frames` holds:
+// also within the frame vertices' limit and, at kAnimationBytesPerFrameVertex,
+// the memory budget. Bounded before the refinement, so that a refinement the
+// frames cannot hold stops where it passes the bound, not after it.
+size_t MaxAnimationOutputVertices(const ServiceLimits& limits, size_t frames);
+
+// An animation's subdivision stopped at MaxAnimationOutputVertices, said in
+// the animation's terms; any other error as it is.
+Status AnimationSubdivisionError(const ServiceLimits& limits, size_t frames, Status error);
+
 }  // namespace surfdeform

@@ -199,9 +199,14 @@ struct Service::Impl {
     }
     std::vector<const SheetMap*> maps;
     for (const SheetMap& m : a.maps) maps.push_back(&m);
-    const SubdivisionOptions subdivision = SubdivisionFor(subdivision_asked, options.limits, work);
+    SubdivisionOptions subdivision = SubdivisionFor(subdivision_asked, options.limits, work);
+    const size_t frames = sheets.sheets.size();
+    subdivision.max_vertices = MaxAnimationOutputVertices(options.limits, frames);
     auto model = PrepareModel(maps, std::move(mesh), placement, subdivision);
-    if (!model.ok()) return WithinBudget(clock, "subdivision", model.status());
+    if (!model.ok()) {
+      return WithinBudget(clock, "subdivision",
+                          AnimationSubdivisionError(options.limits, frames, model.status()));
+    }
     a.model = std::move(*model);
     a.subdivide_ms = MsSince(t1);
     SURFDEFORM_RETURN_IF_ERROR(clock.Check("subdivision"));

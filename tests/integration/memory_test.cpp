@@ -219,5 +219,38 @@ TEST(BoundedCost, SmallRequestsAreAnsweredWithinASecondInLittleMemory) {
   EXPECT_LT(peak - idle, 64 * 1024) << "peak RSS grew from " << idle << " kB to " << peak << " kB";
 }
 
+// An animation's model is refined against every frame, and every frame
+// holds it: 300 frames of the viewer's label on a rising wave took 60 s and
+// 6.7 GB (one refined mesh kept per frame while a pass measured them all, and
+// no bound on the refinement before the frames' vertex check after it). The
+// refinement is now bounded by what the frames can hold within the memory
+// budget, and a pass keeps one mesh, not one per frame.
+TEST(BoundedCost, AnAnimationsRefinementStaysWithinTheMemoryBudget) {
+  ServerProcess server({"--log-level", "error", "--request-memory-mib", "256"});
+  ASSERT_GT(server.port(), 0);
+  httplib::Client c("127.0.0.1", server.port());
+  c.set_read_timeout(120, 0);
+  auto label = c.Get("/samples/label.obj");
+  ASSERT_TRUE(label && label->status == 200);
+  const long idle = StatusKb(server.pid(), "VmHWM");
+  ASSERT_GT(idle, 0);
+  const std::string wave = R"({"kind":"wave","length":4,"width":1.5,"wavelength":2,"amplitude":)";
+  const std::string params = R"({"animation":{"keyframes":[{"time":0,"surface":)" + wave +
+                             R"(0.25}},{"time":1,"surface":)" + wave +
+                             R"(0.5}}],"frames":300},"sampling":{"nu":32,"nv":32},)"
+                             R"("placement":{"scale":"fit"}})";
+  auto r = c.Post("/v1/animate", {{"X-Surfdeform-Params", params}}, label->body,
+                  "application/octet-stream");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 413) << r->body.substr(0, 300);
+  const auto problem = nlohmann::json::parse(r->body);
+  EXPECT_EQ(problem.value("field", ""), "subdivision.tolerance");
+  // 256 MiB over 300 frames at 96 B a frame vertex.
+  EXPECT_EQ(problem.value("limit", 0.0), 9320.0);
+  EXPECT_NE(problem.value("detail", "").find("300 frames"), std::string::npos);
+  const long peak = StatusKb(server.pid(), "VmHWM");
+  EXPECT_LT(peak - idle, 256 * 1024) << "peak RSS grew from " << idle << " kB to " << peak << " kB";
+}
+
 }  // namespace
 }  // namespace surfdeform::testing

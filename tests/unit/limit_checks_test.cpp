@@ -52,6 +52,31 @@ TEST(LimitChecks, AnAnimationAcrossTheSeamIsEstimatedAtItsMapsCost) {
   EXPECT_TRUE(CheckFrames(limits, tori).ok());
 }
 
+TEST(LimitChecks, AnAnimationsModelIsBoundedByWhatItsFramesHold) {
+  ServiceLimits limits;  // 8M frame vertices, 1 GiB per request, 4M output vertices
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 1), MaxOutputVertices(limits));
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 0), MaxOutputVertices(limits));
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 300), 8'000'000u / 300);
+  // A smaller memory budget binds first: 256 MiB over 300 frames at 96 B.
+  limits.request_memory_bytes = 256u << 20;
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 300), 9320u);
+  // The subdivision's error at that bound says why, in the animation's
+  // terms; any other error passes as it is.
+  const Status at_bound = Status::LimitExceeded("the subdivision would produce more",
+                                                "subdivision.tolerance", 9320, 9400);
+  const Status said = AnimationSubdivisionError(limits, 300, at_bound);
+  EXPECT_EQ(said.code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(said.field(), "subdivision.tolerance");
+  EXPECT_EQ(said.limit(), 9320.0);
+  EXPECT_EQ(said.actual(), 9400.0);
+  EXPECT_NE(said.message().find("300 frames"), std::string::npos) << said.message();
+  const Status elsewhere =
+      Status::LimitExceeded("the output limit", "subdivision.tolerance", 4e6, 5e6);
+  EXPECT_EQ(AnimationSubdivisionError(limits, 300, elsewhere).message(), elsewhere.message());
+  const Status late = Status::DeadlineExceeded("late", "request", 60000, 60001);
+  EXPECT_EQ(AnimationSubdivisionError(limits, 300, late).code(), ErrorCode::kDeadlineExceeded);
+}
+
 TEST(LimitChecks, ClosesInUAgreesWithTheSurfaces) {
   const SurfaceSpec specs[] = {CylinderSpec{1.0, 1.0, 360.0, {}},
                                CylinderSpec{1.0, 1.0, 359.0, {}},
