@@ -4,11 +4,12 @@
 #include <string>
 #include <variant>
 
+#include "base/format.hpp"
 #include "service/memory_budget.hpp"
 
 namespace surfdeform {
 
-Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& s) {
+Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& s, int range) {
   const int side = std::max(s.nu, s.nv);
   if (side > limits.max_grid_side) {
     return Status::LimitExceeded("the sampling grid is " + std::to_string(s.nu) + " x " +
@@ -17,9 +18,12 @@ Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& s) {
                                  s.nu >= s.nv ? "sampling.nu" : "sampling.nv", limits.max_grid_side,
                                  side);
   }
-  return CheckMemory(
-      kSheetBytesPerSample * s.nu * s.nv, limits.request_memory_bytes,
-      "flattening a " + std::to_string(s.nu) + " x " + std::to_string(s.nv) + " grid", "sampling");
+  const double per_sample =
+      kSheetBytesPerSample + kSheetBytesPerExtraPair * ExtraPairsPerSample(range);
+  return CheckMemory(per_sample * s.nu * s.nv, limits.request_memory_bytes,
+                     "flattening a " + std::to_string(s.nu) + " x " + std::to_string(s.nv) +
+                         " grid at range " + std::to_string(range),
+                     "sampling");
 }
 
 namespace {
@@ -38,7 +42,7 @@ int SheetCopies(const proto::AnimationRequest& request) {
 }  // namespace
 
 Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& request) {
-  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits, request.sampling));
+  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits, request.sampling, request.flatten.range));
   const int frames = request.animation.frames;
   const int limit = limits.max_animation_frames;
   if (frames > limit) {
@@ -48,8 +52,10 @@ Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& r
   }
   const SamplingOptions& s = request.sampling;
   const int copies = SheetCopies(request);
-  const double per_frame_sample = copies == 1 ? kAnimationBytesPerFrameSample
-                                              : kClosedAnimationBytesPerFrameSample * copies / 3;
+  const double per_frame_sample =
+      (copies == 1 ? kAnimationBytesPerFrameSample
+                   : kClosedAnimationBytesPerFrameSample * copies / 3) +
+      kAnimationBytesPerFrameExtraPair * ExtraPairsPerSample(request.flatten.range);
   return CheckMemory(per_frame_sample * frames * s.nu * s.nv, limits.request_memory_bytes,
                      "flattening " + std::to_string(frames) + " frames of " + std::to_string(s.nu) +
                          " x " + std::to_string(s.nv),
@@ -106,6 +112,35 @@ size_t MaxMapOutputPoints(const ServiceLimits& limits) {
 size_t MaxOutputVertices(const ServiceLimits& limits) {
   return CountWithin(limits.request_memory_bytes, kSubdivisionBytesPerVertex,
                      limits.max_output_vertices);
+}
+
+Status CheckSurfaceMesh(const ServiceLimits& limits, size_t vertices) {
+  return CheckMemory(
+      kMeshSheetBytesPerVertex * static_cast<double>(vertices), limits.request_memory_bytes,
+      "flattening a mesh of " + std::to_string(vertices) + " vertices", "surface.model_id");
+}
+
+size_t MaxSurfaceMeshPairs(const ServiceLimits& limits, size_t vertices) {
+  const double start = kMeshSheetBytesPerVertex * static_cast<double>(vertices);
+  const double left = std::max(0.0, static_cast<double>(limits.request_memory_bytes) - start);
+  return std::max<size_t>(1, CountWithin(static_cast<size_t>(left), kMeshSheetBytesPerPair,
+                                         limits.max_surface_mesh_pairs));
+}
+
+Status SurfaceMeshPairsError(const ServiceLimits& limits, size_t vertices, Status error) {
+  const size_t bound = MaxSurfaceMeshPairs(limits, vertices);
+  if (error.code() != ErrorCode::kLimitExceeded || bound >= limits.max_surface_mesh_pairs ||
+      !error.has_limit() || error.limit() != static_cast<double>(bound)) {
+    return error;
+  }
+  return Status::LimitExceeded(
+      Format("flattening this mesh of %zu vertices would take more than this server's memory "
+             "budget of %.0f MiB per request: it has more than the %zu vertex pairs within its "
+             "rings that fit beside its vertices (%.0f B a vertex, %.0f B a pair); decimate the "
+             "mesh, or use a smaller flatten.range",
+             vertices, static_cast<double>(limits.request_memory_bytes) / (1024.0 * 1024.0), bound,
+             kMeshSheetBytesPerVertex, kMeshSheetBytesPerPair),
+      error.field(), error.limit(), error.actual());
 }
 
 size_t MaxAnimationOutputVertices(const ServiceLimits& limits, size_t frames) {

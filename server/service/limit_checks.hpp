@@ -19,8 +19,8 @@ namespace surfdeform {
 inline constexpr proto::MapLimits kMapLimits;
 inline constexpr size_t kMaxMapOutputPoints = 1'000'000;
 
-// The sampling grid's side and the memory its flattening takes.
-Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& sampling);
+// The sampling grid's side and the memory its flattening at `range` takes.
+Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& sampling, int range);
 
 // An animation's grid, its frame count, and the memory its sheets take.
 Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& request);
@@ -45,6 +45,18 @@ size_t MaxMapOutputPoints(const ServiceLimits& limits);
 // The most vertices a subdivision may produce: the output limit, lowered to
 // fit the request's memory budget.
 size_t MaxOutputVertices(const ServiceLimits& limits);
+
+// The memory a surface given as a mesh of `vertices` takes before its pairs
+// are listed (its conformal start).
+Status CheckSurfaceMesh(const ServiceLimits& limits, size_t vertices);
+
+// The most vertex pairs its flattening may measure: the pair limit, lowered
+// to fit what the memory budget leaves beside its vertices.
+size_t MaxSurfaceMeshPairs(const ServiceLimits& limits, size_t vertices);
+
+// A mesh flattening stopped at MaxSurfaceMeshPairs by the memory budget,
+// said in its terms; any other error as it is.
+Status SurfaceMeshPairsError(const ServiceLimits& limits, size_t vertices, Status error);
 
 // The same for an animation's model, which every one of its `frames` holds:
 // also within the frame vertices' limit and, at kAnimationBytesPerFrameVertex,

@@ -6,6 +6,11 @@
 
 namespace surfdeform {
 
+double ExtraPairsPerSample(int range) {
+  const double r = std::max(range, 3);
+  return 2.0 * r * (r + 1.0) - 24.0;
+}
+
 Status CheckMemory(double bytes, size_t budget, const std::string& what, const std::string& field) {
   if (bytes <= static_cast<double>(budget)) return Status::Ok();
   const double mib = 1024.0 * 1024.0;

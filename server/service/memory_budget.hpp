@@ -13,8 +13,11 @@
 namespace surfdeform {
 
 // A sampled and flattened grid, per sample (measured 2.1 KB at 128^2 and
-// 256^2, range 3).
+// 256^2, range 3; ranges 1 and 2 take about as much).
 inline constexpr double kSheetBytesPerSample = 2560;
+// Each distance pair a sample has past range 3's 24 (2r(r + 1) within range
+// r): measured 79 B (256^2 at range 5 and 8: 5.25 and 11.9 KB a sample).
+inline constexpr double kSheetBytesPerExtraPair = 96;
 // An animation's sheets and maps, per frame and sample (measured 430 B,
 // 600 frames of 32^2).
 inline constexpr double kAnimationBytesPerFrameSample = 512;
@@ -24,6 +27,10 @@ inline constexpr double kAnimationBytesPerFrameSample = 512;
 // Continued past both seams (a whole torus), three times that (nine
 // copies; an estimate, scaled from the measure).
 inline constexpr double kClosedAnimationBytesPerFrameSample = 1536;
+// And per pair past range 3, per frame and sample: the anchors' kept paths
+// (measured 2.5 B: 200 frames of 64^2, 330 B a frame-sample at range 3, 624 B
+// at range 8).
+inline constexpr double kAnimationBytesPerFrameExtraPair = 3;
 // A subdivided, deformed and encoded mesh, per output vertex (measured
 // 216 B at 1M vertices, PLY out).
 inline constexpr double kSubdivisionBytesPerVertex = 256;
@@ -32,9 +39,19 @@ inline constexpr double kSubdivisionBytesPerVertex = 256;
 // vertices and their share of the GLB (measured 74 B: 100 frames of a
 // label refined to 24.8k vertices, less the sheets), rounded up.
 inline constexpr double kAnimationBytesPerFrameVertex = 96;
+// A surface given as a mesh: per vertex, the conformal start (measured
+// 3.8 KB at 90.6k and 194k vertices: what is taken before the pairs are
+// listed), and per vertex pair within max(range, 3) rings, the pairs, their
+// distances and the solve (106 B at range 3, 1.63M pairs; 194 B at range 5,
+// 4.08M pairs), both rounded up.
+inline constexpr double kMeshSheetBytesPerVertex = 4096;
+inline constexpr double kMeshSheetBytesPerPair = 224;
 // A resampled polyline's point: the marks and the JSON reply built from
 // them (measured 2.06 KB at 262k points; 170 B of it the reply's text).
 inline constexpr double kMapBytesPerOutputPoint = 2048;
+
+// Distance pairs per sample past range 3's (0 up to range 3).
+double ExtraPairsPerSample(int range);
 
 // kLimitExceeded naming `field` when `bytes` (the estimate for `what`) is
 // over `budget`.

@@ -117,7 +117,7 @@ SharedTierStats SurfaceStore::shared_tier_stats() const {
 Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flattened(
     const proto::SurfaceRequest& request, const RequestClock& clock, bool* hit,
     Admission* admission, const EditStart& edit) {
-  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling));
+  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling, request.flatten.range));
   const std::string id = proto::SurfaceId(request);
   bool from_shared = false;  // computed here, but read from the second level
   auto result = surfaces_.GetOrCompute(
@@ -169,11 +169,13 @@ Result<std::optional<SurfaceSpec>> SurfaceStore::ResolveMesh(const SurfaceSpec& 
   disk_options.max_vertices = limits_.max_surface_mesh_vertices;
   auto disk = MakeDiskMesh(mesh.positions, mesh.triangles, disk_options);
   if (!disk.ok()) return disk.status().WithFieldPrefix("surface");
+  const size_t vertices = disk->positions.size();
   FlattenOptions bounded = options;
-  bounded.max_mesh_pairs = limits_.max_surface_mesh_pairs;
+  if (shared == nullptr) SURFDEFORM_RETURN_IF_ERROR(CheckSurfaceMesh(limits_, vertices));
+  bounded.max_mesh_pairs = MaxSurfaceMeshPairs(limits_, vertices);
   auto made = shared == nullptr ? FlattenMesh(std::move(*disk), bounded)
                                 : AssembleFlatMesh(std::move(*disk), shared->mesh_flat, quality);
-  if (!made.ok()) return made.status();
+  if (!made.ok()) return SurfaceMeshPairsError(limits_, vertices, made.status());
   if (shared != nullptr) {
     made->pairs = shared->mesh_pairs;
     made->dropped_pairs = shared->mesh_dropped_pairs;
@@ -265,7 +267,7 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Rebuild(const std::st
       request.sampling.nv != decoded.sheet.nv) {
     return Status(ErrorCode::kMalformed, "the shared sheet answers another request", "shared_tier");
   }
-  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling));
+  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling, request.flatten.range));
   // A mesh surface: its mesh by its model id (either level of the models),
   // laid out as the value says.
   const bool mesh = std::holds_alternative<MeshSpec>(request.surface);

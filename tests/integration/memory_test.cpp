@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -250,6 +251,73 @@ TEST(BoundedCost, AnAnimationsRefinementStaysWithinTheMemoryBudget) {
   EXPECT_NE(problem.value("detail", "").find("300 frames"), std::string::npos);
   const long peak = StatusKb(server.pid(), "VmHWM");
   EXPECT_LT(peak - idle, 256 * 1024) << "peak RSS grew from " << idle << " kB to " << peak << " kB";
+}
+
+// Half a cylinder of radius 1 and height 2 as an OBJ grid of cells x cells
+// quads, each split in two triangles.
+std::string HalfCylinderObj(int cells) {
+  std::string obj;
+  const int n = cells + 1;
+  char line[96];
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const double a = 3.14159265358979 * i / cells;
+      std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", std::cos(a), std::sin(a),
+                    2.0 * j / cells);
+      obj += line;
+    }
+  }
+  for (int j = 0; j < cells; ++j) {
+    for (int i = 0; i < cells; ++i) {
+      const int a = 1 + i + n * j, b = a + 1, c = b + n, d = a + n;
+      std::snprintf(line, sizeof line, "f %d %d %d\nf %d %d %d\n", a, b, c, a, c, d);
+      obj += line;
+    }
+  }
+  return obj;
+}
+
+// A surface given as a mesh is flattened within the memory budget: its
+// conformal start (some 4 KB a vertex) is estimated before the work, and
+// its vertex pairs are listed, up to what fits beside it, before the start
+// is made. A mesh of 90.6k vertices at range 5 took 1.1 GB over a 1 GiB
+// budget; a mesh of 194k vertices at range 3 took 0.75 GB before its pairs
+// were counted over the limit.
+TEST(BoundedCost, AMeshSurfaceIsFlattenedWithinTheMemoryBudget) {
+  ServerProcess server({"--log-level", "error", "--request-memory-mib", "192"});
+  ASSERT_GT(server.port(), 0);
+  httplib::Client c("127.0.0.1", server.port());
+  c.set_read_timeout(120, 0);
+  auto up = c.Post("/v1/models", HalfCylinderObj(150), "application/octet-stream");
+  ASSERT_TRUE(up);
+  ASSERT_TRUE(up->status == 200 || up->status == 201) << up->body.substr(0, 300);
+  const std::string id = nlohmann::json::parse(up->body).value("id", "");
+  const long idle = StatusKb(server.pid(), "VmHWM");
+  ASSERT_GT(idle, 0);
+  auto flatten = [&](int range) {
+    return c.Post("/v1/surfaces",
+                  R"({"surface":{"kind":"mesh","model_id":")" + id + R"("},"flatten":{"range":)" +
+                      std::to_string(range) + "}}",
+                  "application/json");
+  };
+  // Range 8: 22.8k vertices (93 MB) and some 2.5M pairs (550 MB): refused
+  // once the pairs that fit beside the vertices (482k) are listed (32 MB
+  // measured; 117 MB when the conformal start was made first).
+  auto wide = flatten(8);
+  ASSERT_TRUE(wide);
+  ASSERT_EQ(wide->status, 413) << wide->body.substr(0, 300);
+  const auto problem = nlohmann::json::parse(wide->body);
+  EXPECT_NE(problem.value("detail", "").find("memory budget of 192 MiB"), std::string::npos)
+      << problem.value("detail", "");
+  const long after_wide = StatusKb(server.pid(), "VmHWM");
+  EXPECT_LT(after_wide - idle, 64 * 1024)
+      << "peak RSS grew from " << idle << " kB to " << after_wide << " kB";
+  // Range 3 fits (185 MB estimated, 131 MB measured).
+  auto fits = flatten(3);
+  ASSERT_TRUE(fits);
+  EXPECT_EQ(fits->status, 201) << fits->body.substr(0, 300);
+  const long peak = StatusKb(server.pid(), "VmHWM");
+  EXPECT_LT(peak - idle, 192 * 1024) << "peak RSS grew from " << idle << " kB to " << peak << " kB";
 }
 
 }  // namespace

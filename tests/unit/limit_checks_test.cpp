@@ -77,6 +77,56 @@ TEST(LimitChecks, AnAnimationsModelIsBoundedByWhatItsFramesHold) {
   EXPECT_EQ(AnimationSubdivisionError(limits, 300, late).code(), ErrorCode::kDeadlineExceeded);
 }
 
+TEST(LimitChecks, AGridsFlatteningIsEstimatedAtItsRange) {
+  ServiceLimits limits;
+  limits.request_memory_bytes = 512u << 20;
+  SamplingOptions grid;
+  grid.nu = grid.nv = 256;
+  // Range 3: 2.4 KB a sample measured (168 MB estimated); ranges 1 and 2
+  // about the same. Range 8 has 144 pairs a sample to range 3's 24: 779 MB
+  // measured, 923 MB estimated.
+  for (int range : {1, 2, 3}) EXPECT_TRUE(CheckGrid(limits, grid, range).ok()) << range;
+  EXPECT_TRUE(CheckGrid(limits, grid, 5).ok());  // 344 MB measured
+  const Status wide = CheckGrid(limits, grid, 8);
+  EXPECT_EQ(wide.code(), ErrorCode::kLimitExceeded) << wide.ToString();
+  EXPECT_EQ(wide.field(), "sampling");
+  EXPECT_GT(wide.actual(), 779e6);
+  EXPECT_LT(wide.actual(), 1e9);
+  // An animation's frames keep more of their paths at a wider range too.
+  proto::AnimationRequest frames = Can(180.0, 600, 64);
+  limits.request_memory_bytes = 3u << 29;         // 1.5 GiB
+  EXPECT_TRUE(CheckFrames(limits, frames).ok());  // 1.26 GB
+  frames.flatten.range = 8;
+  EXPECT_EQ(CheckFrames(limits, frames).code(), ErrorCode::kLimitExceeded);  // 2.14 GB
+}
+
+TEST(LimitChecks, AMeshSurfacesPairsFitBesideItsVertices) {
+  ServiceLimits limits;                                 // 1 GiB, 8M pairs
+  EXPECT_TRUE(CheckSurfaceMesh(limits, 200'000).ok());  // 819 MB
+  limits.request_memory_bytes = 256u << 20;
+  const Status big = CheckSurfaceMesh(limits, 90'601);  // 371 MB
+  EXPECT_EQ(big.code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(big.field(), "surface.model_id");
+  // 192 MiB less 22.8k vertices at 4 KB leaves 482k pairs at 224 B.
+  limits.request_memory_bytes = 192u << 20;
+  EXPECT_EQ(MaxSurfaceMeshPairs(limits, 22'801), 481'846u);
+  EXPECT_EQ(MaxSurfaceMeshPairs(limits, 1'000'000), 1u);  // nothing left
+  limits.request_memory_bytes = size_t{64} << 30;
+  EXPECT_EQ(MaxSurfaceMeshPairs(limits, 22'801), limits.max_surface_mesh_pairs);
+  // The engine's pair limit, when the budget set it, is said as memory.
+  limits.request_memory_bytes = 192u << 20;
+  const Status engine = Status::LimitExceeded("the mesh has more than 481846 vertex pairs",
+                                              "flatten.range", 481'846, 481'847);
+  const Status said = SurfaceMeshPairsError(limits, 22'801, engine);
+  EXPECT_NE(said.message().find("memory budget of 192 MiB"), std::string::npos) << said.message();
+  EXPECT_EQ(said.field(), "flatten.range");
+  EXPECT_EQ(said.limit(), 481'846.0);
+  const Status pair_limit =
+      Status::LimitExceeded("the mesh has more than 8000000", "flatten.range", 8e6, 8e6 + 1);
+  limits.request_memory_bytes = size_t{64} << 30;
+  EXPECT_EQ(SurfaceMeshPairsError(limits, 22'801, pair_limit).message(), pair_limit.message());
+}
+
 TEST(LimitChecks, ClosesInUAgreesWithTheSurfaces) {
   const SurfaceSpec specs[] = {CylinderSpec{1.0, 1.0, 360.0, {}},
                                CylinderSpec{1.0, 1.0, 359.0, {}},
