@@ -84,7 +84,8 @@ int Run(int frames, int repeat) {
     PlacementOptions placement;
     placement.fit = true;
     Mesh mesh = imported->mesh;
-    auto model = PrepareModel(map_ptrs, std::move(mesh), placement, SubdivisionOptions{});
+    auto model = PrepareModel(map_ptrs, std::move(mesh),
+                              {.placement = placement, .subdivision = SubdivisionOptions{}});
     if (!model.ok()) {
       std::fprintf(stderr, "%s\n", model.status().ToString().c_str());
       return 1;
@@ -95,10 +96,9 @@ int Run(int frames, int repeat) {
     MorphAnimation anim;
     anim.base = &model->mesh;
     anim.fps = spec.fps;
-    DeformExtras extras;
-    extras.geometry_only = true;
     for (int k = 0; k < frames; ++k) {
-      auto frame = DeformPrepared(maps[k], *model, k, placement, extras);
+      auto frame =
+          DeformPrepared(maps[k], *model, k, {.placement = placement, .geometry_only = true});
       if (!frame.ok()) {
         std::fprintf(stderr, "frame %d: %s\n", k, frame.status().ToString().c_str());
         return 1;
@@ -159,7 +159,8 @@ int Run(int frames, int repeat) {
           std::abs(cold->quality.stress - sheets->frames[k].quality.stress) / cold->quality.stress;
       worst_stress_gap = std::max(worst_stress_gap, gap);
       Mesh m = imported->mesh;
-      auto out = DeformMesh(**surface, *cold, std::move(m), placement, SubdivisionOptions{});
+      auto out = Deform(SheetMap(**surface, *cold), std::move(m),
+                        {.placement = placement, .subdivision = SubdivisionOptions{}});
       const auto s1 = Clock::now();
       auto drc = ExportMesh(out->mesh, MeshFormat::kDraco, {});
       draco_sum += Ms(s1);

@@ -38,8 +38,8 @@ double Diagonal(const Mesh& m) {
 // it: engine/seam_extension) against the same bunny on the open cylinder
 // of 359.99 degrees (no extension), at the sheet's middle: the cost of a
 // closed surface per request (placed, mapped, refined), at 32^2 and 128^2
-// samples, with the map built per request (as DeformMesh alone does) and
-// kept (DeformExtras::map, as the service keeps one per stored surface).
+// samples, with the map built per request (as Deform does with a map made for the call) and
+// kept (as the service keeps one per stored surface).
 // Then the same on a whole torus, across both seams at their corner (nine
 // copies of the sheet): built against kept.
 void ClosedAgainstOpen(const Mesh& bunny, int repeat) {
@@ -50,9 +50,9 @@ void ClosedAgainstOpen(const Mesh& bunny, int repeat) {
   auto run = [&](const Surface& surface, const FlatSheet& sheet, const PlacementOptions& o,
                  const SheetMap* kept, size_t* vertices) {
     return MedianMs(repeat, [&] {
-      DeformExtras extras;
-      extras.map = kept;
-      auto r = DeformMesh(surface, sheet, Mesh(bunny), o, SubdivisionOptions{}, extras);
+      const DeformOptions options{.placement = o, .subdivision = SubdivisionOptions{}};
+      auto r = kept != nullptr ? Deform(*kept, bunny, options)
+                               : Deform(SheetMap(surface, sheet), bunny, options);
       *vertices = r.ok() ? r->mesh.positions.size() : 0;
     });
   };
@@ -137,8 +137,9 @@ int main(int argc, char** argv) {
     PlacementOptions o;
     o.fit = true;
     double fitted = 1.0;
-    const double fit_ms =
-        MedianMs(repeat, [&] { fitted = DeformMesh(**surface, *sheet, c.mesh, o)->stats.scale; });
+    const double fit_ms = MedianMs(repeat, [&] {
+      fitted = Deform(SheetMap(**surface, *sheet), c.mesh, {.placement = o})->stats.scale;
+    });
     o.fit = false;
     o.scale = fitted;
     Mesh out;
@@ -147,7 +148,7 @@ int main(int argc, char** argv) {
       o.threads = t + 1;
       // Moved out, not copied: a copy of the result would be timed too.
       ms[t] = MedianMs(repeat, [&] {
-        auto r = DeformMesh(**surface, *sheet, c.mesh, o);
+        auto r = Deform(SheetMap(**surface, *sheet), c.mesh, {.placement = o});
         out = std::move(r->mesh);
       });
     }
@@ -166,7 +167,7 @@ int main(int argc, char** argv) {
   if (sweep) {
     PlacementOptions o;
     o.fit = true;
-    const Mesh out = DeformMesh(**surface, *sheet, with_normals, o)->mesh;
+    const Mesh out = Deform(SheetMap(**surface, *sheet), with_normals, {.placement = o})->mesh;
     const double diag = Diagonal(out);
     std::printf(
         "\ndraco settings on the deformed bunny (with normals): size, encode time, max "

@@ -105,7 +105,8 @@ int Run(int repeat, int relief_side, size_t split_vertices) {
     placement.fit = true;
     SubdivisionOptions off;
     off.mode = SubdivisionMode::kOff;
-    auto deformed = DeformMesh(**surface, *sheet, Mesh(model.mesh), placement, off);
+    auto deformed = Deform(SheetMap(**surface, *sheet), Mesh(model.mesh),
+                           {.placement = placement, .subdivision = off});
     testing::ExpectOk(deformed);
     const Mesh& mesh = deformed->mesh;
     const double n = static_cast<double>(mesh.positions.size());

@@ -30,7 +30,7 @@ namespace {
 struct Run {
   size_t vertices = 0;
   size_t triangles = 0;
-  double ms = 0.0;  // median of the whole DeformMesh call
+  double ms = 0.0;  // median of the whole Deform call
   double subdivide_ms = 0.0;
   double deviation = 0.0;  // dense, against the exact deformation
   double tolerance = 0.0;
@@ -42,7 +42,7 @@ Run Measure(const testing::Target& t, const Mesh& mesh, const PlacementOptions& 
   std::vector<double> times, sub_times;
   for (int k = 0; k < repeat; ++k) {
     const auto t0 = Clock::now();
-    auto r = DeformMesh(*t.surface, t.sheet, Mesh(mesh), o, s);
+    auto r = Deform(SheetMap(*t.surface, t.sheet), Mesh(mesh), {.placement = o, .subdivision = s});
     times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     if (!r.ok()) {
       std::fprintf(stderr, "deform failed: %s\n", r.status().ToString().c_str());
@@ -99,9 +99,8 @@ int main(int argc, char** argv) {
   PlacementOptions o;
   o.fit = true;
   o.fit_margin = 0.05;
-  std::printf(
-      "subdivision, median of %d runs (time: the whole DeformMesh call | of it subdivision)\n",
-      repeat);
+  std::printf("subdivision, median of %d runs (time: the whole Deform call | of it subdivision)\n",
+              repeat);
   for (const Case& c : cases) {
     SubdivisionOptions uniform;
     uniform.mode = SubdivisionMode::kUniform;
@@ -126,7 +125,7 @@ int main(int argc, char** argv) {
         d.vertices, d.triangles, d.ms, d.subdivide_ms, d.deviation, d.tolerance);
   }
 
-  // The threads' cost: the whole DeformMesh of the bunny with the default
+  // The threads' cost: the whole Deform of the bunny with the default
   // subdivision (placement, the screen, which adds no vertex, and the map) on
   // one thread and on two, wall and process CPU time. On a 2-core machine two
   // threads should halve the wall time at the same CPU.
@@ -141,8 +140,8 @@ int main(int argc, char** argv) {
     for (int k = 0; k < repeat; ++k) {
       const double c0 = CpuMs();
       const auto t0 = Clock::now();
-      auto r = DeformMesh(*bunny_case.target.surface, bunny_case.target.sheet,
-                          Mesh(bunny_case.mesh), placement, s);
+      auto r = Deform(SheetMap(*bunny_case.target.surface, bunny_case.target.sheet),
+                      Mesh(bunny_case.mesh), {.placement = placement, .subdivision = s});
       wall.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
       cpu.push_back(CpuMs() - c0);
       if (!r.ok()) return 1;

@@ -326,8 +326,9 @@ Status Report(const MapTally& t, const Mesh& in, size_t n_input, const Placement
 // The deformation of `mesh` with its parts moved as rigid bodies (no
 // subdivision); the distortion of a rigid motion is 0.
 Status DeformRigidly(const SheetMap& map, const Placement& pl, const Mesh& mesh,
-                     const PlacementOptions& o, const DeformExtras& extras, DeformResult* result) {
-  PrepareOutput(mesh, &result->mesh, extras.geometry_only);
+                     const DeformOptions& options, DeformResult* result) {
+  const PlacementOptions& o = options.placement;
+  PrepareOutput(mesh, &result->mesh, options.geometry_only);
   int parts = 0;
   const std::vector<int> part = RigidParts(mesh, o.rigid, &parts);
   RigidStats rigid = PlaceRigidParts(map, pl, mesh, part, parts, o.outside, &result->mesh);
@@ -340,25 +341,26 @@ Status DeformRigidly(const SheetMap& map, const Placement& pl, const Mesh& mesh,
   t.worst = rigid.max_outside_distance;
   result->stats.rigid = std::move(rigid);
   SURFDEFORM_RETURN_IF_ERROR(Report(t, result->mesh, mesh.positions.size(), pl, o, &result->stats));
-  if (extras.distortion) {
+  if (options.distortion) {
     result->mesh.distortion.assign(mesh.positions.size(), Vec2::Zero());
     result->stats.distortion = SummarizeDistortion(result->mesh);
   }
   return Status::Ok();
 }
 
-// The deformation of `mesh` into `*result_out`. result_out->mesh is either
-// empty (then everything but the attributes that are recomputed is copied
-// from `mesh`) or `mesh` itself (in place).
-Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
-              const PlacementOptions& o, const SubdivisionOptions* subdivision,
-              const DeformExtras& extras, DeformResult* result) {
+// The deformation of `mesh`, in place in result->mesh (which holds it),
+// with what `memo` recalls (may be null).
+Status DeformInPlace(const SheetMap& map, const DeformOptions& options, DeformMemo* memo,
+                     DeformResult* result) {
   const auto t0 = std::chrono::steady_clock::now();
-  SURFDEFORM_RETURN_IF_ERROR(ValidateInput(sheet, mesh, o, subdivision));
-  std::optional<SheetMap> own;
-  const SheetMap& map = extras.map != nullptr ? *extras.map : own.emplace(surface, sheet);
-  if (extras.placement != nullptr) {
-    result->placement = *extras.placement;
+  const Mesh& mesh = result->mesh;
+  const PlacementOptions& o = options.placement;
+  const SubdivisionOptions* subdivision =
+      options.subdivision.mode == SubdivisionMode::kOff ? nullptr : &options.subdivision;
+  SURFDEFORM_RETURN_IF_ERROR(ValidateInput(map.sheet(), mesh, o, subdivision));
+  std::optional<Placement> recalled = memo != nullptr ? memo->RecallPlacement() : std::nullopt;
+  if (recalled) {
+    result->placement = *recalled;
   } else {
     SURFDEFORM_ASSIGN_OR_RETURN(result->placement, ComputePlacement(map, mesh.positions, o));
   }
@@ -368,68 +370,51 @@ Status Deform(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
   // refined mesh too.
   const bool need_frame = !mesh.normals.empty() || !mesh.tangents.empty();
   const size_t n_input = mesh.positions.size();
-  if (o.rigid != RigidMode::kNone) return DeformRigidly(map, pl, mesh, o, extras, result);
-  // The footprint: given, or recorded by whichever pass locates first (the
+  if (o.rigid != RigidMode::kNone) return DeformRigidly(map, pl, mesh, options, result);
+  // The footprint: recalled, or recorded by whichever pass locates first (the
   // map then reads what the subdivision recorded).
+  const std::shared_ptr<const SheetFootprint> known =
+      memo != nullptr ? memo->RecallFootprint() : nullptr;
   FootprintUse footprint;
-  if (extras.footprint != nullptr && extras.footprint->location.size() == n_input) {
-    footprint.known = extras.footprint;
-  } else if (extras.record_footprint && map.cell_wise()) {
+  if (known != nullptr && known->location.size() == n_input) {
+    footprint.known = known.get();
+  } else if (memo != nullptr && memo->WantsFootprint() && map.cell_wise()) {
     SheetLocation unlocated;
     unlocated.i = -1;
     result->footprint.location.assign(n_input, unlocated);
     footprint.record = &result->footprint;
   }
-  SURFDEFORM_ASSIGN_OR_RETURN(const Refined r, Refine(map, pl, mesh, o, subdivision, need_frame,
-                                                      footprint, extras.unrefined, result));
+  const std::optional<SubdivisionStats> unrefined =
+      memo != nullptr && subdivision != nullptr ? memo->RecallUnrefined() : std::nullopt;
+  SURFDEFORM_ASSIGN_OR_RETURN(const Refined r,
+                              Refine(map, pl, mesh, o, subdivision, need_frame, footprint,
+                                     unrefined ? &*unrefined : nullptr, result));
   if (r.located && footprint.record != nullptr) footprint = {footprint.record, nullptr};
   PrepareOutput(*r.source, &result->mesh);
   // Before the map, which may overwrite the source's positions (in place).
-  if (extras.distortion) MapDistortion(map, pl, r, o, &result->mesh);
+  if (options.distortion) MapDistortion(map, pl, r, o, &result->mesh);
   const MapTally t = MapVertices(map, pl, r, n_input, o, need_frame, footprint, &result->mesh);
   SURFDEFORM_RETURN_IF_ERROR(Report(t, *r.source, n_input, pl, o, &result->stats));
-  if (extras.distortion) result->stats.distortion = SummarizeDistortion(result->mesh);
+  if (options.distortion) result->stats.distortion = SummarizeDistortion(result->mesh);
   result->stats.time_ms = MsSince(t0);
   return Status::Ok();
 }
 
 }  // namespace
 
-Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
-                                const PlacementOptions& options) {
-  DeformResult result;
-  SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, mesh, options, nullptr, {}, &result));
-  return result;
-}
-
-Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
-                                const PlacementOptions& options) {
+Result<DeformResult> Deform(const SheetMap& map, Mesh mesh, const DeformOptions& options,
+                            DeformMemo* memo) {
   DeformResult result;
   result.mesh = std::move(mesh);
-  SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, result.mesh, options, nullptr, {}, &result));
-  return result;
-}
-
-Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
-                                const PlacementOptions& options,
-                                const SubdivisionOptions& subdivision) {
-  return DeformMesh(surface, sheet, std::move(mesh), options, subdivision, DeformExtras{});
-}
-
-Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
-                                const PlacementOptions& options,
-                                const SubdivisionOptions& subdivision, const DeformExtras& extras) {
-  const SubdivisionOptions* refine =
-      subdivision.mode == SubdivisionMode::kOff ? nullptr : &subdivision;
-  DeformResult result;
-  result.mesh = std::move(mesh);
-  SURFDEFORM_RETURN_IF_ERROR(Deform(surface, sheet, result.mesh, options, refine, extras, &result));
+  SURFDEFORM_RETURN_IF_ERROR(DeformInPlace(map, options, memo, &result));
+  if (memo != nullptr) memo->Learn(result);
   return result;
 }
 
 Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&& mesh,
-                                   const PlacementOptions& o,
-                                   const SubdivisionOptions& subdivision) {
+                                   const DeformOptions& options) {
+  const PlacementOptions& o = options.placement;
+  const SubdivisionOptions& subdivision = options.subdivision;
   if (maps.empty()) return InvalidArgument("no sheet to place the model on", "surface");
   const SheetMap& first = *maps.front();
   SURFDEFORM_RETURN_IF_ERROR(ValidateInput(first.sheet(), mesh, o, &subdivision));
@@ -471,10 +456,10 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
   // ones it was given, in order, so what one frame needed stays for the
   // others), and the next pass measures them all again.
   constexpr int kMaxPasses = 4;
-  auto budget_left = [&](SubdivisionOptions* options) -> Status {
+  auto budget_left = [&](SubdivisionOptions* left) -> Status {
     if (subdivision.time_budget_ms <= 0.0) return Status::Ok();
-    options->time_budget_ms = subdivision.time_budget_ms - MsSince(ts);
-    if (options->time_budget_ms > 0.0) return Status::Ok();
+    left->time_budget_ms = subdivision.time_budget_ms - MsSince(ts);
+    if (left->time_budget_ms > 0.0) return Status::Ok();
     return Status::DeadlineExceeded(
         "the subdivision for every frame ran past its time budget of " +
             std::to_string(static_cast<long long>(subdivision.time_budget_ms)) + " ms",
@@ -580,7 +565,8 @@ Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&&
 }
 
 Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& model, size_t index,
-                                    const PlacementOptions& o, const DeformExtras& extras) {
+                                    const DeformOptions& options) {
+  const PlacementOptions& o = options.placement;
   const auto t0 = std::chrono::steady_clock::now();
   DeformResult result;
   if (index >= model.placements.size()) {
@@ -588,7 +574,7 @@ Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& mo
   }
   const Placement& pl = model.placements[index];
   if (o.rigid != RigidMode::kNone) {
-    SURFDEFORM_RETURN_IF_ERROR(DeformRigidly(map, pl, model.mesh, o, extras, &result));
+    SURFDEFORM_RETURN_IF_ERROR(DeformRigidly(map, pl, model.mesh, options, &result));
     result.stats.fit_frame = model.fit_frame;
     result.stats.time_ms = MsSince(t0);
     return result;
@@ -601,8 +587,8 @@ Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& mo
     r.known = model.known[index];
     r.known_on_sheet = model.known_on_sheet[index];
   }
-  PrepareOutput(model.mesh, &result.mesh, extras.geometry_only);
-  if (extras.distortion) MapDistortion(map, pl, r, o, &result.mesh);
+  PrepareOutput(model.mesh, &result.mesh, options.geometry_only);
+  if (options.distortion) MapDistortion(map, pl, r, o, &result.mesh);
   const MapTally t =
       MapVertices(map, pl, r, model.input_vertices, o, model.need_frame, {}, &result.mesh);
   result.stats.subdivision = model.subdivision;
@@ -613,7 +599,7 @@ Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& mo
         map, pl, std::span<const Vec3>(model.mesh.positions).first(model.input_vertices));
   }
   SURFDEFORM_RETURN_IF_ERROR(Report(t, model.mesh, model.input_vertices, pl, o, &result.stats));
-  if (extras.distortion) result.stats.distortion = SummarizeDistortion(result.mesh);
+  if (options.distortion) result.stats.distortion = SummarizeDistortion(result.mesh);
   result.stats.time_ms = MsSince(t0);
   return result;
 }

@@ -20,11 +20,13 @@
 // With placement.rigid, parts of the model move as rigid bodies instead
 // (rigid_parts.hpp); there is nothing to subdivide then.
 //
-// Asked for (DeformExtras::distortion), the result's mesh also carries, per
+// Asked for (DeformOptions::distortion), the result's mesh also carries, per
 // vertex, the distortion of the map there (distortion.hpp), and the stats
 // summarise it.
 #pragma once
 
+#include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -60,69 +62,70 @@ struct DeformStats {
   RigidStats rigid;              // mode kNone unless placement.rigid
 };
 
-// What a deformation computes besides the deformed mesh.
-struct DeformExtras {
+// What a deformation is asked for.
+struct DeformOptions {
+  PlacementOptions placement;
+  // None unless asked for (the options' own default mode is adaptive).
+  SubdivisionOptions subdivision = {.mode = SubdivisionMode::kOff};
   bool distortion = false;  // Mesh::distortion per output vertex, and its stats
-  // The map of the same surface and sheet built before (SheetMap(surface,
-  // sheet)), to use instead of building one: a stored surface keeps its map,
-  // with its locator and its continuation past a seam, for every request.
-  const SheetMap* map = nullptr;
   // Only the geometry the map computes (positions, normals, tangents, and the
   // distortion when asked for) is written: for callers that keep the rest
   // (triangles, texture coordinates, colours, groups) from the model, as an
   // animation's frames do (DeformPrepared).
   bool geometry_only = false;
-  // When set, the placement to use instead of computing it: one computed
-  // before (DeformResult::placement) for the same positions, sheet and
-  // placement options, which give the same placement every time. The
-  // service keeps them for models that come back (service/placement_memo).
-  const Placement* placement = nullptr;
-  // When set, where the input vertices lie on the sheet: the footprint an
-  // earlier deformation recorded (DeformResult::footprint) for the same
-  // positions, sheet and placement. Ignored when its size is not the
-  // input's vertex count.
-  const SheetFootprint* footprint = nullptr;
-  // Record the footprint in DeformResult::footprint (when none is given;
-  // none is recorded on sheets unrolled in closed form, which locate no cell).
-  bool record_footprint = false;
-  // When set, a subdivision of the same mesh (positions and triangles) with
-  // the same placement, sheet and subdivision options (but the thread count
-  // and the time budget) added nothing, and these were its statistics
-  // (DeformResult::unrefined): it is not run again. The output is the same
-  // bits, since a mesh the subdivision leaves is mapped as without it.
-  const SubdivisionStats* unrefined = nullptr;
+};
+
+struct DeformResult;
+
+// What deformations of one model (its positions and triangles) on one sheet
+// with one placement learn, for the next such deformation to recall: the
+// service keeps them for models that come back (service/placement_memo). A
+// recalled value must be what the deformation would compute itself, so the
+// output is the same bits either way. Every method has a default that
+// recalls nothing.
+class DeformMemo {
+ public:
+  virtual ~DeformMemo() = default;
+  // The placement computed before for the same positions, sheet and
+  // placement options.
+  virtual std::optional<Placement> RecallPlacement() const { return std::nullopt; }
+  // Where the input vertices lie on the sheet (DeformResult::footprint).
+  // Ignored when its size is not the input's vertex count.
+  virtual std::shared_ptr<const SheetFootprint> RecallFootprint() const { return nullptr; }
+  // A subdivision of the same mesh with the same options (but the thread
+  // count and the time budget) added nothing, with these statistics
+  // (DeformResult::unrefined): it is not run again, and the mesh is mapped
+  // as without it.
+  virtual std::optional<SubdivisionStats> RecallUnrefined() const { return std::nullopt; }
+  // Record the footprint in DeformResult::footprint when none is recalled
+  // (none is recorded on sheets unrolled in closed form, which locate no
+  // cell).
+  virtual bool WantsFootprint() const { return false; }
+  // Called with a deformation's result before it is returned.
+  virtual void Learn(DeformResult& /*result*/) {}
 };
 
 struct DeformResult {
   Mesh mesh;
   DeformStats stats;
-  Placement placement;       // the one used (DeformMesh only)
-  SheetFootprint footprint;  // with DeformExtras::record_footprint (DeformMesh only)
+  Placement placement;       // the one used (Deform only)
+  SheetFootprint footprint;  // with DeformMemo::WantsFootprint (Deform only)
   // A subdivision was asked for and added nothing (or, with
-  // DeformExtras::unrefined, was known to): stats.subdivision says why.
+  // DeformMemo::RecallUnrefined, was known to): stats.subdivision says why.
   bool unrefined = false;
 };
 
-// Deforms without subdivision. Errors: kInvalidArgument for bad options or
-// a malformed mesh; kDegenerate for a footprint that cannot be fitted or a
-// deformation that would produce non-finite values; kOutsideSheet, with the
-// count and the worst distance, when the footprint leaves the sheet and
-// outside = kError.
-Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, const Mesh& mesh,
-                                const PlacementOptions& options);
-// The same, reusing the input's buffers (no copy of the mesh): for callers
-// that no longer need the undeformed mesh.
-Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
-                                const PlacementOptions& options);
-// With subdivision (kOff: as above). Also kLimitExceeded when the refined
-// mesh would exceed the subdivision's size limits.
-Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
-                                const PlacementOptions& options,
-                                const SubdivisionOptions& subdivision);
-// The same, with extras.
-Result<DeformResult> DeformMesh(const Surface& surface, const FlatSheet& sheet, Mesh&& mesh,
-                                const PlacementOptions& options,
-                                const SubdivisionOptions& subdivision, const DeformExtras& extras);
+// Deforms `mesh` through `map` (SheetMap(surface, sheet); a stored surface
+// keeps its map, with its locator and its continuation past a seam, for
+// every request), refined first when options.subdivision asks, with what
+// `memo` recalls and teaches it (may be null). Errors: kInvalidArgument for
+// bad options or a malformed mesh; kDegenerate for a footprint that cannot be
+// fitted or a deformation that would produce non-finite values;
+// kOutsideSheet, with the count and the worst distance, when the footprint
+// leaves the sheet and outside = kError; kLimitExceeded when the refined mesh
+// would exceed the subdivision's size limits.
+Result<DeformResult> Deform(const SheetMap& map, Mesh mesh, const DeformOptions& options,
+                            DeformMemo* memo = nullptr);
 
 // One model deformed through several sheets of one grid (the frames of an
 // animation): placed on every sheet as a static deformation on that sheet
@@ -152,16 +155,17 @@ struct PreparedModel {
 };
 
 // Places `mesh` on every map's sheet and refines it for every map in turn,
-// until a pass over all of them adds nothing. Errors as DeformMesh's;
-// kDeadlineExceeded past subdivision.time_budget_ms (all maps together).
+// until a pass over all of them adds nothing (options.placement and
+// options.subdivision). Errors as Deform's; kDeadlineExceeded past
+// subdivision.time_budget_ms (all maps together).
 Result<PreparedModel> PrepareModel(std::span<const SheetMap* const> maps, Mesh&& mesh,
-                                   const PlacementOptions& options,
-                                   const SubdivisionOptions& subdivision);
+                                   const DeformOptions& options);
 
 // The deformation of a prepared model through `map`, the map `index` of
 // those it was prepared for. The same for every caller that asks for the same
 // frame: an animation's frame k and a single frame k are one computation.
+// Its options are the preparation's (the subdivision is not read).
 Result<DeformResult> DeformPrepared(const SheetMap& map, const PreparedModel& model, size_t index,
-                                    const PlacementOptions& options, const DeformExtras& extras);
+                                    const DeformOptions& options);
 
 }  // namespace surfdeform

@@ -36,7 +36,7 @@ struct Mesh {
   std::vector<Vec2> uv0;
   std::vector<Vec2> uv1;
   std::vector<Vec4> colors;  // RGBA
-  // Written by the deformation when asked for (DeformExtras::distortion),
+  // Written by the deformation when asked for (DeformOptions::distortion),
   // never read from a file: per vertex, (s1 - 1, s2 - 1) with s1 >= s2 the
   // singular values of the deformation's Jacobian along the sheet (see
   // engine/distortion.hpp). Exported as glTF's _DISTORTION and two PLY properties.

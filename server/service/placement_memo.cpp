@@ -144,21 +144,27 @@ PlacementMemoStats PlacementMemo::stats() const {
 }
 
 PlacementMemo::Use::Use(PlacementMemo& memo, std::string_view surface_id,
-                        const PlacementOptions& placement, const SubdivisionOptions& subdivision,
-                        const Mesh& mesh, DeformExtras* extras)
-    : memo_(memo), placed_(memo.KeyOf(surface_id, placement, mesh.positions)) {
+                        const DeformOptions& options, const Mesh& mesh)
+    : memo_(memo), placed_(memo.KeyOf(surface_id, options.placement, mesh.positions)) {
   known_ = memo_.Find(placed_);
-  if (known_) extras->placement = &known_->placement;
-  if (known_ && known_->footprint) {
-    extras->footprint = known_->footprint.get();
-  } else {
-    extras->record_footprint = true;
+  if (options.subdivision.mode != SubdivisionMode::kOff) {
+    subdivision_ = memo_.SubdivisionKeyOf(options.subdivision, mesh.triangles);
+    if (known_) unrefined_ = memo_.UnrefinedVerdict(*known_, *subdivision_);
   }
-  if (subdivision.mode != SubdivisionMode::kOff) {
-    subdivision_ = memo_.SubdivisionKeyOf(subdivision, mesh.triangles);
-    if (known_) extras->unrefined = memo_.UnrefinedVerdict(*known_, *subdivision_);
-  }
-  subdivision_skipped_ = extras->unrefined != nullptr;
+}
+
+std::optional<Placement> PlacementMemo::Use::RecallPlacement() const {
+  if (!known_) return std::nullopt;
+  return known_->placement;
+}
+
+std::shared_ptr<const SheetFootprint> PlacementMemo::Use::RecallFootprint() const {
+  return known_ ? known_->footprint : nullptr;
+}
+
+std::optional<SubdivisionStats> PlacementMemo::Use::RecallUnrefined() const {
+  if (unrefined_ == nullptr) return std::nullopt;
+  return *unrefined_;
 }
 
 void PlacementMemo::Use::Learn(DeformResult& result) {
@@ -169,7 +175,7 @@ void PlacementMemo::Use::Learn(DeformResult& result) {
     }
     memo_.Store(placed_, result.placement, std::move(footprint));
   }
-  if (result.unrefined && !subdivision_skipped_ && subdivision_) {
+  if (result.unrefined && unrefined_ == nullptr && subdivision_) {
     memo_.NoteUnrefined(placed_, *subdivision_, result.stats.subdivision);
   }
 }

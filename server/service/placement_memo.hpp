@@ -94,29 +94,34 @@ class PlacementMemo {
   // counted as a subdivision skipped), else null.
   const SubdivisionStats* UnrefinedVerdict(const Entry& entry, const Key& subdivision);
 
-  // One deformation's use of the memo: what it recalls (the placement, the
-  // footprint, a subdivision that added nothing) as the engine's extras, and
-  // what it learns from the result. `extras` point into this object: keep it
-  // alive until the deformation returns.
-  class Use {
+  // One deformation's use of the memo, as the engine's DeformMemo: what it
+  // recalls (the placement, the footprint, a subdivision that added nothing)
+  // and what it learns from the result.
+  class Use final : public DeformMemo {
    public:
-    Use(PlacementMemo& memo, std::string_view surface_id, const PlacementOptions& placement,
-        const SubdivisionOptions& subdivision, const Mesh& mesh, DeformExtras* extras);
+    Use(PlacementMemo& memo, std::string_view surface_id, const DeformOptions& options,
+        const Mesh& mesh);
     Use(const Use&) = delete;
     Use& operator=(const Use&) = delete;
+
+    std::optional<Placement> RecallPlacement() const override;
+    std::shared_ptr<const SheetFootprint> RecallFootprint() const override;
+    std::optional<SubdivisionStats> RecallUnrefined() const override;
+    bool WantsFootprint() const override { return !known_ || !known_->footprint; }
     // Stores the placement and footprint of a model seen for the first time
     // (moving the footprint out of `result`), and a subdivision that added
     // nothing.
-    void Learn(DeformResult& result);
+    void Learn(DeformResult& result) override;
+
     bool placement_reused() const { return known_.has_value(); }
-    bool subdivision_reused() const { return subdivision_skipped_; }
+    bool subdivision_reused() const { return unrefined_ != nullptr; }
 
    private:
     PlacementMemo& memo_;
     Key placed_;
     std::optional<Entry> known_;
     std::optional<Key> subdivision_;
-    bool subdivision_skipped_ = false;
+    const SubdivisionStats* unrefined_ = nullptr;  // in known_'s verdict
   };
 
   PlacementMemoStats stats() const;

@@ -173,9 +173,7 @@ struct Service::Impl {
   }
 
   Result<AnimatedModel> PrepareAnimated(const proto::AnimationRequest& request, Mesh&& mesh,
-                                        const PlacementOptions& placement,
-                                        const SubdivisionOptions& subdivision_asked,
-                                        const RequestWork& work) {
+                                        const DeformOptions& asked, const RequestWork& work) {
     const RequestClock& clock = work.clock();
     AnimatedModel a;
     const auto t0 = Clock::now();
@@ -199,10 +197,11 @@ struct Service::Impl {
     }
     std::vector<const SheetMap*> maps;
     for (const SheetMap& m : a.maps) maps.push_back(&m);
-    SubdivisionOptions subdivision = SubdivisionFor(subdivision_asked, options.limits, work);
+    DeformOptions deform = asked;
+    deform.subdivision = SubdivisionFor(asked.subdivision, options.limits, work);
     const size_t frames = sheets.sheets.size();
-    subdivision.max_vertices = MaxAnimationOutputVertices(options.limits, frames);
-    auto model = PrepareModel(maps, std::move(mesh), placement, subdivision);
+    deform.subdivision.max_vertices = MaxAnimationOutputVertices(options.limits, frames);
+    auto model = PrepareModel(maps, std::move(mesh), deform);
     if (!model.ok()) {
       return WithinBudget(clock, "subdivision",
                           AnimationSubdivisionError(options.limits, frames, model.status()));
@@ -220,16 +219,13 @@ struct Service::Impl {
                               const RequestWork& work, double flatten_ms, std::string etag) {
     const ServiceLimits& limits = options.limits;
     const auto t2 = Clock::now();
-    const PlacementOptions placement = PlacementFor(params.placement, imported, work.threads());
-    const SubdivisionOptions subdivision = SubdivisionFor(params.subdivision, limits, work);
-    DeformExtras extras;
-    extras.distortion = params.output.distortion;
-    extras.map = entry.map.get();
-    PlacementMemo::Use memo(placements, entry.id, placement, subdivision, imported.mesh, &extras);
-    auto deformed = DeformMesh(*entry.surface, entry.sheet, std::move(imported.mesh), placement,
-                               subdivision, extras);
+    DeformOptions deform;
+    deform.placement = PlacementFor(params.placement, imported, work.threads());
+    deform.subdivision = SubdivisionFor(params.subdivision, limits, work);
+    deform.distortion = params.output.distortion;
+    PlacementMemo::Use memo(placements, entry.id, deform, imported.mesh);
+    auto deformed = surfdeform::Deform(*entry.map, std::move(imported.mesh), deform, &memo);
     if (!deformed.ok()) return WithinBudget(work.clock(), "subdivision", deformed.status());
-    memo.Learn(*deformed);
     const double subdivide_ms = deformed->stats.subdivide_ms;
     const double deform_ms = MsSince(t2) - subdivide_ms;
     SURFDEFORM_RETURN_IF_ERROR(work.clock().Check("deformation"));
@@ -267,16 +263,17 @@ struct Service::Impl {
   // as frame k of POST /v1/animate.
   Result<Reply> DeformFrame(const proto::DeformParams& params, ImportedMesh imported,
                             proto::OutputFormat format, const RequestWork& work, std::string etag) {
-    const PlacementOptions placement = PlacementFor(params.placement, imported, work.threads());
+    DeformOptions deform;
+    deform.placement = PlacementFor(params.placement, imported, work.threads());
+    deform.subdivision = params.subdivision;
+    deform.distortion = params.output.distortion;
     SURFDEFORM_ASSIGN_OR_RETURN(
-        AnimatedModel a, PrepareAnimated(*params.animation, std::move(imported.mesh), placement,
-                                         params.subdivision, work));
+        AnimatedModel a,
+        PrepareAnimated(*params.animation, std::move(imported.mesh), deform, work));
     const auto t2 = Clock::now();
     const size_t k = static_cast<size_t>(params.frame);
-    DeformExtras extras;
-    extras.distortion = params.output.distortion;
     SURFDEFORM_ASSIGN_OR_RETURN(DeformResult deformed,
-                                DeformPrepared(a.maps[k], a.model, k, placement, extras));
+                                DeformPrepared(a.maps[k], a.model, k, deform));
     const double deform_ms = MsSince(t2);
     const FrameFlattening& f = a.entry->sheets.frames[k];
     json stats = DeformStatsHeader(a.entry->id, f.quality, a.hit, format, imported, deformed.stats);
@@ -323,15 +320,17 @@ struct Service::Impl {
                              RequestWork& work, std::string etag) {
     const ServiceLimits& limits = options.limits;
     SURFDEFORM_ASSIGN_OR_RETURN(auto imported, MeshOf(params.model_id, mesh, work));
-    const PlacementOptions placement = PlacementFor(params.placement, imported, work.threads());
+    DeformOptions deform;
+    deform.placement = PlacementFor(params.placement, imported, work.threads());
+    deform.subdivision = params.subdivision;
+    deform.geometry_only = true;
     // Checked before any work on the input's count, and again after the
     // subdivision on the output's.
     SURFDEFORM_RETURN_IF_ERROR(
         CheckFrameVertices(limits, static_cast<size_t>(params.animation.animation.frames),
                            imported.mesh.positions.size()));
     SURFDEFORM_ASSIGN_OR_RETURN(
-        AnimatedModel a, PrepareAnimated(params.animation, std::move(imported.mesh), placement,
-                                         params.subdivision, work));
+        AnimatedModel a, PrepareAnimated(params.animation, std::move(imported.mesh), deform, work));
     const size_t frames = a.maps.size();
     SURFDEFORM_RETURN_IF_ERROR(CheckFrameVertices(limits, frames, a.model.mesh.positions.size()));
 
@@ -341,11 +340,9 @@ struct Service::Impl {
     anim.fps = params.animation.animation.fps;
     anim.positions.resize(frames);
     if (a.model.need_frame && !a.model.mesh.normals.empty()) anim.normals.resize(frames);
-    DeformExtras extras;
-    extras.geometry_only = true;
     DeformStats first_stats;
     for (size_t k = 0; k < frames; ++k) {
-      auto frame = DeformPrepared(a.maps[k], a.model, k, placement, extras);
+      auto frame = DeformPrepared(a.maps[k], a.model, k, deform);
       if (!frame.ok()) {
         const Status& st = frame.status();
         return Status(st.code(), "frame " + std::to_string(k) + ": " + st.message(), st.field());

@@ -53,13 +53,10 @@ int main(int argc, char** argv) {
   auto sheet = FlattenSurface(**surface, {16, 16});
   PlacementOptions placement;
   placement.fit = true;
-  auto deformed = DeformMesh(**surface, *sheet, bunny->mesh, placement);
+  auto deformed = Deform(SheetMap(**surface, *sheet), bunny->mesh, {.placement = placement});
   if (!sheet.ok() || !deformed.ok()) return 1;
-  DeformExtras extras;
-  extras.distortion = true;
-  SubdivisionOptions off;
-  off.mode = SubdivisionMode::kOff;
-  auto mapped = DeformMesh(**surface, *sheet, Mesh(bunny->mesh), placement, off, extras);
+  auto mapped = Deform(SheetMap(**surface, *sheet), bunny->mesh,
+                       {.placement = placement, .distortion = true});
   if (!mapped.ok() || mapped->mesh.distortion.empty()) return 1;
   Mesh grid = testing::FlatGrid(-1, -1, 2, 2, 10, 10, 0.0);
   grid.uv1 = grid.uv0;

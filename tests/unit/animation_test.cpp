@@ -247,14 +247,15 @@ Animated Animate(const AnimationSpec& spec, int n, const FlattenOptions& f, Mesh
     a.maps.emplace_back(*a.sheets.surfaces[k], a.sheets.sheets[k]);
   }
   for (const SheetMap& m : a.maps) maps.push_back(&m);
-  auto model = PrepareModel(maps, std::move(mesh), placement, subdivision);
+  auto model =
+      PrepareModel(maps, std::move(mesh), {.placement = placement, .subdivision = subdivision});
   EXPECT_TRUE(model.ok()) << model.status().ToString();
   a.model = std::move(*model);
   return a;
 }
 
 Mesh Frame(const Animated& a, size_t k, const PlacementOptions& placement) {
-  auto r = DeformPrepared(a.maps[k], a.model, k, placement, {});
+  auto r = DeformPrepared(a.maps[k], a.model, k, {.placement = placement});
   EXPECT_TRUE(r.ok()) << r.status().ToString();
   return r.ok() ? std::move(r->mesh) : Mesh{};
 }
@@ -280,7 +281,7 @@ TEST(Animation, TheEndFramesEqualDeformationsOnTheStaticKeys) {
     auto sheet = FlattenSurface(*t.surface, {16, 16}, f);
     ASSERT_TRUE(sheet.ok()) << sheet.status().ToString();
     t.sheet = std::move(*sheet);
-    auto alone = DeformMesh(*t.surface, t.sheet, plate, placement);
+    auto alone = Deform(SheetMap(*t.surface, t.sheet), plate, {.placement = placement});
     ASSERT_TRUE(alone.ok()) << alone.status().ToString();
     const Mesh& frame = k == 0 ? frame_first : frame_last;
     double worst = 0.0;
@@ -313,7 +314,8 @@ Mesh Static(const SurfaceSpec& spec, int n, const Mesh& model, const PlacementOp
   EXPECT_TRUE(sheet.ok()) << sheet.status().ToString();
   if (!sheet.ok()) return {};
   t.sheet = std::move(*sheet);
-  auto r = DeformMesh(*t.surface, t.sheet, Mesh(model), placement, subdivision);
+  auto r = Deform(SheetMap(*t.surface, t.sheet), Mesh(model),
+                  {.placement = placement, .subdivision = subdivision});
   EXPECT_TRUE(r.ok()) << r.status().ToString();
   return r.ok() ? std::move(r->mesh) : Mesh{};
 }
@@ -374,7 +376,7 @@ TEST(Animation, FitFitsEveryFrameAndTheTightestFrameDecides) {
   const double scale = a.model.placements.front().scale;
   for (const Placement& pl : a.model.placements) EXPECT_EQ(pl.scale, scale);
   for (int k = 0; k < spec.frames; ++k) {
-    auto r = DeformPrepared(a.maps[k], a.model, k, placement, {});
+    auto r = DeformPrepared(a.maps[k], a.model, k, {.placement = placement});
     ASSERT_TRUE(r.ok()) << "frame " << k << ": " << r.status().ToString();
     EXPECT_EQ(r->stats.outside, 0u) << "frame " << k;
     EXPECT_EQ(r->stats.fit_frame, 5);

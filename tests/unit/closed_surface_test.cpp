@@ -31,7 +31,7 @@ SubdivisionOptions Off() {
 
 Result<DeformResult> Deform(const testing::Target& t, const Mesh& m, const PlacementOptions& o,
                             const SubdivisionOptions& sub = Off()) {
-  return DeformMesh(*t.surface, t.sheet, Mesh(m), o, sub);
+  return Deform(SheetMap(*t.surface, t.sheet), Mesh(m), {.placement = o, .subdivision = sub});
 }
 
 double Radial(const Vec3& p) { return std::hypot(p.x(), p.y()); }
@@ -165,7 +165,8 @@ TEST(ClosedSurface, AConeBandAcrossTheSeamIsIsometricAndContinuous) {
   const Vec2 seam = map.SheetPoint(map.MapParameters(Vec2(0.0, 0.5)));
   const Mesh band = testing::FlatGrid(-1.5, -0.2, 3.0, 0.4, 30, 4, 0.0);
   PlacementOptions o = testing::KeepCoordinates(band, seam);
-  auto r = DeformMesh(*t.surface, t.sheet, Mesh(band), o, Off(), DeformExtras{.distortion = true});
+  auto r = Deform(SheetMap(*t.surface, t.sheet), Mesh(band),
+                  {.placement = o, .subdivision = Off(), .distortion = true});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   EXPECT_EQ(r->stats.outside, 0u);
   // On the cone (radius linear in height), and isometric: the map's
@@ -211,11 +212,11 @@ TEST(ClosedSurface, AnAnimationCarriesTheModelAcrossTheSeamOnEveryFrame) {
   for (const SheetMap& m : maps) pointers.push_back(&m);
   const Mesh band = testing::FlatGrid(-2.0, -0.2, 4.0, 0.4, 16, 2, 0.0);
   const PlacementOptions o = testing::KeepCoordinates(band, Vec2(0.0, kHeight / 2));
-  auto model = PrepareModel(pointers, Mesh(band), o, Off());
+  auto model = PrepareModel(pointers, Mesh(band), {.placement = o, .subdivision = Off()});
   ASSERT_TRUE(model.ok()) << model.status().ToString();
   for (int k = 0; k < spec.frames; ++k) {
     const double radius = std::get<CylinderSpec>(SurfaceAtFrame(spec, k)).radius;
-    auto frame = DeformPrepared(maps[k], *model, k, o, {});
+    auto frame = DeformPrepared(maps[k], *model, k, {.placement = o});
     ASSERT_TRUE(frame.ok()) << "frame " << k << ": " << frame.status().ToString();
     for (const Vec3& p : frame->mesh.positions) EXPECT_NEAR(Radial(p), radius, 1e-9) << k;
   }

@@ -21,7 +21,7 @@ using testing::KeepCoordinates;
 using testing::Target;
 
 Mesh DeformOk(const Target& t, const Mesh& m, const PlacementOptions& o) {
-  auto r = DeformMesh(*t.surface, t.sheet, m, o);
+  auto r = Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o});
   EXPECT_TRUE(r.ok()) << r.status().ToString();
   return r.ok() ? std::move(r).value().mesh : Mesh{};
 }
@@ -143,7 +143,7 @@ TEST(Deform, OutsideTheSheetIsAnErrorThatSaysHowManyAndHowFar) {
   const Target t = Flattened(CylinderSpec{1.0, 1.0, 90.0, {}}, 8);     // 1.571 x 1 sheet
   const Mesh m = testing::FlatGrid(-1.0, -0.25, 2.0, 0.5, 4, 1, 0.0);  // 2.0 wide
   PlacementOptions o;
-  auto r = DeformMesh(*t.surface, t.sheet, m, o);
+  auto r = Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o});
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), ErrorCode::kOutsideSheet);
   EXPECT_NE(r.status().message().find("4 of 10 vertices"), std::string::npos)
@@ -156,7 +156,7 @@ TEST(Deform, ClampPutsOutsideVerticesOnTheBorder) {
   const Mesh m = testing::FlatGrid(-1.0, -0.25, 2.0, 0.5, 4, 1, 0.0);
   PlacementOptions o;
   o.outside = OutsideMode::kClamp;
-  auto r = DeformMesh(*t.surface, t.sheet, m, o);
+  auto r = Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o});
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r->stats.outside, 4u);
   for (size_t k : {0u, 4u, 5u, 9u}) {  // the columns at x = -1 and x = +1
@@ -171,7 +171,7 @@ TEST(Deform, ExtrapolateContinuesTheSurfaceSmoothly) {
   const Mesh m = testing::FlatGrid(-1.0, 0.0, 2.0, 0.0, 40, 1, 0.0);  // crosses both sides
   PlacementOptions o;
   o.outside = OutsideMode::kExtrapolate;
-  auto r = DeformMesh(*t.surface, t.sheet, m, o);
+  auto r = Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   // The cylinder continues past its angle range: every point stays on the
   // unit circle and consecutive points keep their flat spacing (as arc length).
@@ -190,14 +190,14 @@ TEST(Deform, FitKeepsTheFootprintInsideWithTheMargin) {
   PlacementOptions o;
   o.fit = true;
   o.rotation_deg = 30;
-  auto r = DeformMesh(*t.surface, t.sheet, m, o);
+  auto r = Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   EXPECT_EQ(r->stats.outside, 0u);
   EXPECT_GT(r->stats.scale, 0.5);
   // A 1% larger scale no longer fits.
   o.fit = false;
   o.scale = r->stats.scale * 1.05;
-  EXPECT_FALSE(DeformMesh(*t.surface, t.sheet, m, o).ok());
+  EXPECT_FALSE(Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o}).ok());
 }
 
 TEST(Deform, FitDependsOnlyOnTheFootprintsOutline) {
@@ -332,9 +332,11 @@ TEST(Deform, NoNormalIsAnErrorThatNamesTheFirstVertex) {
   bare.tangents.clear();
   ASSERT_FALSE(framed.normals.empty());
   for (const Mesh* m : {&framed, &bare}) {
-    auto ok = DeformMesh(*t.surface, t.sheet, *m, KeepCoordinates(*m, Vec2(1.0, 1.0)));
+    auto ok = Deform(SheetMap(*t.surface, t.sheet), *m,
+                     {.placement = KeepCoordinates(*m, Vec2(1.0, 1.0))});
     ASSERT_TRUE(ok.ok()) << ok.status().ToString();
-    auto r = DeformMesh(*no_normal, t.sheet, *m, KeepCoordinates(*m, Vec2(1.0, 1.0)));
+    auto r = Deform(SheetMap(*no_normal, t.sheet), *m,
+                    {.placement = KeepCoordinates(*m, Vec2(1.0, 1.0))});
     ASSERT_FALSE(r.ok()) << (m == &bare ? "without" : "with") << " a frame";
     EXPECT_NE(r.status().message().find("deformation of vertex 0 is not finite"), std::string::npos)
         << r.status().ToString();
@@ -346,16 +348,20 @@ TEST(Deform, RejectsBadPlacement) {
   const Mesh m = testing::ThinPlate(0.5, 0.5, 0.1);
   PlacementOptions o;
   o.scale = -1;
-  EXPECT_EQ(DeformMesh(*t.surface, t.sheet, m, o).status().field(), "placement.scale");
+  EXPECT_EQ(Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o}).status().field(),
+            "placement.scale");
   o = {};
   o.rotation_deg = std::nan("");
-  EXPECT_EQ(DeformMesh(*t.surface, t.sheet, m, o).status().field(), "placement.rotation_deg");
+  EXPECT_EQ(Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o}).status().field(),
+            "placement.rotation_deg");
   Mesh broken = m;
   broken.triangles.push_back({0, 1, 99});
-  EXPECT_EQ(DeformMesh(*t.surface, t.sheet, broken, {}).status().field(), "mesh");
+  EXPECT_EQ(Deform(SheetMap(*t.surface, t.sheet), broken, {.placement = {}}).status().field(),
+            "mesh");
   broken = m;
   broken.positions[3].x() = std::nan("");
-  EXPECT_EQ(DeformMesh(*t.surface, t.sheet, broken, {}).status().field(), "mesh.positions[3]");
+  EXPECT_EQ(Deform(SheetMap(*t.surface, t.sheet), broken, {.placement = {}}).status().field(),
+            "mesh.positions[3]");
 }
 
 }  // namespace

@@ -27,9 +27,8 @@ DeformResult WithDistortion(const Target& t, Mesh m, const PlacementOptions& o,
                             SubdivisionMode mode = SubdivisionMode::kOff) {
   SubdivisionOptions s;
   s.mode = mode;
-  DeformExtras extras;
-  extras.distortion = true;
-  auto r = DeformMesh(*t.surface, t.sheet, std::move(m), o, s, extras);
+  auto r = Deform(SheetMap(*t.surface, t.sheet), std::move(m),
+                  {.placement = o, .subdivision = s, .distortion = true});
   EXPECT_TRUE(r.ok()) << r.status().ToString();
   return r.ok() ? std::move(r).value() : DeformResult{};
 }
@@ -148,7 +147,8 @@ TEST(Distortion, StatsAreTheMaxTheNearestRankP95AndTheAreaWeightedMean) {
 TEST(Distortion, OnlyWhenAskedFor) {
   const Target t = Flattened(CylinderSpec{2.0, 3.0, 180.0, {}}, 8);
   const Mesh flat = testing::FlatGrid(-1.0, -1.0, 2.0, 2.0, 4, 4, 0.0);
-  auto r = DeformMesh(*t.surface, t.sheet, flat, KeepCoordinates(flat, Vec2(3.0, 1.5)));
+  auto r = Deform(SheetMap(*t.surface, t.sheet), flat,
+                  {.placement = KeepCoordinates(flat, Vec2(3.0, 1.5))});
   ASSERT_TRUE(r.ok());
   EXPECT_TRUE(r->mesh.distortion.empty());
   EXPECT_FALSE(r->stats.distortion.computed);

@@ -87,10 +87,10 @@ TEST(MeshChecks, ADeformationNamesTheFirstNonFinitePosition) {
   const testing::Target t = testing::Flattened(plane, 8);
   Mesh m = testing::FlatGrid(-0.5, -0.3, 1.0, 0.8, 6, 5, 0.2);
   const PlacementOptions o = testing::KeepCoordinates(m, Vec2(1.0, 1.0));  // of the finite mesh
-  ASSERT_TRUE(DeformMesh(*t.surface, t.sheet, m, o).ok());
+  ASSERT_TRUE(Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o}).ok());
   m.positions[17].y() = kNaN;
   m.positions[23].x() = kInf;
-  auto r = DeformMesh(*t.surface, t.sheet, m, o);
+  auto r = Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o});
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(r.status().field(), "mesh.positions[17]");

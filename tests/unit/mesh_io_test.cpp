@@ -972,7 +972,7 @@ TEST(Bunny, DeformsOnTheFigure10SurfaceWithEveryAttributeKept) {
   ASSERT_TRUE(sheet.ok());
   PlacementOptions o;
   o.fit = true;
-  auto r = DeformMesh(*surface, *sheet, m, o);
+  auto r = Deform(SheetMap(*surface, *sheet), m, {.placement = o});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const Mesh& out = r->mesh;
   EXPECT_EQ(out.positions.size(), 37706u);
@@ -1006,7 +1006,8 @@ TEST(Bunny, GainsNoVertexOnThePapersSurfacesAtTheDefaultSubdivision) {
     ASSERT_TRUE(sheet.ok());
     PlacementOptions o;
     o.fit = true;
-    auto r = DeformMesh(*surface, *sheet, Mesh(bunny), o, SubdivisionOptions{});
+    auto r = Deform(SheetMap(*surface, *sheet), Mesh(bunny),
+                    {.placement = o, .subdivision = SubdivisionOptions{}});
     ASSERT_TRUE(r.ok()) << r.status().ToString();
     const SubdivisionStats& st = r->stats.subdivision;
     EXPECT_EQ(st.mode, SubdivisionMode::kAdaptive);

@@ -334,7 +334,7 @@ TEST(MeshSurface, AModelOnAFlatMeshMovesRigidly) {
   auto sheet = FlattenSurface(surface, SamplingOptions{32, 32});
   ASSERT_TRUE(sheet.ok()) << sheet.status().ToString();
   const Mesh model = testing::FlatGrid(-1, -0.5, 2, 1, 6, 3, 0.25);
-  auto out = DeformMesh(surface, *sheet, Mesh(model), PlacementOptions{});
+  auto out = Deform(SheetMap(surface, *sheet), Mesh(model), {.placement = PlacementOptions{}});
   ASSERT_TRUE(out.ok()) << out.status().ToString();
   double worst = 0.0;
   for (size_t i = 0; i < model.positions.size(); ++i) {
@@ -371,7 +371,7 @@ TEST(MeshSurface, APlateAlongATriangulatedCylinderMatchesTheCylinder) {
     const Surface& surface = k == 0 ? static_cast<const Surface&>(mesh_surface) : **cylinder;
     auto sheet = FlattenSurface(surface, SamplingOptions{33, 33});
     ASSERT_TRUE(sheet.ok()) << sheet.status().ToString();
-    auto out = DeformMesh(surface, *sheet, Mesh(plate), PlacementOptions{});
+    auto out = Deform(SheetMap(surface, *sheet), Mesh(plate), {.placement = PlacementOptions{}});
     ASSERT_TRUE(out.ok()) << out.status().ToString();
     along[k] = out->mesh.positions;
   }
@@ -427,8 +427,9 @@ TEST(MeshSurface, ThePlateAlongATriangulatedFigure10MatchesTheParametricOne) {
   PlacementOptions on_mesh = on_patch;
   on_mesh.center = to_mesh(on_patch.center);
   on_mesh.rotation_deg = std::atan2(r(1, 0), r(0, 0)) * 180.0 / std::numbers::pi;
-  auto along_patch = DeformMesh(patch, *sheet, Mesh(plate), on_patch);
-  auto along_mesh = DeformMesh(mesh_surface, *mesh_sheet, Mesh(plate), on_mesh);
+  auto along_patch = Deform(SheetMap(patch, *sheet), Mesh(plate), {.placement = on_patch});
+  auto along_mesh =
+      Deform(SheetMap(mesh_surface, *mesh_sheet), Mesh(plate), {.placement = on_mesh});
   ASSERT_TRUE(along_patch.ok() && along_mesh.ok());
   double worst = 0.0;
   for (size_t v = 0; v < plate.positions.size(); ++v) {

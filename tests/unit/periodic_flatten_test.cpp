@@ -77,7 +77,8 @@ Mesh RigidGlyphsRound(const Flat& f, const Vec2& uv) {
   const Mesh glyphs = testing::GlyphRow(kGlyphs, f.sheet.period_u.norm());
   PlacementOptions o = testing::KeepCoordinates(glyphs, map.SheetPoint(map.MapParameters(uv)));
   o.rigid = RigidMode::kComponents;
-  auto r = DeformMesh(*f.surface, f.sheet, Mesh(glyphs), o, Off());
+  auto r =
+      Deform(SheetMap(*f.surface, f.sheet), Mesh(glyphs), {.placement = o, .subdivision = Off()});
   EXPECT_TRUE(r.ok()) << r.status().ToString();
   if (!r.ok()) return Mesh();
   EXPECT_EQ(r->stats.rigid.parts, kGlyphs);
@@ -172,10 +173,14 @@ TEST(PeriodicFlatten, ABandAcrossASphereBeltsSeamLiesOnTheSphere) {
   const Vec2 seam = map.SheetPoint(map.MapParameters(Vec2(0.0, 0.5)));
   const Vec2 half = map.SheetPoint(map.MapParameters(Vec2(0.5, 0.5)));
   const Mesh band = testing::FlatGrid(-2.0, -0.3, 4.0, 0.6, 40, 4, 0.0);
-  auto across = DeformMesh(*f.surface, f.sheet, Mesh(band), testing::KeepCoordinates(band, seam),
-                           Off(), DeformExtras{.distortion = true});
-  auto away = DeformMesh(*f.surface, f.sheet, Mesh(band), testing::KeepCoordinates(band, half),
-                         Off(), DeformExtras{.distortion = true});
+  auto across = Deform(SheetMap(*f.surface, f.sheet), Mesh(band),
+                       {.placement = testing::KeepCoordinates(band, seam),
+                        .subdivision = Off(),
+                        .distortion = true});
+  auto away = Deform(SheetMap(*f.surface, f.sheet), Mesh(band),
+                     {.placement = testing::KeepCoordinates(band, half),
+                      .subdivision = Off(),
+                      .distortion = true});
   ASSERT_TRUE(across.ok()) << across.status().ToString();
   ASSERT_TRUE(away.ok()) << away.status().ToString();
   EXPECT_EQ(across->stats.outside, 0u);
@@ -195,8 +200,8 @@ TEST(PeriodicFlatten, ABandAcrossASphereBeltsSeamLiesOnTheSphere) {
   // the points added lie on the sphere too.
   SubdivisionOptions fine;
   fine.tolerance = 0.002;
-  auto refined =
-      DeformMesh(*f.surface, f.sheet, Mesh(band), testing::KeepCoordinates(band, seam), fine);
+  auto refined = Deform(SheetMap(*f.surface, f.sheet), Mesh(band),
+                        {.placement = testing::KeepCoordinates(band, seam), .subdivision = fine});
   ASSERT_TRUE(refined.ok()) << refined.status().ToString();
   EXPECT_GT(refined->mesh.positions.size(), band.positions.size());
   for (const Vec3& p : refined->mesh.positions) EXPECT_NEAR(p.norm(), 1.5, 1e-9);
@@ -244,12 +249,12 @@ TEST(PeriodicFlatten, AnAnimationOfSphereBeltsCarriesTheBandAcrossTheSeam) {
   PlacementOptions o = testing::KeepCoordinates(band, Vec2::Zero());
   o.center_mode = CenterMode::kFraction;
   o.center = Vec2(0.0, 0.5);  // on the seam, on every frame
-  auto model = PrepareModel(pointers, Mesh(band), o, Off());
+  auto model = PrepareModel(pointers, Mesh(band), {.placement = o, .subdivision = Off()});
   ASSERT_TRUE(model.ok()) << model.status().ToString();
   for (int k = 0; k < spec.frames; ++k) {
     ASSERT_TRUE(maps[k].periodic_u()) << k;
     const double radius = std::get<SphereSpec>(SurfaceAtFrame(spec, k)).radius;
-    auto frame = DeformPrepared(maps[k], *model, k, o, {});
+    auto frame = DeformPrepared(maps[k], *model, k, {.placement = o});
     ASSERT_TRUE(frame.ok()) << "frame " << k << ": " << frame.status().ToString();
     for (const Vec3& p : frame->mesh.positions) EXPECT_NEAR(p.norm(), radius, 1e-9) << k;
   }
@@ -363,7 +368,8 @@ TEST(PeriodicFlatten, ALabelAllRoundABottleCloses) {
   const Eigen::Rotation2Dd along(std::atan2(sheet->period_u.y(), sheet->period_u.x()));
   for (Vec3& q : band.positions) q.head<2>() = along * Vec2(q.head<2>());
   const Vec2 seam = map.SheetPoint(map.MapParameters(Vec2(0.0, 0.375)));
-  auto r = DeformMesh(**surface, *sheet, Mesh(band), testing::KeepCoordinates(band, seam), Off());
+  auto r = Deform(SheetMap(**surface, *sheet), Mesh(band),
+                  {.placement = testing::KeepCoordinates(band, seam), .subdivision = Off()});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   EXPECT_EQ(r->stats.outside, 0u);
   EXPECT_NEAR(r->stats.turns, 1.0, 1e-9);
@@ -417,7 +423,8 @@ TEST(PeriodicFlatten, ABandRoundATubeCrossesItsSeamInV) {
   const Eigen::Rotation2Dd along(std::atan2(f.sheet.period_v.y(), f.sheet.period_v.x()) - kPi / 2);
   for (Vec3& q : band.positions) q.head<2>() = along * Vec2(q.head<2>());
   const Vec2 seam = map.SheetPoint(map.MapParameters(Vec2(0.5, 0.0)));
-  auto r = DeformMesh(*f.surface, f.sheet, Mesh(band), testing::KeepCoordinates(band, seam), Off());
+  auto r = Deform(SheetMap(*f.surface, f.sheet), Mesh(band),
+                  {.placement = testing::KeepCoordinates(band, seam), .subdivision = Off()});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   EXPECT_EQ(r->stats.outside, 0u);
   EXPECT_NEAR(r->stats.turns, 1.0, 1e-9);
@@ -430,7 +437,8 @@ TEST(PeriodicFlatten, ABandRoundATubeCrossesItsSeamInV) {
   // Longer than the tube's round: fit stops at one turn.
   PlacementOptions fit = testing::KeepCoordinates(band, seam);
   fit.fit = true;
-  auto fitted = DeformMesh(*f.surface, f.sheet, Mesh(band), fit, Off());
+  auto fitted =
+      Deform(SheetMap(*f.surface, f.sheet), Mesh(band), {.placement = fit, .subdivision = Off()});
   ASSERT_TRUE(fitted.ok()) << fitted.status().ToString();
   EXPECT_LE(fitted->stats.turns, 1.0);
   EXPECT_GT(fitted->stats.turns, 0.99);
@@ -447,8 +455,8 @@ TEST(PeriodicFlatten, GlyphsAcrossBothSeamsOfAWholeTorus) {
   const Vec2 corner = map.SheetPoint(map.MapParameters(Vec2(0.0, 0.0)));
   // A plain band across the corner lies on the torus.
   const Mesh band = testing::FlatGrid(-1.0, -1.0, 2.0, 2.0, 8, 8, 0.0);
-  auto b =
-      DeformMesh(*f.surface, f.sheet, Mesh(band), testing::KeepCoordinates(band, corner), Off());
+  auto b = Deform(SheetMap(*f.surface, f.sheet), Mesh(band),
+                  {.placement = testing::KeepCoordinates(band, corner), .subdivision = Off()});
   ASSERT_TRUE(b.ok()) << b.status().ToString();
   for (const Vec3& q : b->mesh.positions) EXPECT_NEAR(OffTube(q), 1.0, 1e-9);
 }

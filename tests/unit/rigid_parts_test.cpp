@@ -59,7 +59,7 @@ TEST(RigidParts, AWordOnACylinderKeepsEachGlyphAndFollowsTheWrap) {
   const Vec2 at(std::numbers::pi * radius / 2, 1.5);
   PlacementOptions o = KeepCoordinates(word, at);  // (a, b, h) = (x + at.x, y + at.y, z)
   o.rigid = RigidMode::kComponents;
-  auto r = DeformMesh(*t.surface, t.sheet, word, o);
+  auto r = Deform(SheetMap(*t.surface, t.sheet), word, {.placement = o});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const Mesh& out = r->mesh;
   EXPECT_EQ(r->stats.rigid.parts, 5u);
@@ -94,7 +94,7 @@ TEST(RigidParts, AWordOnACylinderKeepsEachGlyphAndFollowsTheWrap) {
               1e-9);
   // Without rigid parts the glyphs bend: their distances change (the test is not vacuous).
   o.rigid = RigidMode::kNone;
-  auto bent = DeformMesh(*t.surface, t.sheet, word, o);
+  auto bent = Deform(SheetMap(*t.surface, t.sheet), word, {.placement = o});
   ASSERT_TRUE(bent.ok());
   double change = 0.0;
   for (int i = 0; i < 8; ++i)
@@ -110,7 +110,7 @@ TEST(RigidParts, NormalsTurnWithTheirPartAndOffSheetPartsAreCounted) {
   Mesh grid = testing::FlatGrid(-0.2, -0.2, 0.4, 0.4, 2, 2, 0.0);  // normals +Z
   PlacementOptions o = KeepCoordinates(grid, Vec2(1.0, 1.5));
   o.rigid = RigidMode::kGroups;
-  auto r = DeformMesh(*t.surface, t.sheet, grid, o);
+  auto r = Deform(SheetMap(*t.surface, t.sheet), grid, {.placement = o});
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   const double theta = 1.0 / 2.0;
   for (const Vec3& n : r->mesh.normals) {
@@ -119,7 +119,7 @@ TEST(RigidParts, NormalsTurnWithTheirPartAndOffSheetPartsAreCounted) {
   // Centred off the sheet: an error that counts its vertices.
   o = KeepCoordinates(grid, Vec2(1.0, 4.0));
   o.rigid = RigidMode::kGroups;
-  auto off = DeformMesh(*t.surface, t.sheet, grid, o);
+  auto off = Deform(SheetMap(*t.surface, t.sheet), grid, {.placement = o});
   ASSERT_FALSE(off.ok());
   EXPECT_EQ(off.status().code(), ErrorCode::kOutsideSheet);
 }

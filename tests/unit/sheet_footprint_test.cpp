@@ -8,6 +8,7 @@
 
 #include "engine/deform.hpp"
 #include "engine/surface_spec.hpp"
+#include "support/given_memo.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"
 #include "support/test_surfaces.hpp"
@@ -16,11 +17,12 @@ namespace surfdeform {
 namespace {
 
 using testing::Flattened;
+using testing::GivenMemo;
 using testing::Target;
 
 DeformResult DeformOk(const Target& t, const Mesh& m, const PlacementOptions& o,
-                      const SubdivisionOptions& sub, const DeformExtras& extras) {
-  auto r = DeformMesh(*t.surface, t.sheet, Mesh(m), o, sub, extras);
+                      const SubdivisionOptions& sub, GivenMemo memo) {
+  auto r = Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o, .subdivision = sub}, &memo);
   EXPECT_TRUE(r.ok()) << r.status().ToString();
   return r.ok() ? std::move(r).value() : DeformResult{};
 }
@@ -28,15 +30,15 @@ DeformResult DeformOk(const Target& t, const Mesh& m, const PlacementOptions& o,
 // Deforms recording the footprint, and with the footprint `known`.
 DeformResult Recording(const Target& t, const Mesh& m, const PlacementOptions& o,
                        const SubdivisionOptions& sub) {
-  DeformExtras extras;
-  extras.record_footprint = true;
-  return DeformOk(t, m, o, sub, extras);
+  GivenMemo memo;
+  memo.record_footprint = true;
+  return DeformOk(t, m, o, sub, memo);
 }
 DeformResult Replaying(const Target& t, const Mesh& m, const PlacementOptions& o,
                        const SubdivisionOptions& sub, const SheetFootprint& known) {
-  DeformExtras extras;
-  extras.footprint = &known;
-  return DeformOk(t, m, o, sub, extras);
+  GivenMemo memo;
+  memo.footprint = std::make_shared<const SheetFootprint>(known);
+  return DeformOk(t, m, o, sub, memo);
 }
 
 void ExpectSameBits(const DeformResult& a, const DeformResult& b, const std::string& what) {

@@ -328,12 +328,13 @@ TEST_F(SubdivideLimits, TheTimeBudgetStopsALongRefinement) {
             "subdivision.time_budget_ms");
 }
 
-TEST(Subdivide, DeformMeshWithSubdivisionPlacesEveryVertexExactly) {
+TEST(Subdivide, DeformWithSubdivisionPlacesEveryVertexExactly) {
   const Target t = Figure(10, 16);
   const Mesh plate = testing::ThinPlate(1.0, 1.0, 0.02);
   const Refined r = Refine(t, plate, Fit(), Adaptive(1e-3));
   ASSERT_TRUE(r.ok);
-  auto d = DeformMesh(*t.surface, t.sheet, Mesh(plate), Fit(), Adaptive(1e-3));
+  auto d = Deform(SheetMap(*t.surface, t.sheet), Mesh(plate),
+                  {.placement = Fit(), .subdivision = Adaptive(1e-3)});
   ASSERT_TRUE(d.ok()) << d.status().ToString();
   ASSERT_EQ(d->mesh.positions.size(), r.deformed.size());
   for (size_t k = 0; k < r.deformed.size(); ++k) {
@@ -353,8 +354,9 @@ TEST(Subdivide, AModelThatNeedsNothingDeformsAsWithoutSubdivision) {
   Mesh with_normals = positions_only;
   ComputeVertexNormals(&with_normals);
   for (const Mesh& m : {positions_only, with_normals}) {
-    auto off = DeformMesh(*t.surface, t.sheet, m, Fit());
-    auto adaptive = DeformMesh(*t.surface, t.sheet, Mesh(m), Fit(), Adaptive(1e-2));
+    auto off = Deform(SheetMap(*t.surface, t.sheet), m, {.placement = Fit()});
+    auto adaptive = Deform(SheetMap(*t.surface, t.sheet), Mesh(m),
+                           {.placement = Fit(), .subdivision = Adaptive(1e-2)});
     ASSERT_TRUE(off.ok() && adaptive.ok());
     ASSERT_EQ(adaptive->stats.subdivision.vertices_after, m.positions.size())
         << "the sphere was refined: choose a finer model";

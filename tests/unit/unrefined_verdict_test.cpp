@@ -1,11 +1,12 @@
 // A subdivision that added nothing, told to the next deformation of the same
-// model (DeformExtras::unrefined): it is skipped, and the result is the same
+// model (DeformMemo::RecallUnrefined): it is skipped, and the result is the same
 // bits as running it.
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "engine/deform.hpp"
+#include "support/given_memo.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"
 #include "support/test_surfaces.hpp"
@@ -14,13 +15,15 @@ namespace surfdeform {
 namespace {
 
 using testing::Flattened;
+using testing::GivenMemo;
 using testing::Target;
 
-DeformResult DeformOk(const Target& t, const Mesh& m, const SubdivisionOptions& sub,
-                      const DeformExtras& extras) {
+DeformResult DeformOk(const Target& t, const Mesh& m, const SubdivisionOptions& sub, GivenMemo memo,
+                      bool distortion = false) {
   PlacementOptions o;
   o.fit = true;
-  auto r = DeformMesh(*t.surface, t.sheet, Mesh(m), o, sub, extras);
+  auto r = Deform(SheetMap(*t.surface, t.sheet), m,
+                  {.placement = o, .subdivision = sub, .distortion = distortion}, &memo);
   EXPECT_TRUE(r.ok()) << r.status().ToString();
   return r.ok() ? std::move(r).value() : DeformResult{};
 }
@@ -53,21 +56,19 @@ TEST(UnrefinedVerdict, ReplayingAnUnrefinedVerdictGivesTheSameBits) {
   const SubdivisionOptions adaptive{.mode = SubdivisionMode::kAdaptive};
   for (const Mesh& m : {fine, WithoutFrame(fine)}) {
     const std::string what = m.normals.empty() ? "no frame" : "with frame";
-    DeformExtras recording;
+    GivenMemo recording;
     recording.record_footprint = true;
-    recording.distortion = true;
-    const DeformResult fresh = DeformOk(t, m, adaptive, recording);
+    const DeformResult fresh = DeformOk(t, m, adaptive, recording, true);
     ASSERT_TRUE(fresh.unrefined) << what;
     ASSERT_EQ(fresh.mesh.positions.size(), m.positions.size()) << what;
     ASSERT_GT(fresh.stats.subdivision.measured_points, 0u) << what;
     EXPECT_GT(fresh.stats.subdivide_ms, 0.0) << what;
 
     for (const bool with_footprint : {false, true}) {
-      DeformExtras extras;
-      extras.unrefined = &fresh.stats.subdivision;
-      if (with_footprint) extras.footprint = &fresh.footprint;
-      extras.distortion = true;
-      const DeformResult replayed = DeformOk(t, m, adaptive, extras);
+      GivenMemo given;
+      given.unrefined = fresh.stats.subdivision;
+      if (with_footprint) given.footprint = std::make_shared<const SheetFootprint>(fresh.footprint);
+      const DeformResult replayed = DeformOk(t, m, adaptive, given, true);
       const std::string how = what + (with_footprint ? ", footprint known" : ", footprint found");
       EXPECT_TRUE(replayed.unrefined) << how;
       EXPECT_EQ(replayed.stats.subdivide_ms, 0.0) << how;
@@ -76,9 +77,9 @@ TEST(UnrefinedVerdict, ReplayingAnUnrefinedVerdictGivesTheSameBits) {
       ExpectSameBits(fresh, replayed, how);
     }
     // A verdict to record a footprint with: it is recorded by the map.
-    DeformExtras both = recording;
-    both.unrefined = &fresh.stats.subdivision;
-    const DeformResult replayed = DeformOk(t, m, adaptive, both);
+    GivenMemo both = recording;
+    both.unrefined = fresh.stats.subdivision;
+    const DeformResult replayed = DeformOk(t, m, adaptive, both, true);
     EXPECT_EQ(replayed.footprint.location.size(), m.positions.size()) << what;
     EXPECT_EQ(replayed.footprint.location.size(), fresh.footprint.location.size()) << what;
     for (size_t k = 0; k < replayed.footprint.location.size(); ++k) {
@@ -100,9 +101,9 @@ TEST(UnrefinedVerdict, OnlyASubdivisionThatAddedNothingGivesOne) {
   const SubdivisionOptions off{.mode = SubdivisionMode::kOff};
   const DeformResult plain = DeformOk(t, coarse, off, {});
   EXPECT_FALSE(plain.unrefined);
-  DeformExtras extras;
-  extras.unrefined = &refined.stats.subdivision;
-  const DeformResult unsubdivided = DeformOk(t, coarse, off, extras);
+  GivenMemo given;
+  given.unrefined = refined.stats.subdivision;
+  const DeformResult unsubdivided = DeformOk(t, coarse, off, given);
   EXPECT_FALSE(unsubdivided.unrefined);
   EXPECT_EQ(unsubdivided.stats.subdivision.mode, SubdivisionMode::kOff);
   ExpectSameBits(plain, unsubdivided, "off, verdict given");
