@@ -316,8 +316,10 @@ Status DecodeDraco(std::string_view bytes, const ImportLimits& limits, Mesh* mes
   return Status::Ok();
 }
 
-Status ReadDraco(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out) {
-  return DecodeDraco(bytes, limits, &out->mesh);
+Result<ImportedMesh> ReadDraco(std::string_view bytes, const ImportLimits& limits) {
+  ImportedMesh out;
+  SURFDEFORM_RETURN_IF_ERROR(DecodeDraco(bytes, limits, &out.mesh));
+  return out;
 }
 
 }  // namespace surfdeform::meshio

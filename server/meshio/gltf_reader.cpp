@@ -504,8 +504,8 @@ std::string_view ImageMediaType(std::string_view b) {
   return {};
 }
 
-Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
-                ImportedMesh* out) {
+Result<ImportedMesh> ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits) {
+  ImportedMesh out;
   std::string_view json;
   SURFDEFORM_RETURN_IF_ERROR(JsonOf(bytes, binary, &json));
   const int depth = JsonNestingDepth(json);
@@ -558,11 +558,11 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
     }
   }
   for (const tinygltf::Material& m : model.materials) {
-    out->materials.push_back(m.name.empty() ? "material" + std::to_string(out->materials.size())
-                                            : m.name);
+    out.materials.push_back(m.name.empty() ? "material" + std::to_string(out.materials.size())
+                                           : m.name);
   }
-  SURFDEFORM_ASSIGN_OR_RETURN(out->look,
-                              LookOf(model, std::move(images.kept), limits, &out->warnings));
+  SURFDEFORM_ASSIGN_OR_RETURN(out.look,
+                              LookOf(model, std::move(images.kept), limits, &out.warnings));
   // Every node of the default scene (or of all scenes, or every root node),
   // iteratively, each visited once (cycles in the node graph are errors).
   std::vector<int> roots;
@@ -619,19 +619,18 @@ Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits,
         }
         const std::string name = m.name.empty() ? "mesh" + std::to_string(node.mesh) : m.name;
         SURFDEFORM_RETURN_IF_ERROR(
-            AppendPrimitive(model, prim, index, world, name, limits, &shared, out));
+            AppendPrimitive(model, prim, index, world, name, limits, &shared, &out));
       }
     }
     for (auto c = node.children.rbegin(); c != node.children.rend(); ++c)
       stack.emplace_back(*c, world);
   }
   if (points_lines > 0) {
-    out->warnings.push_back("ignored " + std::to_string(points_lines) +
-                            " point or line primitives");
+    out.warnings.push_back("ignored " + std::to_string(points_lines) + " point or line primitives");
   }
-  if (skins > 0) out->warnings.push_back("ignored skins: the mesh is read in its bind pose");
-  if (targets > 0) out->warnings.push_back("ignored morph targets");
-  return Status::Ok();
+  if (skins > 0) out.warnings.push_back("ignored skins: the mesh is read in its bind pose");
+  if (targets > 0) out.warnings.push_back("ignored morph targets");
+  return out;
 }
 
 }  // namespace surfdeform::meshio

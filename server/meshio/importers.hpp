@@ -1,5 +1,5 @@
 // Internal: one reader per format, called by ImportMesh once the format is
-// known and the byte limit checked. Each fills `out` or returns an error.
+// known and the byte limit checked. Each returns what it read or an error.
 #pragma once
 
 #include <string_view>
@@ -8,12 +8,12 @@
 
 namespace surfdeform::meshio {
 
-Status ReadObj(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out);
-Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out);
-Status ReadStl(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out);
-Status ReadOff(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out);
-Status ReadDraco(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out);
-Status ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits, ImportedMesh* out);
+Result<ImportedMesh> ReadObj(std::string_view bytes, const ImportLimits& limits);
+Result<ImportedMesh> ReadPly(std::string_view bytes, const ImportLimits& limits);
+Result<ImportedMesh> ReadStl(std::string_view bytes, const ImportLimits& limits);
+Result<ImportedMesh> ReadOff(std::string_view bytes, const ImportLimits& limits);
+Result<ImportedMesh> ReadDraco(std::string_view bytes, const ImportLimits& limits);
+Result<ImportedMesh> ReadGltf(std::string_view bytes, bool binary, const ImportLimits& limits);
 
 // `text` with every byte that is not part of a valid UTF-8 sequence replaced
 // by '?', and cut to `max_bytes`: names from files end up in JSON (GLB) and

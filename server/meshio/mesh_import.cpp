@@ -104,31 +104,30 @@ void AppendPolygon(const uint32_t* corners, const Vec3* positions, size_t count,
 
 Result<ImportedMesh> ImportMesh(std::string_view bytes, const ImportLimits& limits) {
   SURFDEFORM_RETURN_IF_ERROR(meshio::CheckLimit("bytes", bytes.size(), limits.max_bytes));
-  ImportedMesh out;
-  out.format = DetectMeshFormat(bytes);
-  Status status;
+  const MeshFormat format = DetectMeshFormat(bytes);
+  Result<ImportedMesh> read = NotComputed();
   // The readers call tinygltf, nlohmann-json and Draco, which may throw (bad
   // allocation included): an exception is a rejected input, never a crash.
   try {
-    switch (out.format) {
+    switch (format) {
       case MeshFormat::kObj:
-        status = meshio::ReadObj(bytes, limits, &out);
+        read = meshio::ReadObj(bytes, limits);
         break;
       case MeshFormat::kPly:
-        status = meshio::ReadPly(bytes, limits, &out);
+        read = meshio::ReadPly(bytes, limits);
         break;
       case MeshFormat::kStl:
-        status = meshio::ReadStl(bytes, limits, &out);
+        read = meshio::ReadStl(bytes, limits);
         break;
       case MeshFormat::kOff:
-        status = meshio::ReadOff(bytes, limits, &out);
+        read = meshio::ReadOff(bytes, limits);
         break;
       case MeshFormat::kDraco:
-        status = meshio::ReadDraco(bytes, limits, &out);
+        read = meshio::ReadDraco(bytes, limits);
         break;
       case MeshFormat::kGlb:
       case MeshFormat::kGltf:
-        status = meshio::ReadGltf(bytes, out.format == MeshFormat::kGlb, limits, &out);
+        read = meshio::ReadGltf(bytes, format == MeshFormat::kGlb, limits);
         break;
       case MeshFormat::kUnknown:
         return Status(ErrorCode::kUnsupportedFormat,
@@ -141,10 +140,11 @@ Result<ImportedMesh> ImportMesh(std::string_view bytes, const ImportLimits& limi
                   "mesh");
   } catch (const std::exception&) {
     return InvalidArgument(
-        std::string("the ") + MeshFormatName(out.format) + " data could not be read (malformed)",
+        std::string("the ") + MeshFormatName(format) + " data could not be read (malformed)",
         "mesh");
   }
-  SURFDEFORM_RETURN_IF_ERROR(status);
+  SURFDEFORM_ASSIGN_OR_RETURN(ImportedMesh out, std::move(read));
+  out.format = format;
   for (std::string& m : out.materials) m = meshio::CleanName(m);
   for (MeshGroup& g : out.mesh.groups) g.name = meshio::CleanName(g.name);
   SURFDEFORM_RETURN_IF_ERROR(

@@ -23,14 +23,15 @@ struct CornerHash {
 
 }  // namespace
 
-Status ReadObj(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out) {
+Result<ImportedMesh> ReadObj(std::string_view bytes, const ImportLimits& limits) {
+  ImportedMesh out;
   std::vector<Vec3> v;
   std::vector<Vec4> colors;
   std::vector<Vec2> vt;
   std::vector<Vec3> vn;
   std::unordered_map<CornerKey, uint32_t, CornerHash> corners;
   std::vector<CornerKey> vertex_keys;  // output vertex -> its corner
-  Mesh& mesh = out->mesh;
+  Mesh& mesh = out.mesh;
   int current_material = -1;
   size_t ignored_lines = 0, ignored_points = 0;
   bool any_uv = false, any_normal = false, missing_uv = false, missing_normal = false;
@@ -134,12 +135,12 @@ Status ReadObj(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
       std::string name(line);
       while (!name.empty() && (name.front() == ' ' || name.front() == '\t')) name.erase(0, 1);
       int index = -1;
-      for (size_t m = 0; m < out->materials.size(); ++m) {
-        if (out->materials[m] == name) index = static_cast<int>(m);
+      for (size_t m = 0; m < out.materials.size(); ++m) {
+        if (out.materials[m] == name) index = static_cast<int>(m);
       }
       if (index < 0) {
-        index = static_cast<int>(out->materials.size());
-        out->materials.push_back(name);
+        index = static_cast<int>(out.materials.size());
+        out.materials.push_back(name);
       }
       current_material = index;
       start_group(current_material, name);
@@ -199,16 +200,16 @@ Status ReadObj(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
     if (!colors.empty()) mesh.colors[k] = colors[key.v];
   }
   if (any_uv && missing_uv)
-    out->warnings.push_back("some face corners have no texture coordinate: set to (0, 0)");
+    out.warnings.push_back("some face corners have no texture coordinate: set to (0, 0)");
   if (any_normal && missing_normal)
-    out->warnings.push_back("some face corners have no normal: set to +Z");
+    out.warnings.push_back("some face corners have no normal: set to +Z");
   if (ignored_lines > 0) {
-    out->warnings.push_back("ignored " + std::to_string(ignored_lines) + " line elements (l)");
+    out.warnings.push_back("ignored " + std::to_string(ignored_lines) + " line elements (l)");
   }
   if (ignored_points > 0) {
-    out->warnings.push_back("ignored " + std::to_string(ignored_points) + " point elements (p)");
+    out.warnings.push_back("ignored " + std::to_string(ignored_points) + " point elements (p)");
   }
-  return Status::Ok();
+  return out;
 }
 
 }  // namespace surfdeform::meshio

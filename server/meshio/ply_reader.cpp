@@ -310,7 +310,8 @@ size_t ReadTriangleRecords(const std::vector<Property>& props, size_t count, Bod
 
 }  // namespace
 
-Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out) {
+Result<ImportedMesh> ReadPly(std::string_view bytes, const ImportLimits& limits) {
+  ImportedMesh out;
   TextReader header(bytes);
   std::string_view line, tok;
   header.NextLine(&line);  // "ply"
@@ -370,14 +371,14 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
       elements.back().properties.push_back(p);
     } else {
       // Some exporters write free text without "comment": skip it.
-      out->warnings.push_back("PLY header line " + std::to_string(ln) + " ignored");
+      out.warnings.push_back("PLY header line " + std::to_string(ln) + " ignored");
     }
   }
   if (!ended) return PlyError("no end_header");
   if (!encoding) return PlyError("no format line");
 
   BodyReader body(header.rest(), *encoding);
-  Mesh& mesh = out->mesh;
+  Mesh& mesh = out.mesh;
   for (const Element& e : elements) {
     // Every record takes at least one byte (binary) or two characters (ascii):
     // a count the rest of the file cannot hold is rejected before allocating.
@@ -471,7 +472,7 @@ Status ReadPly(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
     const double len = nrm.norm();
     nrm = len > 0.0 ? Vec3(nrm / len) : Vec3::UnitZ();
   }
-  return Status::Ok();
+  return out;
 }
 
 }  // namespace surfdeform::meshio

@@ -98,17 +98,20 @@ Status ReadAsciiStl(std::string_view bytes, const ImportLimits& limits, Mesh* me
 
 }  // namespace
 
-Status ReadStl(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out) {
+Result<ImportedMesh> ReadStl(std::string_view bytes, const ImportLimits& limits) {
+  ImportedMesh out;
   const bool binary = bytes.size() >= 84 && DetectMeshFormat(bytes) == MeshFormat::kStl && [&] {
     uint32_t count;
     std::memcpy(&count, bytes.data() + 80, 4);
     return bytes.size() == 84 + 50ull * count;
   }();
-  return binary ? ReadBinaryStl(bytes, limits, &out->mesh)
-                : ReadAsciiStl(bytes, limits, &out->mesh);
+  SURFDEFORM_RETURN_IF_ERROR(binary ? ReadBinaryStl(bytes, limits, &out.mesh)
+                                    : ReadAsciiStl(bytes, limits, &out.mesh));
+  return out;
 }
 
-Status ReadOff(std::string_view bytes, const ImportLimits& limits, ImportedMesh* out) {
+Result<ImportedMesh> ReadOff(std::string_view bytes, const ImportLimits& limits) {
+  ImportedMesh out;
   TextReader reader(bytes);
   std::string_view line, tok;
   // Tokens across lines, comments skipped.
@@ -136,7 +139,7 @@ Status ReadOff(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
     return InvalidArgument("OFF: the header claims more vertices or faces than the file holds",
                            "mesh");
   }
-  Mesh& mesh = out->mesh;
+  Mesh& mesh = out.mesh;
   mesh.positions.resize(nv);
   if (colored) mesh.colors.resize(nv);
   const int per_vertex = 3 + (normals ? 3 : 0) + (colored ? 4 : 0);
@@ -174,7 +177,7 @@ Status ReadOff(std::string_view bytes, const ImportLimits& limits, ImportedMesh*
     AppendPolygon(poly, corner_positions, static_cast<size_t>(n), &mesh);
     line = {};  // a face line may end with a colour: skip the rest of it
   }
-  return Status::Ok();
+  return out;
 }
 
 }  // namespace surfdeform::meshio
