@@ -807,11 +807,16 @@ struct HttpServer::Impl {
     }
   }
   void MetricsText(const httplib::Request&, httplib::Response& res) {
-    res.set_content(metrics.Render(service.cache_stats(), service.shared_tier_stats(),
-                                   service.admission_stats(), server.connection_stats(),
-                                   service.placement_memo_stats(), service.model_cache_stats(),
-                                   service.answer_cache_stats(), service.edit_paths_stats()),
-                    "text/plain; version=0.0.4");
+    ServerStats stats;
+    stats.surfaces = service.cache_stats();
+    stats.shared = service.shared_tier_stats();
+    stats.admission = service.admission_stats();
+    stats.connections = server.connection_stats();
+    stats.placements = service.placement_memo_stats();
+    stats.models = service.model_cache_stats();
+    stats.answers = service.answer_cache_stats();
+    stats.edit_paths = service.edit_paths_stats();
+    res.set_content(metrics.Render(stats), "text/plain; version=0.0.4");
   }
   void OpenApi(const httplib::Request&, httplib::Response& res) {
     res.set_content(kOpenApiYaml, "application/yaml");

@@ -40,219 +40,230 @@ void Metrics::Rejected(const std::string& reason) {
   ++rejected_[reason];
 }
 
-std::string Metrics::Render(const CacheStats& cache, const SharedTierStats& shared,
-                            const AdmissionStats& admission, const ConnectionStats& connections,
-                            const PlacementMemoStats& placements, const CacheStats& models,
-                            const CacheStats& answers, const CacheStats& edit_paths) const {
-  std::string out;
-  auto line = [&out](const std::string& text) { out += text + "\n"; };
-  std::lock_guard lock(mutex_);
-  line(
-      "# HELP surfdeform_http_requests_total HTTP requests answered, by route, method and status.");
-  line("# TYPE surfdeform_http_requests_total counter");
-  for (const auto& [key, count] : requests_) {
-    const auto& [route, method, status] = key;
-    line("surfdeform_http_requests_total{route=\"" + route + "\",method=\"" + method +
-         "\",status=\"" + std::to_string(status) + "\"} " + std::to_string(count));
-  }
-  line(
-      "# HELP surfdeform_http_request_duration_seconds Time from the request's headers to the "
-      "end of its response, by route.");
-  line("# TYPE surfdeform_http_request_duration_seconds histogram");
-  for (const auto& [route, h] : latency_) {
-    const std::string name = "surfdeform_http_request_duration_seconds";
-    for (size_t k = 0; k < kBuckets.size(); ++k) {
-      line(name + "_bucket{route=\"" + route + "\",le=\"" + Number(kBuckets[k]) + "\"} " +
-           std::to_string(h.counts[k]));
-    }
-    line(name + "_bucket{route=\"" + route + "\",le=\"+Inf\"} " + std::to_string(h.count));
-    line(name + "_sum{route=\"" + route + "\"} " + Number(h.sum));
-    line(name + "_count{route=\"" + route + "\"} " + std::to_string(h.count));
-  }
-  line(
-      "# HELP surfdeform_http_request_cpu_seconds CPU time of the worker thread that handled "
-      "each request, by outcome (served: 2xx and 3xx; refused: 503; failed: other).");
-  line("# TYPE surfdeform_http_request_cpu_seconds summary");
-  for (const auto& [outcome, cpu] : request_cpu_) {
-    const std::string label = "{outcome=\"" + outcome + "\"} ";
-    line("surfdeform_http_request_cpu_seconds_sum" + label + Number(cpu.seconds));
-    line("surfdeform_http_request_cpu_seconds_count" + label + std::to_string(cpu.count));
-  }
-  line(
-      "# HELP surfdeform_http_rejected_total Requests refused before their handler ran, by "
-      "reason.");
-  line("# TYPE surfdeform_http_rejected_total counter");
-  for (const auto& [reason, count] : rejected_) {
-    line("surfdeform_http_rejected_total{reason=\"" + reason + "\"} " + std::to_string(count));
-  }
-  line("# HELP surfdeform_http_request_bytes_total Request body bytes received.");
-  line("# TYPE surfdeform_http_request_bytes_total counter");
-  line("surfdeform_http_request_bytes_total " + std::to_string(bytes_in_));
-  line("# HELP surfdeform_http_response_bytes_total Response body bytes sent.");
-  line("# TYPE surfdeform_http_response_bytes_total counter");
-  line("surfdeform_http_response_bytes_total " + std::to_string(bytes_out_));
-  line("# HELP surfdeform_http_requests_in_flight Requests being handled now.");
-  line("# TYPE surfdeform_http_requests_in_flight gauge");
-  line("surfdeform_http_requests_in_flight " +
-       std::to_string(in_flight_.load(std::memory_order_relaxed)));
+const std::array<Metrics::CacheFamily, 3> Metrics::kCacheFamilies = {{
+    {"surfdeform_model_cache_", &ServerStats::models,
+     "Model lookups and uploads served from the cache.",
+     "Model lookups and uploads that had to import.", "uploaded models"},
+    {"surfdeform_answer_cache_", &ServerStats::answers,
+     "Answers of POST /v1/deform served from the cache (or from a concurrent request's making "
+     "of the same answer).",
+     "Answers that had to be made (parse, deformation, encoding).", "kept answers"},
+    {"surfdeform_edit_paths_", &ServerStats::edit_paths,
+     "Warm-started edits that measured from the kept distance paths of the surface they started "
+     "from.",
+     "Warm-started edits that found no kept paths (measured afresh).", "kept distance paths"},
+}};
 
+namespace {
+
+// The exposition's text, a metric at a time.
+class Exposition {
+ public:
+  void Line(const std::string& text) { out_ += text + "\n"; }
+  // HELP, TYPE and one unlabelled sample.
+  void One(const std::string& name, const char* type, const std::string& help,
+           const std::string& value) {
+    Line("# HELP " + name + " " + help);
+    Line("# TYPE " + name + " " + type);
+    Line(name + " " + value);
+  }
+  // HELP, TYPE and one sample per label value.
+  void Labelled(const std::string& name, const char* type, const std::string& help,
+                const char* label,
+                std::initializer_list<std::pair<const char*, std::string>> samples) {
+    Line("# HELP " + name + " " + help);
+    Line("# TYPE " + name + " " + type);
+    for (const auto& [value, sample] : samples) {
+      Line(name + "{" + label + "=\"" + value + "\"} " + sample);
+    }
+  }
+  std::string Take() { return std::move(out_); }
+
+ private:
+  std::string out_;
+};
+
+std::string Count(uint64_t n) { return std::to_string(n); }
+
+void SurfaceCache(Exposition& e, const CacheStats& c) {
   auto counter = [&](const char* name, const char* help, uint64_t value) {
-    line(std::string("# HELP surfdeform_cache_") + name + "_total " + help);
-    line(std::string("# TYPE surfdeform_cache_") + name + "_total counter");
-    line(std::string("surfdeform_cache_") + name + "_total " + std::to_string(value));
+    e.One(std::string("surfdeform_cache_") + name + "_total", "counter", help, Count(value));
   };
   auto gauge = [&](const char* name, const char* help, uint64_t value) {
-    line(std::string("# HELP surfdeform_cache_") + name + " " + help);
-    line(std::string("# TYPE surfdeform_cache_") + name + " gauge");
-    line(std::string("surfdeform_cache_") + name + " " + std::to_string(value));
+    e.One(std::string("surfdeform_cache_") + name, "gauge", help, Count(value));
   };
-  counter("hits", "Flattened-surface lookups served from the cache.", cache.hits);
-  counter("misses", "Flattened-surface lookups that had to flatten.", cache.misses);
+  counter("hits", "Flattened-surface lookups served from the cache.", c.hits);
+  counter("misses", "Flattened-surface lookups that had to flatten.", c.misses);
   counter("coalesced", "Lookups that waited for a concurrent flattening of the same surface.",
-          cache.coalesced);
-  counter("evictions", "Entries evicted to stay within the byte budget.", cache.evictions);
-  counter("failures", "Flattenings that failed (never cached).", cache.failures);
-  gauge("bytes", "Bytes held by cached flattened surfaces.", cache.bytes);
-  gauge("entries", "Flattened surfaces in the cache.", cache.entries);
-  gauge("capacity_bytes", "The cache's byte budget.", cache.capacity_bytes);
-  // The uploaded models' cache (POST /v1/models) and the answers kept
-  // (POST /v1/deform), the same counters each.
-  struct CacheHelp {
-    const char* hits;
-    const char* misses;
-    const char* items;  // what an entry is, plural
-  };
-  auto cache_family = [&](const std::string& prefix, const CacheStats& s, const CacheHelp& help) {
-    auto one = [&](const char* name, const char* type, const std::string& text, uint64_t value) {
-      const std::string full = prefix + name;
-      line("# HELP " + full + " " + text);
-      line("# TYPE " + full + " " + type);
-      line(full + " " + std::to_string(value));
-    };
-    one("hits_total", "counter", help.hits, s.hits);
-    one("misses_total", "counter", help.misses, s.misses);
-    one("evictions_total", "counter",
-        std::string("Entries (") + help.items + ") evicted to stay within the byte budget.",
-        s.evictions);
-    one("bytes", "gauge", std::string("Bytes held by ") + help.items + " (estimated).", s.bytes);
-    one("entries", "gauge", std::string("Entries (") + help.items + ") in the cache.", s.entries);
-    one("capacity_bytes", "gauge", "The cache's byte budget.", s.capacity_bytes);
-  };
-  cache_family("surfdeform_model_cache_", models,
-               {"Model lookups and uploads served from the cache.",
-                "Model lookups and uploads that had to import.", "uploaded models"});
-  cache_family("surfdeform_answer_cache_", answers,
-               {"Answers of POST /v1/deform served from the cache (or from a concurrent "
-                "request's making of the same answer).",
-                "Answers that had to be made (parse, deformation, encoding).", "kept answers"});
-  cache_family(
-      "surfdeform_edit_paths_", edit_paths,
-      {"Warm-started edits that measured from the kept distance paths of the "
-       "surface they started from.",
-       "Warm-started edits that found no kept paths (measured afresh).", "kept distance paths"});
+          c.coalesced);
+  counter("evictions", "Entries evicted to stay within the byte budget.", c.evictions);
+  counter("failures", "Flattenings that failed (never cached).", c.failures);
+  gauge("bytes", "Bytes held by cached flattened surfaces.", c.bytes);
+  gauge("entries", "Flattened surfaces in the cache.", c.entries);
+  gauge("capacity_bytes", "The cache's byte budget.", c.capacity_bytes);
+}
 
-  auto plain = [&](const std::string& name, const char* type, const char* help,
-                   const std::string& value) {
-    line("# HELP " + name + " " + help);
-    line("# TYPE " + name + " " + type);
-    line(name + " " + value);
-  };
-  plain("surfdeform_admission_running", "gauge", "Flatten/deform requests holding a slot.",
-        std::to_string(admission.running));
-  plain("surfdeform_admission_queued", "gauge", "Requests waiting for a slot.",
-        std::to_string(admission.queued));
-  plain("surfdeform_admission_admitted_total", "counter", "Requests given a slot.",
-        std::to_string(admission.admitted));
-  plain("surfdeform_admission_waited_total", "counter",
-        "Requests given a slot after waiting in the queue.", std::to_string(admission.waited));
-  line("# HELP surfdeform_admission_refused_total Requests refused (503), by reason.");
-  line("# TYPE surfdeform_admission_refused_total counter");
-  line("surfdeform_admission_refused_total{reason=\"queue_full\"} " +
-       std::to_string(admission.refused_full));
-  line("surfdeform_admission_refused_total{reason=\"queue_timeout\"} " +
-       std::to_string(admission.refused_timeout));
-  plain("surfdeform_admission_service_seconds", "gauge",
+void CacheFamilyLines(Exposition& e, const Metrics::CacheFamily& f, const CacheStats& s) {
+  const std::string p = f.prefix, items = f.items;
+  e.One(p + "hits_total", "counter", f.hits, Count(s.hits));
+  e.One(p + "misses_total", "counter", f.misses, Count(s.misses));
+  e.One(p + "evictions_total", "counter",
+        "Entries (" + items + ") evicted to stay within the byte budget.", Count(s.evictions));
+  e.One(p + "bytes", "gauge", "Bytes held by " + items + " (estimated).", Count(s.bytes));
+  e.One(p + "entries", "gauge", "Entries (" + items + ") in the cache.", Count(s.entries));
+  e.One(p + "capacity_bytes", "gauge", "The cache's byte budget.", Count(s.capacity_bytes));
+}
+
+void AdmissionLines(Exposition& e, const AdmissionStats& a) {
+  e.One("surfdeform_admission_running", "gauge", "Flatten/deform requests holding a slot.",
+        Count(a.running));
+  e.One("surfdeform_admission_queued", "gauge", "Requests waiting for a slot.", Count(a.queued));
+  e.One("surfdeform_admission_admitted_total", "counter", "Requests given a slot.",
+        Count(a.admitted));
+  e.One("surfdeform_admission_waited_total", "counter",
+        "Requests given a slot after waiting in the queue.", Count(a.waited));
+  e.Labelled("surfdeform_admission_refused_total", "counter", "Requests refused (503), by reason.",
+             "reason",
+             {{"queue_full", Count(a.refused_full)}, {"queue_timeout", Count(a.refused_timeout)}});
+  e.One("surfdeform_admission_service_seconds", "gauge",
         "Recent requests' time holding a slot (moving average): Retry-After comes from it.",
-        Number(admission.service_ms_ewma / 1000.0));
-  plain("surfdeform_connections_waiting", "gauge",
-        "Connections whose request head is not in yet (held off the workers).",
-        std::to_string(connections.waiting));
-  plain("surfdeform_connections_served", "gauge", "Connections on a worker thread.",
-        std::to_string(connections.served));
-  plain("surfdeform_connections_passed_total", "counter",
-        "Connections whose head came in, handed to a worker.", std::to_string(connections.passed));
-  line(
-      "# HELP surfdeform_connections_closed_total Connections closed before or while being "
-      "served: by the gate's deadlines and limits, or by the client, by reason.");
-  line("# TYPE surfdeform_connections_closed_total counter");
-  for (const auto& [reason, value] :
-       {std::pair<const char*, uint64_t>{"head_timeout", connections.head_timeout},
-        {"head_too_large", connections.head_too_large},
-        {"malformed_head", connections.malformed_head},
-        {"evicted", connections.evicted},
-        {"gate_full", connections.refused_full},
-        {"client_left", connections.closed_early},
-        {"slow_body", connections.slow_body},
-        {"slow_response", connections.slow_response},
-        {"keep_alive_idle", connections.idle}}) {
-    line(std::string("surfdeform_connections_closed_total{reason=\"") + reason + "\"} " +
-         std::to_string(value));
-  }
-  line(
-      "# HELP surfdeform_placement_memo_lookups_total Placements looked up by model, surface and "
-      "options: reused (hit) or computed (miss).");
-  line("# TYPE surfdeform_placement_memo_lookups_total counter");
-  line("surfdeform_placement_memo_lookups_total{result=\"hit\"} " +
-       std::to_string(placements.hits));
-  line("surfdeform_placement_memo_lookups_total{result=\"miss\"} " +
-       std::to_string(placements.misses));
-  plain("surfdeform_placement_memo_entries", "gauge", "Placements the memo holds.",
-        std::to_string(placements.entries));
-  plain("surfdeform_placement_memo_footprints", "gauge",
+        Number(a.service_ms_ewma / 1000.0));
+}
+
+void ConnectionLines(Exposition& e, const ConnectionStats& c) {
+  e.One("surfdeform_connections_waiting", "gauge",
+        "Connections whose request head is not in yet (held off the workers).", Count(c.waiting));
+  e.One("surfdeform_connections_served", "gauge", "Connections on a worker thread.",
+        Count(c.served));
+  e.One("surfdeform_connections_passed_total", "counter",
+        "Connections whose head came in, handed to a worker.", Count(c.passed));
+  e.Labelled("surfdeform_connections_closed_total", "counter",
+             "Connections closed before or while being served: by the gate's deadlines and "
+             "limits, or by the client, by reason.",
+             "reason",
+             {{"head_timeout", Count(c.head_timeout)},
+              {"head_too_large", Count(c.head_too_large)},
+              {"malformed_head", Count(c.malformed_head)},
+              {"evicted", Count(c.evicted)},
+              {"gate_full", Count(c.refused_full)},
+              {"client_left", Count(c.closed_early)},
+              {"slow_body", Count(c.slow_body)},
+              {"slow_response", Count(c.slow_response)},
+              {"keep_alive_idle", Count(c.idle)}});
+}
+
+void PlacementMemoLines(Exposition& e, const PlacementMemoStats& p) {
+  e.Labelled("surfdeform_placement_memo_lookups_total", "counter",
+             "Placements looked up by model, surface and options: reused (hit) or computed "
+             "(miss).",
+             "result", {{"hit", Count(p.hits)}, {"miss", Count(p.misses)}});
+  e.One("surfdeform_placement_memo_entries", "gauge", "Placements the memo holds.",
+        Count(p.entries));
+  e.One("surfdeform_placement_memo_footprints", "gauge",
         "Of those, how many keep where the model's vertices lie on the sheet.",
-        std::to_string(placements.footprints));
-  plain("surfdeform_placement_memo_footprint_bytes", "gauge",
-        "Bytes of those footprints (at most --footprint-memo-mib).",
-        std::to_string(placements.footprint_bytes));
-  plain("surfdeform_placement_memo_subdivisions_skipped_total", "counter",
+        Count(p.footprints));
+  e.One("surfdeform_placement_memo_footprint_bytes", "gauge",
+        "Bytes of those footprints (at most --footprint-memo-mib).", Count(p.footprint_bytes));
+  e.One("surfdeform_placement_memo_subdivisions_skipped_total", "counter",
         "Subdivisions not run: they added nothing to the same model with the same options before.",
-        std::to_string(placements.subdivisions_skipped));
+        Count(p.subdivisions_skipped));
+}
+
+void ProcessCpuLines(Exposition& e) {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   const double cpu = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
                      static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
-  plain("process_cpu_seconds_total", "counter", "User and system CPU time of the server.",
+  e.One("process_cpu_seconds_total", "counter", "User and system CPU time of the server.",
         Number(cpu));
-  if (!shared.enabled) return out;
+}
 
-  // The second level (Redis), when configured.
+// The second level (Redis), when configured.
+void SecondLevelLines(Exposition& e, const SharedTierStats& s) {
   auto l2 = [&](const char* name, const char* type, const char* help, const std::string& value) {
-    plain(std::string("surfdeform_l2_") + name, type, help, value);
+    e.One(std::string("surfdeform_l2_") + name, type, help, value);
   };
-  line("# HELP surfdeform_l2_lookups_total Second-level (shared) cache lookups, by result.");
-  line("# TYPE surfdeform_l2_lookups_total counter");
-  line("surfdeform_l2_lookups_total{result=\"hit\"} " + std::to_string(shared.hits));
-  line("surfdeform_l2_lookups_total{result=\"miss\"} " + std::to_string(shared.misses));
-  line("surfdeform_l2_lookups_total{result=\"corrupt\"} " + std::to_string(shared.corrupt));
+  e.Labelled("surfdeform_l2_lookups_total", "counter",
+             "Second-level (shared) cache lookups, by result.", "result",
+             {{"hit", Count(s.hits)}, {"miss", Count(s.misses)}, {"corrupt", Count(s.corrupt)}});
   l2("errors_total", "counter", "Commands that timed out, failed to connect or were refused.",
-     std::to_string(shared.errors));
+     Count(s.errors));
   l2("skipped_total", "counter", "Commands not sent because the breaker was open.",
-     std::to_string(shared.skipped));
-  l2("writes_total", "counter", "Flattened surfaces written to the second level.",
-     std::to_string(shared.writes));
+     Count(s.skipped));
+  l2("writes_total", "counter", "Flattened surfaces written to the second level.", Count(s.writes));
   l2("locks_acquired_total", "counter", "Cross-replica flattening locks taken by this replica.",
-     std::to_string(shared.locks_acquired));
-  l2("lock_waits_total", "counter", "Waits for another replica's flattening.",
-     std::to_string(shared.lock_waits));
+     Count(s.locks_acquired));
+  l2("lock_waits_total", "counter", "Waits for another replica's flattening.", Count(s.lock_waits));
   l2("lock_wait_hits_total", "counter", "Waits that ended with the other replica's surface.",
-     std::to_string(shared.lock_wait_hits));
-  line("# HELP surfdeform_l2_command_seconds Time spent in second-level commands.");
-  line("# TYPE surfdeform_l2_command_seconds summary");
-  line("surfdeform_l2_command_seconds_sum " + Number(shared.command_seconds));
-  line("surfdeform_l2_command_seconds_count " + std::to_string(shared.commands));
+     Count(s.lock_wait_hits));
+  e.Line("# HELP surfdeform_l2_command_seconds Time spent in second-level commands.");
+  e.Line("# TYPE surfdeform_l2_command_seconds summary");
+  e.Line("surfdeform_l2_command_seconds_sum " + Number(s.command_seconds));
+  e.Line("surfdeform_l2_command_seconds_count " + Count(s.commands));
   l2("breaker_open", "gauge", "1 while the breaker stops calls to the second level.",
-     shared.breaker_open ? "1" : "0");
-  return out;
+     s.breaker_open ? "1" : "0");
+}
+
+}  // namespace
+
+std::string Metrics::Render(const ServerStats& stats) const {
+  Exposition e;
+  {
+    std::lock_guard lock(mutex_);
+    e.Line(
+        "# HELP surfdeform_http_requests_total HTTP requests answered, by route, method and "
+        "status.");
+    e.Line("# TYPE surfdeform_http_requests_total counter");
+    for (const auto& [key, count] : requests_) {
+      const auto& [route, method, status] = key;
+      e.Line("surfdeform_http_requests_total{route=\"" + route + "\",method=\"" + method +
+             "\",status=\"" + std::to_string(status) + "\"} " + Count(count));
+    }
+    e.Line(
+        "# HELP surfdeform_http_request_duration_seconds Time from the request's headers to the "
+        "end of its response, by route.");
+    e.Line("# TYPE surfdeform_http_request_duration_seconds histogram");
+    for (const auto& [route, h] : latency_) {
+      const std::string name = "surfdeform_http_request_duration_seconds";
+      for (size_t k = 0; k < kBuckets.size(); ++k) {
+        e.Line(name + "_bucket{route=\"" + route + "\",le=\"" + Number(kBuckets[k]) + "\"} " +
+               Count(h.counts[k]));
+      }
+      e.Line(name + "_bucket{route=\"" + route + "\",le=\"+Inf\"} " + Count(h.count));
+      e.Line(name + "_sum{route=\"" + route + "\"} " + Number(h.sum));
+      e.Line(name + "_count{route=\"" + route + "\"} " + Count(h.count));
+    }
+    e.Line(
+        "# HELP surfdeform_http_request_cpu_seconds CPU time of the worker thread that handled "
+        "each request, by outcome (served: 2xx and 3xx; refused: 503; failed: other).");
+    e.Line("# TYPE surfdeform_http_request_cpu_seconds summary");
+    for (const auto& [outcome, cpu] : request_cpu_) {
+      const std::string label = "{outcome=\"" + outcome + "\"} ";
+      e.Line("surfdeform_http_request_cpu_seconds_sum" + label + Number(cpu.seconds));
+      e.Line("surfdeform_http_request_cpu_seconds_count" + label + Count(cpu.count));
+    }
+    e.Line(
+        "# HELP surfdeform_http_rejected_total Requests refused before their handler ran, by "
+        "reason.");
+    e.Line("# TYPE surfdeform_http_rejected_total counter");
+    for (const auto& [reason, count] : rejected_) {
+      e.Line("surfdeform_http_rejected_total{reason=\"" + reason + "\"} " + Count(count));
+    }
+    e.One("surfdeform_http_request_bytes_total", "counter", "Request body bytes received.",
+          Count(bytes_in_));
+    e.One("surfdeform_http_response_bytes_total", "counter", "Response body bytes sent.",
+          Count(bytes_out_));
+  }
+  e.One("surfdeform_http_requests_in_flight", "gauge", "Requests being handled now.",
+        Count(in_flight_.load(std::memory_order_relaxed)));
+  SurfaceCache(e, stats.surfaces);
+  for (const CacheFamily& f : kCacheFamilies) CacheFamilyLines(e, f, stats.*f.stats);
+  AdmissionLines(e, stats.admission);
+  ConnectionLines(e, stats.connections);
+  PlacementMemoLines(e, stats.placements);
+  ProcessCpuLines(e);
+  if (stats.shared.enabled) SecondLevelLines(e, stats.shared);
+  return e.Take();
 }
 
 }  // namespace surfdeform

@@ -35,6 +35,21 @@ struct ConnectionStats {
   uint64_t idle = 0;  // kept alive, no next request within the keep-alive timeout
 };
 
+// What the rest of the server reports at /metrics beside its requests: a
+// snapshot of each part's counters.
+struct ServerStats {
+  CacheStats surfaces;  // the flattened surfaces' cache (surfdeform_cache_*)
+  SharedTierStats shared;
+  AdmissionStats admission;
+  ConnectionStats connections;
+  PlacementMemoStats placements;
+  // The other byte-budgeted caches, each one family of the same counters
+  // (Metrics::kCacheFamilies names them).
+  CacheStats models;
+  CacheStats answers;
+  CacheStats edit_paths;
+};
+
 class Metrics {
  public:
   // Upper bounds of the latency histogram buckets, in seconds.
@@ -49,12 +64,21 @@ class Metrics {
                        double seconds, double cpu_seconds, uint64_t bytes_in, uint64_t bytes_out);
   void Rejected(const std::string& reason);  // load shedding and early rejections
 
-  // The whole exposition, cache counters (both levels) included.
-  // And the process's CPU time, for CPU per request under load.
-  std::string Render(const CacheStats& cache, const SharedTierStats& shared = {},
-                     const AdmissionStats& admission = {}, const ConnectionStats& connections = {},
-                     const PlacementMemoStats& placements = {}, const CacheStats& models = {},
-                     const CacheStats& answers = {}, const CacheStats& edit_paths = {}) const;
+  // The whole exposition: the requests, then `stats` (the caches at both
+  // levels, admission, connections, the placement memo), and the process's
+  // CPU time, for CPU per request under load.
+  std::string Render(const ServerStats& stats) const;
+
+  // The caches rendered as one family each: their prefix, their counters in
+  // ServerStats, and what their hits, misses and entries are.
+  struct CacheFamily {
+    const char* prefix;
+    CacheStats ServerStats::*stats;
+    const char* hits;
+    const char* misses;
+    const char* items;  // what an entry is, plural
+  };
+  static const std::array<CacheFamily, 3> kCacheFamilies;
 
  private:
   struct Histogram {
