@@ -17,6 +17,7 @@
 #include <regex>
 #include <sstream>
 #include <thread>
+#include <unordered_map>
 
 #include <time.h>
 
@@ -34,8 +35,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using nlohmann::json;
 
-// Per worker thread: the request being served. httplib runs the pre-routing
-// handler, the route and the logger of one request on one thread.
+// The server's own state of one request, from its head to its log line,
+// passed explicitly to every handler.
 struct RequestContext {
   bool active = false;
   Clock::time_point start;
@@ -46,7 +47,35 @@ struct RequestContext {
   size_t body_length = 0;  // its Content-Length, as the framing checks parsed it
   double cpu_start = 0;    // the worker thread's CPU time when the head was in
 };
-thread_local RequestContext t_context;
+
+// The contexts of the requests being served, by httplib's Request: the one
+// identity that httplib gives every callback of one request (pre-routing, the
+// route, post-routing, the error and exception handlers, the logger).
+class RequestContexts {
+ public:
+  // A fresh context for `req`.
+  RequestContext& Begin(const httplib::Request& req) {
+    std::lock_guard lock(mutex_);
+    RequestContext& c = live_[&req];
+    c = RequestContext{};
+    return c;
+  }
+  // Its context: an inactive one when none was begun (httplib refused the
+  // request line or a header before pre-routing).
+  RequestContext& Of(const httplib::Request& req) {
+    std::lock_guard lock(mutex_);
+    return live_[&req];
+  }
+  void End(const httplib::Request& req) {
+    std::lock_guard lock(mutex_);
+    live_.erase(&req);
+  }
+
+ private:
+  std::mutex mutex_;
+  // Nodes: a context stays where it is while others come and go.
+  std::unordered_map<const httplib::Request*, RequestContext> live_;
+};
 
 // "http://host:port/x" -> "/x" (and "http://host" -> "/"); other paths as
 // they are.
@@ -183,6 +212,7 @@ struct HttpServer::Impl {
   const HttpOptions options;
   Listener server;
   Metrics metrics;
+  RequestContexts contexts;
   std::atomic<bool> ready{true};
   std::mutex log_mutex;
   int bound_port = 0;
@@ -191,9 +221,9 @@ struct HttpServer::Impl {
   // carries an id), the path template that names it in metrics and logs,
   // and its handler. Registration, the methods a path allows (405, OPTIONS)
   // and the metrics labels all come from this table (kRoutes, below).
-  using Handler = void (Impl::*)(const httplib::Request&, httplib::Response&);
+  using Handler = void (Impl::*)(RequestContext&, const httplib::Request&, httplib::Response&);
   // A handler that reads its own body (POST /v1/deform, /v1/animate).
-  using BodyHandler = void (Impl::*)(const httplib::Request&, httplib::Response&,
+  using BodyHandler = void (Impl::*)(RequestContext&, const httplib::Request&, httplib::Response&,
                                      const httplib::ContentReader&);
   struct Route {
     const char* method;
@@ -240,16 +270,17 @@ struct HttpServer::Impl {
                    "ETag, Server-Timing, X-Request-Id, X-Surfdeform-Stats, Retry-After, Location");
   }
 
-  void Problem(const httplib::Request& req, httplib::Response& res, int http_status,
-               const Status& status) {
+  void Problem(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
+               int http_status, const Status& status) {
     res.status = http_status;
-    res.set_content(ProblemJson(status, http_status, req.path, t_context.id), kProblemType);
+    res.set_content(ProblemJson(status, http_status, req.path, ctx.id), kProblemType);
     if (http_status == 503) {
       res.set_header("Retry-After", std::to_string(service.RetryAfterSeconds()));
     }
   }
 
-  void Fail(const httplib::Request& req, httplib::Response& res, const Status& status) {
+  void Fail(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
+            const Status& status) {
     if (status.code() == ErrorCode::kUnavailable && !faults::Armed(faults::Fault::kSheddingOff)) {
       HoldRefusal();
     }
@@ -257,12 +288,12 @@ struct HttpServer::Impl {
     if (http_status >= 500 && status.code() != ErrorCode::kUnavailable) {
       // The client reads "internal error" and the request id; the cause is here.
       Log(LogLevel::kError, json{{"event", "internal_error"},
-                                 {"request_id", t_context.id},
+                                 {"request_id", ctx.id},
                                  {"path", req.path},
                                  {"code", ErrorCodeName(status.code())},
                                  {"detail", status.message()}});
     }
-    Problem(req, res, http_status, status);
+    Problem(ctx, req, res, http_status, status);
   }
 
   // A refusal for overload is answered after a short pause. Load generators
@@ -272,8 +303,8 @@ struct HttpServer::Impl {
   // second; the pause holds a worker thread, not a core.
   static void HoldRefusal() { std::this_thread::sleep_for(std::chrono::milliseconds(250)); }
 
-  void Send(const httplib::Request& req, httplib::Response& res, const Reply& reply,
-            int http_status = 200) {
+  void Send(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
+            const Reply& reply, int http_status = 200) {
     const std::string etag = "\"" + reply.etag + "\"";
     res.set_header("ETag", etag);
     if (!reply.timings.empty()) res.set_header("Server-Timing", ServerTiming(reply.timings));
@@ -282,7 +313,7 @@ struct HttpServer::Impl {
       res.set_header("Vary", "Accept");
     }
     if (!reply.stats_json.empty()) res.set_header("X-Surfdeform-Stats", ToAscii(reply.stats_json));
-    t_context.cache_hit = reply.cache_hit;
+    ctx.cache_hit = reply.cache_hit;
     // An answer the client holds (the service decided, for POST /v1/deform
     // before any work), or a GET of the representation it holds.
     if (reply.not_modified ||
@@ -307,31 +338,33 @@ struct HttpServer::Impl {
   }
 
   // A service call's answer: its problem, or its reply.
-  void Answer(const httplib::Request& req, httplib::Response& res, const Result<Reply>& reply) {
-    if (!reply.ok()) return Fail(req, res, reply.status());
-    Send(req, res, *reply);
+  void Answer(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
+              const Result<Reply>& reply) {
+    if (!reply.ok()) return Fail(ctx, req, res, reply.status());
+    Send(ctx, req, res, *reply);
   }
 
   // The answer of a call that creates a resource by content id: 201 with its
   // Location (`collection` + the id), or 200 for one that existed.
-  void Created(const httplib::Request& req, httplib::Response& res, const Result<Reply>& reply,
-               const char* collection, std::string Reply::*id) {
-    if (!reply.ok()) return Fail(req, res, reply.status());
+  void Created(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
+               const Result<Reply>& reply, const char* collection, std::string Reply::*id) {
+    if (!reply.ok()) return Fail(ctx, req, res, reply.status());
     res.set_header("Location", collection + (*reply).*id);
-    Send(req, res, *reply, reply->cache_hit ? 200 : 201);
+    Send(ctx, req, res, *reply, reply->cache_hit ? 200 : 201);
   }
 
   // A request's context, its id and its count in flight, from the moment
   // its head is parsed (or found unparsable).
-  void BeginRequest(const httplib::Request& req, httplib::Response& res) {
-    t_context = RequestContext{};
-    t_context.active = true;
-    t_context.start = Clock::now();
-    t_context.cpu_start = ThreadCpuSeconds();
+  RequestContext& BeginRequest(const httplib::Request& req, httplib::Response& res) {
+    RequestContext& ctx = contexts.Begin(req);
+    ctx.active = true;
+    ctx.start = Clock::now();
+    ctx.cpu_start = ThreadCpuSeconds();
     const std::string given = req.get_header_value("X-Request-Id");
-    t_context.id = IsSafeRequestId(given) ? given : NewRequestId();
+    ctx.id = IsSafeRequestId(given) ? given : NewRequestId();
     metrics.RequestStarted();
-    res.set_header("X-Request-Id", t_context.id);
+    res.set_header("X-Request-Id", ctx.id);
+    return ctx;
   }
 
   // Accept-Encoding without its "br" entries (a header with nothing else
@@ -355,7 +388,7 @@ struct HttpServer::Impl {
 
   // Before the body is read: request id, CORS preflight, framing checks.
   httplib::Server::HandlerResponse PreRouting(const httplib::Request& req, httplib::Response& res) {
-    BeginRequest(req, res);
+    RequestContext& ctx = BeginRequest(req, res);
     // An absolute-form target (RFC 9112 section 3.2.2: "GET http://host/x")
     // names the resource by its path, as an origin-form one does. The
     // Request is not const where httplib made it; only its handler
@@ -364,8 +397,8 @@ struct HttpServer::Impl {
     // Content-Length is parsed once, by the framing checks; the watchdog and
     // the body readers use what they found.
     const std::optional<Rejection> rejection =
-        CheckFraming(req, service.limits().max_body_bytes, &t_context.body_length);
-    connection_phase::HeadIn(t_context.body_length);
+        CheckFraming(req, service.limits().max_body_bytes, &ctx.body_length);
+    connection_phase::HeadIn(ctx.body_length);
     // The test build's fault points (base/fault_points.hpp); a no-op in production.
     faults::Disarm();
     if (req.has_header("X-Surfdeform-Fault")) {
@@ -388,7 +421,7 @@ struct HttpServer::Impl {
       // response goes out through a content provider that ends the
       // connection once the body is written (returning false).
       auto body = std::make_shared<std::string>(
-          ProblemJson(rejection->status, rejection->http_status, req.path, t_context.id));
+          ProblemJson(rejection->status, rejection->http_status, req.path, ctx.id));
       res.status = rejection->http_status;
       res.set_header("Connection", "close");
       res.set_content_provider(body->size(), kProblemType,
@@ -397,7 +430,7 @@ struct HttpServer::Impl {
                                  return false;
                                });
       // The logger does not run for a connection ended this way.
-      Finish(req, res.status, body->size());
+      Finish(ctx, req, res.status, body->size());
       connection_phase::Responding(body->size());
       return httplib::Server::HandlerResponse::Handled;
     }
@@ -422,6 +455,7 @@ struct HttpServer::Impl {
   // body where the route set none (the body is deterministic for the same
   // state), and the total time in Server-Timing.
   void PostRouting(const httplib::Request& req, httplib::Response& res) {
+    const RequestContext& ctx = contexts.Of(req);
     connection_phase::Responding(res.body.size());
     if (res.status == 200 && !res.body.empty() && !res.has_header("ETag")) {
       const std::string etag = "\"" + proto::Sha256Hex(res.body, 32) + "\"";
@@ -433,9 +467,8 @@ struct HttpServer::Impl {
         res.headers.erase("Content-Type");
       }
     }
-    if (t_context.active) {
-      const double ms =
-          std::chrono::duration<double, std::milli>(Clock::now() - t_context.start).count();
+    if (ctx.active) {
+      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - ctx.start).count();
       char total[48];
       std::snprintf(total, sizeof total, "total;dur=%.3f", ms);
       std::string timing = res.get_header_value("Server-Timing");
@@ -448,23 +481,24 @@ struct HttpServer::Impl {
   // limit) and handlers that set an error status without a body.
   void OnError(const httplib::Request& req, httplib::Response& res) {
     if (res.get_header_value("Content-Type") == kProblemType) return;
-    if (!t_context.active) {
+    RequestContext& ctx = contexts.Of(req);
+    if (!ctx.active) {
       // httplib refused the request line or a header before pre-routing
       // (pipelined behind a request the gate passed; the gate refuses such
       // heads itself): nothing after it can be framed.
       BeginRequest(req, res);
       connection_phase::CloseAfterResponse();
       if (res.status == 416) {
-        return Problem(req, res, 416,
+        return Problem(ctx, req, res, 416,
                        Status(ErrorCode::kMalformed,
                               "the Range header could not be parsed (ranges are not served: "
                               "send the request without one)",
                               "Range"));
       }
       if (res.status == 414) {  // httplib knows only that it is longer
-        return Problem(req, res, 414, RequestLineTooLong(kMaxRequestLineBytes + 1).status);
+        return Problem(ctx, req, res, 414, RequestLineTooLong(kMaxRequestLineBytes + 1).status);
       }
-      return Problem(req, res, res.status,
+      return Problem(ctx, req, res, res.status,
                      Status(ErrorCode::kMalformed,
                             "the request line or a header field could not be parsed (METHOD TARGET "
                             "HTTP/1.1, then NAME: VALUE lines of at most " +
@@ -477,7 +511,7 @@ struct HttpServer::Impl {
       connection_phase::CloseAfterResponse();
     }
     if (res.status == 400 && req.is_multipart_form_data()) {
-      return Problem(req, res, 400,
+      return Problem(ctx, req, res, 400,
                      Status(ErrorCode::kMalformed,
                             "the multipart/form-data body could not be parsed: each part needs "
                             "the boundary of the Content-Type header, a Content-Disposition "
@@ -489,7 +523,7 @@ struct HttpServer::Impl {
     const std::string route = RouteOf(req.path, &allow);
     if (res.status == 404 && route != "other") {
       res.set_header("Allow", allow);
-      Problem(req, res, 405,
+      Problem(ctx, req, res, 405,
               Status(ErrorCode::kMalformed,
                      req.method + " is not allowed on " + req.path + "; allowed: " + allow));
       return;
@@ -497,11 +531,12 @@ struct HttpServer::Impl {
     const int status = res.status;
     std::string detail = status == 404 ? "no such resource: see /openapi.yaml for the routes"
                                        : std::string(StatusTitle(status));
-    Problem(req, res, status,
+    Problem(ctx, req, res, status,
             Status(status >= 500 ? ErrorCode::kInternal : ErrorCode::kMalformed, detail));
   }
 
   void OnException(const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+    RequestContext& ctx = contexts.Of(req);
     std::string what = "unknown exception";
     try {
       if (ep) std::rethrow_exception(ep);
@@ -509,12 +544,10 @@ struct HttpServer::Impl {
       what = e.what();
     } catch (...) {
     }
-    Log(LogLevel::kError, json{{"event", "exception"},
-                               {"request_id", t_context.id},
-                               {"path", req.path},
-                               {"what", what}});
+    Log(LogLevel::kError,
+        json{{"event", "exception"}, {"request_id", ctx.id}, {"path", req.path}, {"what", what}});
     res.headers.erase("X-Surfdeform-Stats");
-    Problem(req, res, 500, Status(ErrorCode::kInternal, "internal error"));
+    Problem(ctx, req, res, 500, Status(ErrorCode::kInternal, "internal error"));
   }
 
   void Log(LogLevel level, const json& line) {
@@ -525,37 +558,36 @@ struct HttpServer::Impl {
   }
 
   void AccessLog(const httplib::Request& req, const httplib::Response& res) {
-    if (t_context.finished) {  // counted already (an early rejection)
-      t_context = RequestContext{};
-      return;
-    }
-    Finish(req, res.status, res.body.size());
+    RequestContext& ctx = contexts.Of(req);
+    // Not counted already (by an early rejection, whose connection ends
+    // without the logger).
+    if (!ctx.finished) Finish(ctx, req, res.status, res.body.size());
+    contexts.End(req);
   }
 
   // Metrics and the access log line, once per request.
-  void Finish(const httplib::Request& req, int status, size_t bytes_out) {
+  void Finish(RequestContext& ctx, const httplib::Request& req, int status, size_t bytes_out) {
     double ms = 0.0;
-    if (t_context.active) {
-      ms = std::chrono::duration<double, std::milli>(Clock::now() - t_context.start).count();
+    if (ctx.active) {
+      ms = std::chrono::duration<double, std::milli>(Clock::now() - ctx.start).count();
       metrics.RequestFinished(RouteOf(req.path), req.method, status, ms / 1000.0,
-                              ThreadCpuSeconds() - t_context.cpu_start,
-                              req.body.size() + t_context.bytes_in, bytes_out);
+                              ThreadCpuSeconds() - ctx.cpu_start, req.body.size() + ctx.bytes_in,
+                              bytes_out);
     }
     const LogLevel level = status >= 500   ? LogLevel::kError
                            : status >= 400 ? LogLevel::kWarn
                                            : LogLevel::kInfo;
     Log(level, json{{"event", "request"},
-                    {"request_id", t_context.id},
+                    {"request_id", ctx.id},
                     {"method", req.method},
                     {"path", req.path},
                     {"status", status},
-                    {"bytes_in", req.body.size() + t_context.bytes_in},
+                    {"bytes_in", req.body.size() + ctx.bytes_in},
                     {"bytes_out", bytes_out},
                     {"duration_ms", ms},
-                    {"cache_hit", t_context.cache_hit},
+                    {"cache_hit", ctx.cache_hit},
                     {"remote", req.remote_addr}});
-    t_context = RequestContext{};
-    t_context.finished = true;
+    ctx.finished = true;
     faults::Disarm();
   }
 
@@ -571,21 +603,22 @@ struct HttpServer::Impl {
   // refusal costs a small part of what serving it would, and the connection
   // stays usable (checklist 26).
   using ServiceCall = Result<Reply> (Service::*)(const DeformRequest&);
-  void DeformRoute(const httplib::Request& req, httplib::Response& res,
+  void DeformRoute(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
                    const httplib::ContentReader& reader) {
-    WithBody(req, res, reader, [&](const DeformBody& b) { Deform(req, res, b, &Service::Deform); });
+    WithBody(ctx, req, res, reader,
+             [&](const DeformBody& b) { Deform(ctx, req, res, b, &Service::Deform); });
   }
-  void AnimateRoute(const httplib::Request& req, httplib::Response& res,
+  void AnimateRoute(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
                     const httplib::ContentReader& reader) {
-    WithBody(req, res, reader,
-             [&](const DeformBody& b) { Deform(req, res, b, &Service::Animate); });
+    WithBody(ctx, req, res, reader,
+             [&](const DeformBody& b) { Deform(ctx, req, res, b, &Service::Animate); });
   }
-  void UploadModelRoute(const httplib::Request& req, httplib::Response& res,
+  void UploadModelRoute(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
                         const httplib::ContentReader& reader) {
-    WithBody(req, res, reader, [&](const DeformBody& b) { UploadModel(req, res, b); });
+    WithBody(ctx, req, res, reader, [&](const DeformBody& b) { UploadModel(ctx, req, res, b); });
   }
   template <class Use>
-  void WithBody(const httplib::Request& req, httplib::Response& res,
+  void WithBody(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
                 const httplib::ContentReader& reader, const Use& use) {
     const bool multipart = req.is_multipart_form_data();
     DeformBody body;
@@ -593,9 +626,9 @@ struct HttpServer::Impl {
     // The test build's shedding_off fault sends such a request on, as if
     // there were no early refusal (base/fault_points.hpp).
     if (service.Saturated() && !faults::Armed(faults::Fault::kSheddingOff)) {
-      auto drop = [](const char*, size_t n) {
-        t_context.bytes_in += n;
-        connection_phase::BodyProgress(t_context.bytes_in);
+      auto drop = [&ctx](const char*, size_t n) {
+        ctx.bytes_in += n;
+        connection_phase::BodyProgress(ctx.bytes_in);
         return true;
       };
       read = multipart ? reader([](const httplib::MultipartFormData&) { return true; }, drop)
@@ -603,7 +636,7 @@ struct HttpServer::Impl {
       if (!read) return;  // the connection failed: nobody to answer
       connection_phase::Handling();
       metrics.Rejected("overload");
-      return Fail(req, res,
+      return Fail(ctx, req, res,
                   Status(ErrorCode::kUnavailable,
                          "the server is busy: every slot is taken and the queue is full; retry "
                          "after the Retry-After seconds"));
@@ -616,16 +649,16 @@ struct HttpServer::Impl {
             return true;
           },
           [&](const char* data, size_t n) {
-            t_context.bytes_in += n;
-            connection_phase::BodyProgress(t_context.bytes_in);
+            ctx.bytes_in += n;
+            connection_phase::BodyProgress(ctx.bytes_in);
             if (part != nullptr) part->content.append(data, n);
             return true;
           });
     } else {
-      body.raw.reserve(std::min(service.limits().max_body_bytes, t_context.body_length));
+      body.raw.reserve(std::min(service.limits().max_body_bytes, ctx.body_length));
       read = reader([&](const char* data, size_t n) {
-        t_context.bytes_in += n;
-        connection_phase::BodyProgress(t_context.bytes_in);
+        ctx.bytes_in += n;
+        connection_phase::BodyProgress(ctx.bytes_in);
         body.raw.append(data, n);
         return true;
       });
@@ -636,12 +669,13 @@ struct HttpServer::Impl {
   }
 
   // POST /v1/models: the mesh file as the raw body or a multipart "mesh" part.
-  void UploadModel(const httplib::Request& req, httplib::Response& res, const DeformBody& body) {
+  void UploadModel(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
+                   const DeformBody& body) {
     ThrowIfArmed();
     std::string_view mesh = body.raw;
     if (req.is_multipart_form_data()) {
       if (body.parts.size() != 1 || body.parts.count("mesh") != 1) {
-        return Fail(req, res,
+        return Fail(ctx, req, res,
                     Status(ErrorCode::kMalformed,
                            "POST /v1/models takes one multipart part, \"mesh\" (the mesh file), "
                            "or the file's raw bytes as the body",
@@ -649,14 +683,14 @@ struct HttpServer::Impl {
       }
       mesh = body.parts.begin()->second.content;
     }
-    Created(req, res, service.UploadModel(mesh, req.get_header_value("X-Surfdeform-Model-Id")),
+    Created(ctx, req, res, service.UploadModel(mesh, req.get_header_value("X-Surfdeform-Model-Id")),
             "/v1/models/", &Reply::model_id);
   }
 
   // POST /v1/deform and POST /v1/animate: one mesh and its parameters, in the
   // same body forms.
-  void Deform(const httplib::Request& req, httplib::Response& res, const DeformBody& body,
-              ServiceCall call) {
+  void Deform(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
+              const DeformBody& body, ServiceCall call) {
     ThrowIfArmed();  // the body is in: the connection can go on
     DeformRequest d;
     d.accept = req.get_header_value("Accept");
@@ -673,7 +707,7 @@ struct HttpServer::Impl {
     const bool json_body = type.rfind("application/json", 0) == 0;
     const size_t in_body = json_body ? 1 : 0;
     if (in_query + in_header + in_form + in_body > 1) {
-      return Fail(req, res,
+      return Fail(ctx, req, res,
                   Status(ErrorCode::kMalformed,
                          "the parameters are given " +
                              std::to_string(in_query + in_header + in_form + in_body) +
@@ -688,7 +722,7 @@ struct HttpServer::Impl {
       // No "mesh" part: the parameters name a model_id (or the service says
       // that a mesh is missing).
       if (body.parts.count("mesh") > 1) {
-        return Fail(req, res,
+        return Fail(ctx, req, res,
                     Status(ErrorCode::kMalformed, "give one \"mesh\" part and one \"params\" part",
                            "mesh"));
       }
@@ -698,7 +732,7 @@ struct HttpServer::Impl {
       params = body.raw;
     } else {
       if (type.rfind("application/x-www-form", 0) == 0) {
-        return Fail(req, res,
+        return Fail(ctx, req, res,
                     Status(ErrorCode::kUnsupportedFormat,
                            "POST " + req.path +
                                " takes multipart/form-data (parts \"mesh\" and "
@@ -716,7 +750,7 @@ struct HttpServer::Impl {
       }
     }
     if (params.empty()) {
-      return Fail(req, res,
+      return Fail(ctx, req, res,
                   Status(ErrorCode::kMalformed,
                          "the deformation parameters are missing (a \"params\" JSON part, "
                          "\"params\" query parameter or X-Surfdeform-Params header); at least "
@@ -727,7 +761,7 @@ struct HttpServer::Impl {
     d.routed_surface_id = req.has_param("surface_id")
                               ? req.get_param_value("surface_id")
                               : req.get_header_value("X-Surfdeform-Surface-Id");
-    Answer(req, res, (service.*call)(d));
+    Answer(ctx, req, res, (service.*call)(d));
   }
 
   // The viewer's static files (GET and HEAD only; httplib refuses paths
@@ -764,17 +798,18 @@ struct HttpServer::Impl {
     for (size_t k = 0; k < kRouteCount; ++k) {
       const Route& route = kRoutes[k];
       if (route.body_handler != nullptr) {
-        server.Post(route.pattern,
-                    [this, h = route.body_handler](
-                        const httplib::Request& req, httplib::Response& res,
-                        const httplib::ContentReader& reader) { (this->*h)(req, res, reader); });
+        server.Post(route.pattern, [this, h = route.body_handler](
+                                       const httplib::Request& req, httplib::Response& res,
+                                       const httplib::ContentReader& reader) {
+          (this->*h)(contexts.Of(req), req, res, reader);
+        });
         continue;
       }
       auto handler = [this, h = route.handler](const httplib::Request& req,
                                                httplib::Response& res) {
         connection_phase::Handling();  // httplib has read the body
         ThrowIfArmed();
-        (this->*h)(req, res);
+        (this->*h)(contexts.Of(req), req, res);
       };
       if (std::string(route.method) == "GET") {
         server.Get(route.pattern, handler);
@@ -792,21 +827,21 @@ struct HttpServer::Impl {
     }
   }
 
-  void Index(const httplib::Request&, httplib::Response& res) {
+  void Index(RequestContext&, const httplib::Request&, httplib::Response& res) {
     res.set_content(kIndexHtml, "text/html; charset=utf-8");
   }
-  void Healthz(const httplib::Request&, httplib::Response& res) {
+  void Healthz(RequestContext&, const httplib::Request&, httplib::Response& res) {
     res.set_content("{\"status\":\"ok\"}", "application/json");
   }
-  void Readyz(const httplib::Request& req, httplib::Response& res) {
+  void Readyz(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
     if (ready.load()) {
       res.set_content("{\"ready\":true}", "application/json");
     } else {
-      Problem(req, res, 503,
+      Problem(ctx, req, res, 503,
               Status(ErrorCode::kUnavailable, "the server is shutting down (draining)"));
     }
   }
-  void MetricsText(const httplib::Request&, httplib::Response& res) {
+  void MetricsText(RequestContext&, const httplib::Request&, httplib::Response& res) {
     ServerStats stats;
     stats.surfaces = service.cache_stats();
     stats.shared = service.shared_tier_stats();
@@ -818,10 +853,10 @@ struct HttpServer::Impl {
     stats.edit_paths = service.edit_paths_stats();
     res.set_content(metrics.Render(stats), "text/plain; version=0.0.4");
   }
-  void OpenApi(const httplib::Request&, httplib::Response& res) {
+  void OpenApi(RequestContext&, const httplib::Request&, httplib::Response& res) {
     res.set_content(kOpenApiYaml, "application/yaml");
   }
-  void Info(const httplib::Request&, httplib::Response& res) {
+  void Info(RequestContext&, const httplib::Request&, httplib::Response& res) {
     // The service's limits and those of the HTTP edge (request_guard.hpp).
     json info = json::parse(service.InfoJson());
     json& limits = info["limits"];
@@ -831,42 +866,42 @@ struct HttpServer::Impl {
     limits["max_head_bytes"] = GateOptions{}.max_head_bytes;
     res.set_content(info.dump(), "application/json");
   }
-  void CreateSurface(const httplib::Request& req, httplib::Response& res) {
+  void CreateSurface(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
     const std::string type = req.get_header_value("Content-Type");
     if (type.rfind("application/json", 0) != 0) {
       return Fail(
-          req, res,
+          ctx, req, res,
           Status(ErrorCode::kUnsupportedFormat,
                  "POST /v1/surfaces takes application/json, got \"" + type.substr(0, 64) + "\"",
                  "Content-Type"));
     }
-    Created(req, res, service.CreateSurface(req.body, req.get_param_value("field")),
+    Created(ctx, req, res, service.CreateSurface(req.body, req.get_param_value("field")),
             "/v1/surfaces/", &Reply::surface_id);
   }
-  void MapOnSurface(const httplib::Request& req, httplib::Response& res) {
+  void MapOnSurface(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
     const std::string type = req.get_header_value("Content-Type");
     if (type.rfind("application/json", 0) != 0) {
-      return Fail(req, res,
+      return Fail(ctx, req, res,
                   Status(ErrorCode::kUnsupportedFormat,
                          "POST /v1/surfaces/{id}/map takes application/json, got \"" +
                              type.substr(0, 64) + "\"",
                          "Content-Type"));
     }
-    Answer(req, res, service.MapOnSurface(req.matches[1].str(), req.body));
+    Answer(ctx, req, res, service.MapOnSurface(req.matches[1].str(), req.body));
   }
-  void SurfaceSvg(const httplib::Request& req, httplib::Response& res) {
-    Answer(req, res, service.GetSurfaceSvg(req.matches[1].str()));
+  void SurfaceSvg(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
+    Answer(ctx, req, res, service.GetSurfaceSvg(req.matches[1].str()));
   }
-  void SurfaceField(const httplib::Request& req, httplib::Response& res) {
-    Answer(req, res,
+  void SurfaceField(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
+    Answer(ctx, req, res,
            service.GetSurfaceField(req.matches[1].str(), req.get_param_value("n"),
                                    req.get_header_value("Accept")));
   }
-  void ModelSummary(const httplib::Request& req, httplib::Response& res) {
-    Answer(req, res, service.GetModel(req.matches[1].str()));
+  void ModelSummary(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
+    Answer(ctx, req, res, service.GetModel(req.matches[1].str()));
   }
-  void SurfaceSheet(const httplib::Request& req, httplib::Response& res) {
-    Answer(req, res, service.GetSurface(req.matches[1].str()));
+  void SurfaceSheet(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
+    Answer(ctx, req, res, service.GetSurface(req.matches[1].str()));
   }
 };
 
