@@ -308,15 +308,42 @@ size_t ReadTriangleRecords(const std::vector<Property>& props, size_t count, Bod
   return r;
 }
 
-}  // namespace
+// The header: the body's encoding and its elements, in order. Free text
+// without "comment" becomes a warning.
+struct PlyHeader {
+  Encoding encoding = Encoding::kAscii;
+  std::vector<Element> elements;
+};
 
-Result<ImportedMesh> ReadPly(std::string_view bytes, const ImportLimits& limits) {
-  ImportedMesh out;
-  TextReader header(bytes);
+Result<Property> ParseProperty(std::string_view line, int ln) {
+  std::string_view tok;
+  Property p;
+  if (!NextToken(&line, &tok)) return LineError(ln, "a property needs a type");
+  if (tok == "list") {
+    std::string_view ct, it;
+    if (!NextToken(&line, &ct) || !NextToken(&line, &it)) {
+      return LineError(ln, "a list property needs two types");
+    }
+    const auto count_type = ParseType(ct), item_type = ParseType(it);
+    if (!count_type || !item_type) return LineError(ln, "unknown property type");
+    p.is_list = true;
+    p.count_type = *count_type;
+    p.type = *item_type;
+  } else {
+    const auto type = ParseType(tok);
+    if (!type) return LineError(ln, "unknown property type");
+    p.type = *type;
+  }
+  if (!NextToken(&line, &tok)) return LineError(ln, "a property needs a name");
+  p.name = tok;
+  return p;
+}
+
+Result<PlyHeader> ReadHeader(TextReader& header, std::vector<std::string>* warnings) {
   std::string_view line, tok;
   header.NextLine(&line);  // "ply"
   std::optional<Encoding> encoding;
-  std::vector<Element> elements;
+  PlyHeader h;
   bool ended = false;
   while (header.NextLine(&line)) {
     const int ln = header.line_number();
@@ -346,129 +373,138 @@ Result<ImportedMesh> ReadPly(std::string_view bytes, const ImportLimits& limits)
       }
       e.name = tok;
       e.count = static_cast<size_t>(c);
-      elements.push_back(e);
+      h.elements.push_back(e);
     } else if (tok == "property") {
-      if (elements.empty()) return LineError(ln, "a property before any element");
-      Property p;
-      if (!NextToken(&line, &tok)) return LineError(ln, "a property needs a type");
-      if (tok == "list") {
-        std::string_view ct, it;
-        if (!NextToken(&line, &ct) || !NextToken(&line, &it)) {
-          return LineError(ln, "a list property needs two types");
-        }
-        const auto count_type = ParseType(ct), item_type = ParseType(it);
-        if (!count_type || !item_type) return LineError(ln, "unknown property type");
-        p.is_list = true;
-        p.count_type = *count_type;
-        p.type = *item_type;
-      } else {
-        const auto type = ParseType(tok);
-        if (!type) return LineError(ln, "unknown property type");
-        p.type = *type;
-      }
-      if (!NextToken(&line, &tok)) return LineError(ln, "a property needs a name");
-      p.name = tok;
-      elements.back().properties.push_back(p);
+      if (h.elements.empty()) return LineError(ln, "a property before any element");
+      SURFDEFORM_ASSIGN_OR_RETURN(Property p, ParseProperty(line, ln));
+      h.elements.back().properties.push_back(p);
     } else {
       // Some exporters write free text without "comment": skip it.
-      out.warnings.push_back("PLY header line " + std::to_string(ln) + " ignored");
+      warnings->push_back("PLY header line " + std::to_string(ln) + " ignored");
     }
   }
   if (!ended) return PlyError("no end_header");
   if (!encoding) return PlyError("no format line");
+  h.encoding = *encoding;
+  return h;
+}
 
-  BodyReader body(header.rest(), *encoding);
-  Mesh& mesh = out.mesh;
-  for (const Element& e : elements) {
-    // Every record takes at least one byte (binary) or two characters (ascii):
-    // a count the rest of the file cannot hold is rejected before allocating.
-    size_t min_record = 0;
-    for (const Property& p : e.properties) {
-      min_record += p.is_list ? SizeOf(p.count_type) : SizeOf(p.type);
-    }
-    if (*encoding == Encoding::kAscii) min_record = 2 * e.properties.size();
-    // Records of no properties hold nothing, so no size bounds their count:
-    // 10^14 of them once kept a worker busy for good (found by the import
-    // fuzzer).
-    if (e.properties.empty() && e.count > 0) {
-      return PlyError("element " + e.name + " declares " + std::to_string(e.count) +
-                      " records but no properties");
-    }
-    if (min_record > 0 && e.count > body.remaining() / min_record) {
-      return PlyError("element " + e.name + " claims " + std::to_string(e.count) +
-                      " records, more than the file can hold");
-    }
-    const bool is_vertex = e.name == "vertex";
-    const bool is_face = e.name == "face";
-    if (is_vertex) {
-      SURFDEFORM_RETURN_IF_ERROR(CheckLimit("vertices", e.count, limits.max_vertices));
-      mesh.positions.assign(e.count, Vec3::Zero());
-    }
-    if (is_face) {
-      SURFDEFORM_RETURN_IF_ERROR(CheckLimit("faces", e.count, limits.max_triangles));
-      mesh.triangles.reserve(e.count);
-    }
-    std::vector<Property> props = e.properties;
-    for (Property& p : props) p.role = RoleOf(p.name, is_vertex, is_face);
-    auto has = [&props](std::initializer_list<Role> roles) {
-      for (const Property& p : props)
-        if (std::find(roles.begin(), roles.end(), p.role) != roles.end()) return true;
-      return false;
-    };
-    // Any component allocates its attribute (a file may name "ny" but no "nx"),
-    // by the same roles that Assign writes.
-    if (has({Role::kNx, Role::kNy, Role::kNz})) mesh.normals.assign(e.count, Vec3::Zero());
-    if (has({Role::kU, Role::kV})) mesh.uv0.assign(e.count, Vec2::Zero());
-    if (has({Role::kRed, Role::kGreen, Role::kBlue, Role::kAlpha})) {
-      mesh.colors.assign(e.count, Vec4(0, 0, 0, 1));
-    }
-    size_t r = 0;
-    if (*encoding != Encoding::kAscii) {
-      r = is_face ? ReadTriangleRecords(props, e.count, &body, &mesh)
-                  : ReadFixedRecords(props, e.count, &body, &mesh);
-    }
-    for (; r < e.count; ++r) {
-      for (const Property& p : props) {
-        if (p.is_list) {
-          double count;
-          if (!body.Read(p.count_type, &count)) return PlyError("the file ends inside " + e.name);
-          if (!(count >= 0) || count > kMaxPolygon || count != std::floor(count)) {
-            return PlyError(Format("%s %zu has a list of %.17g items (a whole number, at most %d)",
-                                   e.name.c_str(), r, count, static_cast<int>(kMaxPolygon)));
-          }
-          uint32_t poly[kMaxPolygon];
-          const size_t n = static_cast<size_t>(count);
-          for (size_t k = 0; k < n; ++k) {
-            double index;
-            if (!body.Read(p.type, &index)) return PlyError("the file ends inside " + e.name);
-            if (p.role == Role::kIndices) {
-              if (!(index >= 0) || index >= static_cast<double>(mesh.positions.size())) {
-                // As written: an index past any integer (or NaN) cannot be converted.
-                return PlyError(
-                    Format("face %zu uses vertex %.17g of %zu", r, index, mesh.positions.size()));
-              }
-              poly[k] = static_cast<uint32_t>(index);
-            }
-          }
-          if (p.role == Role::kIndices) {
-            if (n < 3) return PlyError("face " + std::to_string(r) + " has fewer than 3 corners");
-            Vec3 corner_positions[kMaxPolygon];
-            for (size_t k = 0; k < n; ++k) corner_positions[k] = mesh.positions[poly[k]];
-            AppendPolygon(poly, corner_positions, n, &mesh);
-          }
-          continue;
-        }
-        double x;
-        if (!body.Read(p.type, &x)) return PlyError("the file ends inside " + e.name);
-        Assign(p, r, x, &mesh);
+// A count the rest of the file cannot hold is refused before allocating:
+// every record takes at least one byte (binary) or two characters (ascii).
+Status CheckRecordCount(const Element& e, Encoding encoding, size_t remaining) {
+  size_t min_record = 0;
+  for (const Property& p : e.properties) {
+    min_record += p.is_list ? SizeOf(p.count_type) : SizeOf(p.type);
+  }
+  if (encoding == Encoding::kAscii) min_record = 2 * e.properties.size();
+  // Records of no properties hold nothing, so no size bounds their count:
+  // 10^14 of them once kept a worker busy for good (found by the import
+  // fuzzer).
+  if (e.properties.empty() && e.count > 0) {
+    return PlyError("element " + e.name + " declares " + std::to_string(e.count) +
+                    " records but no properties");
+  }
+  if (min_record > 0 && e.count > remaining / min_record) {
+    return PlyError("element " + e.name + " claims " + std::to_string(e.count) +
+                    " records, more than the file can hold");
+  }
+  return Status::Ok();
+}
+
+// One list property of record `r` of `e`, read one value at a time: a
+// face's corners become triangles; other lists are skipped.
+Status ReadList(const Element& e, const Property& p, size_t r, BodyReader& body, Mesh* mesh) {
+  double count;
+  if (!body.Read(p.count_type, &count)) return PlyError("the file ends inside " + e.name);
+  if (!(count >= 0) || count > kMaxPolygon || count != std::floor(count)) {
+    return PlyError(Format("%s %zu has a list of %.17g items (a whole number, at most %d)",
+                           e.name.c_str(), r, count, static_cast<int>(kMaxPolygon)));
+  }
+  uint32_t poly[kMaxPolygon];
+  const size_t n = static_cast<size_t>(count);
+  for (size_t k = 0; k < n; ++k) {
+    double index;
+    if (!body.Read(p.type, &index)) return PlyError("the file ends inside " + e.name);
+    if (p.role == Role::kIndices) {
+      if (!(index >= 0) || index >= static_cast<double>(mesh->positions.size())) {
+        // As written: an index past any integer (or NaN) cannot be converted.
+        return PlyError(
+            Format("face %zu uses vertex %.17g of %zu", r, index, mesh->positions.size()));
       }
-    }
-    if (is_face) {
-      SURFDEFORM_RETURN_IF_ERROR(
-          CheckLimit("triangles", mesh.triangles.size(), limits.max_triangles));
+      poly[k] = static_cast<uint32_t>(index);
     }
   }
-  for (Vec3& nrm : mesh.normals) {
+  if (p.role == Role::kIndices) {
+    if (n < 3) return PlyError("face " + std::to_string(r) + " has fewer than 3 corners");
+    Vec3 corner_positions[kMaxPolygon];
+    for (size_t k = 0; k < n; ++k) corner_positions[k] = mesh->positions[poly[k]];
+    AppendPolygon(poly, corner_positions, n, mesh);
+  }
+  return Status::Ok();
+}
+
+// Every record of element `e` into `mesh`: vertices' attributes, faces'
+// triangles; other elements are read past.
+Status ReadElement(const Element& e, Encoding encoding, const ImportLimits& limits,
+                   BodyReader& body, Mesh* mesh) {
+  SURFDEFORM_RETURN_IF_ERROR(CheckRecordCount(e, encoding, body.remaining()));
+  const bool is_vertex = e.name == "vertex";
+  const bool is_face = e.name == "face";
+  if (is_vertex) {
+    SURFDEFORM_RETURN_IF_ERROR(CheckLimit("vertices", e.count, limits.max_vertices));
+    mesh->positions.assign(e.count, Vec3::Zero());
+  }
+  if (is_face) {
+    SURFDEFORM_RETURN_IF_ERROR(CheckLimit("faces", e.count, limits.max_triangles));
+    mesh->triangles.reserve(e.count);
+  }
+  std::vector<Property> props = e.properties;
+  for (Property& p : props) p.role = RoleOf(p.name, is_vertex, is_face);
+  auto has = [&props](std::initializer_list<Role> roles) {
+    for (const Property& p : props)
+      if (std::find(roles.begin(), roles.end(), p.role) != roles.end()) return true;
+    return false;
+  };
+  // Any component allocates its attribute (a file may name "ny" but no "nx"),
+  // by the same roles that Assign writes.
+  if (has({Role::kNx, Role::kNy, Role::kNz})) mesh->normals.assign(e.count, Vec3::Zero());
+  if (has({Role::kU, Role::kV})) mesh->uv0.assign(e.count, Vec2::Zero());
+  if (has({Role::kRed, Role::kGreen, Role::kBlue, Role::kAlpha})) {
+    mesh->colors.assign(e.count, Vec4(0, 0, 0, 1));
+  }
+  size_t r = 0;
+  if (encoding != Encoding::kAscii) {
+    r = is_face ? ReadTriangleRecords(props, e.count, &body, mesh)
+                : ReadFixedRecords(props, e.count, &body, mesh);
+  }
+  for (; r < e.count; ++r) {
+    for (const Property& p : props) {
+      if (p.is_list) {
+        SURFDEFORM_RETURN_IF_ERROR(ReadList(e, p, r, body, mesh));
+        continue;
+      }
+      double x;
+      if (!body.Read(p.type, &x)) return PlyError("the file ends inside " + e.name);
+      Assign(p, r, x, mesh);
+    }
+  }
+  if (is_face) {
+    return CheckLimit("triangles", mesh->triangles.size(), limits.max_triangles);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<ImportedMesh> ReadPly(std::string_view bytes, const ImportLimits& limits) {
+  ImportedMesh out;
+  TextReader header(bytes);
+  SURFDEFORM_ASSIGN_OR_RETURN(const PlyHeader h, ReadHeader(header, &out.warnings));
+  BodyReader body(header.rest(), h.encoding);
+  for (const Element& e : h.elements) {
+    SURFDEFORM_RETURN_IF_ERROR(ReadElement(e, h.encoding, limits, body, &out.mesh));
+  }
+  for (Vec3& nrm : out.mesh.normals) {
     const double len = nrm.norm();
     nrm = len > 0.0 ? Vec3(nrm / len) : Vec3::UnitZ();
   }
