@@ -1,3 +1,11 @@
+// The HTTP server: the route table and its handlers, and the hooks httplib
+// calls around them (pre- and post-routing, errors, exceptions, the access
+// log). Over ~600 lines because they share one HttpServer::Impl (the service,
+// the metrics, the request contexts, the options) and read as one flow; what
+// does not need that state lives beside it: the body forms
+// (deform_request.*), the request's id, clock and headers
+// (request_basics.*), its context (request_context.hpp), the listener and
+// the in-memory connection.
 #include "http/http_server.hpp"
 
 #include <httplib.h>
@@ -23,187 +31,21 @@
 
 #include "base/fault_points.hpp"
 #include "http/connection_gate.hpp"
+#include "http/deform_request.hpp"
 #include "http/embedded_files.hpp"
+#include "http/listener.hpp"
+#include "http/memory_stream.hpp"
 #include "http/problem.hpp"
+#include "http/request_basics.hpp"
+#include "http/request_context.hpp"
 #include "http/request_guard.hpp"
 #include "proto/content_hash.hpp"
 #include "service/content_coding.hpp"
 
 namespace surfdeform::http {
-namespace {
 
 using Clock = std::chrono::steady_clock;
 using nlohmann::json;
-
-// The server's own state of one request, from its head to its log line,
-// passed explicitly to every handler.
-struct RequestContext {
-  bool active = false;
-  Clock::time_point start;
-  std::string id;
-  bool cache_hit = false;
-  bool finished = false;   // logged and counted
-  size_t bytes_in = 0;     // a body read by its handler (not into req.body)
-  size_t body_length = 0;  // its Content-Length, as the framing checks parsed it
-  double cpu_start = 0;    // the worker thread's CPU time when the head was in
-};
-
-// The contexts of the requests being served, by httplib's Request: the one
-// identity that httplib gives every callback of one request (pre-routing, the
-// route, post-routing, the error and exception handlers, the logger).
-class RequestContexts {
- public:
-  // A fresh context for `req`.
-  RequestContext& Begin(const httplib::Request& req) {
-    std::lock_guard lock(mutex_);
-    RequestContext& c = live_[&req];
-    c = RequestContext{};
-    return c;
-  }
-  // Its context: an inactive one when none was begun (httplib refused the
-  // request line or a header before pre-routing).
-  RequestContext& Of(const httplib::Request& req) {
-    std::lock_guard lock(mutex_);
-    return live_[&req];
-  }
-  void End(const httplib::Request& req) {
-    std::lock_guard lock(mutex_);
-    live_.erase(&req);
-  }
-
- private:
-  std::mutex mutex_;
-  // Nodes: a context stays where it is while others come and go.
-  std::unordered_map<const httplib::Request*, RequestContext> live_;
-};
-
-// "http://host:port/x" -> "/x" (and "http://host" -> "/"); other paths as
-// they are.
-void StripSchemeAndAuthority(std::string& path) {
-  const size_t scheme = path.find("://");
-  if (path.empty() || path.front() == '/' || scheme == std::string::npos) return;
-  const size_t slash = path.find('/', scheme + 3);
-  path = slash == std::string::npos ? "/" : path.substr(slash);
-}
-
-// The calling thread's CPU time, in seconds: what a request cost its worker,
-// whatever else runs on the machine (a load test's check compares refused
-// requests with served ones by it, which other tenants do not move).
-double ThreadCpuSeconds() {
-  timespec t{};
-  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-bool IsSafeRequestId(const std::string& id) {
-  if (id.empty() || id.size() > 64) return false;
-  for (char c : id) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                    c == '-' || c == '_' || c == '.';
-    if (!ok) return false;
-  }
-  return true;
-}
-
-std::string NewRequestId() {
-  thread_local std::mt19937_64 rng(std::random_device{}());
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(rng()));
-  return buf;
-}
-
-std::string ServerTiming(const std::vector<Timing>& timings) {
-  std::string out;
-  for (const Timing& t : timings) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%s%s;dur=%.3f", out.empty() ? "" : ", ", t.name.c_str(), t.ms);
-    out += buf;
-  }
-  return out;
-}
-
-std::string ToAscii(const std::string& json_text) {
-  // Header values must stay ASCII: re-dump with \u escapes.
-  return json::parse(json_text, nullptr, false).dump(-1, ' ', true, json::error_handler_t::replace);
-}
-
-// A connection in memory (HttpServer::ServeBytes): reads from the input,
-// writes to the output.
-class MemoryStream final : public httplib::Stream {
- public:
-  explicit MemoryStream(std::string_view input) : input_(input) {}
-  bool is_readable() const override { return at_ < input_.size(); }
-  bool is_writable() const override { return true; }
-  ssize_t read(char* ptr, size_t size) override {
-    const size_t n = std::min(size, input_.size() - at_);
-    std::memcpy(ptr, input_.data() + at_, n);
-    at_ += n;
-    return static_cast<ssize_t>(n);
-  }
-  ssize_t write(const char* ptr, size_t size) override {
-    output_.append(ptr, size);
-    return static_cast<ssize_t>(size);
-  }
-  void get_remote_ip_and_port(std::string& ip, int& port) const override {
-    ip = "127.0.0.1";
-    port = 1;
-  }
-  void get_local_ip_and_port(std::string& ip, int& port) const override {
-    ip = "127.0.0.1";
-    port = 2;
-  }
-  socket_t socket() const override { return 0; }
-  bool done() const { return at_ >= input_.size(); }
-  std::string& output() { return output_; }
-
- private:
-  std::string_view input_;
-  size_t at_ = 0;
-  std::string output_;
-};
-
-}  // namespace
-
-// httplib::Server with access to its listening socket, whose backlog httplib
-// 0.11.4 fixes at 5: a burst of connections (a load test, 50 browser tabs)
-// would overflow it. Accepted connections go through the connection gate
-// (its task queue) before a worker serves them.
-class Listener : public httplib::Server {
- public:
-  void WidenBacklog(int backlog) {
-    const auto fd = svr_sock_.load();
-    if (fd != INVALID_SOCKET) ::listen(fd, backlog);  // Linux: updates the backlog
-  }
-  // The task queue of each listen(): the gate, whose workers serve.
-  void UseGate(GateOptions options) {
-    new_task_queue = [this, options] {
-      auto* gate = new ConnectionGate(
-          options, [this](httplib::Stream& stream, bool close_connection, bool& closed) {
-            return process_request(stream, close_connection, closed, nullptr);
-          });
-      gate_.store(gate);
-      return gate;
-    };
-  }
-  // One request from `stream`, as on a connection (see HttpServer::ServeBytes).
-  bool ServeStream(httplib::Stream& stream, bool& connection_closed) {
-    return process_request(stream, false, connection_closed, nullptr);
-  }
-  ConnectionStats connection_stats() const {
-    ConnectionGate* gate = gate_.load();
-    return gate != nullptr ? gate->stats() : ConnectionStats{};
-  }
-
- private:
-  // httplib's accept loop calls this (through the gate's enqueue) for each
-  // accepted socket: the gate holds it until its head is in.
-  bool process_and_close_socket(socket_t sock) override {
-    gate_.load()->Admit(sock);
-    return true;
-  }
-
-  std::atomic<ConnectionGate*> gate_{nullptr};
-};
 
 struct HttpServer::Impl {
   Impl(Service& s, HttpOptions o) : service(s), options(std::move(o)) {}
@@ -365,25 +207,6 @@ struct HttpServer::Impl {
     metrics.RequestStarted();
     res.set_header("X-Request-Id", ctx.id);
     return ctx;
-  }
-
-  // Accept-Encoding without its "br" entries (a header with nothing else
-  // left is dropped: identity).
-  static void WithoutBrotli(httplib::Headers* headers) {
-    auto it = headers->find("Accept-Encoding");
-    if (it == headers->end()) return;
-    std::string kept;
-    std::stringstream entries(it->second);
-    for (std::string entry; std::getline(entries, entry, ',');) {
-      const size_t first = entry.find_first_not_of(' ');
-      if (first == std::string::npos || entry.compare(first, 2, "br") == 0) continue;
-      kept += (kept.empty() ? "" : ", ") + entry.substr(first);
-    }
-    if (kept.empty()) {
-      headers->erase(it);
-    } else {
-      it->second = kept;
-    }
   }
 
   // Before the body is read: request id, CORS preflight, framing checks.
@@ -591,12 +414,6 @@ struct HttpServer::Impl {
     faults::Disarm();
   }
 
-  // A deformation's body as its handler reads it.
-  struct DeformBody {
-    std::string raw;                                               // a raw mesh
-    std::multimap<std::string, httplib::MultipartFormData> parts;  // or a form's parts
-  };
-
   // POST /v1/deform, /v1/animate and /v1/models read their own bodies: past
   // the work-in-flight limit and its queue, the body is read and dropped as
   // it arrives (no copy, no parse) and the request refused, so that a
@@ -672,18 +489,10 @@ struct HttpServer::Impl {
   void UploadModel(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
                    const DeformBody& body) {
     ThrowIfArmed();
-    std::string_view mesh = body.raw;
-    if (req.is_multipart_form_data()) {
-      if (body.parts.size() != 1 || body.parts.count("mesh") != 1) {
-        return Fail(ctx, req, res,
-                    Status(ErrorCode::kMalformed,
-                           "POST /v1/models takes one multipart part, \"mesh\" (the mesh file), "
-                           "or the file's raw bytes as the body",
-                           "mesh"));
-      }
-      mesh = body.parts.begin()->second.content;
-    }
-    Created(ctx, req, res, service.UploadModel(mesh, req.get_header_value("X-Surfdeform-Model-Id")),
+    const Result<std::string_view> mesh = UploadedMesh(req, body);
+    if (!mesh.ok()) return Fail(ctx, req, res, mesh.status());
+    Created(ctx, req, res,
+            service.UploadModel(*mesh, req.get_header_value("X-Surfdeform-Model-Id")),
             "/v1/models/", &Reply::model_id);
   }
 
@@ -692,76 +501,9 @@ struct HttpServer::Impl {
   void Deform(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
               const DeformBody& body, ServiceCall call) {
     ThrowIfArmed();  // the body is in: the connection can go on
-    DeformRequest d;
-    d.accept = req.get_header_value("Accept");
-    d.if_none_match = req.get_header_value("If-None-Match");
-    d.accept_encoding = req.get_header_value("Accept-Encoding");
-    std::string params;
-    // The parameters come from one place, once: a second copy would be
-    // ignored without a word.
-    const size_t in_query = req.get_param_value_count("params");
-    const size_t in_header = req.get_header_value_count("X-Surfdeform-Params");
-    const size_t in_form = req.is_multipart_form_data() ? body.parts.count("params") : 0;
-    // A JSON body is the parameters alone (the mesh named by "model_id").
-    const std::string type = req.get_header_value("Content-Type");
-    const bool json_body = type.rfind("application/json", 0) == 0;
-    const size_t in_body = json_body ? 1 : 0;
-    if (in_query + in_header + in_form + in_body > 1) {
-      return Fail(ctx, req, res,
-                  Status(ErrorCode::kMalformed,
-                         "the parameters are given " +
-                             std::to_string(in_query + in_header + in_form + in_body) +
-                             " times (query: " + std::to_string(in_query) +
-                             ", X-Surfdeform-Params "
-                             "header: " +
-                             std::to_string(in_header) + ", form part: " + std::to_string(in_form) +
-                             ", JSON body: " + std::to_string(in_body) + "); give them once",
-                         "params"));
-    }
-    if (req.is_multipart_form_data()) {
-      // No "mesh" part: the parameters name a model_id (or the service says
-      // that a mesh is missing).
-      if (body.parts.count("mesh") > 1) {
-        return Fail(ctx, req, res,
-                    Status(ErrorCode::kMalformed, "give one \"mesh\" part and one \"params\" part",
-                           "mesh"));
-      }
-      if (auto it = body.parts.find("mesh"); it != body.parts.end()) d.mesh = it->second.content;
-      if (auto it = body.parts.find("params"); it != body.parts.end()) params = it->second.content;
-    } else if (json_body) {
-      params = body.raw;
-    } else {
-      if (type.rfind("application/x-www-form", 0) == 0) {
-        return Fail(ctx, req, res,
-                    Status(ErrorCode::kUnsupportedFormat,
-                           "POST " + req.path +
-                               " takes multipart/form-data (parts \"mesh\" and "
-                               "\"params\"), the raw mesh bytes with the parameters in the "
-                               "\"params\" query parameter or the X-Surfdeform-Params header, "
-                               "or the parameters as an application/json body naming a "
-                               "\"model_id\"",
-                           "Content-Type"));
-      }
-      d.mesh = body.raw;
-      if (req.has_param("params")) {
-        params = req.get_param_value("params");
-      } else if (req.has_header("X-Surfdeform-Params")) {
-        params = req.get_header_value("X-Surfdeform-Params");
-      }
-    }
-    if (params.empty()) {
-      return Fail(ctx, req, res,
-                  Status(ErrorCode::kMalformed,
-                         "the deformation parameters are missing (a \"params\" JSON part, "
-                         "\"params\" query parameter or X-Surfdeform-Params header); at least "
-                         "{\"surface\": {...}} or {\"surface_id\": \"...\"}",
-                         "params"));
-    }
-    d.params = params;
-    d.routed_surface_id = req.has_param("surface_id")
-                              ? req.get_param_value("surface_id")
-                              : req.get_header_value("X-Surfdeform-Surface-Id");
-    Answer(ctx, req, res, (service.*call)(d));
+    const Result<DeformRequest> d = DeformRequestOf(req, body);
+    if (!d.ok()) return Fail(ctx, req, res, d.status());
+    Answer(ctx, req, res, (service.*call)(*d));
   }
 
   // The viewer's static files (GET and HEAD only; httplib refuses paths
