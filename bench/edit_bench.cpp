@@ -32,10 +32,11 @@ EditRun Edits(const BezierSpec& base, int n, int edits, int threads) {
   EditRun run;
   BezierSpec spec = base;
   auto first = MakeSurface(SurfaceSpec(spec));
-  FlattenOptions kept = o;
-  kept.keep_paths = true;          // as the service keeps them for surfaces made to be edited
-  Flattener warm_flattener(kept);  // kept across edits, as a live session keeps its sheet
-  auto previous = warm_flattener.Flatten(**first, {n, n});
+  Flattener warm_flattener(o);  // kept across edits, as a live session keeps its sheet
+  // The paths each edit's distances followed, kept beside its sheet for the
+  // next, as the service keeps them for surfaces made to be edited.
+  DistancePaths paths;
+  auto previous = warm_flattener.Flatten(**first, {n, n}, nullptr, nullptr, &paths);
   for (int e = 0; e < edits; ++e) {
     spec.control_points[5].z() += 0.1;  // 1% of the 10-unit patch
     auto surface = MakeSurface(SurfaceSpec(spec));
@@ -43,7 +44,9 @@ EditRun Edits(const BezierSpec& base, int n, int edits, int threads) {
     auto cold = FlattenSurface(**surface, {n, n}, o);
     run.cold_ms.push_back(bench::MsSince(t0));
     t0 = std::chrono::steady_clock::now();
-    auto warm = warm_flattener.Flatten(**surface, {n, n}, &*previous);
+    DistancePaths followed;
+    auto warm = warm_flattener.Flatten(**surface, {n, n}, &*previous, &paths, &followed);
+    paths = std::move(followed);
     run.warm_ms.push_back(bench::MsSince(t0));
     if (!cold.ok() || !warm.ok()) {
       std::fprintf(stderr, "edit %d failed: %s\n", e,

@@ -262,27 +262,22 @@ Result<FlatSheet> MeshSheet(const Surface& surface, const FlatMesh& mesh,
 }  // namespace
 
 Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,
-                                     const FlatSheet* warm_start, const DistancePaths* warm_paths) {
+                                     const FlatSheet* warm_start, const DistancePaths* warm_paths,
+                                     DistancePaths* paths_out) {
   const auto t0 = Clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
   if (const FlatMesh* mesh = surface.flat_mesh()) return MeshSheet(surface, *mesh, sampling, t0);
   SURFDEFORM_ASSIGN_OR_RETURN(auto grid, SampleSurface(surface, sampling));
   // Distances over the solve's range and over r = 3 for the quality measures.
   const auto td = Clock::now();
-  std::shared_ptr<DistancePaths> paths =
-      options_.keep_paths ? std::make_shared<DistancePaths>() : nullptr;
-  const DistancePaths* previous = warm_paths != nullptr   ? warm_paths
-                                  : warm_start != nullptr ? warm_start->paths.get()
-                                                          : nullptr;
   SURFDEFORM_ASSIGN_OR_RETURN(
       auto dist, MeasureDistances(surface, grid.nu, grid.nv, options_,
-                                  DistanceOptionsFor(options_, t0), paths.get(), previous));
+                                  DistanceOptionsFor(options_, t0), paths_out, warm_paths));
   const double distance_ms = MsSince(td);
   const int refollowed = dist.reused_paths;
   SURFDEFORM_ASSIGN_OR_RETURN(
       auto sheet, Solve(surface, std::move(grid), warm_start, std::move(dist), distance_ms, t0));
   sheet.quality.refollowed_paths = refollowed;
-  sheet.paths = std::move(paths);
   return sheet;
 }
 

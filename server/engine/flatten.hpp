@@ -68,11 +68,6 @@ struct FlattenOptions {
   // rings it may have (kLimitExceeded past it, found before they are all
   // listed); 0 = no limit. Set by the service, not by requests.
   size_t max_mesh_pairs = 0;
-  // Keep the paths the distances followed on the sheet (FlatSheet::paths), so
-  // that a flattening of an edit of the surface can start from them
-  // (RefollowSurfaceDistances). Set by the service for surfaces made to be
-  // edited, not by requests: the paths take some 60 bytes per pair.
-  bool keep_paths = false;
 };
 
 // Quality of a flat sheet. Stress and the other measures are always taken over
@@ -86,8 +81,9 @@ struct FlattenQuality {
   int iterations = 0;
   bool converged = false;    // reached the tolerance before max_iterations
   double distance_ms = 0.0;  // computing d_ij
-  // Pairs measured from the paths of the warm start's sheet (FlatSheet::paths)
-  // rather than relaxed afresh; 0 for a cold measurement.
+  // Pairs measured from the paths an earlier measurement followed
+  // (Flattener::Flatten's warm_paths) rather than relaxed afresh; 0 for a
+  // cold measurement.
   int refollowed_paths = 0;
   double solve_ms = 0.0;  // the solver itself (factorisation included)
   double total_ms = 0.0;  // sampling, distances, solve and quality
@@ -113,10 +109,6 @@ struct FlatSheet {
   // surface periodic both ways (a whole torus) is a flat torus.
   Vec2 period_v = Vec2::Zero();
   FlattenQuality quality;
-  // The paths the distances followed, when FlattenOptions::keep_paths: a
-  // flattening warm-started from this sheet measures from them. Shared, not
-  // copied, with the sheet.
-  std::shared_ptr<const DistancePaths> paths;
 };
 
 // A surface's samples and the distances between them: what a flattening
@@ -138,12 +130,16 @@ class Flattener {
 
   // Flattens `surface` sampled as asked. `warm_start`, when given and of the
   // same grid size, is the starting layout (e.g. the previous animation frame
-  // or edit); when it carries the paths its distances followed (same grid,
-  // range and lattice), the distances are measured from them, or from
-  // `warm_paths` when given (paths kept apart from their sheet).
+  // or edit). `warm_paths`, when given, are the paths an earlier measurement
+  // of the surface's previous version followed (same grid, range and
+  // lattice): the distances are measured from them
+  // (RefollowSurfaceDistances). The paths this measurement follows go to
+  // `*paths_out` when given, for the next edit (some 60 bytes a pair: the
+  // service keeps them for surfaces made to be edited).
   Result<FlatSheet> Flatten(const Surface& surface, const SamplingOptions& sampling,
                             const FlatSheet* warm_start = nullptr,
-                            const DistancePaths* warm_paths = nullptr);
+                            const DistancePaths* warm_paths = nullptr,
+                            DistancePaths* paths_out = nullptr);
   // The same with the samples and their distances measured already
   // (FlattenDistances with these options; an animation measures its frames'
   // in parallel). quality.distance_ms is then theirs.

@@ -204,23 +204,23 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
   }
   auto surface = MakeSurface(*resolved ? **resolved : request.surface);
   if (!surface.ok()) return surface.status().WithFieldPrefix("surface");
-  flatten.keep_paths = edit.keep_paths;
   Flattener flattener(flatten);
   const FlatSheet* warm = edit.from != nullptr ? &edit.from->sheet : nullptr;
   const bool fits =
       warm != nullptr && warm->nu == request.sampling.nu && warm->nv == request.sampling.nv;
   const std::shared_ptr<const DistancePaths> warm_paths =
       fits ? edit_paths_.Find(edit.from->id) : nullptr;
-  auto sheet =
-      flattener.Flatten(**surface, request.sampling, fits ? warm : nullptr, warm_paths.get());
+  // The paths this flattening follows, for the next edit: kept apart from
+  // the entry (a sheet's 20 times over).
+  auto paths = edit.keep_paths ? std::make_shared<DistancePaths>() : nullptr;
+  auto sheet = flattener.Flatten(**surface, request.sampling, fits ? warm : nullptr,
+                                 warm_paths.get(), paths.get());
   if (!sheet.ok()) {
     const Status& s = sheet.status();
     // Sampling errors name a sample of the surface.
     return s.field().empty() ? Status(s.code(), s.message(), "surface") : s;
   }
-  // The paths are kept apart from the entry (a sheet's 20 times over).
-  edit_paths_.Put(id, sheet->paths);
-  sheet->paths.reset();
+  if (paths != nullptr && paths->nu > 0) edit_paths_.Put(id, std::move(paths));  // none: a mesh
   auto entry = std::make_shared<StoredSurface>();
   entry->id = id;
   entry->request = request;
