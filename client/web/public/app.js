@@ -28,7 +28,7 @@ import { AnimationPanel } from './animation_panel.js';
 import { dracoLoader, footprint, placementFrame, readModel } from './footprint.js';
 import { ModelView } from './model_view.js';
 import { fieldGap, movedField, moveSheetPoint } from './field_edit.js';
-import { FieldPreview, nearestDistances, previewPositions, sampleField } from './preview.js';
+import { FieldPreview, nearestDistances, previewPositions, sampleParams } from './preview.js';
 import { sampleModel, surfacePreset } from './samples.js';
 import { SheetView } from './sheet_view.js';
 
@@ -696,10 +696,8 @@ async function movedFieldOnSurface(index, lift) {
 // For tests: the surface parameters (u, v) under the placement's centre,
 // from the current field (bilinear, as the preview samples it).
 function placementParams() {
-  const f = state.field;
-  if (!f || !f.params || !state.placement.center) return null;
-  const asPoints = { ...f, positions: f.params.map(([u, v]) => [u, v, 0]), normals: f.params.map(() => [0, 0, 1]) };
-  return sampleField(asPoints, ...state.placement.center).p.slice(0, 2);
+  if (!state.field || !state.placement.center) return null;
+  return sampleParams(state.field, ...state.placement.center);
 }
 
 // For tests and the curious: the state and the model's share of the 3D canvas.

@@ -29,7 +29,9 @@ export function placePoint(x, y, z, frame, placement) {
 
 // The field's P, N at sheet point (a, b), bilinear, and whether the cell's
 // lattice points are all on the sheet (as the shader computes them).
-export function sampleField(field, a, b) {
+// The lattice cell that sheet point (a, b) falls in (clamped to the
+// field's box), its corners and the point's place in it.
+function fieldCell(field, a, b) {
   const n = field.n, [lo, hi] = field.bounds;
   const tx = ((a - lo[0]) / (hi[0] - lo[0])) * (n - 1), ty = ((b - lo[1]) / (hi[1] - lo[1])) * (n - 1);
   const ix = Math.min(Math.max(Math.floor(tx), 0), n - 2), iy = Math.min(Math.max(Math.floor(ty), 0), n - 2);
@@ -37,12 +39,27 @@ export function sampleField(field, a, b) {
   const k00 = ix + n * iy, k10 = k00 + 1, k01 = k00 + n, k11 = k01 + 1;
   const lerp = (arr, c) => (1 - fy) * ((1 - fx) * arr[k00][c] + fx * arr[k10][c]) +
                            fy * ((1 - fx) * arr[k01][c] + fx * arr[k11][c]);
+  return { tx, ty, corners: [k00, k10, k01, k11], lerp };
+}
+
+export function sampleField(field, a, b) {
+  const n = field.n;
+  const { tx, ty, corners: [k00, k10, k01, k11], lerp } = fieldCell(field, a, b);
   const p = [0, 1, 2].map((c) => lerp(field.positions, c));
   const nr = [0, 1, 2].map((c) => lerp(field.normals, c));
   const len = Math.hypot(...nr);
   const inside = tx >= 0 && ty >= 0 && tx <= n - 1 && ty <= n - 1;
   const on = inside && [k00, k10, k01, k11].every((k) => field.on_sheet[k]);
   return { p, n: nr.map((x) => x / len), on };
+}
+
+// The surface parameters (u, v) at sheet point (a, b), interpolated as
+// sampleField interpolates the surface point (the field's `params`, given
+// since version 2; null without them).
+export function sampleParams(field, a, b) {
+  if (!field.params) return null;
+  const { lerp } = fieldCell(field, a, b);
+  return [0, 1].map((c) => lerp(field.params, c));
 }
 
 // On a surface closed in u whose sheet repeats by a translation `period` (a

@@ -1,0 +1,46 @@
+// The viewer's field sampling (client/web/public/preview.js) in Node, without
+// a browser: the surface point and the surface parameters at a sheet point,
+// interpolated over the field's lattice as the shader does.
+import assert from 'node:assert/strict';
+import { sampleField, sampleParams } from '../../client/web/public/preview.js';
+
+// A 3 x 3 lattice over [0, 2] x [0, 2] whose points are (a, b, a b) and whose
+// parameters are (a / 2, b / 2 + a / 10): bilinear in each cell.
+const n = 3;
+const positions = [], normals = [], params = [], onSheet = [];
+for (let j = 0; j < n; ++j) {
+  for (let i = 0; i < n; ++i) {
+    positions.push([i, j, i * j]);
+    normals.push([0, 0, 1]);
+    params.push([i / 2, j / 2 + i / 10]);
+    onSheet.push(1);
+  }
+}
+const field = { n, bounds: [[0, 0], [2, 2]], positions, normals, params, on_sheet: onSheet };
+
+let checks = 0;
+const near = (a, b, what) => {
+  assert.ok(Math.abs(a - b) < 1e-12, `${what}: ${a} against ${b}`);
+  ++checks;
+};
+// At lattice points: the lattice's own values.
+for (let j = 0; j < n; ++j) {
+  for (let i = 0; i < n; ++i) {
+    const [u, v] = sampleParams(field, i, j);
+    near(u, i / 2, `u at (${i}, ${j})`);
+    near(v, j / 2 + i / 10, `v at (${i}, ${j})`);
+    const { p, on } = sampleField(field, i, j);
+    near(p[2], i * j, `z at (${i}, ${j})`);
+    assert.ok(on);
+  }
+}
+// Inside a cell: bilinear, as the surface point is.
+for (const [a, b] of [[0.25, 0.75], [1.5, 1.2], [1.9, 0.1]]) {
+  const [u, v] = sampleParams(field, a, b);
+  near(u, a / 2, `u at (${a}, ${b})`);
+  near(v, b / 2 + a / 10, `v at (${a}, ${b})`);
+  near(sampleField(field, a, b).p[2], a * b, `z at (${a}, ${b})`);
+}
+// A field without parameters (version 1) has none to give.
+assert.equal(sampleParams({ ...field, params: undefined }, 1, 1), null);
+console.log(`preview_unit: ${checks + 1} checks passed`);
