@@ -60,182 +60,228 @@ std::vector<double> MinMax(const std::vector<std::array<int16_t, 4>>& v, bool ma
   return out;
 }
 
-Result<meshio::BuiltGlb> BuildModel(const MorphAnimation& a, const AnimationGlbOptions& o) {
-  const Mesh& base = *a.base;
-  const size_t n = base.positions.size();
-  const size_t frames = a.positions.size();
-  tinygltf::Model m;
-  m.asset.version = "2.0";
-  m.asset.generator = "surfdeform";
-  m.buffers.resize(1);
-  // Room for every view at once (the frames' dominate), so that the buffer
-  // is not copied as it grows.
-  const size_t per_vertex = 8 + (a.normals.empty() ? 0 : 12);
-  m.buffers[0].data.reserve(frames * n * per_vertex + n * 64 + base.triangles.size() * 12 +
-                            frames * (frames + 8) + 4096);
-  std::vector<ViewCodec> codecs;
-  auto view = [&](const void* data, size_t bytes, int target, ViewCodec codec) {
-    const int v = AddView(&m, data, bytes, target);
-    if (codec.stride > 0) m.bufferViews[v].byteStride = static_cast<size_t>(codec.stride);
-    // Only vertex attributes have a stride in glTF; the codec's is its own.
-    if (target != TINYGLTF_TARGET_ARRAY_BUFFER) m.bufferViews[v].byteStride = 0;
-    codecs.resize(m.bufferViews.size());
-    codecs[v] = codec;
-    return v;
-  };
+// The animation's glTF model, a part at a time, in the order its buffer
+// views are laid out: the base attributes, the frames' morph targets, the
+// primitives' indices, the weights' animation.
+class ModelBuilder {
+ public:
+  ModelBuilder(const MorphAnimation& a, const AnimationGlbOptions& o)
+      : a_(a),
+        o_(o),
+        base_(*a.base),
+        n_(base_.positions.size()),
+        frames_(a.positions.size()),
+        with_normals_(!a.normals.empty()),
+        quant_(MakeQuantizer(a)) {
+    m_.asset.version = "2.0";
+    m_.asset.generator = "surfdeform";
+    m_.buffers.resize(1);
+    // Room for every view at once (the frames' dominate), so that the buffer
+    // is not copied as it grows.
+    const size_t per_vertex = 8 + (with_normals_ ? 12 : 0);
+    m_.buffers[0].data.reserve(frames_ * n_ * per_vertex + n_ * 64 + base_.triangles.size() * 12 +
+                               frames_ * (frames_ + 8) + 4096);
+  }
+
+  Result<meshio::BuiltGlb> Build() && {
+    BaseAttributes();
+    FrameTargets();
+    meshio::AddMaterials(&m_, o_.look);
+    SURFDEFORM_ASSIGN_OR_RETURN(const std::string name, Primitives());
+    WeightsAnimation();
+    meshio::AddQuantizedNode(&m_, name, {quant_.origin.x(), quant_.origin.y(), quant_.origin.z()},
+                             static_cast<double>(quant_.step) * 32767.0);
+    return meshio::Finish(&m_, std::move(codecs_));
+  }
+
+ private:
   const ViewCodec kAttr8{ViewCodec::Mode::kAttributes, 8};
   const ViewCodec kAttr12{ViewCodec::Mode::kAttributes, 12};
 
-  // Positions: frame 0 quantized, and each frame's integer change.
-  const Quantizer quant = MakeQuantizer(a);
-  std::vector<std::array<int16_t, 4>> q0(n);
-  for (size_t v = 0; v < n; ++v) q0[v] = quant(a.positions[0][v]);
-  std::map<std::string, int> attrs;
-  attrs["POSITION"] = AddAccessor(
-      &m, view(q0.data(), q0.size() * 8, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr8),
-      TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3, n, MinMax(q0, false), MinMax(q0, true));
-  m.accessors[attrs["POSITION"]].normalized = true;
-  const bool with_normals = !a.normals.empty();
-  if (with_normals) {
-    const std::vector<float> n0 = Floats(a.normals[0], 3);
-    attrs["NORMAL"] =
-        AddAccessor(&m, view(n0.data(), n0.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr12),
-                    TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n);
+  int View(const void* data, size_t bytes, int target, ViewCodec codec) {
+    const int v = AddView(&m_, data, bytes, target);
+    if (codec.stride > 0) m_.bufferViews[v].byteStride = static_cast<size_t>(codec.stride);
+    // Only vertex attributes have a stride in glTF; the codec's is its own.
+    if (target != TINYGLTF_TARGET_ARRAY_BUFFER) m_.bufferViews[v].byteStride = 0;
+    codecs_.resize(m_.bufferViews.size());
+    codecs_[v] = codec;
+    return v;
   }
-  auto floats = [&](const char* name, const std::vector<float>& data, int type, int comps) {
-    const ViewCodec codec{ViewCodec::Mode::kAttributes, 4 * comps};
-    attrs[name] =
-        AddAccessor(&m, view(data.data(), data.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER, codec),
-                    TINYGLTF_COMPONENT_TYPE_FLOAT, type, n);
-  };
-  if (!base.uv0.empty()) floats("TEXCOORD_0", Floats(base.uv0, 2), TINYGLTF_TYPE_VEC2, 2);
-  if (!base.uv1.empty()) floats("TEXCOORD_1", Floats(base.uv1, 2), TINYGLTF_TYPE_VEC2, 2);
-  if (!base.colors.empty()) floats("COLOR_0", Floats(base.colors, 4), TINYGLTF_TYPE_VEC4, 4);
+
+  // Positions: frame 0 quantized; normals, texture coordinates and colours
+  // as floats.
+  void BaseAttributes() {
+    q0_.resize(n_);
+    for (size_t v = 0; v < n_; ++v) q0_[v] = quant_(a_.positions[0][v]);
+    attrs_["POSITION"] =
+        AddAccessor(&m_, View(q0_.data(), q0_.size() * 8, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr8),
+                    TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3, n_, MinMax(q0_, false),
+                    MinMax(q0_, true));
+    m_.accessors[attrs_["POSITION"]].normalized = true;
+    if (with_normals_) {
+      const std::vector<float> n0 = Floats(a_.normals[0], 3);
+      attrs_["NORMAL"] =
+          AddAccessor(&m_, View(n0.data(), n0.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr12),
+                      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n_);
+    }
+    auto floats = [&](const char* name, const std::vector<float>& data, int type, int comps) {
+      const ViewCodec codec{ViewCodec::Mode::kAttributes, 4 * comps};
+      attrs_[name] =
+          AddAccessor(&m_, View(data.data(), data.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER, codec),
+                      TINYGLTF_COMPONENT_TYPE_FLOAT, type, n_);
+    };
+    if (!base_.uv0.empty()) floats("TEXCOORD_0", Floats(base_.uv0, 2), TINYGLTF_TYPE_VEC2, 2);
+    if (!base_.uv1.empty()) floats("TEXCOORD_1", Floats(base_.uv1, 2), TINYGLTF_TYPE_VEC2, 2);
+    if (!base_.colors.empty()) floats("COLOR_0", Floats(base_.colors, 4), TINYGLTF_TYPE_VEC4, 4);
+  }
 
   // Frames 1.. : their views laid out first, in order, then filled in
   // parallel (quantized position changes, rounded normal changes, and the
   // ranges of the positions), then their accessors, in the same order as
-  // the views.
+  // the views. Frame 0 changes nothing: zeros, with no buffer view.
+  void FrameTargets() {
+    std::vector<FrameViews> fv(frames_);
+    for (size_t k = 1; k < frames_; ++k) {
+      fv[k].positions = View(nullptr, n_ * 8, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr8);
+      if (with_normals_) {
+        fv[k].normals = View(nullptr, n_ * 12, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr12);
+      }
+    }
+    // Frames begin..end - 1 (1-based: frame 0 has no view).
+    ParallelChunks(static_cast<int>(frames_) - 1, ResolveThreads(o_.threads),
+                   [&](int, int begin, int end) { FillFrames(begin + 1, end + 1, &fv); });
+    targets_.resize(frames_);
+    for (size_t k = 0; k < frames_; ++k) {
+      const int positions = k == 0 ? -1 : fv[k].positions;
+      const std::vector<double> lo = k == 0 ? std::vector<double>{0, 0, 0} : fv[k].lo;
+      const std::vector<double> hi = k == 0 ? std::vector<double>{0, 0, 0} : fv[k].hi;
+      targets_[k]["POSITION"] = AddAccessor(&m_, positions, TINYGLTF_COMPONENT_TYPE_SHORT,
+                                            TINYGLTF_TYPE_VEC3, n_, lo, hi);
+      m_.accessors[targets_[k]["POSITION"]].normalized = true;
+      if (with_normals_) {
+        targets_[k]["NORMAL"] = AddAccessor(&m_, k == 0 ? -1 : fv[k].normals,
+                                            TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n_);
+      }
+    }
+  }
+
   struct FrameViews {
     int positions = -1, normals = -1;
     std::vector<double> lo, hi;
   };
-  std::vector<FrameViews> fv(frames);
-  for (size_t k = 1; k < frames; ++k) {
-    fv[k].positions = view(nullptr, n * 8, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr8);
-    if (with_normals) fv[k].normals = view(nullptr, n * 12, TINYGLTF_TARGET_ARRAY_BUFFER, kAttr12);
-  }
-  unsigned char* const bytes = m.buffers[0].data.data();
-  auto at = [&](int v) { return bytes + m.bufferViews[v].byteOffset; };
-  // Frames begin..end - 1 (1-based: frame 0 has no view).
-  auto fill = [&](int, int begin, int end) {
-    if (n == 0) return;  // no data to copy (memcpy from null is undefined)
-    std::vector<std::array<int16_t, 4>> qk(n);
-    std::vector<float> dn(with_normals ? 3 * n : 0);
-    for (int k = begin + 1; k < end + 1; ++k) {
-      for (size_t v = 0; v < n; ++v) {
-        const auto q = quant(a.positions[k][v]);
-        for (int c = 0; c < 3; ++c) qk[v][c] = static_cast<int16_t>(q[c] - q0[v][c]);
+
+  void FillFrames(int first, int end, std::vector<FrameViews>* fv) {
+    if (n_ == 0) return;  // no data to copy (memcpy from null is undefined)
+    unsigned char* const bytes = m_.buffers[0].data.data();
+    auto at = [&](int v) { return bytes + m_.bufferViews[v].byteOffset; };
+    std::vector<std::array<int16_t, 4>> qk(n_);
+    std::vector<float> dn(with_normals_ ? 3 * n_ : 0);
+    for (int k = first; k < end; ++k) {
+      FrameViews& f = (*fv)[k];
+      for (size_t v = 0; v < n_; ++v) {
+        const auto q = quant_(a_.positions[k][v]);
+        for (int c = 0; c < 3; ++c) qk[v][c] = static_cast<int16_t>(q[c] - q0_[v][c]);
         qk[v][3] = 0;
       }
-      std::memcpy(at(fv[k].positions), qk.data(), n * 8);
-      fv[k].lo = MinMax(qk, false);
-      fv[k].hi = MinMax(qk, true);
-      if (!with_normals) continue;
-      for (size_t v = 0; v < n; ++v) {
+      std::memcpy(at(f.positions), qk.data(), n_ * 8);
+      f.lo = MinMax(qk, false);
+      f.hi = MinMax(qk, true);
+      if (!with_normals_) continue;
+      for (size_t v = 0; v < n_; ++v) {
         for (int c = 0; c < 3; ++c) {
-          const float d = a.normals[k][v][c] - a.normals[0][v][c];
+          const float d = a_.normals[k][v][c] - a_.normals[0][v][c];
           dn[3 * v + c] = std::round(d * 4096.0f) / 4096.0f;
         }
       }
-      std::memcpy(at(fv[k].normals), dn.data(), n * 12);
-    }
-  };
-  ParallelChunks(static_cast<int>(frames) - 1, ResolveThreads(o.threads), fill);
-  std::vector<std::map<std::string, int>> targets(frames);
-  for (size_t k = 0; k < frames; ++k) {
-    if (k == 0) {  // no change: zeros, with no buffer view
-      targets[0]["POSITION"] = AddAccessor(&m, -1, TINYGLTF_COMPONENT_TYPE_SHORT,
-                                           TINYGLTF_TYPE_VEC3, n, {0, 0, 0}, {0, 0, 0});
-      m.accessors[targets[0]["POSITION"]].normalized = true;
-      if (with_normals) {
-        targets[0]["NORMAL"] =
-            AddAccessor(&m, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n);
-      }
-      continue;
-    }
-    targets[k]["POSITION"] = AddAccessor(&m, fv[k].positions, TINYGLTF_COMPONENT_TYPE_SHORT,
-                                         TINYGLTF_TYPE_VEC3, n, fv[k].lo, fv[k].hi);
-    m.accessors[targets[k]["POSITION"]].normalized = true;
-    if (with_normals) {
-      targets[k]["NORMAL"] =
-          AddAccessor(&m, fv[k].normals, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n);
+      std::memcpy(at(f.normals), dn.data(), n_ * 12);
     }
   }
 
-  meshio::AddMaterials(&m, o.look);
-  std::vector<MeshGroup> groups = base.groups;
-  if (groups.empty())
-    groups.push_back({"mesh", -1, 0, static_cast<uint32_t>(base.triangles.size())});
-  tinygltf::Mesh gm;
-  gm.name = groups.front().name.empty() ? "animation" : groups.front().name;
-  gm.weights.assign(frames, 0.0);
-  tinygltf::Value::Array names;
-  for (size_t k = 0; k < frames; ++k) names.emplace_back("frame " + std::to_string(k));
-  tinygltf::Value::Object extras;
-  extras["targetNames"] = tinygltf::Value(names);
-  gm.extras = tinygltf::Value(extras);
-  for (const MeshGroup& g : groups) {
-    tinygltf::Primitive prim;
-    prim.mode = TINYGLTF_MODE_TRIANGLES;
-    prim.material =
-        g.material >= 0 && g.material < static_cast<int>(m.materials.size()) ? g.material : -1;
-    prim.attributes = attrs;
-    prim.targets = targets;
-    std::vector<uint32_t> idx;
-    idx.reserve(3 * size_t{g.triangle_count});
-    for (uint32_t t = g.first_triangle; t < g.first_triangle + g.triangle_count; ++t)
-      for (uint32_t v : base.triangles[t]) idx.push_back(v);
-    SURFDEFORM_RETURN_IF_ERROR(meshio::AsTheCodecDecodes(&idx));
-    const int iv = view(idx.data(), idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
-                        {ViewCodec::Mode::kTriangles, 4});
-    prim.indices =
-        AddAccessor(&m, iv, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, idx.size());
-    gm.primitives.push_back(prim);
+  // One primitive per group (its material), every one with the base
+  // attributes and the frames' targets; the mesh's name.
+  Result<std::string> Primitives() {
+    std::vector<MeshGroup> groups = base_.groups;
+    if (groups.empty()) {
+      groups.push_back({"mesh", -1, 0, static_cast<uint32_t>(base_.triangles.size())});
+    }
+    tinygltf::Mesh gm;
+    gm.name = groups.front().name.empty() ? "animation" : groups.front().name;
+    gm.weights.assign(frames_, 0.0);
+    tinygltf::Value::Array names;
+    for (size_t k = 0; k < frames_; ++k) names.emplace_back("frame " + std::to_string(k));
+    tinygltf::Value::Object extras;
+    extras["targetNames"] = tinygltf::Value(names);
+    gm.extras = tinygltf::Value(extras);
+    for (const MeshGroup& g : groups) {
+      tinygltf::Primitive prim;
+      prim.mode = TINYGLTF_MODE_TRIANGLES;
+      prim.material =
+          g.material >= 0 && g.material < static_cast<int>(m_.materials.size()) ? g.material : -1;
+      prim.attributes = attrs_;
+      prim.targets = targets_;
+      std::vector<uint32_t> idx;
+      idx.reserve(3 * size_t{g.triangle_count});
+      for (uint32_t t = g.first_triangle; t < g.first_triangle + g.triangle_count; ++t)
+        for (uint32_t v : base_.triangles[t]) idx.push_back(v);
+      SURFDEFORM_RETURN_IF_ERROR(meshio::AsTheCodecDecodes(&idx));
+      const int iv = View(idx.data(), idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
+                          {ViewCodec::Mode::kTriangles, 4});
+      prim.indices = AddAccessor(&m_, iv, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                                 TINYGLTF_TYPE_SCALAR, idx.size());
+      gm.primitives.push_back(prim);
+    }
+    m_.meshes.push_back(gm);
+    return gm.name;
   }
-  m.meshes.push_back(gm);
 
   // The weights' animation: one-hot at each frame's time, LINEAR between.
-  std::vector<float> times(frames);
-  for (size_t k = 0; k < frames; ++k) times[k] = static_cast<float>(static_cast<double>(k) / a.fps);
-  std::vector<uint8_t> weights(frames * frames, 0);
-  for (size_t k = 0; k < frames; ++k) weights[k * frames + k] = 255;
-  weights.resize((weights.size() + 3) / 4 * 4, 0);  // whole 4-byte elements for the codec
-  const ViewCodec kAnim{ViewCodec::Mode::kAttributes, 4};
-  const int input =
-      AddAccessor(&m, view(times.data(), times.size() * 4, 0, kAnim), TINYGLTF_COMPONENT_TYPE_FLOAT,
-                  TINYGLTF_TYPE_SCALAR, frames, {times.front()}, {times.back()});
-  const int output =
-      AddAccessor(&m, view(weights.data(), weights.size(), 0, kAnim),
-                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_SCALAR, frames * frames);
-  m.accessors[output].normalized = true;
-  tinygltf::Animation anim;
-  anim.name = "surface";
-  tinygltf::AnimationSampler sampler;
-  sampler.input = input;
-  sampler.output = output;
-  sampler.interpolation = "LINEAR";
-  anim.samplers.push_back(sampler);
-  tinygltf::AnimationChannel channel;
-  channel.sampler = 0;
-  channel.target_node = 0;
-  channel.target_path = "weights";
-  anim.channels.push_back(channel);
-  m.animations.push_back(anim);
+  void WeightsAnimation() {
+    std::vector<float> times(frames_);
+    for (size_t k = 0; k < frames_; ++k) {
+      times[k] = static_cast<float>(static_cast<double>(k) / a_.fps);
+    }
+    std::vector<uint8_t> weights(frames_ * frames_, 0);
+    for (size_t k = 0; k < frames_; ++k) weights[k * frames_ + k] = 255;
+    weights.resize((weights.size() + 3) / 4 * 4, 0);  // whole 4-byte elements for the codec
+    const ViewCodec kAnim{ViewCodec::Mode::kAttributes, 4};
+    const int input = AddAccessor(&m_, View(times.data(), times.size() * 4, 0, kAnim),
+                                  TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, frames_,
+                                  {times.front()}, {times.back()});
+    const int output =
+        AddAccessor(&m_, View(weights.data(), weights.size(), 0, kAnim),
+                    TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_SCALAR, frames_ * frames_);
+    m_.accessors[output].normalized = true;
+    tinygltf::Animation anim;
+    anim.name = "surface";
+    tinygltf::AnimationSampler sampler;
+    sampler.input = input;
+    sampler.output = output;
+    sampler.interpolation = "LINEAR";
+    anim.samplers.push_back(sampler);
+    tinygltf::AnimationChannel channel;
+    channel.sampler = 0;
+    channel.target_node = 0;
+    channel.target_path = "weights";
+    anim.channels.push_back(channel);
+    m_.animations.push_back(anim);
+  }
 
-  meshio::AddQuantizedNode(&m, gm.name, {quant.origin.x(), quant.origin.y(), quant.origin.z()},
-                           static_cast<double>(quant.step) * 32767.0);
-  return meshio::Finish(&m, std::move(codecs));
+  const MorphAnimation& a_;
+  const AnimationGlbOptions& o_;
+  const Mesh& base_;
+  const size_t n_;
+  const size_t frames_;
+  const bool with_normals_;
+  const Quantizer quant_;
+  tinygltf::Model m_;
+  std::vector<ViewCodec> codecs_;
+  std::vector<std::array<int16_t, 4>> q0_;  // frame 0's quantized positions
+  std::map<std::string, int> attrs_;
+  std::vector<std::map<std::string, int>> targets_;
+};
+
+Result<meshio::BuiltGlb> BuildModel(const MorphAnimation& a, const AnimationGlbOptions& o) {
+  return ModelBuilder(a, o).Build();
 }
 
 }  // namespace
