@@ -262,6 +262,147 @@ std::string BlockKey(int node, const tinygltf::Primitive& prim) {
   return key;
 }
 
+// A KHR_draco_mesh_compression primitive, decoded into `part`.
+Status DecodeDracoPrimitive(const tinygltf::Model& model, const tinygltf::Value& ext,
+                            const ImportLimits& limits, Mesh* part) {
+  const int view_index = ext.Get("bufferView").IsInt() ? ext.Get("bufferView").Get<int>() : -1;
+  if (view_index < 0 || view_index >= static_cast<int>(model.bufferViews.size())) {
+    return GltfError("a Draco primitive has no valid buffer view");
+  }
+  const tinygltf::BufferView& view = model.bufferViews[view_index];
+  if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size()) ||
+      view.byteOffset > model.buffers[view.buffer].data.size() ||
+      view.byteLength > model.buffers[view.buffer].data.size() - view.byteOffset) {
+    return GltfError("a Draco primitive's buffer view lies outside its buffer");
+  }
+  int ids[6] = {-1, -1, -1, -1, -1, -1};
+  const char* names[6] = {"POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "TANGENT"};
+  const tinygltf::Value& attrs = ext.Get("attributes");
+  for (int k = 0; k < 6; ++k) {
+    if (attrs.Has(names[k]) && attrs.Get(names[k]).IsInt()) ids[k] = attrs.Get(names[k]).Get<int>();
+  }
+  const auto* data = model.buffers[view.buffer].data.data() + view.byteOffset;
+  return DecodeDraco(std::string_view(reinterpret_cast<const char*>(data), view.byteLength), limits,
+                     part, ids);
+}
+
+// The accessor of a primitive's attribute; -1: none.
+int AttributeOf(const tinygltf::Primitive& prim, const char* key) {
+  auto it = prim.attributes.find(key);
+  return it == prim.attributes.end() ? -1 : it->second;
+}
+
+// A primitive's vertex attributes (POSITION, and NORMAL, TANGENT,
+// TEXCOORD_0/1, COLOR_0 where given, each of POSITION's count) into `part`.
+Status ReadVertexAttributes(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                            const ImportLimits& limits, Mesh* part) {
+  auto attr = [&](const char* key) { return AttributeOf(prim, key); };
+  std::vector<double> v;
+  size_t n = 0, m = 0;
+  SURFDEFORM_RETURN_IF_ERROR(ReadAccessor(model, attr("POSITION"), "POSITION", 3, limits, &v, &n));
+  SURFDEFORM_RETURN_IF_ERROR(CheckLimit("vertices", n, limits.max_vertices));
+  part->positions.resize(n);
+  for (size_t k = 0; k < n; ++k) part->positions[k] = Vec3(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+  auto same_count = [&](const char* what) {
+    return m == n ? Status::Ok()
+                  : GltfError(std::string(what) + " has " + std::to_string(m) +
+                              " elements, POSITION " + std::to_string(n));
+  };
+  if (attr("NORMAL") >= 0) {
+    SURFDEFORM_RETURN_IF_ERROR(ReadAccessor(model, attr("NORMAL"), "NORMAL", 3, limits, &v, &m));
+    SURFDEFORM_RETURN_IF_ERROR(same_count("NORMAL"));
+    part->normals.resize(n);
+    for (size_t k = 0; k < n; ++k) part->normals[k] = Vec3(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+  }
+  if (attr("TANGENT") >= 0) {
+    SURFDEFORM_RETURN_IF_ERROR(ReadAccessor(model, attr("TANGENT"), "TANGENT", 4, limits, &v, &m));
+    SURFDEFORM_RETURN_IF_ERROR(same_count("TANGENT"));
+    part->tangents.resize(n);
+    for (size_t k = 0; k < n; ++k)
+      part->tangents[k] = Vec4(v[4 * k], v[4 * k + 1], v[4 * k + 2], v[4 * k + 3] < 0 ? -1 : 1);
+  }
+  std::vector<Vec2>* uvs[2] = {&part->uv0, &part->uv1};
+  for (int u = 0; u < 2; ++u) {
+    const std::string key = "TEXCOORD_" + std::to_string(u);
+    if (attr(key.c_str()) < 0) continue;
+    SURFDEFORM_RETURN_IF_ERROR(
+        ReadAccessor(model, attr(key.c_str()), key.c_str(), 2, limits, &v, &m));
+    SURFDEFORM_RETURN_IF_ERROR(same_count(key.c_str()));
+    uvs[u]->resize(n);
+    for (size_t k = 0; k < n; ++k) (*uvs[u])[k] = Vec2(v[2 * k], v[2 * k + 1]);
+  }
+  if (attr("COLOR_0") >= 0) {
+    const int comps = model.accessors[attr("COLOR_0")].type == TINYGLTF_TYPE_VEC3 ? 3 : 4;
+    SURFDEFORM_RETURN_IF_ERROR(
+        ReadAccessor(model, attr("COLOR_0"), "COLOR_0", comps, limits, &v, &m));
+    SURFDEFORM_RETURN_IF_ERROR(same_count("COLOR_0"));
+    part->colors.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+      part->colors[k] = Vec4(v[comps * k], v[comps * k + 1], v[comps * k + 2],
+                             comps == 4 ? v[comps * k + 3] : 1.0);
+    }
+  }
+  return Status::Ok();
+}
+
+// A primitive's triangles over its `n` vertices (its indices, or the
+// vertices in order), from triangles, a strip or a fan; other modes add none.
+Status ReadTriangles(const tinygltf::Model& model, const tinygltf::Primitive& prim, size_t n,
+                     const ImportLimits& limits, Mesh* part) {
+  std::vector<double> v;
+  size_t m = 0;
+  std::vector<uint32_t> idx;
+  if (prim.indices >= 0) {
+    SURFDEFORM_RETURN_IF_ERROR(ReadAccessor(model, prim.indices, "indices", 1, limits, &v, &m));
+    idx.resize(m);
+    for (size_t k = 0; k < m; ++k) {
+      if (!(v[k] >= 0 && v[k] < static_cast<double>(n))) {
+        return GltfError(Format("index %.17g of accessor %d is out of range (%zu vertices)", v[k],
+                                prim.indices, n));
+      }
+      idx[k] = static_cast<uint32_t>(v[k]);
+    }
+  } else {
+    idx.resize(n);
+    for (size_t k = 0; k < n; ++k) idx[k] = static_cast<uint32_t>(k);
+  }
+  const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    for (size_t k = 0; k + 2 < idx.size(); k += 3)
+      part->triangles.push_back({idx[k], idx[k + 1], idx[k + 2]});
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+    for (size_t k = 0; k + 2 < idx.size(); ++k) {
+      if (k % 2 == 0)
+        part->triangles.push_back({idx[k], idx[k + 1], idx[k + 2]});
+      else
+        part->triangles.push_back({idx[k + 1], idx[k], idx[k + 2]});
+    }
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+    for (size_t k = 1; k + 1 < idx.size(); ++k)
+      part->triangles.push_back({idx[0], idx[k], idx[k + 1]});
+  }
+  return Status::Ok();
+}
+
+// The node's transform baked into `part`: normals by its inverse
+// transpose, tangents by it, and the winding kept where it mirrors.
+void BakeTransform(const Mat4& transform, Mesh* part) {
+  const Eigen::Matrix3d linear = transform.block<3, 3>(0, 0);
+  const Eigen::Matrix3d normal_linear = linear.inverse().transpose();
+  for (Vec3& p : part->positions) p = linear * p + transform.block<3, 1>(0, 3);
+  for (Vec3& nrm : part->normals) {
+    const Vec3 t = normal_linear * nrm;
+    nrm = t.norm() > 0 ? Vec3(t.normalized()) : Vec3::UnitZ();
+  }
+  for (Vec4& t : part->tangents) {
+    const Vec3 d = linear * t.head<3>();
+    t.head<3>() = d.norm() > 0 ? Vec3(d.normalized()) : Vec3::UnitX();
+  }
+  if (linear.determinant() < 0) {
+    for (auto& t : part->triangles) std::swap(t[1], t[2]);
+  }
+}
+
 // One primitive, appended to `mesh` with the node's transform baked in.
 Status AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim, int node,
                        const Mat4& transform, const std::string& name, const ImportLimits& limits,
@@ -270,134 +411,21 @@ Status AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& 
   const bool is_draco = prim.extensions.count("KHR_draco_mesh_compression") > 0;
   const std::string block_key = BlockKey(node, prim);
   const auto reuse = is_draco ? shared->end() : shared->find(block_key);
-  auto draco = prim.extensions.find("KHR_draco_mesh_compression");
-  if (draco != prim.extensions.end()) {
-    const tinygltf::Value& ext = draco->second;
-    const int view_index = ext.Get("bufferView").IsInt() ? ext.Get("bufferView").Get<int>() : -1;
-    if (view_index < 0 || view_index >= static_cast<int>(model.bufferViews.size())) {
-      return GltfError("a Draco primitive has no valid buffer view");
-    }
-    const tinygltf::BufferView& view = model.bufferViews[view_index];
-    if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size()) ||
-        view.byteOffset > model.buffers[view.buffer].data.size() ||
-        view.byteLength > model.buffers[view.buffer].data.size() - view.byteOffset) {
-      return GltfError("a Draco primitive's buffer view lies outside its buffer");
-    }
-    int ids[6] = {-1, -1, -1, -1, -1, -1};
-    const char* names[6] = {"POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "TANGENT"};
-    const tinygltf::Value& attrs = ext.Get("attributes");
-    for (int k = 0; k < 6; ++k) {
-      if (attrs.Has(names[k]) && attrs.Get(names[k]).IsInt())
-        ids[k] = attrs.Get(names[k]).Get<int>();
-    }
-    const auto* data = model.buffers[view.buffer].data.data() + view.byteOffset;
-    SURFDEFORM_RETURN_IF_ERROR(
-        DecodeDraco(std::string_view(reinterpret_cast<const char*>(data), view.byteLength), limits,
-                    &part, ids));
+  if (is_draco) {
+    SURFDEFORM_RETURN_IF_ERROR(DecodeDracoPrimitive(
+        model, prim.extensions.find("KHR_draco_mesh_compression")->second, limits, &part));
   } else {
-    auto attr = [&](const char* key) {
-      auto it = prim.attributes.find(key);
-      return it == prim.attributes.end() ? -1 : it->second;
-    };
-    std::vector<double> v;
-    size_t n = 0, m = 0;
-    if (attr("POSITION") < 0) return GltfError("a primitive has no POSITION");
+    if (AttributeOf(prim, "POSITION") < 0) return GltfError("a primitive has no POSITION");
+    size_t n = 0;
     if (reuse != shared->end()) {
       n = reuse->second.count;
     } else {
-      SURFDEFORM_RETURN_IF_ERROR(
-          ReadAccessor(model, attr("POSITION"), "POSITION", 3, limits, &v, &n));
-      SURFDEFORM_RETURN_IF_ERROR(CheckLimit("vertices", n, limits.max_vertices));
-      part.positions.resize(n);
-      for (size_t k = 0; k < n; ++k) part.positions[k] = Vec3(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
-      auto same_count = [&](const char* what) {
-        return m == n ? Status::Ok()
-                      : GltfError(std::string(what) + " has " + std::to_string(m) +
-                                  " elements, POSITION " + std::to_string(n));
-      };
-      if (attr("NORMAL") >= 0) {
-        SURFDEFORM_RETURN_IF_ERROR(
-            ReadAccessor(model, attr("NORMAL"), "NORMAL", 3, limits, &v, &m));
-        SURFDEFORM_RETURN_IF_ERROR(same_count("NORMAL"));
-        part.normals.resize(n);
-        for (size_t k = 0; k < n; ++k) part.normals[k] = Vec3(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
-      }
-      if (attr("TANGENT") >= 0) {
-        SURFDEFORM_RETURN_IF_ERROR(
-            ReadAccessor(model, attr("TANGENT"), "TANGENT", 4, limits, &v, &m));
-        SURFDEFORM_RETURN_IF_ERROR(same_count("TANGENT"));
-        part.tangents.resize(n);
-        for (size_t k = 0; k < n; ++k)
-          part.tangents[k] = Vec4(v[4 * k], v[4 * k + 1], v[4 * k + 2], v[4 * k + 3] < 0 ? -1 : 1);
-      }
-      std::vector<Vec2>* uvs[2] = {&part.uv0, &part.uv1};
-      for (int u = 0; u < 2; ++u) {
-        const std::string key = "TEXCOORD_" + std::to_string(u);
-        if (attr(key.c_str()) < 0) continue;
-        SURFDEFORM_RETURN_IF_ERROR(
-            ReadAccessor(model, attr(key.c_str()), key.c_str(), 2, limits, &v, &m));
-        SURFDEFORM_RETURN_IF_ERROR(same_count(key.c_str()));
-        uvs[u]->resize(n);
-        for (size_t k = 0; k < n; ++k) (*uvs[u])[k] = Vec2(v[2 * k], v[2 * k + 1]);
-      }
-      if (attr("COLOR_0") >= 0) {
-        const int comps = model.accessors[attr("COLOR_0")].type == TINYGLTF_TYPE_VEC3 ? 3 : 4;
-        SURFDEFORM_RETURN_IF_ERROR(
-            ReadAccessor(model, attr("COLOR_0"), "COLOR_0", comps, limits, &v, &m));
-        SURFDEFORM_RETURN_IF_ERROR(same_count("COLOR_0"));
-        part.colors.resize(n);
-        for (size_t k = 0; k < n; ++k) {
-          part.colors[k] = Vec4(v[comps * k], v[comps * k + 1], v[comps * k + 2],
-                                comps == 4 ? v[comps * k + 3] : 1.0);
-        }
-      }
+      SURFDEFORM_RETURN_IF_ERROR(ReadVertexAttributes(model, prim, limits, &part));
+      n = part.positions.size();
     }
-    std::vector<uint32_t> idx;
-    if (prim.indices >= 0) {
-      SURFDEFORM_RETURN_IF_ERROR(ReadAccessor(model, prim.indices, "indices", 1, limits, &v, &m));
-      idx.resize(m);
-      for (size_t k = 0; k < m; ++k) {
-        if (!(v[k] >= 0 && v[k] < static_cast<double>(n))) {
-          return GltfError(Format("index %.17g of accessor %d is out of range (%zu vertices)", v[k],
-                                  prim.indices, n));
-        }
-        idx[k] = static_cast<uint32_t>(v[k]);
-      }
-    } else {
-      idx.resize(n);
-      for (size_t k = 0; k < n; ++k) idx[k] = static_cast<uint32_t>(k);
-    }
-    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-    if (mode == TINYGLTF_MODE_TRIANGLES) {
-      for (size_t k = 0; k + 2 < idx.size(); k += 3)
-        part.triangles.push_back({idx[k], idx[k + 1], idx[k + 2]});
-    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
-      for (size_t k = 0; k + 2 < idx.size(); ++k) {
-        if (k % 2 == 0)
-          part.triangles.push_back({idx[k], idx[k + 1], idx[k + 2]});
-        else
-          part.triangles.push_back({idx[k + 1], idx[k], idx[k + 2]});
-      }
-    } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
-      for (size_t k = 1; k + 1 < idx.size(); ++k)
-        part.triangles.push_back({idx[0], idx[k], idx[k + 1]});
-    }
+    SURFDEFORM_RETURN_IF_ERROR(ReadTriangles(model, prim, n, limits, &part));
   }
-  // Bake the node transform.
-  const Eigen::Matrix3d linear = transform.block<3, 3>(0, 0);
-  const Eigen::Matrix3d normal_linear = linear.inverse().transpose();
-  for (Vec3& p : part.positions) p = linear * p + transform.block<3, 1>(0, 3);
-  for (Vec3& nrm : part.normals) {
-    const Vec3 t = normal_linear * nrm;
-    nrm = t.norm() > 0 ? Vec3(t.normalized()) : Vec3::UnitZ();
-  }
-  for (Vec4& t : part.tangents) {
-    const Vec3 d = linear * t.head<3>();
-    t.head<3>() = d.norm() > 0 ? Vec3(d.normalized()) : Vec3::UnitX();
-  }
-  if (linear.determinant() < 0) {
-    for (auto& t : part.triangles) std::swap(t[1], t[2]);
-  }
+  BakeTransform(transform, &part);
   Mesh& mesh = out->mesh;
   // The primitive's triangles, as a group, on vertices starting at `base`.
   auto append_triangles = [&](uint32_t base) {
