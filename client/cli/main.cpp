@@ -5,7 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/usage_errors.hpp"
-#include "engine/subdivide.hpp"
+#include "engine/subdivision_mode.hpp"
 
 namespace {
 
@@ -20,17 +20,37 @@ constexpr char kExitCodes[] = R"(Exit codes:
 Server: --server URL or SURFDEFORM_SERVER (default http://127.0.0.1:8080).
 The global options (--server, --retries, --timeout, -v) go before or after the subcommand.)";
 
-}  // namespace
+using namespace surfdeform::cli;
 
-int main(int argc, char** argv) {
-  using namespace surfdeform::cli;
-  CLI::App app{"surfdeform: bend 3D models along curved surfaces through a surfdeform server."};
-  app.footer(kExitCodes);
-  app.require_subcommand(1);
-  // Global options also after the subcommand (subcommands inherit this):
-  // `surfdeform deform --server URL ...` as well as `surfdeform --server URL deform ...`.
-  app.fallthrough(true);
-  Connection c;
+// Every subcommand's arguments, filled by the parse.
+struct Arguments {
+  Connection connection;
+  DeformOptions deform;  // deform, batch and animate
+  AnimateOptions animate;
+  std::string surface_file, svg_path;  // flatten
+  bool json_output = false;
+  std::string map_id, map_request, map_out;  // map
+  std::string mesh_path, out_path;           // deform
+  std::string upload_path;                   // upload
+  bool upload_json = false;
+  std::vector<std::string> inputs;  // batch
+  std::string out_dir, extension = ".glb";
+  int jobs = static_cast<int>(std::max(2u, std::thread::hardware_concurrency()));
+  bool force = false;
+  std::string animate_mesh, animate_out;  // animate
+};
+
+// The subcommands whose arguments the run reads.
+struct Subcommands {
+  CLI::App* flatten;
+  CLI::App* map;
+  CLI::App* deform;
+  CLI::App* upload;
+  CLI::App* batch;
+  CLI::App* animate;
+};
+
+void AddConnectionOptions(CLI::App& app, Connection& c) {
   app.add_option("--server", c.server, "Server URL")
       ->envname("SURFDEFORM_SERVER")
       ->capture_default_str();
@@ -42,107 +62,115 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 86400.0))
       ->capture_default_str();
   app.add_flag("-v,--verbose", c.verbose, "Report retries on stderr");
+}
 
-  app.add_subcommand("info", "Print the server's version, limits, formats and surface kinds");
-  app.add_subcommand("health", "Check that the server is live and ready (exit 0) or not (3)");
-
+CLI::App* AddFlatten(CLI::App& app, Arguments& x) {
   auto* flatten = app.add_subcommand(
       "flatten", "Flatten a surface: print its id and quality; optionally save the flat sheet");
-  std::string surface_file, svg_path;
-  bool json_output = false;
   flatten
-      ->add_option("surface", surface_file,
+      ->add_option("surface", x.surface_file,
                    "JSON file: a surface request {surface, sampling, flatten} or a bare surface "
                    "{kind, ...}; or a mesh file (.obj .ply .stl .off .glb .gltf .drc): a "
                    "surface given as a mesh, uploaded first")
       ->required();
-  flatten->add_option("--svg", svg_path, "Save the flat sheet, coloured by stretch, as SVG");
-  flatten->add_flag("--json", json_output, "Print the server's JSON reply");
+  flatten->add_option("--svg", x.svg_path, "Save the flat sheet, coloured by stretch, as SVG");
+  flatten->add_flag("--json", x.json_output, "Print the server's JSON reply");
+  return flatten;
+}
 
+CLI::App* AddMap(CLI::App& app, Arguments& x) {
   auto* map = app.add_subcommand(
       "map",
       "Carry marks between a flat sheet and its surface: points or polylines on the "
       "sheet onto the surface, or points in space to the nearest surface points");
-  std::string map_id, map_request, map_out;
-  map->add_option("surface-id", map_id, "A surface already flattened (see flatten)")->required();
-  map->add_option("request", map_request,
+  map->add_option("surface-id", x.map_id, "A surface already flattened (see flatten)")->required();
+  map->add_option("request", x.map_request,
                   "JSON text or file: {\"points\": [[x, y], ...]}, {\"polylines\": [[[x, y], "
                   "...], ...], \"tolerance\": t, \"max_segment\": s} or {\"surface_points\": "
                   "[[x, y, z], ...]}")
       ->required();
-  map->add_option("-o,--output", map_out, "Write the reply's JSON here (default: stdout)");
+  map->add_option("-o,--output", x.map_out, "Write the reply's JSON here (default: stdout)");
+  return map;
+}
 
-  DeformOptions d;
-  auto add_deform_options = [&d](CLI::App* sub) {
-    sub->add_option("--surface", d.surface_file,
-                    "JSON file: a surface request {surface, sampling, flatten} or a bare surface; "
-                    "or a mesh file: a surface given as a mesh (a disk), uploaded first");
-    sub->add_option("--surface-id", d.surface_id, "A surface already flattened (see flatten)");
-    sub->add_option("--params", d.params,
-                    "The deform parameters (placement, subdivision, output.draco ...): JSON text "
-                    "or a file");
-    sub->add_option("--scale", d.scale, "placement.scale: \"fit\" or a number");
-    sub->add_option("--subdivision", d.subdivision, "subdivision.mode")
-        ->check(CLI::IsMember(
-            surfdeform::NamesOf<surfdeform::SubdivisionMode>(surfdeform::kSubdivisionModes)));
-    sub->add_option("--tolerance", d.tolerance, "subdivision.tolerance, surface units")
-        ->check(CLI::PositiveNumber);
-    sub->add_flag("--distortion", d.distortion,
-                  "Add the distortion map (.glb: attribute _DISTORTION; .ply: properties "
-                  "distortion_max, distortion_min) and print its summary");
-    sub->add_option("--compression", d.compression,
-                    "output.compression for .glb: draco (the default), meshopt (some 10x faster "
-                    "for the server to encode; three.js decodes it with MeshoptDecoder) or none")
-        ->check(CLI::IsMember({"draco", "meshopt", "none"}));
-    sub->add_flag("--lossless", d.lossless,
-                  "For .obj/.ply, ask the server for them instead of Draco decoded here "
-                  "(more bytes over the wire, no quantization)");
-  };
+void AddSubdivisionOptions(CLI::App* sub, DeformOptions& d) {
+  sub->add_option("--subdivision", d.subdivision, "subdivision.mode")
+      ->check(CLI::IsMember(
+          surfdeform::NamesOf<surfdeform::SubdivisionMode>(surfdeform::kSubdivisionModes)));
+  sub->add_option("--tolerance", d.tolerance, "subdivision.tolerance, surface units")
+      ->check(CLI::PositiveNumber);
+}
+
+// The options deform and batch share.
+void AddDeformOptions(CLI::App* sub, DeformOptions& d) {
+  sub->add_option("--surface", d.surface_file,
+                  "JSON file: a surface request {surface, sampling, flatten} or a bare surface; "
+                  "or a mesh file: a surface given as a mesh (a disk), uploaded first");
+  sub->add_option("--surface-id", d.surface_id, "A surface already flattened (see flatten)");
+  sub->add_option("--params", d.params,
+                  "The deform parameters (placement, subdivision, output.draco ...): JSON text "
+                  "or a file");
+  sub->add_option("--scale", d.scale, "placement.scale: \"fit\" or a number");
+  AddSubdivisionOptions(sub, d);
+  sub->add_flag("--distortion", d.distortion,
+                "Add the distortion map (.glb: attribute _DISTORTION; .ply: properties "
+                "distortion_max, distortion_min) and print its summary");
+  sub->add_option("--compression", d.compression,
+                  "output.compression for .glb: draco (the default), meshopt (some 10x faster "
+                  "for the server to encode; three.js decodes it with MeshoptDecoder) or none")
+      ->check(CLI::IsMember({"draco", "meshopt", "none"}));
+  sub->add_flag("--lossless", d.lossless,
+                "For .obj/.ply, ask the server for them instead of Draco decoded here "
+                "(more bytes over the wire, no quantization)");
+}
+
+CLI::App* AddDeform(CLI::App& app, Arguments& x) {
   auto* deform = app.add_subcommand(
       "deform", "Deform one mesh; the output's extension (.drc .glb .obj .ply) picks its format");
-  std::string mesh_path, out_path;
   // Mesh files are checked when read: one that cannot be is exit code 4, not 1.
-  auto* deform_mesh = deform->add_option(
-      "mesh", mesh_path,
+  auto* mesh = deform->add_option(
+      "mesh", x.mesh_path,
       "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF); sent once per server (by id after)");
-  deform->add_option("--model-id", d.model_id, "A model already uploaded (see upload)")
-      ->excludes(deform_mesh);
-  deform->add_option("-o,--output", out_path, "Output file")->required();
-  add_deform_options(deform);
+  deform->add_option("--model-id", x.deform.model_id, "A model already uploaded (see upload)")
+      ->excludes(mesh);
+  deform->add_option("-o,--output", x.out_path, "Output file")->required();
+  AddDeformOptions(deform, x.deform);
+  return deform;
+}
 
+CLI::App* AddUpload(CLI::App& app, Arguments& x) {
   auto* upload = app.add_subcommand(
       "upload", "Upload a mesh once (POST /v1/models) and print its id, for deform --model-id");
-  std::string upload_path;
-  upload->add_option("mesh", upload_path, "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF)")
+  upload->add_option("mesh", x.upload_path, "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF)")
       ->required();
-  bool upload_json = false;
-  upload->add_flag("--json", upload_json, "Print the server's JSON reply");
+  upload->add_flag("--json", x.upload_json, "Print the server's JSON reply");
+  return upload;
+}
 
+CLI::App* AddBatch(CLI::App& app, Arguments& x) {
   auto* batch = app.add_subcommand(
       "batch", "Deform many meshes with one set of parameters into a folder (resumable)");
-  std::vector<std::string> inputs;
-  std::string out_dir, extension = ".glb";
-  int jobs = static_cast<int>(std::max(2u, std::thread::hardware_concurrency()));
-  bool force = false;
-  batch->add_option("inputs", inputs, "Mesh files and folders (their mesh files)")->required();
-  batch->add_option("-o,--output-dir", out_dir, "Output folder (created)")->required();
-  batch->add_option("--ext", extension, "Output format: .drc .glb .obj .ply")
+  batch->add_option("inputs", x.inputs, "Mesh files and folders (their mesh files)")->required();
+  batch->add_option("-o,--output-dir", x.out_dir, "Output folder (created)")->required();
+  batch->add_option("--ext", x.extension, "Output format: .drc .glb .obj .ply")
       ->capture_default_str();
-  batch->add_option("-j,--jobs", jobs, "Requests at once")
+  batch->add_option("-j,--jobs", x.jobs, "Requests at once")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
-  batch->add_flag("--force", force, "Redo files whose output exists (default: skip them)");
-  add_deform_options(batch);
+  batch->add_flag("--force", x.force, "Redo files whose output exists (default: skip them)");
+  AddDeformOptions(batch, x.deform);
+  return batch;
+}
 
+CLI::App* AddAnimate(CLI::App& app, Arguments& x) {
   auto* animate = app.add_subcommand(
       "animate",
       "Deform one mesh along an animated surface: one .glb that plays every frame (morph "
       "targets), and/or each frame alone into a folder");
-  AnimateOptions a;
-  std::string animate_mesh, animate_out;
-  animate->add_option("mesh", animate_mesh, "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF)")
+  AnimateOptions& a = x.animate;
+  animate->add_option("mesh", x.animate_mesh, "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF)")
       ->required();
-  animate->add_option("-o,--output", animate_out, "Output .glb");
+  animate->add_option("-o,--output", x.animate_out, "Output .glb");
   animate
       ->add_option("--surface", a.animation_file,
                    "JSON file: {\"animation\": {\"keyframes\": ...}, \"sampling\", "
@@ -154,15 +182,57 @@ int main(int argc, char** argv) {
                       "Also write each frame alone here (frame_0000.glb ...), with progress");
   animate->add_option("--frame-ext", a.frame_ext, "The frames' format: .drc .glb .obj .ply")
       ->capture_default_str();
-  animate->add_option("--params", d.params,
+  animate->add_option("--params", x.deform.params,
                       "Other parameters (placement, subdivision): JSON text or a file");
-  animate->add_option("--scale", d.scale, "placement.scale: \"fit\" or a number");
-  animate->add_option("--subdivision", d.subdivision, "subdivision.mode")
-      ->check(CLI::IsMember(
-          surfdeform::NamesOf<surfdeform::SubdivisionMode>(surfdeform::kSubdivisionModes)));
-  animate->add_option("--tolerance", d.tolerance, "subdivision.tolerance, surface units")
-      ->check(CLI::PositiveNumber);
+  animate->add_option("--scale", x.deform.scale, "placement.scale: \"fit\" or a number");
+  AddSubdivisionOptions(animate, x.deform);
+  return animate;
+}
 
+// The subcommand given, run with its arguments.
+int Run(const CLI::App& app, const Subcommands& s, const Arguments& x) {
+  const Connection& c = x.connection;
+  if (app.got_subcommand("info")) return RunInfo(c);
+  if (app.got_subcommand("health")) return RunHealth(c);
+  if (s.flatten->parsed()) return RunFlatten(c, x.surface_file, x.svg_path, x.json_output);
+  if (s.map->parsed()) return RunMap(c, x.map_id, x.map_request, x.map_out);
+  if (s.deform->parsed()) {
+    if (x.mesh_path.empty() == x.deform.model_id.empty()) {
+      std::fprintf(stderr, "surfdeform deform: give a mesh file or --model-id ID\n");
+      return kExitUsage;
+    }
+    return RunDeform(c, x.deform, x.mesh_path, x.out_path);
+  }
+  if (s.upload->parsed()) return RunUpload(c, x.upload_path, x.upload_json);
+  if (s.animate->parsed()) {
+    return RunAnimate(c, x.deform, x.animate, x.animate_mesh, x.animate_out);
+  }
+  if (s.batch->parsed()) {
+    return RunBatch(c, x.deform, x.inputs, x.out_dir, x.extension, x.jobs, x.force);
+  }
+  return kExitUsage;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"surfdeform: bend 3D models along curved surfaces through a surfdeform server."};
+  app.footer(kExitCodes);
+  app.require_subcommand(1);
+  // Global options also after the subcommand (subcommands inherit this):
+  // `surfdeform deform --server URL ...` as well as `surfdeform --server URL deform ...`.
+  app.fallthrough(true);
+  Arguments x;
+  AddConnectionOptions(app, x.connection);
+  app.add_subcommand("info", "Print the server's version, limits, formats and surface kinds");
+  app.add_subcommand("health", "Check that the server is live and ready (exit 0) or not (3)");
+  Subcommands s;
+  s.flatten = AddFlatten(app, x);
+  s.map = AddMap(app, x);
+  s.deform = AddDeform(app, x);
+  s.upload = AddUpload(app, x);
+  s.batch = AddBatch(app, x);
+  s.animate = AddAnimate(app, x);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ExtrasError& e) {
@@ -176,19 +246,5 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
   }
-  if (app.got_subcommand("info")) return RunInfo(c);
-  if (app.got_subcommand("health")) return RunHealth(c);
-  if (flatten->parsed()) return RunFlatten(c, surface_file, svg_path, json_output);
-  if (map->parsed()) return RunMap(c, map_id, map_request, map_out);
-  if (deform->parsed()) {
-    if (mesh_path.empty() == d.model_id.empty()) {
-      std::fprintf(stderr, "surfdeform deform: give a mesh file or --model-id ID\n");
-      return kExitUsage;
-    }
-    return RunDeform(c, d, mesh_path, out_path);
-  }
-  if (upload->parsed()) return RunUpload(c, upload_path, upload_json);
-  if (animate->parsed()) return RunAnimate(c, d, a, animate_mesh, animate_out);
-  if (batch->parsed()) return RunBatch(c, d, inputs, out_dir, extension, jobs, force);
-  return kExitUsage;
+  return Run(app, s, x);
 }

@@ -72,16 +72,9 @@
 #include "engine/mesh.hpp"
 #include "engine/sheet_footprint.hpp"
 #include "engine/sheet_map.hpp"
+#include "engine/subdivision_mode.hpp"
 
 namespace surfdeform {
-
-enum class SubdivisionMode { kOff, kAdaptive, kUniform };
-inline constexpr EnumEntry<SubdivisionMode> kSubdivisionModes[] = {
-    {SubdivisionMode::kOff, "off", "no refinement: the input's vertex order and count kept"},
-    {SubdivisionMode::kAdaptive, "adaptive",
-     "the paper's grid points where the surface bends, refined to the tolerance"},
-    {SubdivisionMode::kUniform, "uniform", "every grid point of every large face (the reference)"},
-};
 
 const char* SubdivisionModeName(SubdivisionMode mode);  // "off", "adaptive", "uniform"
 
