@@ -237,154 +237,180 @@ SurfaceSpec SurfaceAtFrame(const AnimationSpec& spec, int frame) {
   return SurfaceAt(spec, KeyNumbers(spec), frame);
 }
 
-Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const SamplingOptions& sampling,
-                                        const FlattenOptions& options,
-                                        const FrameProgress& progress) {
-  const auto t0 = Clock::now();
-  SURFDEFORM_RETURN_IF_ERROR(ValidateAnimation(spec, spec.frames));
-  AnimatedSheets out;
-  out.surfaces.reserve(spec.frames);
-  out.sheets.reserve(spec.frames);
+namespace {
+
+// One animation's flattening: every frame's surface, the distances measured
+// ahead on worker threads, the frames solved in order on the calling thread.
+//
+// Distances. Every kPathAnchorEvery-th frame, the last one and the frames on
+// keys are anchors: measured afresh, keeping the paths they follow. A frame
+// between two anchors is measured along the blend of their paths
+// (FlattenDistancesBetween: no relaxation, about 40% of the work). On Figure
+// 10 bending (animate_bench) the sheets' stress stays within 6e-7 of the
+// frames flattened alone (the bound is 1e-6); anchors 16 frames apart
+// would not keep that. The frames' distances do not depend on one another's
+// sheets, so they are measured ahead, a frame per thread at a time, and
+// solved in order by one Flattener (the factored Laplacian is shared), each
+// frame warm-started from the previous frames' sheets. Which frames are
+// anchors depends on the spec alone, so a frame's sheet does not depend on
+// the thread count.
+//
+// Measuring runs as tasks in the order the solves need them: a frame's
+// distances (an anchor's with its paths, or a frame between along the blend
+// of the anchors around it). Anchors run three segments ahead of the frames
+// between that blend them, so that those rarely wait. `workers - 1` threads
+// take tasks in order; the calling thread solves frame after frame and, while
+// the next frame's distances are not ready, takes tasks too, so no core idles
+// while measuring is left (batches that met at a join kept two cores 1.55
+// busy on average).
+class AnimationFlattening {
+ public:
+  AnimationFlattening(const AnimationSpec& spec, const SamplingOptions& sampling,
+                      const FlattenOptions& options, const FrameProgress& progress)
+      : spec_(spec),
+        sampling_(sampling),
+        options_(options),
+        progress_(progress),
+        t0_(Clock::now()),
+        workers_(std::min(ResolveThreads(options.threads), spec.frames)),
+        frame_threads_(workers_ > 1 ? 1 : options.threads),
+        flattener_(options) {}
+
+  Result<AnimatedSheets> Run() && {
+    SURFDEFORM_RETURN_IF_ERROR(MakeSurfaces());
+    ChooseAnchors();
+    QueueTasks();
+    SURFDEFORM_RETURN_IF_ERROR(MeasureAndSolve());
+    out_.total_ms = MsSince(t0_);
+    return std::move(out_);
+  }
+
+ private:
+  struct Task {
+    int frame;
+    int anchor;   // its index in `anchors_`, or -1 for a frame between
+    int segment;  // a frame between's: from anchors_[segment] to the next
+  };
+  enum class AnchorState : char { kPending, kMeasured, kFailed };
+
   // An error of frame k, prefixed with the frame; a deadline is the
   // animation's (its budget and the time spent on all frames).
-  auto as_frame_error = [&](int k, const Status& s) {
+  Status FrameError(int k, const Status& s) const {
     const std::string message = "frame " + std::to_string(k) + " (time " +
-                                std::to_string(FrameTime(spec, k)) + "): " + s.message();
+                                std::to_string(FrameTime(spec_, k)) + "): " + s.message();
     return s.code() == ErrorCode::kDeadlineExceeded
-               ? Status::DeadlineExceeded(message, "animation", options.time_budget_ms, MsSince(t0))
+               ? Status::DeadlineExceeded(message, "animation", options_.time_budget_ms,
+                                          MsSince(t0_))
                : Status(s.code(), message, s.field());
-  };
-  const std::vector<std::vector<double>> numbers = KeyNumbers(spec);
-  for (int k = 0; k < spec.frames; ++k) {
-    auto surface = MakeSurface(SurfaceAt(spec, numbers, k));
-    if (!surface.ok()) return as_frame_error(k, surface.status());
-    out.surfaces.push_back(std::move(*surface));
   }
+
   // What is left of the budget, for the next step; an error once it is spent.
-  auto budget_left = [&](int done, FlattenOptions* o) -> Status {
-    if (options.time_budget_ms <= 0.0) return Status::Ok();
-    o->time_budget_ms = options.time_budget_ms - MsSince(t0);
+  Status BudgetLeft(int done, FlattenOptions* o) const {
+    if (options_.time_budget_ms <= 0.0) return Status::Ok();
+    o->time_budget_ms = options_.time_budget_ms - MsSince(t0_);
     if (o->time_budget_ms > 0.0) return Status::Ok();
     return Status::DeadlineExceeded(
         "the animation's flattening ran past its time budget of " +
-            std::to_string(static_cast<long long>(options.time_budget_ms)) + " ms after " +
-            std::to_string(done) + " of " + std::to_string(spec.frames) + " frames",
-        "animation", options.time_budget_ms, MsSince(t0));
-  };
-  // Distances. Every kPathAnchorEvery-th frame, the last one and the frames
-  // on keys are anchors: measured afresh, keeping the paths they follow. A
-  // frame between two anchors is measured along the blend of their paths
-  // (FlattenDistancesBetween: no relaxation, about 40% of the work). On
-  // Figure 10 bending (animate_bench) the sheets' stress stays within 6e-7
-  // of the frames flattened alone (the bound is 1e-6); anchors 16
-  // frames apart would not keep that. The frames' distances do not depend on
-  // one another's sheets, so they are measured ahead, a frame per thread at a
-  // time, and solved in order by one Flattener (the factored Laplacian is
-  // shared), each frame warm-started from the previous frames' sheets. Which
-  // frames are anchors depends on the spec alone, so a frame's sheet does not
-  // depend on the thread count.
-  std::vector<int> anchors;
-  for (int k = 0; k < spec.frames; ++k) {
-    if (k % kPathAnchorEvery == 0 || k == spec.frames - 1 || OnKey(spec, k)) anchors.push_back(k);
+            std::to_string(static_cast<long long>(options_.time_budget_ms)) + " ms after " +
+            std::to_string(done) + " of " + std::to_string(spec_.frames) + " frames",
+        "animation", options_.time_budget_ms, MsSince(t0_));
   }
-  const int workers = std::min(ResolveThreads(options.threads), spec.frames);
-  const int frame_threads = workers > 1 ? 1 : options.threads;
-  Flattener flattener(options);
-  auto solve = [&](int k, Result<MeasuredGrid>& d, double distance_ms) -> Status {
-    if (!d.ok()) return as_frame_error(k, d.status());
-    FlattenOptions o = options;
-    SURFDEFORM_RETURN_IF_ERROR(budget_left(k, &o));
-    flattener.set_options(o);
-    // A frame on a key starts cold, as the key alone would: its sheet is
-    // then bit for bit the static surface's (deformations of the keys
-    // match POST /v1/deform on them exactly).
-    const FlatSheet* warm = k > 0 && !OnKey(spec, k) ? &out.sheets.back() : nullptr;
-    // The start is the last sheets carried on, by the polynomial through up
-    // to three of them (3 X[k-1] - 3 X[k-2] + X[k-3]): the sheet moves
-    // smoothly, so the start is off by O(dt^3) instead of O(dt), and the
-    // solve takes fewer iterations (Figure 10 bending: 5.2 instead of 11.9).
-    FlatSheet carried;
-    if (warm != nullptr) {
-      static constexpr double kCarry[3][3] = {{1, 0, 0}, {2, -1, 0}, {3, -3, 1}};
-      int history = 1;
-      while (history < 3 && out.sheets.size() > static_cast<size_t>(history) &&
-             out.sheets[out.sheets.size() - 1 - history].flat.size() == warm->flat.size()) {
-        ++history;
-      }
-      if (history > 1) {
-        const double* c = kCarry[history - 1];
-        carried.nu = warm->nu;
-        carried.nv = warm->nv;
-        carried.flat.assign(warm->flat.size(), Vec2::Zero());
-        for (int h = 0; h < history; ++h) {
-          const std::vector<Vec2>& x = out.sheets[out.sheets.size() - 1 - h].flat;
-          for (size_t i = 0; i < x.size(); ++i) carried.flat[i] += c[h] * x[i];
-        }
-        warm = &carried;
+
+  Status MakeSurfaces() {
+    out_.surfaces.reserve(spec_.frames);
+    out_.sheets.reserve(spec_.frames);
+    const std::vector<std::vector<double>> numbers = KeyNumbers(spec_);
+    for (int k = 0; k < spec_.frames; ++k) {
+      auto surface = MakeSurface(SurfaceAt(spec_, numbers, k));
+      if (!surface.ok()) return FrameError(k, surface.status());
+      out_.surfaces.push_back(std::move(*surface));
+    }
+    return Status::Ok();
+  }
+
+  void ChooseAnchors() {
+    for (int k = 0; k < spec_.frames; ++k) {
+      if (k % kPathAnchorEvery == 0 || k == spec_.frames - 1 || OnKey(spec_, k)) {
+        anchors_.push_back(k);
       }
     }
+    anchor_count_ = static_cast<int>(anchors_.size());
+    paths_.resize(anchor_count_);
+    anchor_state_.assign(anchor_count_, AnchorState::kPending);
+    measured_.assign(spec_.frames, NotComputed());
+    measure_ms_.assign(spec_.frames, 0.0);
+    ready_.assign(spec_.frames, 0);
+  }
+
+  // The tasks, in the order the solves need them: anchors three segments
+  // ahead of the frames between them.
+  void QueueTasks() {
+    tasks_.reserve(spec_.frames);
+    int queued_anchors = 0;
+    auto queue_anchors_to = [&](int last) {
+      for (; queued_anchors <= std::min(last, anchor_count_ - 1); ++queued_anchors) {
+        tasks_.push_back({anchors_[queued_anchors], queued_anchors, -1});
+      }
+    };
+    const int segments = anchor_count_ - 1;
+    for (int s = 0; s < segments; ++s) {
+      queue_anchors_to(s + 3);
+      for (int k = anchors_[s] + 1; k < anchors_[s + 1]; ++k) tasks_.push_back({k, -1, s});
+    }
+    queue_anchors_to(anchor_count_ - 1);
+  }
+
+  // The start of frame k's solve: none on a key, which starts cold as the
+  // key alone would (its sheet is then bit for bit the static surface's:
+  // deformations of the keys match POST /v1/deform on them exactly); else
+  // the last sheets carried on by the polynomial through up to three of them
+  // (3 X[k-1] - 3 X[k-2] + X[k-3]): the sheet moves smoothly, so the start
+  // is off by O(dt^3) instead of O(dt), and the solve takes fewer iterations
+  // (Figure 10 bending: 5.2 instead of 11.9).
+  const FlatSheet* WarmStart(int k, FlatSheet* carried) const {
+    const FlatSheet* warm = k > 0 && !OnKey(spec_, k) ? &out_.sheets.back() : nullptr;
+    if (warm == nullptr) return nullptr;
+    static constexpr double kCarry[3][3] = {{1, 0, 0}, {2, -1, 0}, {3, -3, 1}};
+    int history = 1;
+    while (history < 3 && out_.sheets.size() > static_cast<size_t>(history) &&
+           out_.sheets[out_.sheets.size() - 1 - history].flat.size() == warm->flat.size()) {
+      ++history;
+    }
+    if (history == 1) return warm;
+    const double* c = kCarry[history - 1];
+    carried->nu = warm->nu;
+    carried->nv = warm->nv;
+    carried->flat.assign(warm->flat.size(), Vec2::Zero());
+    for (int h = 0; h < history; ++h) {
+      const std::vector<Vec2>& x = out_.sheets[out_.sheets.size() - 1 - h].flat;
+      for (size_t i = 0; i < x.size(); ++i) carried->flat[i] += c[h] * x[i];
+    }
+    return carried;
+  }
+
+  Status Solve(int k, Result<MeasuredGrid>& d, double distance_ms) {
+    if (!d.ok()) return FrameError(k, d.status());
+    FlattenOptions o = options_;
+    SURFDEFORM_RETURN_IF_ERROR(BudgetLeft(k, &o));
+    flattener_.set_options(o);
+    FlatSheet carried;
+    const FlatSheet* warm = WarmStart(k, &carried);
     const int reused = d->distances.reused_paths;
-    auto sheet = flattener.Flatten(*out.surfaces[k], warm, std::move(*d));
-    if (!sheet.ok()) return as_frame_error(k, sheet.status());
+    auto sheet = flattener_.Flatten(*out_.surfaces[k], warm, std::move(*d));
+    if (!sheet.ok()) return FrameError(k, sheet.status());
     FrameFlattening f;
-    f.time = FrameTime(spec, k);
+    f.time = FrameTime(spec_, k);
     f.warm = warm != nullptr;
     f.quality = sheet->quality;
     f.reused_paths = reused;
     // Measured ahead, on whichever thread took the frame.
     f.quality.distance_ms = distance_ms;
     f.quality.total_ms += f.quality.distance_ms;
-    out.frames.push_back(f);
-    out.sheets.push_back(std::move(*sheet));
-    if (progress) progress(k, spec.frames);
+    out_.frames.push_back(f);
+    out_.sheets.push_back(std::move(*sheet));
+    if (progress_) progress_(k, spec_.frames);
     return Status::Ok();
-  };
-  // Measuring, as tasks in the order the solves need them: a frame's
-  // distances (an anchor's with its paths, or a frame between along the
-  // blend of the anchors around it). Anchors run three segments ahead of the
-  // frames between that blend them, so that those rarely wait. `workers - 1`
-  // threads take tasks in order; the calling thread solves frame after frame
-  // and, while the next frame's distances are not ready, takes tasks too, so
-  // no core idles while measuring is left (batches that met at a join kept
-  // two cores 1.55 busy on average).
-  const int anchor_count = static_cast<int>(anchors.size());
-  const int segments = anchor_count - 1;
-  struct Task {
-    int frame;
-    int anchor;   // its index in `anchors`, or -1 for a frame between
-    int segment;  // a frame between's: from anchors[segment] to the next
-  };
-  std::vector<Task> tasks;
-  tasks.reserve(spec.frames);
-  int queued_anchors = 0;
-  auto queue_anchors_to = [&](int last) {
-    for (; queued_anchors <= std::min(last, anchor_count - 1); ++queued_anchors) {
-      tasks.push_back({anchors[queued_anchors], queued_anchors, -1});
-    }
-  };
-  for (int s = 0; s < segments; ++s) {
-    queue_anchors_to(s + 3);
-    for (int k = anchors[s] + 1; k < anchors[s + 1]; ++k) tasks.push_back({k, -1, s});
   }
-  queue_anchors_to(anchor_count - 1);
-
-  enum class AnchorState : char { kPending, kMeasured, kFailed };
-  std::vector<DistancePaths> paths(anchor_count);  // dropped once no frame left needs them
-  std::vector<AnchorState> anchor_state(anchor_count, AnchorState::kPending);
-  std::vector<Result<MeasuredGrid>> measured(spec.frames, NotComputed());
-  std::vector<double> measure_ms(spec.frames, 0.0);
-  std::vector<char> ready(spec.frames, 0);
-  // Guards the task cursor, anchor_state, ready, `solved` and `stop`; a
-  // slot of `measured` and `paths` belongs to the task that fills it until
-  // it is marked ready (or measured) under the lock.
-  std::mutex mu;
-  std::condition_variable changed;
-  size_t next_task = 0;
-  int solved = 0;
-  bool stop = false;
-  // Measurers stay this many frames ahead of the solves at most (memory):
-  // room for the anchors three segments ahead and a segment per thread.
-  const int lookahead = (4 + workers) * kPathAnchorEvery;
 
   // The frame between's blends: the paths' parameters interpolated
   // (Lagrange) through the anchors around the frame, up to two on each side,
@@ -392,125 +418,168 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
   // between the two on either side. At least three anchors: with a straight
   // line through two, Figure 10 bending over 8 frames flattened to a stress
   // up to 1.2e-5 off the frames' own; such a frame is measured afresh.
-  auto measure_between = [&](int k, int s, const FlattenOptions& o) -> Result<MeasuredGrid> {
-    auto anchor_ok = [&](int i) { return anchor_state[i] == AnchorState::kMeasured; };
+  Result<MeasuredGrid> MeasureBetween(int k, int s, const FlattenOptions& o) {
+    auto anchor_ok = [&](int i) { return anchor_state_[i] == AnchorState::kMeasured; };
     {
       // Anchors come earlier in the task order: whoever took them is
       // measuring them now.
-      std::unique_lock lock(mu);
-      changed.wait(lock, [&] {
-        if (stop) return true;
-        for (int a = std::max(0, s - 1); a <= std::min(anchor_count - 1, s + 2); ++a) {
-          if (anchor_state[a] == AnchorState::kPending) return false;
+      std::unique_lock lock(mu_);
+      changed_.wait(lock, [&] {
+        if (stop_) return true;
+        for (int a = std::max(0, s - 1); a <= std::min(anchor_count_ - 1, s + 2); ++a) {
+          if (anchor_state_[a] == AnchorState::kPending) return false;
         }
         return true;
       });
       // Nothing reads the result once the solves have stopped.
-      if (stop) return Status(ErrorCode::kInternal, "the animation's flattening stopped");
+      if (stop_) return Status(ErrorCode::kInternal, "the animation's flattening stopped");
     }
     const int lo = s > 0 && anchor_ok(s - 1) ? s - 1 : s;
-    const int hi = s + 2 < anchor_count && anchor_ok(s + 2) ? s + 2 : s + 1;
+    const int hi = s + 2 < anchor_count_ && anchor_ok(s + 2) ? s + 2 : s + 1;
     if (!anchor_ok(s) || !anchor_ok(s + 1) || hi - lo < 2) {
-      return FlattenDistances(*out.surfaces[k], sampling, o, frame_threads);
+      return FlattenDistances(*out_.surfaces[k], sampling_, o, frame_threads_);
     }
     WeightedPaths around[4];
     int n = 0;
     for (int m = lo; m <= hi; ++m) {
       double w = 1.0;
       for (int j = lo; j <= hi; ++j) {
-        if (j != m) w *= static_cast<double>(k - anchors[j]) / (anchors[m] - anchors[j]);
+        if (j != m) w *= static_cast<double>(k - anchors_[j]) / (anchors_[m] - anchors_[j]);
       }
-      around[n++] = {&paths[m], w};
+      around[n++] = {&paths_[m], w};
     }
-    const double t = static_cast<double>(k - anchors[s]) / (anchors[s + 1] - anchors[s]);
-    const WeightedPaths linear[] = {{&paths[s], 1.0 - t}, {&paths[s + 1], t}};
+    const double t = static_cast<double>(k - anchors_[s]) / (anchors_[s + 1] - anchors_[s]);
+    const WeightedPaths linear[] = {{&paths_[s], 1.0 - t}, {&paths_[s + 1], t}};
     const PathBlend blends[] = {PathBlend(around, n), PathBlend(linear)};
-    return FlattenDistancesBetween(*out.surfaces[k], sampling, o, blends, frame_threads);
-  };
+    return FlattenDistancesBetween(*out_.surfaces[k], sampling_, o, blends, frame_threads_);
+  }
+
   // Runs one task (the lock not held) and publishes its result.
-  auto run = [&](const Task& task) {
+  void RunTask(const Task& task) {
     const auto started = Clock::now();
-    FlattenOptions o = options;
-    const Status budget = budget_left(task.frame, &o);
+    FlattenOptions o = options_;
+    const Status budget = BudgetLeft(task.frame, &o);
     Result<MeasuredGrid> r = !budget.ok() ? Result<MeasuredGrid>(budget)
                              : task.anchor >= 0
-                                 ? FlattenDistances(*out.surfaces[task.frame], sampling, o,
-                                                    frame_threads, &paths[task.anchor])
-                                 : measure_between(task.frame, task.segment, o);
+                                 ? FlattenDistances(*out_.surfaces[task.frame], sampling_, o,
+                                                    frame_threads_, &paths_[task.anchor])
+                                 : MeasureBetween(task.frame, task.segment, o);
     const double ms = MsSince(started);
-    std::lock_guard lock(mu);
+    std::lock_guard lock(mu_);
     if (task.anchor >= 0) {
-      anchor_state[task.anchor] = r.ok() ? AnchorState::kMeasured : AnchorState::kFailed;
+      anchor_state_[task.anchor] = r.ok() ? AnchorState::kMeasured : AnchorState::kFailed;
     }
-    measured[task.frame] = std::move(r);
-    measure_ms[task.frame] = ms;
-    ready[task.frame] = 1;
-    changed.notify_all();
-  };
+    measured_[task.frame] = std::move(r);
+    measure_ms_[task.frame] = ms;
+    ready_[task.frame] = 1;
+    changed_.notify_all();
+  }
+
   // The next task for a measurer (none once all are taken or on stop).
-  auto take = [&](std::unique_lock<std::mutex>& lock, bool solver) -> const Task* {
+  // Measurers stay this many frames ahead of the solves at most (memory):
+  // room for the anchors three segments ahead and a segment per thread.
+  const Task* Take(std::unique_lock<std::mutex>& lock, bool solver) {
+    const int lookahead = (4 + workers_) * kPathAnchorEvery;
     if (!solver) {
-      changed.wait(lock, [&] {
-        return stop || next_task >= tasks.size() || tasks[next_task].frame <= solved + lookahead;
+      changed_.wait(lock, [&] {
+        return stop_ || next_task_ >= tasks_.size() ||
+               tasks_[next_task_].frame <= solved_ + lookahead;
       });
     }
-    if (stop || next_task >= tasks.size()) return nullptr;
-    return &tasks[next_task++];
-  };
+    if (stop_ || next_task_ >= tasks_.size()) return nullptr;
+    return &tasks_[next_task_++];
+  }
+
   // The measurers, stopped and joined however the solves end.
   struct Measurers {
-    std::mutex& mu;
-    std::condition_variable& changed;
-    bool& stop;
+    AnimationFlattening& a;
     std::vector<std::thread> threads;
     ~Measurers() {
       {
-        std::lock_guard lock(mu);
-        stop = true;
+        std::lock_guard lock(a.mu_);
+        a.stop_ = true;
       }
-      changed.notify_all();
+      a.changed_.notify_all();
       for (std::thread& t : threads) t.join();
     }
-  } measurers{mu, changed, stop, {}};
-  for (int w = 0; w + 1 < workers; ++w) {
-    measurers.threads.emplace_back([&] {
-      for (;;) {
-        std::unique_lock lock(mu);
-        const Task* task = take(lock, false);
-        if (task == nullptr) return;
-        lock.unlock();
-        run(*task);
-      }
-    });
-    parallel_detail::StartOffCallerCpu(measurers.threads.back(), w);
-  }
+  };
+
   // The solves, in order; between them this thread measures as well.
-  for (int k = 0; k < spec.frames; ++k) {
-    std::unique_lock lock(mu);
-    while (!ready[k]) {
-      const Task* task = take(lock, true);
-      if (task == nullptr) {
-        changed.wait(lock, [&] { return ready[k] != 0; });
-        break;
+  Status MeasureAndSolve() {
+    Measurers measurers{*this, {}};
+    for (int w = 0; w + 1 < workers_; ++w) {
+      measurers.threads.emplace_back([this] {
+        for (;;) {
+          std::unique_lock lock(mu_);
+          const Task* task = Take(lock, false);
+          if (task == nullptr) return;
+          lock.unlock();
+          RunTask(*task);
+        }
+      });
+      parallel_detail::StartOffCallerCpu(measurers.threads.back(), w);
+    }
+    for (int k = 0; k < spec_.frames; ++k) {
+      std::unique_lock lock(mu_);
+      while (!ready_[k]) {
+        const Task* task = Take(lock, true);
+        if (task == nullptr) {
+          changed_.wait(lock, [&] { return ready_[k] != 0; });
+          break;
+        }
+        lock.unlock();
+        RunTask(*task);
+        lock.lock();
       }
       lock.unlock();
-      run(*task);
+      SURFDEFORM_RETURN_IF_ERROR(Solve(k, measured_[k], measure_ms_[k]));
+      // Anchor a serves the frames between of segments a - 2 to a + 1: all
+      // measured once frame anchors[a + 2] is solved, so no task reads its
+      // paths any more (freed outside the lock).
+      for (int a = 0; a + 2 < anchor_count_; ++a) {
+        if (anchors_[a + 2] == k) paths_[a] = DistancePaths{};
+      }
       lock.lock();
+      solved_ = k + 1;
+      changed_.notify_all();
     }
-    lock.unlock();
-    SURFDEFORM_RETURN_IF_ERROR(solve(k, measured[k], measure_ms[k]));
-    // Anchor a serves the frames between of segments a - 2 to a + 1: all
-    // measured once frame anchors[a + 2] is solved, so no task reads its
-    // paths any more (freed outside the lock).
-    for (int a = 0; a + 2 < anchor_count; ++a) {
-      if (anchors[a + 2] == k) paths[a] = DistancePaths{};
-    }
-    lock.lock();
-    solved = k + 1;
-    changed.notify_all();
+    return Status::Ok();
   }
-  out.total_ms = MsSince(t0);
-  return out;
+
+  const AnimationSpec& spec_;
+  const SamplingOptions& sampling_;
+  const FlattenOptions& options_;
+  const FrameProgress& progress_;
+  const Clock::time_point t0_;
+  const int workers_;
+  const int frame_threads_;
+  Flattener flattener_;
+  AnimatedSheets out_;
+  std::vector<int> anchors_;
+  int anchor_count_ = 0;
+  std::vector<Task> tasks_;
+  std::vector<DistancePaths> paths_;  // dropped once no frame left needs them
+  std::vector<AnchorState> anchor_state_;
+  std::vector<Result<MeasuredGrid>> measured_;
+  std::vector<double> measure_ms_;
+  std::vector<char> ready_;
+  // Guards the task cursor, anchor_state_, ready_, solved_ and stop_; a slot
+  // of measured_ and paths_ belongs to the task that fills it until it is
+  // marked ready (or measured) under the lock.
+  std::mutex mu_;
+  std::condition_variable changed_;
+  size_t next_task_ = 0;
+  int solved_ = 0;
+  bool stop_ = false;
+};
+
+}  // namespace
+
+Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const SamplingOptions& sampling,
+                                        const FlattenOptions& options,
+                                        const FrameProgress& progress) {
+  SURFDEFORM_RETURN_IF_ERROR(ValidateAnimation(spec, spec.frames));
+  return AnimationFlattening(spec, sampling, options, progress).Run();
 }
 
 }  // namespace surfdeform
