@@ -1,6 +1,6 @@
 #include "proto/json_object.hpp"
 
-#include "meshio/json_depth.hpp"
+#include "base/json_depth.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,3 +1,6 @@
+// Just over ~600 lines: the single deformation (Deform) and the animation's
+// (PrepareModel, DeformPrepared) share the placement, the map and the report
+// that live here unexported.
 #include "engine/deform.hpp"
 
 #include <atomic>

@@ -1,3 +1,8 @@
+// Over ~600 lines: the cold measurement, the blend between anchors' paths
+// and the refollowing of an edit's paths share one lattice, one path
+// relaxation (Gauss-Newton on the lattice's Taylor surrogate) and one
+// per-thread state, which live here unexported; split, they would need an
+// internal header carrying all of them.
 #include "engine/surface_distance.hpp"
 
 #include "engine/elapsed.hpp"

@@ -11,12 +11,12 @@
 #include <unordered_set>
 
 #include "base/format.hpp"
+#include "base/json_depth.hpp"
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
 #include "meshio/gltf_look.hpp"
 #include "meshio/gltf_schema.hpp"
 #include "meshio/importers.hpp"
-#include "meshio/json_depth.hpp"
 
 namespace surfdeform::meshio {
 namespace {

@@ -1,3 +1,6 @@
+// Over ~600 lines: one Service::Impl, the short sequence of calls each route
+// makes into the rooms (surface_store, request_work, replies, limit_checks,
+// placement_memo, answer_cache), which share its state.
 #include "service/service.hpp"
 
 #include <chrono>

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "meshio/json_depth.hpp"
+#include "base/json_depth.hpp"
 #include "proto/json_object.hpp"
 
 namespace surfdeform::proto {

@@ -1,4 +1,4 @@
-#include "meshio/json_depth.hpp"
+#include "base/json_depth.hpp"
 
 #include <algorithm>
 
