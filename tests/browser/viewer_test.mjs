@@ -203,6 +203,12 @@ try {
       check(p && p.relative < 1e-3,
             `the preview was within 1e-3 of the sheet's diagonal of the exact result (${p && p.relative.toExponential(2)})`);
       check(/preview vs exact/.test(await text('#timings')), 'the page shows how far the preview was');
+      // Settled, nothing changes: no frame is drawn (software WebGL's frames
+      // would hold every reply).
+      const f0 = await viewer(() => window.surfdeformViewer.framesDrawn());
+      await sleep(500);
+      const f1 = await viewer(() => window.surfdeformViewer.framesDrawn());
+      check(f0 > 0 && f1 === f0, `a settled page draws no frames (${f1 - f0} in 0.5 s, ${f0} before)`);
     }
   }
   {

@@ -76,17 +76,38 @@ export class ModelView {
     this.mixer = null;  // an animation's AnimationMixer, when one plays
     this.clock = new THREE.Clock();
     this.rendered = [];  // the times of the last frames drawn, for the achieved fps
+    this.drawn = 0;      // frames drawn since the page opened
+    // A frame is drawn only when something shown changed (every method below
+    // that changes the scene, the camera, a playing animation, the preview's
+    // uniforms) or the view was resized. With software WebGL a frame holds
+    // the page for ~70 ms; drawn at every display frame while nothing moved,
+    // it made every reply's await wait for one (release to exact: the
+    // server's 14 ms took ~290 ms to reach the page).
+    this.dirty = true;
+    this.controls.addEventListener('change', () => this.invalidate());
     this.renderer.setAnimationLoop(() => {
       const dt = this.clock.getDelta();
-      if (this.mixer) this.mixer.update(dt);
+      if (this.mixer) {
+        this.mixer.update(dt);
+        this.dirty = true;
+      }
       this.controls.update();
+      if (!this.dirty) return;
+      this.dirty = false;
       this.renderer.render(this.scene, this.camera);
+      ++this.drawn;
       this.rendered.push(performance.now());
       if (this.rendered.length > 60) this.rendered.shift();
     });
   }
 
+  // Something shown changed: draw at the next display frame.
+  invalidate() {
+    this.dirty = true;
+  }
+
   resize() {
+    this.invalidate();
     const w = this.container.clientWidth || 480;
     const h = this.container.clientHeight || Math.round((w * 3) / 4);
     this.renderer.setSize(w, h);
@@ -110,6 +131,7 @@ export class ModelView {
   // The surface as triangles: points [x, y, z] and a flat index list (a
   // surface given as a mesh is drawn as its own triangles).
   setSurfaceMesh(points, index) {
+    this.invalidate();
     if (this.surface) this.scene.remove(this.surface);
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.Float32BufferAttribute(points.flat(), 3));
@@ -134,12 +156,14 @@ export class ModelView {
   // The live preview's mesh (preview.js): added once, shown in place of the
   // exact model while the person edits.
   setPreview(mesh) {
+    this.invalidate();
     this.preview = mesh;
     mesh.visible = false;
     this.scene.add(mesh);
   }
 
   showPreview(on) {
+    this.invalidate();
     if (!this.preview) return;
     this.preview.visible = on;
     if (this.model) this.model.visible = !on;
@@ -148,6 +172,7 @@ export class ModelView {
   // Marks on the surface: polylines of {point, normal}, drawn a hair above
   // it (along the normal) so that the surface does not hide them.
   setMarks(polylines) {
+    this.invalidate();
     this.marks.clear();
     if (!this.surface) return;
     const size = new THREE.Box3().setFromObject(this.surface).getSize(new THREE.Vector3()).length();
@@ -165,6 +190,7 @@ export class ModelView {
 
   // Bezier control points as draggable handles (an empty list hides them).
   setControlPoints(points) {
+    this.invalidate();
     this.handles.clear();
     if (!points.length) return;
     const box = new THREE.Box3().setFromArray(points.flat());
@@ -182,6 +208,7 @@ export class ModelView {
   // The deformed model (a three.js object from the GLB the server sent);
   // with distortion, coloured by its _DISTORTION attribute.
   setModel(object, { distortion = false, mixer = null } = {}) {
+    this.invalidate();
     if (this.model) this.scene.remove(this.model);
     this.model = object;
     if (this.preview) this.preview.visible = false;  // the exact result replaces the preview
@@ -245,7 +272,7 @@ export class ModelView {
       const relative = o.geometry.morphTargetsRelative;
       for (let k = 0; k < pos.count; ++k) {
         v.fromBufferAttribute(pos, k);
-        const base = v.clone();
+        const base = targets.length ? v.clone() : v;
         targets.forEach((t, j) => {
           const w = weights[j] || 0;
           if (!w) return;
@@ -260,6 +287,7 @@ export class ModelView {
   }
 
   frame(object) {
+    this.invalidate();
     const sphere = new THREE.Box3().setFromObject(object).getBoundingSphere(new THREE.Sphere());
     if (!isFinite(sphere.radius) || sphere.radius === 0) return;
     this.controls.target.copy(sphere.center);
@@ -298,6 +326,7 @@ export class ModelView {
     } else {  // up and down
       h.position.z = this.drag.z + ((this.drag.y - e.clientY) / 200) * this.drag.size * 0.25;
     }
+    this.invalidate();
     this.onControlPoint(h.userData.index, h.position.toArray(), false);
   }
 

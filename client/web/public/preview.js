@@ -110,26 +110,32 @@ export function previewPositions(positions, frame, placement, field, period = nu
 // was from the exact result, whose vertices include the model's own (the
 // subdivision adds, never moves). A uniform grid of cell `cell` finds them.
 export function nearestDistances(from, to, cell, samples = 4000) {
+  // Cells by a number made of their indices, unique while each is within
+  // 2^16 cells of the origin (points farther only add candidates, each
+  // measured).
   const grid = new Map();
-  const key = (x, y, z) => `${Math.floor(x / cell)},${Math.floor(y / cell)},${Math.floor(z / cell)}`;
+  const key = (i, j, l) => (i + 65536) + 131072 * ((j + 65536) + 131072 * (l + 65536));
   for (let k = 0; k < to.length; k += 3) {
-    const id = key(to[k], to[k + 1], to[k + 2]);
-    if (!grid.has(id)) grid.set(id, []);
-    grid.get(id).push(k);
+    const id = key(Math.floor(to[k] / cell), Math.floor(to[k + 1] / cell), Math.floor(to[k + 2] / cell));
+    const list = grid.get(id);
+    if (list) list.push(k);
+    else grid.set(id, [k]);
   }
   const count = from.length / 3, stride = Math.max(1, Math.floor(count / samples));
   let worst = 0, sum = 0, n = 0;
   for (let v = 0; v < count; v += stride) {
     const x = from[3 * v], y = from[3 * v + 1], z = from[3 * v + 2];
-    let best = Infinity;
-    for (let ring = 1; ring <= 4 && best === Infinity; ++ring) {
-      const [cx, cy, cz] = [x, y, z].map((c) => Math.floor(c / cell));
+    const cx = Math.floor(x / cell), cy = Math.floor(y / cell), cz = Math.floor(z / cell);
+    let best2 = Infinity;
+    for (let ring = 1; ring <= 4 && best2 === Infinity; ++ring) {
       for (let i = -ring; i <= ring; ++i) for (let j = -ring; j <= ring; ++j) for (let l = -ring; l <= ring; ++l) {
-        for (const k of grid.get(`${cx + i},${cy + j},${cz + l}`) || []) {
-          best = Math.min(best, Math.hypot(to[k] - x, to[k + 1] - y, to[k + 2] - z));
+        for (const k of grid.get(key(cx + i, cy + j, cz + l)) || []) {
+          const dx = to[k] - x, dy = to[k + 1] - y, dz = to[k + 2] - z;
+          best2 = Math.min(best2, dx * dx + dy * dy + dz * dz);
         }
       }
     }
+    const best = Math.sqrt(best2);
     worst = Math.max(worst, best);
     sum += best;
     ++n;
@@ -243,6 +249,7 @@ export class FieldPreview {
     this.period = null;
     this.periodV = null;
     this.rotation = null;
+    this.onChange = () => {};  // what is drawn changed (the view draws a frame)
   }
 
   // The sheet's period when it repeats by a translation (a whole cylinder,
@@ -269,6 +276,7 @@ export class FieldPreview {
     this.uniforms.sdRotAngle.value = this.rotation ? this.rotation.angle : 0;
     this.uniforms.sdRotCentre.value.set(...(this.rotation ? this.rotation.centre : [0, 0]));
     this.uniforms.sdRotStart.value = this.rotation ? this.rotation.start : 0;
+    this.onChange();
   }
 
   // The field as GET /v1/surfaces/{id}/field returns it in JSON.
@@ -288,11 +296,13 @@ export class FieldPreview {
     this.uniforms.sdHi.value.set(...field.bounds[1]);
     this.uniforms.sdN.value = n;
     this.field = field;
+    this.onChange();
   }
 
   // The model as the browser read it (positions and normals, model space).
   setGeometry(geometry) {
     this.mesh.geometry = geometry || new THREE.BufferGeometry();
+    this.onChange();
   }
 
   // placementFrame()'s result and the placement {center, rotation_deg, scale}.
@@ -307,6 +317,7 @@ export class FieldPreview {
     this.uniforms.sdTarget.value.set(...placement.center);
     this.frame = frame;
     this.placement = { ...placement, center: [...placement.center] };
+    this.onChange();
   }
 
   // Whether there is everything a preview needs.
