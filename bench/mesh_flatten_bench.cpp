@@ -8,7 +8,9 @@
 // stress on our terms (pairs within 3 rings), folded triangles, the ratios,
 // and for the cylinder each layout's largest distance from the exact
 // development after the best rigid motion, against the tessellation's own
-// error (the largest chord's shortfall from its arc).
+// error (the largest chord's shortfall from its arc). With --animate N: an
+// animation whose keyframes are meshes (the half cylinder bending), its
+// frames flattened warm one after another against each frame alone.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
@@ -18,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/animation.hpp"
 #include "engine/disk_mesh.hpp"
 #include "engine/mesh_flatten.hpp"
 #include "engine/surface_spec.hpp"
@@ -115,17 +118,79 @@ void Print(const Row& r, const Row& ours) {
   std::printf("%s%s\n", r.note.empty() ? "" : "  ", r.note.c_str());
 }
 
+// A keyframe of kind "mesh" with its mesh resolved, as the service does.
+Keyframe MeshKey(double time, const Triangulation& m) {
+  MeshSpec spec;
+  spec.model_id = std::to_string(time);
+  spec.disk = std::make_shared<const DiskMesh>(*MakeDiskMesh(m.positions, m.triangles));
+  return {time, spec};
+}
+
+// An animation whose keys are meshes: the half cylinder bending to radius 1.5
+// (its arcs as long), `frames` frames, flattened as POST /v1/animate does
+// (frame after frame, warm), and each frame's mesh flattened alone (cold,
+// as a client deforming along each frame's mesh would) in the same run.
+int AnimateMeshes(const std::vector<int>& sizes, int frames) {
+  for (int c : sizes) {
+    auto bent = [](double radius) {
+      return [radius](double s, double t) -> Vec3 {
+        const double a = std::numbers::pi * s / radius;
+        return Vec3(radius * std::cos(a), radius * std::sin(a), 2.0 * t);
+      };
+    };
+    const Triangulation first = Irregular(c, 1, bent(1.0)), last = Irregular(c, 1, bent(1.5));
+    AnimationSpec spec;
+    spec.keyframes = {MeshKey(0, first), MeshKey(1, last)};
+    spec.interpolation = Interpolation::kLinear;
+    spec.frames = frames;
+    const auto t0 = Clock::now();
+    auto sheets = FlattenAnimation(spec, {32, 32}, FlattenOptions{});
+    const double all_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (!sheets.ok()) {
+      std::printf("animation: %s\n", sheets.status().ToString().c_str());
+      return 1;
+    }
+    std::vector<double> warm_ms, cold_ms;
+    double warm_iterations = 0, cold_iterations = 0, worst = 0.0;
+    for (int k = 1; k < frames; ++k) {
+      const FlatMesh& warm = *sheets->surfaces[k]->flat_mesh();
+      warm_ms.push_back(sheets->frames[k].quality.total_ms);
+      warm_iterations += sheets->frames[k].quality.iterations;
+      const auto tc = Clock::now();
+      auto cold = FlattenMesh(warm.mesh, FlattenOptions{});
+      cold_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - tc).count());
+      if (!cold.ok()) return 1;
+      cold_iterations += cold->quality.iterations;
+      worst = std::max(worst,
+                       std::abs(warm.quality.stress - cold->quality.stress) / cold->quality.stress);
+    }
+    const double warm = bench::Median(warm_ms), cold = bench::Median(cold_ms);
+    std::printf(
+        "mesh animation, %zu vertices, %d frames: %.0f ms in all (%.1f ms a frame with its "
+        "sheet); a frame's flattening warm %.1f ms (%.1f iterations), alone %.1f ms (%.1f "
+        "iterations): %.2fx; stress within %.1e (relative) of each frame's alone\n",
+        first.positions.size(), frames, all_ms, all_ms / frames, warm,
+        warm_iterations / (frames - 1), cold, cold_iterations / (frames - 1), cold / warm, worst);
+  }
+  return 0;
+}
+
 int Run(int argc, char** argv) {
   CLI::App app("Surfaces given as meshes: FlattenMesh against CGAL's ARAP and LSCM");
   std::vector<int> sizes = {5000, 50000};
   int repeat = 1;
   int sources = 20;
+  int animate = 0;
   app.add_option("--vertices", sizes, "vertices of each triangulation");
   app.add_option("--repeat", repeat, "runs per method (the median is printed)");
   app.add_option("--geodesic-sources", sources,
                  "sources whose pair distances are checked against exact geodesics (meshes of "
                  "at most 10k vertices; 0: none)");
+  app.add_option("--animate", animate,
+                 "instead: an animation of this many frames whose keyframes are meshes (the "
+                 "half cylinder bending), warm frame after frame against each frame alone");
   CLI11_PARSE(app, argc, argv);
+  if (animate > 1) return AnimateMeshes(sizes, animate);
 
   auto figure10 = MakeSurface(testing::LoadBezierFile(testing::DataPath("figure10.json")));
   if (!figure10.ok()) return 1;

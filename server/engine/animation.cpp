@@ -9,7 +9,9 @@
 #include <type_traits>
 
 #include "base/format.hpp"
+#include "engine/disk_mesh.hpp"
 #include "engine/elapsed.hpp"
+#include "engine/mesh_animation.hpp"
 #include "engine/parallel.hpp"
 #include "engine/surface_fields.hpp"
 
@@ -18,14 +20,31 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// A surface's numbers, in order: its fields' (WalkNumbers), or a mesh's
+// vertex coordinates.
 std::vector<double> NumbersOf(const SurfaceSpec& spec) {
   std::vector<double> out;
+  if (const auto* m = std::get_if<MeshSpec>(&spec)) {
+    if (m->disk == nullptr) return out;
+    out.reserve(3 * m->disk->positions.size());
+    for (const Vec3& p : m->disk->positions) out.insert(out.end(), {p.x(), p.y(), p.z()});
+    return out;
+  }
   SurfaceSpec copy = spec;
   WalkNumbers(copy, [&out](const auto&, double& v) { out.push_back(v); });
   return out;
 }
 
 void SetNumbers(const std::vector<double>& values, SurfaceSpec* spec) {
+  if (auto* m = std::get_if<MeshSpec>(spec)) {
+    auto disk = std::make_shared<DiskMesh>(*m->disk);
+    for (size_t v = 0; v < disk->positions.size(); ++v) {
+      disk->positions[v] = Vec3(values[3 * v], values[3 * v + 1], values[3 * v + 2]);
+    }
+    m->disk = std::move(disk);
+    m->flattened = nullptr;
+    return;
+  }
   size_t k = 0;
   WalkNumbers(*spec, [&](const auto&, double& v) { v = values[k++]; });
 }
@@ -79,6 +98,25 @@ Status SameShape(const SurfaceSpec& first, const SurfaceSpec& key) {
       return differ("knots_v", size(a->knots_v), size(b.knots_v));
     if (size(a->weights) != size(b.weights))
       return differ("weights", size(a->weights), size(b.weights));
+  }
+  if (const auto* a = std::get_if<MeshSpec>(&first)) {
+    const auto& b = std::get<MeshSpec>(key);
+    // Unresolved (a request as parsed): checked once the service resolves them.
+    if (a->disk == nullptr || b.disk == nullptr) return Status::Ok();
+    const DiskMesh &x = *a->disk, &y = *b.disk;
+    if (x.positions.size() != y.positions.size() || x.triangles != y.triangles) {
+      return InvalidArgument(
+          Format(
+              "is a mesh of %zu vertices and %zu triangles (after welding) but keyframe "
+              "0's has %zu and %zu%s: keyframes of kind \"mesh\" must be one mesh moving, "
+              "the same vertices and triangles in the same order (a simulation's frames "
+              "exported alike)",
+              y.positions.size(), y.triangles.size(), x.positions.size(), x.triangles.size(),
+              x.positions.size() == y.positions.size() && x.triangles.size() == y.triangles.size()
+                  ? ", joined differently"
+                  : ""),
+          "model_id");
+    }
   }
   if (const auto* a = std::get_if<GridSpec>(&first)) {
     const auto& b = std::get<GridSpec>(key);
@@ -141,12 +179,6 @@ Status ValidateAnimation(const AnimationSpec& spec, int max_frames) {
         "keyframes");
   }
   const SurfaceSpec& first = spec.keyframes[0].surface;
-  if (std::holds_alternative<MeshSpec>(first)) {
-    return InvalidArgument(
-        "surfaces of kind \"mesh\" are not animated yet: deform along each frame's mesh "
-        "with POST /v1/deform",
-        "keyframes[0].surface.kind");
-  }
   for (size_t k = 0; k < spec.keyframes.size(); ++k) {
     const std::string key = "keyframes[" + std::to_string(k) + "]";
     const Keyframe& kf = spec.keyframes[k];
@@ -237,6 +269,27 @@ SurfaceSpec SurfaceAtFrame(const AnimationSpec& spec, int frame) {
   return SurfaceAt(spec, KeyNumbers(spec), frame);
 }
 
+Status AnimationFrameError(const AnimationSpec& spec, int frame, const Status& s, double budget_ms,
+                           double spent_ms) {
+  const std::string message = "frame " + std::to_string(frame) + " (time " +
+                              std::to_string(FrameTime(spec, frame)) + "): " + s.message();
+  return s.code() == ErrorCode::kDeadlineExceeded
+             ? Status::DeadlineExceeded(message, "animation", budget_ms, spent_ms)
+             : Status(s.code(), message, s.field());
+}
+
+Status AnimationBudgetLeft(const AnimationSpec& spec, int done, double budget_ms, double spent_ms,
+                           FlattenOptions* o) {
+  if (budget_ms <= 0.0) return Status::Ok();
+  o->time_budget_ms = budget_ms - spent_ms;
+  if (o->time_budget_ms > 0.0) return Status::Ok();
+  return Status::DeadlineExceeded("the animation's flattening ran past its time budget of " +
+                                      std::to_string(static_cast<long long>(budget_ms)) +
+                                      " ms after " + std::to_string(done) + " of " +
+                                      std::to_string(spec.frames) + " frames",
+                                  "animation", budget_ms, spent_ms);
+}
+
 namespace {
 
 // One animation's flattening: every frame's surface, the distances measured
@@ -293,27 +346,12 @@ class AnimationFlattening {
   };
   enum class AnchorState : char { kPending, kMeasured, kFailed };
 
-  // An error of frame k, prefixed with the frame; a deadline is the
-  // animation's (its budget and the time spent on all frames).
   Status FrameError(int k, const Status& s) const {
-    const std::string message = "frame " + std::to_string(k) + " (time " +
-                                std::to_string(FrameTime(spec_, k)) + "): " + s.message();
-    return s.code() == ErrorCode::kDeadlineExceeded
-               ? Status::DeadlineExceeded(message, "animation", options_.time_budget_ms,
-                                          MsSince(t0_))
-               : Status(s.code(), message, s.field());
+    return AnimationFrameError(spec_, k, s, options_.time_budget_ms, MsSince(t0_));
   }
 
-  // What is left of the budget, for the next step; an error once it is spent.
   Status BudgetLeft(int done, FlattenOptions* o) const {
-    if (options_.time_budget_ms <= 0.0) return Status::Ok();
-    o->time_budget_ms = options_.time_budget_ms - MsSince(t0_);
-    if (o->time_budget_ms > 0.0) return Status::Ok();
-    return Status::DeadlineExceeded(
-        "the animation's flattening ran past its time budget of " +
-            std::to_string(static_cast<long long>(options_.time_budget_ms)) + " ms after " +
-            std::to_string(done) + " of " + std::to_string(spec_.frames) + " frames",
-        "animation", options_.time_budget_ms, MsSince(t0_));
+    return AnimationBudgetLeft(spec_, done, options_.time_budget_ms, MsSince(t0_), o);
   }
 
   Status MakeSurfaces() {
@@ -579,6 +617,12 @@ Result<AnimatedSheets> FlattenAnimation(const AnimationSpec& spec, const Samplin
                                         const FlattenOptions& options,
                                         const FrameProgress& progress) {
   SURFDEFORM_RETURN_IF_ERROR(ValidateAnimation(spec, spec.frames));
+  if (std::holds_alternative<MeshSpec>(spec.keyframes[0].surface)) {
+    const std::vector<std::vector<double>> numbers = KeyNumbers(spec);
+    return FlattenMeshAnimation(spec, sampling, options, progress, [&](int frame) {
+      return std::get<MeshSpec>(SurfaceAt(spec, numbers, frame));
+    });
+  }
   return AnimationFlattening(spec, sampling, options, progress).Run();
 }
 

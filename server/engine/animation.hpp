@@ -71,7 +71,8 @@ inline constexpr double kMaxFps = 1000.0;
 inline constexpr double kMaxKeyTime = 1e9;  // seconds, either sign
 
 // Keyframes: at least one, times within +-kMaxKeyTime and increasing, all of
-// one kind and shape (a single one must be a wave); frames from 1 to
+// one kind and shape (a single one must be a wave; meshes, resolved into
+// MeshSpec::disk, with the same vertices and triangles); frames from 1 to
 // max_frames; fps from kMinFps to kMaxFps. Errors name the offending key and
 // field ("keyframes[2].surface.degree_u"): kInvalidArgument, or
 // kLimitExceeded for too many frames.
@@ -102,6 +103,17 @@ struct AnimatedSheets {
   std::vector<FrameFlattening> frames;
   double total_ms = 0.0;
 };
+
+// For the frame loops: an error of frame k, prefixed with the frame and its
+// time; a deadline is the animation's (its budget and the time spent on all
+// frames so far).
+Status AnimationFrameError(const AnimationSpec& spec, int frame, const Status& s, double budget_ms,
+                           double spent_ms);
+// What is left of the animation's budget, into o->time_budget_ms for the
+// next step after `done` frames; kDeadlineExceeded once it is spent. No
+// budget (0): no change.
+Status AnimationBudgetLeft(const AnimationSpec& spec, int done, double budget_ms, double spent_ms,
+                           FlattenOptions* o);
 
 // Called after each frame is flattened (frame index, frames in all), from the
 // calling thread; for progress.

@@ -33,7 +33,11 @@ inline bool StressSettled(double before, double after, double tolerance, double 
 
 // B(X) X for the Guttman transform, (B(X) X)_i = sum_j d_ij / |X_i - X_j| (X_i - X_j),
 // over edges [begin, end) of n points, added into `rhs` (x block then y
-// block, like X); returns their stress.
+// block, like X); returns their stress. An edge of negative d is free: it
+// takes its current length (d_ij = |X_i - X_j|) and adds no stress, so the
+// fixed point is the stress's over the other edges (a mesh frame's pair
+// whose distance could not be measured keeps the factored Laplacian valid).
+// SquaredDistanceSum leaves such edges out.
 double GuttmanTerms(const std::vector<GridEdge>& edges, size_t begin, size_t end,
                     const Eigen::VectorXd& x, int n, Eigen::VectorXd* rhs);
 

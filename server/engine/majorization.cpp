@@ -90,6 +90,13 @@ double GuttmanTerms(const std::vector<GridEdge>& edges, size_t begin, size_t end
     const double dx = px[e.i] - px[e.j];
     const double dy = py[e.i] - py[e.j];
     const double len = std::sqrt(dx * dx + dy * dy);
+    if (e.d < 0.0) {  // a free pair: its current length, no stress
+      bx[e.i] += dx;
+      by[e.i] += dy;
+      bx[e.j] -= dx;
+      by[e.j] -= dy;
+      continue;
+    }
     stress += (e.d - len) * (e.d - len);
     if (!(len > 0.0)) continue;
     const double w = e.d / len;
@@ -232,7 +239,9 @@ SolveStats MajorizeLayout(const std::function<void(Eigen::VectorXd*)>& solve,
 
 double SquaredDistanceSum(const std::vector<GridEdge>& edges) {
   double s = 0.0;
-  for (const GridEdge& e : edges) s += e.d * e.d;
+  for (const GridEdge& e : edges) {
+    if (e.d > 0.0) s += e.d * e.d;
+  }
   return s;
 }
 

@@ -1,6 +1,7 @@
 #include "engine/mesh_flatten.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <chrono>
@@ -12,6 +13,7 @@
 #include "engine/flatten_solvers.hpp"
 #include "engine/mesh_chart.hpp"
 #include "engine/parallel.hpp"
+#include "engine/sheet_motion.hpp"
 #include "engine/sparse_cholesky.hpp"
 
 namespace surfdeform {
@@ -130,6 +132,37 @@ void Canonicalize(const DiskMesh& mesh, std::vector<Vec2>* x) {
   for (Vec2& p : *x) p = rotation * (p - centroid);
 }
 
+// Moves `x` onto `start` (the same vertices) by a rigid motion: the
+// centroids matched, turned by the rotation of the best affine map from `x`
+// to `start` (its polar decomposition's; shape matching, Mueller et al.
+// 2005). A sheet that stretches from one frame to the next (a cloth pulled
+// one way) then does not turn as a least-squares rigid fit of a jittered
+// mesh would, a little with every frame; where the affine map mirrors
+// (never for two layouts of one unfolded mesh), the least-squares rigid fit.
+void MoveOnto(const std::vector<Vec2>& start, std::vector<Vec2>* x) {
+  const double n = static_cast<double>(x->size());
+  Vec2 cx = Vec2::Zero(), cs = Vec2::Zero();
+  for (size_t v = 0; v < x->size(); ++v) {
+    cx += (*x)[v] / n;
+    cs += start[v] / n;
+  }
+  Eigen::Matrix2d xx = Eigen::Matrix2d::Zero(), sx = Eigen::Matrix2d::Zero();
+  for (size_t v = 0; v < x->size(); ++v) {
+    const Vec2 a = (*x)[v] - cx;
+    xx += a * a.transpose();
+    sx += (start[v] - cs) * a.transpose();
+  }
+  double angle = 0.0;
+  const Eigen::Matrix2d affine = sx * xx.inverse();
+  if (affine.allFinite() && affine.determinant() > 0.0) {
+    angle = std::atan2(affine(1, 0) - affine(0, 1), affine(0, 0) + affine(1, 1));
+  } else if (auto m = BestSheetMotion(*x, start); m.ok()) {
+    angle = m->angle;
+  }
+  const Eigen::Rotation2Dd turn(angle);
+  for (Vec2& p : *x) p = cs + turn * (p - cx);
+}
+
 void MeasureMeshQuality(const DiskMesh& mesh, const std::vector<GridEdge>& pairs,
                         const std::vector<Vec2>& x, FlattenQuality* q) {
   double c = 0.0, total = 0.0;
@@ -213,9 +246,42 @@ FlattenQuality MeasureMeshLayout(const FlatMesh& reference, std::vector<Vec2> la
   return q;
 }
 
-Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options) {
+// What consecutive flattenings of one topology share: the adjacency, the
+// pairs listed (their distances those of the last flattening), which of them
+// the stress sums, and the factored Laplacian of their graph.
+struct MeshFlattener::Topology {
+  std::vector<std::array<int, 3>> triangles;
+  int range = 0;
+  internal::MeshAdjacency adjacency;
+  std::vector<GridEdge> all;
+  std::vector<GridEdge> solved;
+  std::vector<size_t> solved_at;  // each solved pair's place in `all`
+  std::unique_ptr<GroundedLaplacian> laplacian;
+};
+
+MeshFlattener::MeshFlattener(FlattenOptions options) : options_(std::move(options)) {}
+MeshFlattener::~MeshFlattener() = default;
+MeshFlattener::MeshFlattener(MeshFlattener&&) noexcept = default;
+MeshFlattener& MeshFlattener::operator=(MeshFlattener&&) noexcept = default;
+
+Result<FlatMesh> MeshFlattener::Flatten(DiskMesh mesh, const std::vector<Vec2>* start,
+                                        const std::vector<Vec2>* guess) {
+  const FlattenOptions& options = options_;
   const auto t0 = Clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options));
+  if (start != nullptr) {
+    if (start->size() != mesh.positions.size()) {
+      return InvalidArgument("the start layout has " + std::to_string(start->size()) +
+                             " points for a mesh of " + std::to_string(mesh.positions.size()) +
+                             " vertices");
+    }
+    for (const Vec2& p : *start) {
+      if (!p.allFinite()) return InvalidArgument("a point of the start layout is not finite");
+    }
+    if (guess != nullptr && guess->size() != start->size()) {
+      return InvalidArgument("the guess has another size than the start layout");
+    }
+  }
   if (options.method != FlattenMethod::kMajorization) {
     return InvalidArgument("a mesh surface is flattened by \"majorization\" only",
                            "flatten.method");
@@ -230,66 +296,110 @@ Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options) {
   };
   const int n = static_cast<int>(mesh.positions.size());
   FlatMesh out;
-  const internal::MeshAdjacency adjacency = internal::Adjacency(mesh);
-
-  // Pairs within max(range, 3) rings (3 for the quality measures), measured
-  // along the conformal chart. Listed before the chart is made, so that a
-  // mesh with more pairs than it may have is refused before the chart's
-  // memory (some 3.8 KB a vertex) is taken.
-  const auto td = Clock::now();
-  const int rings = std::max(options.range, 3);
-  std::optional<std::vector<GridEdge>> listed =
-      internal::RingPairs(adjacency, rings, options.threads, options.max_mesh_pairs);
-  if (!listed) {
-    return Status::LimitExceeded(
-        "the mesh has more than " + std::to_string(options.max_mesh_pairs) +
-            " vertex pairs within " + std::to_string(rings) +
-            " rings (some vertex joins very many triangles, or the range is large): use a "
-            "smaller flatten.range, or remesh the surface more evenly",
-        "flatten.range", static_cast<double>(options.max_mesh_pairs),
-        static_cast<double>(options.max_mesh_pairs) + 1);
+  // From a start layout, a mesh of the last one's topology keeps its pairs
+  // and factor (a pair whose segment now leaves the mesh is left free).
+  const bool same = start != nullptr && topology_ != nullptr && topology_->range == options.range &&
+                    topology_->triangles == mesh.triangles;
+  if (!same) {
+    topology_.reset();
+    auto t = std::make_unique<Topology>();
+    t->triangles = mesh.triangles;
+    t->range = options.range;
+    t->adjacency = internal::Adjacency(mesh);
+    // Pairs within max(range, 3) rings (3 for the quality measures). Listed
+    // before the chart is made, so that a mesh with more pairs than it may
+    // have is refused before the chart's memory (some 3.8 KB a vertex) is
+    // taken.
+    const auto td = Clock::now();
+    const int rings = std::max(options.range, 3);
+    std::optional<std::vector<GridEdge>> listed =
+        internal::RingPairs(t->adjacency, rings, options.threads, options.max_mesh_pairs);
+    if (!listed) {
+      return Status::LimitExceeded(
+          "the mesh has more than " + std::to_string(options.max_mesh_pairs) +
+              " vertex pairs within " + std::to_string(rings) +
+              " rings (some vertex joins very many triangles, or the range is large): use a "
+              "smaller flatten.range, or remesh the surface more evenly",
+          "flatten.range", static_cast<double>(options.max_mesh_pairs),
+          static_cast<double>(options.max_mesh_pairs) + 1);
+    }
+    t->all = std::move(*listed);
+    out.quality.distance_ms += MsSince(td);
+    topology_ = std::move(t);
   }
-  std::vector<GridEdge> all = std::move(*listed);
-  const double listing_ms = MsSince(td);
-  SURFDEFORM_ASSIGN_OR_RETURN(std::vector<Vec2> x, internal::ConformalChart(mesh));
+  Topology& topology = *topology_;
+  const internal::MeshAdjacency& adjacency = topology.adjacency;
+  std::vector<GridEdge>& all = topology.all;
+  std::vector<Vec2> x;
+  if (start != nullptr) {
+    x = *start;
+  } else {
+    SURFDEFORM_ASSIGN_OR_RETURN(x, internal::ConformalChart(mesh));
+  }
   if (Clock::now() > deadline) return out_of_time("the conformal start");
   const auto t_distances = Clock::now();
+  // Another mesh's distances are no fallback: where a pair's segment leaves
+  // this one, it is left out (as measured afresh).
+  if (same) {
+    for (GridEdge& e : all) e.d = 0.0;
+  }
   if (!internal::MeasureAlongChart(mesh, adjacency, x, options.threads, &all, deadline)) {
+    topology_.reset();  // half measured
     return out_of_time("the distances");
   }
-  out.quality.distance_ms += listing_ms + MsSince(t_distances);
+  out.quality.distance_ms += MsSince(t_distances);
   if (Clock::now() > deadline) return out_of_time("the distances");
 
   const int max_it = options.max_iterations > 0 ? options.max_iterations : 3000;
-  // The pairs the stress sums: within range, measured along the conformal
-  // chart; and where each is in `all`, to take round 2's distances.
-  std::vector<GridEdge> solved;
-  std::vector<size_t> solved_at;
-  for (size_t k = 0; k < all.size(); ++k) {
-    if (all[k].ring <= options.range && all[k].d > 0.0) {
-      solved.push_back(all[k]);
-      solved_at.push_back(k);
+  // The pairs the stress sums: within range, measured along the first chart
+  // (the conformal one, or the first frame's start); and where each is in
+  // `all`, to take later measurements' distances.
+  std::vector<GridEdge>& solved = topology.solved;
+  const std::vector<size_t>& solved_at = topology.solved_at;
+  auto take_distances = [&] {
+    // A pair whose segment now leaves the mesh keeps its earlier distance
+    // when the mesh is the same (round 2); on another mesh (a later frame)
+    // it is left free (a negative distance: the solver keeps its current
+    // length, which leaves the stress's minimum where the other pairs put
+    // it), so that the factor still serves.
+    for (size_t k = 0; k < solved.size(); ++k)
+      solved[k].d = all[solved_at[k]].d > 0.0 ? all[solved_at[k]].d : -1.0;
+  };
+  if (topology.laplacian == nullptr) {
+    for (size_t k = 0; k < all.size(); ++k) {
+      if (all[k].ring <= options.range && all[k].d > 0.0) {
+        topology.solved.push_back(all[k]);
+        topology.solved_at.push_back(k);
+      }
     }
+    const auto tf = Clock::now();
+    auto laplacian = std::make_unique<GroundedLaplacian>(n, solved);
+    out.quality.solve_ms += MsSince(tf);
+    if (!laplacian->ok()) {
+      topology_.reset();
+      return Status(ErrorCode::kNotConverged,
+                    "the stress Laplacian of the mesh could not be factored");
+    }
+    topology.laplacian = std::move(laplacian);
+  } else {
+    take_distances();
   }
-  const auto tf = Clock::now();
-  const GroundedLaplacian laplacian(n, solved);
-  out.quality.solve_ms += MsSince(tf);
-  if (!laplacian.ok()) {
-    return Status(ErrorCode::kNotConverged,
-                  "the stress Laplacian of the mesh could not be factored");
-  }
-  // Round 1 from the conformal chart; round 2 measures again along the first
-  // result (closer to an isometry) and continues from it. The pairs kept
-  // are those measured in round 1, so the factor stays valid.
-  for (int round = 0; round < 2; ++round) {
+  const GroundedLaplacian& laplacian = *topology.laplacian;
+  if (start != nullptr && guess != nullptr) x = *guess;
+  // Round 1 from the chart; from the conformal chart, round 2 measures again
+  // along the first result (closer to an isometry) and continues from it.
+  // The pairs kept are those measured in round 1, so the factor stays
+  // valid. From a start layout (near-isometric already), round 1 alone.
+  const int rounds = start != nullptr ? 1 : 2;
+  for (int round = 0; round < rounds; ++round) {
     if (round == 1) {
       const auto tr = Clock::now();
       if (!internal::MeasureAlongChart(mesh, adjacency, x, options.threads, &all, deadline)) {
+        topology_.reset();
         return out_of_time("the distances");
       }
       out.quality.distance_ms += MsSince(tr);
-      // (A pair whose segment now leaves the mesh keeps its round-1 distance.)
-      for (size_t k = 0; k < solved.size(); ++k) solved[k].d = all[solved_at[k]].d;
+      take_distances();
     }
     const auto tm = Clock::now();
     // A stress of 1e-12 counts as none: a developable mesh would otherwise
@@ -307,7 +417,12 @@ Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options) {
       return Status(ErrorCode::kNotConverged, "the mesh flattening diverged");
     }
   }
-  Canonicalize(mesh, &x);
+  if (start != nullptr) {
+    // The grounded solve holds the last vertex at the origin: back onto the start.
+    MoveOnto(*start, &x);
+  } else {
+    Canonicalize(mesh, &x);
+  }
   Untangle(mesh, adjacency, 100, &x);
   std::vector<GridEdge> measured;
   for (const GridEdge& e : all) {
@@ -330,6 +445,11 @@ Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options) {
   out.mesh = std::move(mesh);
   out.quality.total_ms = MsSince(t0);
   return out;
+}
+
+Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options,
+                             const std::vector<Vec2>* start) {
+  return MeshFlattener(options).Flatten(std::move(mesh), start);
 }
 
 }  // namespace surfdeform

@@ -29,6 +29,7 @@
 // point to. A folded triangle is an error (kNotConverged) that counts them.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "base/status.hpp"
@@ -51,7 +52,46 @@ struct FlatMesh {
 
 // Flattens `mesh`. options.method must be kMajorization; range counts
 // rings (1..8); time_budget_ms bounds the whole call (kDeadlineExceeded).
-Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options);
+//
+// `start`, when given, is a flat layout of the same vertices (the previous
+// frame of an animated mesh): the distances are measured along it (it is
+// near-isometric for a mesh that moved a little) and the solve starts from
+// it, in one round and without the conformal chart; the result is moved
+// onto `start` by a rigid motion (centroids matched, turned by the rotation
+// of the best affine map between the two: not to the canonical frame), so
+// that a sequence of meshes gives sheets that neither jump nor creep round.
+// kInvalidArgument when `start` has another size or a non-finite point.
+Result<FlatMesh> FlattenMesh(DiskMesh mesh, const FlattenOptions& options,
+                             const std::vector<Vec2>* start = nullptr);
+
+// FlattenMesh, keeping what meshes of one topology share between calls: a
+// call with a start layout on a mesh of the last call's triangles (an
+// animation's next frame) reuses its vertex pairs, which of them the stress
+// sums (a pair whose segment now leaves the mesh keeps its distance) and the
+// factored Laplacian of their graph, measuring only the distances again.
+class MeshFlattener {
+ public:
+  explicit MeshFlattener(FlattenOptions options = {});
+  ~MeshFlattener();
+  MeshFlattener(MeshFlattener&&) noexcept;
+  MeshFlattener& operator=(MeshFlattener&&) noexcept;
+
+  // `guess`, with a start layout: where the solve starts instead of it (a
+  // prediction: the last frames' sheets carried on); the distances are
+  // still measured along `start`, which has no folds.
+  Result<FlatMesh> Flatten(DiskMesh mesh, const std::vector<Vec2>* start = nullptr,
+                           const std::vector<Vec2>* guess = nullptr);
+
+  // New options for the next calls (an animation's time budget, frame by
+  // frame); a different range lists the pairs again.
+  void set_options(const FlattenOptions& options) { options_ = options; }
+
+  struct Topology;  // (mesh_flatten.cpp)
+
+ private:
+  FlattenOptions options_;
+  std::unique_ptr<Topology> topology_;
+};
 
 // A flattening made before (another replica's, from the shared tier): `mesh`
 // with the flat positions `flat` (FlatMesh::flat of a FlattenMesh of it) and

@@ -132,9 +132,15 @@ struct GridSpec {
 // which must be a disk (disk_mesh.hpp). The service resolves the id and
 // flattens the mesh (`flattened`, not part of the description) before
 // MakeSurface, which wraps the flattening as a MeshSurface.
+struct DiskMesh;
+
+// An animation's keyframes of this kind carry the mesh itself instead
+// (`disk`, welded and checked; also resolved by the service): their frames
+// interpolate its vertices and are flattened one after another.
 struct MeshSpec {
   std::string model_id;
   std::shared_ptr<const FlatMesh> flattened;
+  std::shared_ptr<const DiskMesh> disk;
 };
 
 using SurfaceSpec = std::variant<BezierSpec, BSplineSpec, CylinderSpec, ConeSpec, SphereSpec,

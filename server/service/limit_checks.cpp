@@ -120,6 +120,16 @@ Status CheckSurfaceMesh(const ServiceLimits& limits, size_t vertices) {
       "flattening a mesh of " + std::to_string(vertices) + " vertices", "surface.model_id");
 }
 
+Status CheckMeshFrames(const ServiceLimits& limits, size_t frames, size_t vertices) {
+  const double v = static_cast<double>(vertices);
+  return CheckMemory(kMeshSheetBytesPerVertex * v +
+                         kMeshAnimationBytesPerFrameVertex * static_cast<double>(frames) * v,
+                     limits.request_memory_bytes,
+                     "flattening " + std::to_string(frames) + " frames of a mesh of " +
+                         std::to_string(vertices) + " vertices",
+                     "animation.frames");
+}
+
 size_t MaxSurfaceMeshPairs(const ServiceLimits& limits, size_t vertices) {
   const double start = kMeshSheetBytesPerVertex * static_cast<double>(vertices);
   const double left = std::max(0.0, static_cast<double>(limits.request_memory_bytes) - start);

@@ -58,6 +58,10 @@ size_t MaxSurfaceMeshPairs(const ServiceLimits& limits, size_t vertices);
 // said in its terms; any other error as it is.
 Status SurfaceMeshPairsError(const ServiceLimits& limits, size_t vertices, Status error);
 
+// An animation of `frames` frames whose keyframes are meshes of `vertices`
+// vertices: every frame's flat mesh, beside one flattening's work.
+Status CheckMeshFrames(const ServiceLimits& limits, size_t frames, size_t vertices);
+
 // The same for an animation's model, which every one of its `frames` holds:
 // also within the frame vertices' limit and, at kAnimationBytesPerFrameVertex,
 // the memory budget. Bounded before the refinement, so that a refinement the

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
+#include <map>
 #include <optional>
 #include <thread>
 #include <type_traits>
@@ -17,6 +19,7 @@
 #include "proto/json_object.hpp"
 #include "service/digest_hex.hpp"
 #include "service/limit_checks.hpp"
+#include "service/memory_budget.hpp"
 #include "service/sheet_codec.hpp"
 
 namespace surfdeform {
@@ -28,7 +31,14 @@ size_t EstimateBytes(const StoredAnimation& a) {
   for (const FlatSheet& s : a.sheets.sheets) samples += s.points.size();
   // Samples: position, normal, flat position; each frame's surface about as
   // much as a key's spec (a Bezier's control points, a grid's points).
+  // A frame of a mesh's animation keeps its flat mesh and triangle index.
+  size_t mesh_vertices = 0;
+  for (const auto& surface : a.sheets.surfaces) {
+    if (const FlatMesh* m = surface->flat_mesh()) mesh_vertices += m->flat.size();
+  }
   return sizeof(StoredAnimation) + samples * (24 + 24 + 16) + a.sheets.surfaces.size() * 4096 +
+         static_cast<size_t>(kMeshAnimationBytesPerFrameVertex *
+                             static_cast<double>(mesh_vertices)) +
          1024;
 }
 
@@ -183,6 +193,38 @@ Result<std::optional<SurfaceSpec>> SurfaceStore::ResolveMesh(const SurfaceSpec& 
   MeshSpec out = *given;
   out.flattened = std::make_shared<const FlatMesh>(std::move(*made));
   return std::optional<SurfaceSpec>(std::move(out));
+}
+
+Result<AnimationSpec> SurfaceStore::ResolveMeshKeys(const AnimationSpec& spec) {
+  AnimationSpec out = spec;
+  std::map<std::string, std::shared_ptr<const DiskMesh>> resolved;
+  for (size_t k = 0; k < out.keyframes.size(); ++k) {
+    auto* key = std::get_if<MeshSpec>(&out.keyframes[k].surface);
+    if (key == nullptr) continue;
+    std::shared_ptr<const DiskMesh>& disk = resolved[key->model_id];
+    if (disk == nullptr) {
+      const std::string field = "animation.keyframes[" + std::to_string(k) + "].surface";
+      if (models_ == nullptr) {
+        return Status(ErrorCode::kInternal, "this store has no models for mesh surfaces");
+      }
+      auto model = models_->Find(key->model_id);
+      if (!model.ok()) return model.status().WithFieldPrefix(field);
+      const Mesh& mesh = (*model)->imported.mesh;
+      DiskMeshOptions disk_options;
+      disk_options.max_vertices = limits_.max_surface_mesh_vertices;
+      auto made = MakeDiskMesh(mesh.positions, mesh.triangles, disk_options);
+      if (!made.ok()) return made.status().WithFieldPrefix(field);
+      disk = std::make_shared<const DiskMesh>(std::move(*made));
+    }
+    key->disk = disk;
+  }
+  if (const auto* m = std::get_if<MeshSpec>(&out.keyframes[0].surface)) {
+    // The meshes' topology, now that they are known.
+    SURFDEFORM_RETURN_IF_ERROR(
+        ValidateAnimation(out, std::numeric_limits<int>::max()).WithFieldPrefix("animation"));
+    SURFDEFORM_RETURN_IF_ERROR(CheckMeshFrames(limits_, out.frames, m->disk->positions.size()));
+  }
+  return out;
 }
 
 Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
@@ -347,7 +389,16 @@ Result<std::shared_ptr<const StoredAnimation>> SurfaceStore::FlattenedAnimation(
         FlattenOptions flatten = request.flatten;
         flatten.threads = threads;
         flatten.time_budget_ms = clock.BudgetFor(limits_.flatten_time_budget_ms);
-        auto sheets = FlattenAnimation(request.animation, request.sampling, flatten);
+        SURFDEFORM_ASSIGN_OR_RETURN(const AnimationSpec spec, ResolveMeshKeys(request.animation));
+        size_t mesh_vertices = 0;
+        if (const auto* m = std::get_if<MeshSpec>(&spec.keyframes[0].surface)) {
+          mesh_vertices = m->disk->positions.size();
+          flatten.max_mesh_pairs = MaxSurfaceMeshPairs(limits_, mesh_vertices);
+        }
+        auto sheets = FlattenAnimation(spec, request.sampling, flatten);
+        if (!sheets.ok() && mesh_vertices > 0) {
+          sheets = SurfaceMeshPairsError(limits_, mesh_vertices, sheets.status());
+        }
         if (!sheets.ok()) {
           const Status& st = sheets.status();
           if (st.code() == ErrorCode::kDeadlineExceeded) return st;

@@ -131,6 +131,11 @@ class SurfaceStore {
                                                  const FlattenOptions& options,
                                                  const EncodedSheetParts* shared = nullptr,
                                                  const FlattenQuality& quality = {});
+  // The animation with its keyframes of kind "mesh" resolved: each mesh
+  // found by its model id, checked as a disk (MeshSpec::disk; one mesh
+  // resolved once for all its keys), and the frames checked against the
+  // memory budget. Others unchanged.
+  Result<AnimationSpec> ResolveMeshKeys(const AnimationSpec& spec);
   class SharedLock;
   std::shared_ptr<const StoredSurface> FromShared(const std::string& id);
   Result<std::shared_ptr<const StoredSurface>> Rebuild(const std::string& id,

@@ -16,11 +16,14 @@ serve_for_test "$1" --answer-cache-mib 0 --max-surface-mesh-vertices 5000 \
   --max-surface-mesh-pairs 20000
 
 # OBJ writers: half a cylinder of radius 1 and height 2 as a jittered
-# CELLS x CELLS grid of triangles, optionally with a hole (one cell left out).
-cylinder_obj() {  # FILE CELLS [HOLE]
+# CELLS x CELLS grid of triangles, optionally with a hole (one cell left out);
+# with RADIUS, the same triangulation bent to that radius (its arcs as long).
+cylinder_obj() {  # FILE CELLS [hole|whole] [RADIUS]
   python3 - "$@" << 'PY'
 import math, random, sys
-path, cells, hole = sys.argv[1], int(sys.argv[2]), len(sys.argv) > 3
+path, cells = sys.argv[1], int(sys.argv[2])
+hole = len(sys.argv) > 3 and sys.argv[3] == "hole"
+radius = float(sys.argv[4]) if len(sys.argv) > 4 else 1.0
 random.seed(7)
 n = cells + 1
 with open(path, "w") as f:
@@ -29,7 +32,8 @@ with open(path, "w") as f:
             s, t = i / cells, j / cells
             if 0 < i < cells: s += random.uniform(-0.3, 0.3) / cells
             if 0 < j < cells: t += random.uniform(-0.3, 0.3) / cells
-            f.write("v %.17g %.17g %.17g\n" % (math.cos(math.pi * s), math.sin(math.pi * s), 2 * t))
+            a = math.pi * s / radius
+            f.write("v %.17g %.17g %.17g\n" % (radius * math.cos(a), radius * math.sin(a), 2 * t))
     for j in range(cells):
         for i in range(cells):
             if hole and i == cells // 2 and j == cells // 2: continue
@@ -112,6 +116,69 @@ status=$(deform on-cylinder '{"kind":"cylinder","radius":1,"height":2,"angle_deg
 python3 "$gltf/glb_positions.py" nearest "$out/on-mesh.glb" "$out/on-cylinder.glb" 0.0087 ||
   fail "the plate along the mesh is not the plate along the cylinder"
 node "$gltf/validate.mjs" "$out/on-mesh.glb"
+
+# An animation whose keyframes are meshes (a cloth bending): the half
+# cylinder at time 0, the same triangulation bent to radius 1.5 at time 1.
+cylinder_obj "$out/bent.obj" 24 whole 1.5
+bent=$(upload "$out/bent.obj")
+python3 - "$half" "$bent" "$out" << 'PY'
+import json, sys
+half, bent, out = sys.argv[1:4]
+key = lambda t, m: {"time": t, "surface": {"kind": "mesh", "model_id": m}}
+anim = {"keyframes": [key(0, half), key(1, bent)], "interpolation": "linear", "frames": 5, "fps": 10}
+common = {"animation": anim, "sampling": {"nu": 33, "nv": 33}, "subdivision": {"mode": "off"}}
+json.dump(dict(common, output={"compression": "meshopt"}), open(out + "/mesh-anim.json", "w"))
+json.dump(dict(common, output={"compression": "none"}), open(out + "/mesh-anim-plain.json", "w"))
+for k in (0, 2, 4):
+    json.dump(dict(common, frame=k, output={"format": "glb_plain"}), open(out + "/mesh-frame%d.json" % k, "w"))
+other = json.loads(json.dumps(common))
+other["animation"]["keyframes"][1]["surface"]["model_id"] = "OTHER"
+json.dump(other, open(out + "/mesh-anim-other.json", "w"))
+unknown = json.loads(json.dumps(common))
+unknown["animation"]["keyframes"][1]["surface"]["model_id"] = "0123456789abcdef0123456789abcdef"
+json.dump(unknown, open(out + "/mesh-anim-unknown.json", "w"))
+PY
+curl -sS -f -o "$out/mesh-anim.glb" -D "$out/mesh-anim-headers.txt" -F mesh=@"$out/plate.obj" \
+  -F "params=<$out/mesh-anim.json" "$base/v1/animate" || fail "the mesh animation"
+grep -qi '^x-surfdeform-stats: .*"frames":5' "$out/mesh-anim-headers.txt" || fail "mesh animation: frames"
+curl -sS -f -o "$out/mesh-anim-plain.glb" -F mesh=@"$out/plate.obj" \
+  -F "params=<$out/mesh-anim-plain.json" "$base/v1/animate" || fail "the mesh animation, plain"
+for k in 0 2 4; do
+  curl -sS -f -o "$out/mesh-frame$k.glb" -F mesh=@"$out/plate.obj" \
+    -F "params=<$out/mesh-frame$k.json" "$base/v1/deform" || fail "mesh animation frame $k"
+done
+node "$gltf/validate.mjs" "$out/mesh-anim-plain.glb"
+node "$gltf/check_animation.mjs" "$out/mesh-anim.glb" "$out/mesh-anim-plain.glb" 10 \
+  0 "$out/mesh-frame0.glb" 2 "$out/mesh-frame2.glb" 4 "$out/mesh-frame4.glb"
+# Frame 0 is the plate along the first mesh alone; frame 4 lies along the
+# analytic cylinder of the last key as the plate along the first lies along
+# its own (the sheet stayed where it was).
+python3 "$gltf/glb_positions.py" compare "$out/mesh-frame0.glb" "$out/on-mesh.glb" 0 ||
+  fail "the animation's frame 0 is not the plate along the first mesh"
+status=$(deform on-bent-cylinder '{"kind":"cylinder","radius":1.5,"height":2,"angle_deg":120}')
+[[ $status == 200 ]] || fail "the plate along the bent cylinder: $status"
+python3 "$gltf/glb_positions.py" nearest "$out/mesh-frame4.glb" "$out/on-bent-cylinder.glb" 0.0087 ||
+  fail "the animation's last frame is not the plate along the bent cylinder"
+# Keys that are not one mesh, and a key whose mesh is unknown.
+cylinder_obj "$out/coarse.obj" 12
+coarse=$(upload "$out/coarse.obj")
+sed -i "s/OTHER/$coarse/" "$out/mesh-anim-other.json"
+animate_refused() {  # NAME STATUS FIELD TEXT
+  curl -sS -o "$out/$1.out" -w '%{http_code}' -F mesh=@"$out/plate.obj" \
+    -F "params=<$out/$1.json" "$base/v1/animate" > "$out/$1.status"
+  python3 - "$out/$1.out" "$(cat "$out/$1.status")" "$2" "$3" "$4" << 'PY' ||
+import json, sys
+body = json.load(open(sys.argv[1]))
+assert sys.argv[2] == sys.argv[3] and str(body["status"]) == sys.argv[3], body
+assert body["field"] == sys.argv[4], body
+assert sys.argv[5] in body["detail"], body
+PY
+    fail "$1: expected $2 at $3 saying \"$4\": $(cat "$out/$1.out")"
+}
+animate_refused mesh-anim-other 422 animation.keyframes[1].surface.model_id \
+  "is a mesh of 169 vertices and 288 triangles (after welding) but keyframe 0's has 625 and 1152"
+animate_refused mesh-anim-unknown 404 animation.keyframes[1].surface.model_id \
+  "POST the mesh to /v1/models again"
 
 # Refusals.
 refused() {  # NAME STATUS TEXT

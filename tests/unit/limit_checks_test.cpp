@@ -127,6 +127,20 @@ TEST(LimitChecks, AMeshSurfacesPairsFitBesideItsVertices) {
   EXPECT_EQ(SurfaceMeshPairsError(limits, 22'801, pair_limit).message(), pair_limit.message());
 }
 
+TEST(LimitChecks, AMeshAnimationsFramesAreCountedPerVertex) {
+  ServiceLimits limits;  // 1 GiB
+  // 10k vertices: 41 MB for the first flattening, 3.2 MB a frame.
+  EXPECT_TRUE(CheckMeshFrames(limits, 300, 10'000).ok());    // 1.0 GB
+  const Status many = CheckMeshFrames(limits, 400, 10'000);  // 1.32 GB
+  EXPECT_EQ(many.code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(many.field(), "animation.frames");
+  EXPECT_NE(many.message().find("400 frames of a mesh of 10000 vertices"), std::string::npos)
+      << many.message();
+  // The largest mesh a surface may be takes most of the budget alone.
+  EXPECT_TRUE(CheckMeshFrames(limits, 2, 200'000).ok());
+  EXPECT_EQ(CheckMeshFrames(limits, 10, 200'000).code(), ErrorCode::kLimitExceeded);
+}
+
 TEST(LimitChecks, ClosesInUAgreesWithTheSurfaces) {
   const SurfaceSpec specs[] = {CylinderSpec{1.0, 1.0, 360.0, {}},
                                CylinderSpec{1.0, 1.0, 359.0, {}},
