@@ -352,8 +352,8 @@ Status DeformRigidly(const SheetMap& map, const Placement& pl, const Mesh& mesh,
 }
 
 // The deformation of `mesh`, in place in result->mesh (which holds it),
-// with what `memo` recalls (may be null).
-Status DeformInPlace(const SheetMap& map, const DeformOptions& options, DeformMemo* memo,
+// with what `memo` recalls (a plain DeformMemo recalls nothing).
+Status DeformInPlace(const SheetMap& map, const DeformOptions& options, DeformMemo& memo,
                      DeformResult* result) {
   const auto t0 = std::chrono::steady_clock::now();
   const Mesh& mesh = result->mesh;
@@ -361,7 +361,7 @@ Status DeformInPlace(const SheetMap& map, const DeformOptions& options, DeformMe
   const SubdivisionOptions* subdivision =
       options.subdivision.mode == SubdivisionMode::kOff ? nullptr : &options.subdivision;
   SURFDEFORM_RETURN_IF_ERROR(ValidateInput(map.sheet(), mesh, o, subdivision));
-  std::optional<Placement> recalled = memo != nullptr ? memo->RecallPlacement() : std::nullopt;
+  std::optional<Placement> recalled = memo.RecallPlacement();
   if (recalled) {
     result->placement = *recalled;
   } else {
@@ -376,19 +376,18 @@ Status DeformInPlace(const SheetMap& map, const DeformOptions& options, DeformMe
   if (o.rigid != RigidMode::kNone) return DeformRigidly(map, pl, mesh, options, result);
   // The footprint: recalled, or recorded by whichever pass locates first (the
   // map then reads what the subdivision recorded).
-  const std::shared_ptr<const SheetFootprint> known =
-      memo != nullptr ? memo->RecallFootprint() : nullptr;
+  const std::shared_ptr<const SheetFootprint> known = memo.RecallFootprint();
   FootprintUse footprint;
   if (known != nullptr && known->location.size() == n_input) {
     footprint.known = known.get();
-  } else if (memo != nullptr && memo->WantsFootprint() && map.cell_wise()) {
+  } else if (memo.WantsFootprint() && map.cell_wise()) {
     SheetLocation unlocated;
     unlocated.i = -1;
     result->footprint.location.assign(n_input, unlocated);
     footprint.record = &result->footprint;
   }
   const std::optional<SubdivisionStats> unrefined =
-      memo != nullptr && subdivision != nullptr ? memo->RecallUnrefined() : std::nullopt;
+      subdivision != nullptr ? memo.RecallUnrefined() : std::nullopt;
   SURFDEFORM_ASSIGN_OR_RETURN(const Refined r,
                               Refine(map, pl, mesh, o, subdivision, need_frame, footprint,
                                      unrefined ? &*unrefined : nullptr, result));
@@ -409,8 +408,10 @@ Result<DeformResult> Deform(const SheetMap& map, Mesh mesh, const DeformOptions&
                             DeformMemo* memo) {
   DeformResult result;
   result.mesh = std::move(mesh);
-  SURFDEFORM_RETURN_IF_ERROR(DeformInPlace(map, options, memo, &result));
-  if (memo != nullptr) memo->Learn(result);
+  DeformMemo nothing;  // recalls nothing, learns nothing
+  DeformMemo& use = memo != nullptr ? *memo : nothing;
+  SURFDEFORM_RETURN_IF_ERROR(DeformInPlace(map, options, use, &result));
+  use.Learn(result);
   return result;
 }
 

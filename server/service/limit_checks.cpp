@@ -39,6 +39,14 @@ int SheetCopies(const proto::AnimationRequest& request) {
   return copies;
 }
 
+// Whether `error` is the engine stopping at `bound`, a limit this request's
+// budget lowered below the configured one: then the caller says so in the
+// budget's terms.
+bool AtBudgetBound(const Status& error, size_t bound, size_t configured) {
+  return error.code() == ErrorCode::kLimitExceeded && bound < configured && error.has_limit() &&
+         error.limit() == static_cast<double>(bound);
+}
+
 }  // namespace
 
 Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& request) {
@@ -139,10 +147,7 @@ size_t MaxSurfaceMeshPairs(const ServiceLimits& limits, size_t vertices) {
 
 Status SurfaceMeshPairsError(const ServiceLimits& limits, size_t vertices, Status error) {
   const size_t bound = MaxSurfaceMeshPairs(limits, vertices);
-  if (error.code() != ErrorCode::kLimitExceeded || bound >= limits.max_surface_mesh_pairs ||
-      !error.has_limit() || error.limit() != static_cast<double>(bound)) {
-    return error;
-  }
+  if (!AtBudgetBound(error, bound, limits.max_surface_mesh_pairs)) return error;
   return Status::LimitExceeded(
       Format("flattening this mesh of %zu vertices would take more than this server's memory "
              "budget of %.0f MiB per request: it has more than the %zu vertex pairs within its "
@@ -164,10 +169,7 @@ size_t MaxAnimationOutputVertices(const ServiceLimits& limits, size_t frames) {
 
 Status AnimationSubdivisionError(const ServiceLimits& limits, size_t frames, Status error) {
   const size_t bound = MaxAnimationOutputVertices(limits, frames);
-  if (error.code() != ErrorCode::kLimitExceeded || bound >= MaxOutputVertices(limits) ||
-      !error.has_limit() || error.limit() != static_cast<double>(bound)) {
-    return error;
-  }
+  if (!AtBudgetBound(error, bound, MaxOutputVertices(limits))) return error;
   return Status::LimitExceeded(
       error.message() + "; each of the animation's " + std::to_string(frames) +
           " frames holds the refined model, which is why the limit is " + std::to_string(bound) +
