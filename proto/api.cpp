@@ -1,38 +1,43 @@
-// Over ~600 lines: every surface kind's fields, parsed and written, and the
-// requests that carry them. One description of each kind's fields (#33's
-// visitor beside engine/surface_spec.hpp) is what would shrink it.
 #include "proto/api.hpp"
 
 #include <type_traits>
 
 #include "proto/content_hash.hpp"
 #include "proto/json_object.hpp"
+#include "proto/surface_json.hpp"
 
 namespace surfdeform::proto {
 namespace {
 
 using nlohmann::json;
 
-Status ReadFrame(JsonObject& o, Frame* frame) {
-  const json* v = o.Find("frame");
-  if (v == nullptr) return Status::Ok();
-  SURFDEFORM_ASSIGN_OR_RETURN(auto f, JsonObject::Open(*v, o.PathOf("frame")));
-  SURFDEFORM_RETURN_IF_ERROR(f.Vector3("origin", &frame->origin));
-  SURFDEFORM_RETURN_IF_ERROR(f.Vector3("x_axis", &frame->x_axis));
-  SURFDEFORM_RETURN_IF_ERROR(f.Vector3("z_axis", &frame->z_axis));
-  return f.Finish();
-}
-
-json FrameJson(const Frame& f) {
-  return {{"origin", {f.origin.x(), f.origin.y(), f.origin.z()}},
-          {"x_axis", {f.x_axis.x(), f.x_axis.y(), f.x_axis.z()}},
-          {"z_axis", {f.z_axis.x(), f.z_axis.y(), f.z_axis.z()}}};
-}
-
-json PointsJson(const std::vector<Vec3>& points) {
-  json a = json::array();
-  for (const Vec3& p : points) a.push_back({p.x(), p.y(), p.z()});
-  return a;
+// A spec of `kind` with every field at its default ("nurbs": rational).
+SurfaceSpec EmptySpec(SurfaceKind kind) {
+  switch (kind) {
+    case SurfaceKind::kBezier:
+      return BezierSpec{};
+    case SurfaceKind::kBSpline:
+    case SurfaceKind::kNurbs: {
+      BSplineSpec s;
+      s.rational = kind == SurfaceKind::kNurbs;
+      return s;
+    }
+    case SurfaceKind::kCylinder:
+      return CylinderSpec{};
+    case SurfaceKind::kCone:
+      return ConeSpec{};
+    case SurfaceKind::kSphere:
+      return SphereSpec{};
+    case SurfaceKind::kTorus:
+      return TorusSpec{};
+    case SurfaceKind::kWave:
+      return WaveSpec{};
+    case SurfaceKind::kGrid:
+      return GridSpec{};
+    case SurfaceKind::kMesh:
+      return MeshSpec{};
+  }
+  return BezierSpec{};
 }
 
 Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
@@ -44,187 +49,22 @@ Result<SurfaceSpec> ReadSurface(const json& value, const std::string& path) {
   }
   SurfaceKind kind = SurfaceKind::kBezier;
   SURFDEFORM_RETURN_IF_ERROR(o.Choice<SurfaceKind>("kind", kSurfaceKinds, &kind));
-  SurfaceSpec spec;
-  switch (kind) {
-    case SurfaceKind::kBezier: {
-      BezierSpec s;
-      SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_u", &s.degree_u));
-      SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_v", &s.degree_v));
-      SURFDEFORM_RETURN_IF_ERROR(o.Points("control_points", &s.control_points));
-      spec = std::move(s);
-      break;
-    }
-    case SurfaceKind::kBSpline:
-    case SurfaceKind::kNurbs: {
-      BSplineSpec s;
-      s.rational = kind == SurfaceKind::kNurbs;
-      SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_u", &s.degree_u));
-      SURFDEFORM_RETURN_IF_ERROR(o.Integer("degree_v", &s.degree_v));
-      SURFDEFORM_RETURN_IF_ERROR(o.Integer("count_u", &s.count_u));
-      SURFDEFORM_RETURN_IF_ERROR(o.Integer("count_v", &s.count_v));
-      SURFDEFORM_RETURN_IF_ERROR(o.Points("control_points", &s.control_points));
-      SURFDEFORM_RETURN_IF_ERROR(o.Numbers("knots_u", &s.knots_u));
-      SURFDEFORM_RETURN_IF_ERROR(o.Numbers("knots_v", &s.knots_v));
-      if (s.rational) SURFDEFORM_RETURN_IF_ERROR(o.Numbers("weights", &s.weights));
-      SURFDEFORM_RETURN_IF_ERROR(o.Boolean("periodic_u", &s.periodic_u));
-      SURFDEFORM_RETURN_IF_ERROR(o.Boolean("periodic_v", &s.periodic_v));
-      spec = std::move(s);
-      break;
-    }
-    case SurfaceKind::kCylinder: {
-      CylinderSpec s;
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("radius", &s.radius));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("height", &s.height));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("angle_deg", &s.angle_deg));
-      SURFDEFORM_RETURN_IF_ERROR(ReadFrame(o, &s.frame));
-      spec = s;
-      break;
-    }
-    case SurfaceKind::kCone: {
-      ConeSpec s;
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("radius_bottom", &s.radius_bottom));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("radius_top", &s.radius_top));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("height", &s.height));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("angle_deg", &s.angle_deg));
-      SURFDEFORM_RETURN_IF_ERROR(ReadFrame(o, &s.frame));
-      spec = s;
-      break;
-    }
-    case SurfaceKind::kSphere: {
-      SphereSpec s;
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("radius", &s.radius));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("lon_min_deg", &s.lon_min_deg));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("lon_max_deg", &s.lon_max_deg));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("lat_min_deg", &s.lat_min_deg));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("lat_max_deg", &s.lat_max_deg));
-      SURFDEFORM_RETURN_IF_ERROR(ReadFrame(o, &s.frame));
-      spec = s;
-      break;
-    }
-    case SurfaceKind::kTorus: {
-      TorusSpec s;
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("major_radius", &s.major_radius));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("minor_radius", &s.minor_radius));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("u_min_deg", &s.u_min_deg));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("u_max_deg", &s.u_max_deg));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("v_min_deg", &s.v_min_deg));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("v_max_deg", &s.v_max_deg));
-      SURFDEFORM_RETURN_IF_ERROR(ReadFrame(o, &s.frame));
-      spec = s;
-      break;
-    }
-    case SurfaceKind::kWave: {
-      WaveSpec s;
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("length", &s.length));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("width", &s.width));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("amplitude", &s.amplitude));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("wavelength", &s.wavelength));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("speed", &s.speed));
-      SURFDEFORM_RETURN_IF_ERROR(o.Number("time", &s.time));
-      SURFDEFORM_RETURN_IF_ERROR(ReadFrame(o, &s.frame));
-      spec = s;
-      break;
-    }
-    case SurfaceKind::kGrid: {
-      GridSpec s;
-      SURFDEFORM_RETURN_IF_ERROR(o.Integer("nu", &s.nu));
-      SURFDEFORM_RETURN_IF_ERROR(o.Integer("nv", &s.nv));
-      SURFDEFORM_RETURN_IF_ERROR(o.Points("points", &s.points));
-      SURFDEFORM_RETURN_IF_ERROR(o.Boolean("periodic_u", &s.periodic_u));
-      SURFDEFORM_RETURN_IF_ERROR(o.Boolean("periodic_v", &s.periodic_v));
-      spec = std::move(s);
-      break;
-    }
-    case SurfaceKind::kMesh: {
-      MeshSpec s;
-      SURFDEFORM_RETURN_IF_ERROR(o.String("model_id", &s.model_id));
-      if (!IsSurfaceIdShaped(s.model_id)) {
-        return InvalidArgument(
-            "must be the id of an uploaded mesh, returned by POST /v1/models (32 hex digits)",
-            o.PathOf("model_id"));
-      }
-      spec = std::move(s);
-      break;
-    }
+  SurfaceSpec spec = EmptySpec(kind);
+  SURFDEFORM_RETURN_IF_ERROR(std::visit([&o](auto& s) { return ReadFields(o, s); }, spec));
+  if (const auto* m = std::get_if<MeshSpec>(&spec);
+      m != nullptr && !IsSurfaceIdShaped(m->model_id)) {
+    return InvalidArgument(
+        "must be the id of an uploaded mesh, returned by POST /v1/models (32 hex digits)",
+        o.PathOf("model_id"));
   }
   SURFDEFORM_RETURN_IF_ERROR(o.Finish());
   return spec;
 }
 
 json SurfaceJson(const SurfaceSpec& spec) {
-  return std::visit(
-      [](const auto& s) -> json {
-        using T = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<T, BezierSpec>) {
-          return {{"kind", KindName(SurfaceKind::kBezier)},
-                  {"degree_u", s.degree_u},
-                  {"degree_v", s.degree_v},
-                  {"control_points", PointsJson(s.control_points)}};
-        } else if constexpr (std::is_same_v<T, BSplineSpec>) {
-          json j = {{"kind", KindName(s.rational ? SurfaceKind::kNurbs : SurfaceKind::kBSpline)},
-                    {"degree_u", s.degree_u},
-                    {"degree_v", s.degree_v},
-                    {"count_u", s.count_u},
-                    {"count_v", s.count_v},
-                    {"control_points", PointsJson(s.control_points)},
-                    {"knots_u", s.knots_u},
-                    {"knots_v", s.knots_v}};
-          if (s.rational) j["weights"] = s.weights;
-          if (s.periodic_u) j["periodic_u"] = true;  // absent when false: keys stay as they were
-          if (s.periodic_v) j["periodic_v"] = true;
-          return j;
-        } else if constexpr (std::is_same_v<T, CylinderSpec>) {
-          return {{"kind", KindName(SurfaceKind::kCylinder)},
-                  {"radius", s.radius},
-                  {"height", s.height},
-                  {"angle_deg", s.angle_deg},
-                  {"frame", FrameJson(s.frame)}};
-        } else if constexpr (std::is_same_v<T, ConeSpec>) {
-          return {{"kind", KindName(SurfaceKind::kCone)},
-                  {"radius_bottom", s.radius_bottom},
-                  {"radius_top", s.radius_top},
-                  {"height", s.height},
-                  {"angle_deg", s.angle_deg},
-                  {"frame", FrameJson(s.frame)}};
-        } else if constexpr (std::is_same_v<T, SphereSpec>) {
-          return {{"kind", KindName(SurfaceKind::kSphere)},
-                  {"radius", s.radius},
-                  {"lon_min_deg", s.lon_min_deg},
-                  {"lon_max_deg", s.lon_max_deg},
-                  {"lat_min_deg", s.lat_min_deg},
-                  {"lat_max_deg", s.lat_max_deg},
-                  {"frame", FrameJson(s.frame)}};
-        } else if constexpr (std::is_same_v<T, TorusSpec>) {
-          return {{"kind", KindName(SurfaceKind::kTorus)},
-                  {"major_radius", s.major_radius},
-                  {"minor_radius", s.minor_radius},
-                  {"u_min_deg", s.u_min_deg},
-                  {"u_max_deg", s.u_max_deg},
-                  {"v_min_deg", s.v_min_deg},
-                  {"v_max_deg", s.v_max_deg},
-                  {"frame", FrameJson(s.frame)}};
-        } else if constexpr (std::is_same_v<T, WaveSpec>) {
-          return {{"kind", KindName(SurfaceKind::kWave)},
-                  {"length", s.length},
-                  {"width", s.width},
-                  {"amplitude", s.amplitude},
-                  {"wavelength", s.wavelength},
-                  {"speed", s.speed},
-                  {"time", s.time},
-                  {"frame", FrameJson(s.frame)}};
-        } else if constexpr (std::is_same_v<T, MeshSpec>) {
-          return {{"kind", KindName(SurfaceKind::kMesh)}, {"model_id", s.model_id}};
-        } else {
-          json j = {{"kind", KindName(SurfaceKind::kGrid)},
-                    {"nu", s.nu},
-                    {"nv", s.nv},
-                    {"points", PointsJson(s.points)}};
-          if (s.periodic_u) j["periodic_u"] = true;
-          if (s.periodic_v) j["periodic_v"] = true;
-          return j;
-        }
-      },
-      spec);
+  json j = {{"kind", KindName(KindOf(spec))}};
+  std::visit([&j](const auto& s) { WriteFields(s, &j); }, spec);
+  return j;
 }
 
 Status ReadSampling(JsonObject& parent, SamplingOptions* out) {

@@ -14,6 +14,7 @@
 #include "engine/disk_mesh.hpp"
 #include "engine/elapsed.hpp"
 #include "engine/mesh_flatten.hpp"
+#include "engine/surface_fields.hpp"
 #include "engine/surface_spec.hpp"
 #include "proto/content_hash.hpp"
 #include "proto/json_object.hpp"
@@ -66,17 +67,10 @@ void KeepMap(StoredSurface* entry) {
 
 size_t EstimateBytes(const StoredSurface& s) {
   const size_t samples = s.sheet.points.size();
-  size_t spec = 0;
-  std::visit(
-      [&spec](const auto& v) {
-        using T = std::decay_t<decltype(v)>;
-        if constexpr (std::is_same_v<T, BezierSpec>) spec = v.control_points.size() * 24;
-        if constexpr (std::is_same_v<T, BSplineSpec>) {
-          spec = v.control_points.size() * 32 + (v.knots_u.size() + v.knots_v.size()) * 8;
-        }
-        if constexpr (std::is_same_v<T, GridSpec>) spec = v.points.size() * 24 * 4;
-      },
-      s.request.surface);
+  // The description: 8 B a number (a grid keeps 4 times that: its
+  // interpolation's coefficients).
+  const bool grid = std::holds_alternative<GridSpec>(s.request.surface);
+  size_t spec = CountNumbers(s.request.surface) * 8 * (grid ? 4 : 1);
   // Samples: position, normal and flat position; the surface keeps about as
   // much again as its spec (copies, derived coefficients).
   // The kept map: its locator (about 64 B a sample), and past a seam the
