@@ -6,8 +6,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/output_files.hpp"
+#include "proto/content_hash.hpp"
 
 namespace surfdeform::cli {
 namespace {
@@ -15,7 +20,11 @@ namespace {
 using nlohmann::json;
 
 // {"animation", "sampling", "flatten"} from the file, or a bare animation.
-bool ReadAnimation(const std::string& file, json* out, CliError* error) {
+// A keyframe whose surface is a string names a mesh file (a cloth
+// simulation's frame; relative to the animation file's folder): its bytes
+// go to *meshes and the key becomes {"kind": "mesh", "model_id": <its id>}.
+bool ReadAnimation(const std::string& file, json* out, std::vector<std::string>* meshes,
+                   CliError* error) {
   json j;
   if (!ReadJsonArgument(file, &j, error)) return false;
   if (!j.is_object() || (!j.contains("animation") && !j.contains("keyframes"))) {
@@ -26,6 +35,21 @@ bool ReadAnimation(const std::string& file, json* out, CliError* error) {
     return false;
   }
   *out = j.contains("animation") ? j : json{{"animation", j}};
+  json& keys = (*out)["animation"]["keyframes"];
+  if (!keys.is_array()) return true;  // the server says what is wrong
+  const std::filesystem::path folder = std::filesystem::path(file).parent_path();
+  for (json& key : keys) {
+    if (!key.is_object() || !key.contains("surface") || !key["surface"].is_string()) continue;
+    const std::filesystem::path named = key["surface"].get<std::string>();
+    const std::string path = (named.is_relative() ? folder / named : named).string();
+    std::string bytes;
+    if (!ReadFileBytes(path, &bytes, &error->message)) {
+      error->kind = CliError::Kind::kLocalFile;
+      return false;
+    }
+    key["surface"] = {{"kind", "mesh"}, {"model_id", proto::Sha256Hex(bytes, 32)}};
+    meshes->push_back(std::move(bytes));
+  }
   return true;
 }
 
@@ -67,7 +91,8 @@ int RunAnimate(const Connection& c, const DeformOptions& d, const AnimateOptions
   }
   CliError error;
   json animation;
-  if (!ReadAnimation(a.animation_file, &animation, &error)) {
+  std::vector<std::string> key_meshes;
+  if (!ReadAnimation(a.animation_file, &animation, &key_meshes, &error)) {
     std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
     return error.exit_code();
   }
@@ -88,6 +113,18 @@ int RunAnimate(const Connection& c, const DeformOptions& d, const AnimateOptions
   const int frames = params["animation"].value("frames", 60);
   ApiClient client(c.server, c.retry, c.timeout_s);
   ConfigureRetries(c, &client);
+  // The keyframes' meshes, uploaded once (the server keeps what it knew).
+  std::set<std::string> uploaded;
+  for (const std::string& mesh : key_meshes) {
+    const std::string id = proto::Sha256Hex(mesh, 32);
+    if (!uploaded.insert(id).second) continue;
+    HttpReply r;
+    HttpFailure f;
+    if (!client.PostModel(mesh, id, &r, &f)) {
+      std::fprintf(stderr, "surfdeform: a keyframe's mesh: %s\n", f.message.c_str());
+      return ExitFor(f);
+    }
+  }
 
   if (!out_path.empty()) {
     DeformRequest request;

@@ -174,7 +174,8 @@ CLI::App* AddAnimate(CLI::App& app, Arguments& x) {
   animate
       ->add_option("--surface", a.animation_file,
                    "JSON file: {\"animation\": {\"keyframes\": ...}, \"sampling\", "
-                   "\"flatten\"} or a bare animation {\"keyframes\": ...}")
+                   "\"flatten\"} or a bare animation {\"keyframes\": ...}; a keyframe's "
+                   "surface may be a mesh file's name (uploaded; all one mesh moving)")
       ->required();
   animate->add_option("--compression", a.compression, "output.compression")
       ->check(CLI::IsMember({"meshopt", "none"}));

@@ -180,6 +180,38 @@ grep -q "an animation is a GLB" "$out/e" || fail "animate .drc: $(cat "$out/e")"
 expect 1 animate "$samples/bunny.ply" --surface "$out/cylinder.json" -o "$out/x.glb"
 grep -q "an animation file holds" "$out/e" || fail "animate with a surface file: $(cat "$out/e")"
 expect 1 animate "$samples/bunny.ply" --surface "$out/wave.json" -o "$out/x.glb" --compression zip
+# Keyframes given as mesh files (a cloth's frames), named relative to the
+# animation file: uploaded once, then animated like any keys.
+mkdir -p "$out/cloth"
+python3 - "$out/cloth" << 'PY'
+import math, sys
+for name, bend in (("flat.obj", 0.0), ("bent.obj", 0.8)):
+    with open(sys.argv[1] + "/" + name, "w") as f:
+        n = 9
+        for j in range(n):
+            for i in range(n):
+                s = i / (n - 1)
+                a = bend * (s - 0.5) * math.pi
+                x, z = (math.sin(a) / bend, (1 - math.cos(a)) / bend) if bend else (s - 0.5, 0.0)
+                f.write("v %.17g %.17g %.17g\n" % (x * 2, j / (n - 1), z * 2))
+        for j in range(n - 1):
+            for i in range(n - 1):
+                a, b = 1 + i + n * j, 2 + i + n * j
+                f.write("f %d %d %d\nf %d %d %d\n" % (a, b, b + n, a, b + n, a + n))
+PY
+cat > "$out/cloth/anim.json" << 'JSON'
+{"animation": {"keyframes": [{"time": 0, "surface": "flat.obj"}, {"time": 1, "surface": "bent.obj"}],
+               "frames": 3, "interpolation": "linear"},
+ "sampling": {"nu": 16, "nv": 16}}
+JSON
+expect 0 animate "$samples/bunny.ply" --surface "$out/cloth/anim.json" --scale fit \
+  --subdivision off -o "$out/cloth.glb"
+grep -q "cloth.glb: 3 frames" "$out/o" || fail "animate along mesh keyframes: $(cat "$out/o") $(cat "$out/e")"
+[[ $(head -c 4 "$out/cloth.glb") == glTF ]] || fail "mesh keyframes: not a GLB"
+echo '{"keyframes": [{"time": 0, "surface": "missing.obj"}, {"time": 1, "surface": "bent.obj"}]}' \
+  > "$out/cloth/missing.json"
+expect 4 animate "$samples/bunny.ply" --surface "$out/cloth/missing.json" -o "$out/x.glb"
+grep -q "missing.obj" "$out/e" || fail "a missing keyframe mesh: $(cat "$out/e")"
 
 # 503: a server with one slot, held by a slow flattening; the client retries
 # until the slot frees, then succeeds.
