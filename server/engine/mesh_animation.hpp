@@ -5,14 +5,16 @@
 // rules, vertex coordinate by coordinate). Frame 0 is flattened as the
 // first key alone would be (FlattenMesh: the conformal start, the canonical
 // frame), so that deformations through it match POST /v1/deform on that
-// mesh bit for bit. Every later frame starts from the sheet before it: its
-// distances are measured along that layout (near-isometric for a mesh that
-// moved a little), the solve starts there, and the result is moved onto it
-// by the best rigid motion. The sheet then stays with the mesh's material
-// from frame to frame (a model placed on it stays on the same part of the
-// cloth) instead of jumping where the canonical frame's principal axes
-// swap. A frame whose triangle collapses between the keys is an error
-// naming the frame and the triangle.
+// mesh bit for bit. Every later frame starts from the sheet before it
+// (MeshFlattener, keeping frame 0's vertex pairs and factor): its distances
+// are measured along that layout (near-isometric for a mesh that moved a
+// little), the solve starts from the last sheets carried on, and the result
+// is turned back onto the sheet before (the rotation of the best affine map
+// between them). The sheet then stays with the mesh's material from frame
+// to frame (a model placed on it stays on the same part of the cloth)
+// instead of turning where the canonical frame's principal axes swap. A
+// frame whose triangle collapses between the keys is an error naming the
+// frame and the triangle.
 #pragma once
 
 #include <functional>
