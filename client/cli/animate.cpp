@@ -37,7 +37,11 @@ bool ReadAnimation(const std::string& file, json* out, std::vector<std::string>*
   *out = j.contains("animation") ? j : json{{"animation", j}};
   json& keys = (*out)["animation"]["keyframes"];
   if (!keys.is_array()) return true;  // the server says what is wrong
-  const std::filesystem::path folder = std::filesystem::path(file).parent_path();
+  // Relative to the animation file's folder; for JSON given inline, to here.
+  const size_t first = file.find_first_not_of(" \t\r\n");
+  const bool inline_json = first != std::string::npos && (file[first] == '{' || file[first] == '[');
+  const std::filesystem::path folder =
+      inline_json ? std::filesystem::path() : std::filesystem::path(file).parent_path();
   for (json& key : keys) {
     if (!key.is_object() || !key.contains("surface") || !key["surface"].is_string()) continue;
     const std::filesystem::path named = key["surface"].get<std::string>();

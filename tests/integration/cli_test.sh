@@ -212,6 +212,10 @@ echo '{"keyframes": [{"time": 0, "surface": "missing.obj"}, {"time": 1, "surface
   > "$out/cloth/missing.json"
 expect 4 animate "$samples/bunny.ply" --surface "$out/cloth/missing.json" -o "$out/x.glb"
 grep -q "missing.obj" "$out/e" || fail "a missing keyframe mesh: $(cat "$out/e")"
+# The same keys given inline, named from here.
+(cd "$out" && expect 0 animate "$samples/bunny.ply" --scale fit --subdivision off -o cloth-inline.glb \
+  --surface '{"keyframes": [{"time": 0, "surface": "cloth/flat.obj"}, {"time": 1, "surface": "cloth/bent.obj"}], "frames": 2}')
+grep -q "cloth-inline.glb: 2 frames" "$out/o" || fail "inline mesh keyframes: $(cat "$out/o") $(cat "$out/e")"
 
 # 503: a server with one slot, held by a slow flattening; the client retries
 # until the slot frees, then succeeds.

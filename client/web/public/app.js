@@ -391,9 +391,16 @@ function measurePreview(placement) {
   return { max: d.max, mean: d.mean, diagonal, relative: d.max / diagonal };
 }
 
-// Resolves once the next frame has been drawn (or skipped: nothing changed).
+// Resolves once the next frame has been drawn (or skipped: nothing changed),
+// or after 250 ms where no frame comes (a hidden tab draws none).
 function afterNextFrame() {
-  return new Promise((resolve) => requestAnimationFrame(() => setTimeout(resolve, 0)));
+  return new Promise((resolve) => {
+    const timer = setTimeout(resolve, 250);
+    requestAnimationFrame(() => setTimeout(() => {
+      clearTimeout(timer);
+      resolve();
+    }, 0));
+  });
 }
 
 async function runDeform() {
