@@ -269,6 +269,17 @@ SurfaceSpec SurfaceAtFrame(const AnimationSpec& spec, int frame) {
   return SurfaceAt(spec, KeyNumbers(spec), frame);
 }
 
+std::vector<Vec2> CarryOn(std::span<const std::vector<Vec2>* const> newest_first) {
+  static constexpr double kCarry[3][3] = {{1, 0, 0}, {2, -1, 0}, {3, -3, 1}};
+  const double* c = kCarry[newest_first.size() - 1];
+  std::vector<Vec2> out(newest_first[0]->size(), Vec2::Zero());
+  for (size_t h = 0; h < newest_first.size(); ++h) {
+    const std::vector<Vec2>& x = *newest_first[h];
+    for (size_t i = 0; i < x.size(); ++i) out[i] += c[h] * x[i];
+  }
+  return out;
+}
+
 Status AnimationFrameError(const AnimationSpec& spec, int frame, const Status& s, double budget_ms,
                            double spent_ms) {
   const std::string message = "frame " + std::to_string(frame) + " (time " +
@@ -408,21 +419,17 @@ class AnimationFlattening {
   const FlatSheet* WarmStart(int k, FlatSheet* carried) const {
     const FlatSheet* warm = k > 0 && !OnKey(spec_, k) ? &out_.sheets.back() : nullptr;
     if (warm == nullptr) return nullptr;
-    static constexpr double kCarry[3][3] = {{1, 0, 0}, {2, -1, 0}, {3, -3, 1}};
-    int history = 1;
-    while (history < 3 && out_.sheets.size() > static_cast<size_t>(history) &&
+    const std::vector<Vec2>* last[3] = {&warm->flat, nullptr, nullptr};
+    size_t history = 1;
+    while (history < 3 && out_.sheets.size() > history &&
            out_.sheets[out_.sheets.size() - 1 - history].flat.size() == warm->flat.size()) {
+      last[history] = &out_.sheets[out_.sheets.size() - 1 - history].flat;
       ++history;
     }
     if (history == 1) return warm;
-    const double* c = kCarry[history - 1];
     carried->nu = warm->nu;
     carried->nv = warm->nv;
-    carried->flat.assign(warm->flat.size(), Vec2::Zero());
-    for (int h = 0; h < history; ++h) {
-      const std::vector<Vec2>& x = out_.sheets[out_.sheets.size() - 1 - h].flat;
-      for (size_t i = 0; i < x.size(); ++i) carried->flat[i] += c[h] * x[i];
-    }
+    carried->flat = CarryOn(std::span(last, history));
     return carried;
   }
 

@@ -33,6 +33,7 @@
 
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -114,6 +115,11 @@ Status AnimationFrameError(const AnimationSpec& spec, int frame, const Status& s
 // budget (0): no change.
 Status AnimationBudgetLeft(const AnimationSpec& spec, int done, double budget_ms, double spent_ms,
                            FlattenOptions* o);
+
+// The last layouts of one size (newest first, one to three) carried on to
+// the next frame by the polynomial through them: X[k-1], 2 X[k-1] -
+// X[k-2], or 3 X[k-1] - 3 X[k-2] + X[k-3].
+std::vector<Vec2> CarryOn(std::span<const std::vector<Vec2>* const> newest_first);
 
 // Called after each frame is flattened (frame index, frames in all), from the
 // calling thread; for progress.

@@ -177,6 +177,16 @@ int Find(std::vector<int>& parent, int x) {
 
 }  // namespace
 
+int CollapsedTriangle(const DiskMesh& mesh, double min_area) {
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& t = mesh.triangles[f];
+    const Vec3& a = mesh.positions[t[0]];
+    const double area = 0.5 * (mesh.positions[t[1]] - a).cross(mesh.positions[t[2]] - a).norm();
+    if (!(area > min_area)) return static_cast<int>(f);
+  }
+  return -1;
+}
+
 Result<DiskMesh> MakeDiskMesh(const std::vector<Vec3>& positions,
                               const std::vector<std::array<uint32_t, 3>>& triangles,
                               const DiskMeshOptions& options) {
@@ -230,18 +240,15 @@ Result<DiskMesh> MakeDiskMesh(const std::vector<Vec3>& positions,
         "model_id", static_cast<double>(options.max_vertices), static_cast<double>(n));
   }
 
-  const double min_area = options.min_area * diagonal * diagonal;
-  for (size_t f = 0; f < out.triangles.size(); ++f) {
+  if (const int f = CollapsedTriangle(out, options.min_area * diagonal * diagonal); f >= 0) {
     const auto& t = out.triangles[f];
     const Vec3& a = out.positions[t[0]];
     const double area = 0.5 * (out.positions[t[1]] - a).cross(out.positions[t[2]] - a).norm();
-    if (!(area > min_area)) {
-      return Refuse("triangle " + std::to_string(f) + " has zero area (" + Num(area) +
-                    "; its corners are vertices " + std::to_string(t[0]) + ", " +
-                    std::to_string(t[1]) + ", " + std::to_string(t[2]) +
-                    " after welding): remove degenerate faces (\"merge by distance\" and "
-                    "\"delete loose\" / \"degenerate dissolve\" in a mesh editor)");
-    }
+    return Refuse("triangle " + std::to_string(f) + " has zero area (" + Num(area) +
+                  "; its corners are vertices " + std::to_string(t[0]) + ", " +
+                  std::to_string(t[1]) + ", " + std::to_string(t[2]) +
+                  " after welding): remove degenerate faces (\"merge by distance\" and "
+                  "\"delete loose\" / \"degenerate dissolve\" in a mesh editor)");
   }
 
   SURFDEFORM_ASSIGN_OR_RETURN(const HalfEdges h, PairEdges(out.triangles));

@@ -40,6 +40,10 @@ struct DiskMesh {
   size_t dropped = 0;         // input vertices no triangle used
 };
 
+// The first triangle of `mesh` whose area is not above `min_area` (an
+// absolute area), or -1.
+int CollapsedTriangle(const DiskMesh& mesh, double min_area);
+
 // Welds, checks and returns the disk; kDegenerate (422) naming the first
 // offending element otherwise, kLimitExceeded past max_vertices, and
 // kInvalidArgument for indices out of range or non-finite positions.

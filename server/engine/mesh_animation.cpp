@@ -4,6 +4,7 @@
 #include <chrono>
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -25,34 +26,24 @@ Status CheckFrameTriangles(const DiskMesh& mesh) {
     hi = hi.cwiseMax(p);
   }
   const double diagonal = (hi - lo).norm();
-  const double min_area = DiskMeshOptions{}.min_area * diagonal * diagonal;
-  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
-    const auto& t = mesh.triangles[f];
-    const Vec3& a = mesh.positions[t[0]];
-    const double area = 0.5 * (mesh.positions[t[1]] - a).cross(mesh.positions[t[2]] - a).norm();
-    if (!(area > min_area)) {
-      return Degenerate("triangle " + std::to_string(f) +
-                            " collapses to zero area between the keyframes around this frame: "
-                            "add a keyframe between them, or interpolate \"linear\"",
-                        "keyframes");
-    }
-  }
-  return Status::Ok();
+  const int f = CollapsedTriangle(mesh, DiskMeshOptions{}.min_area * diagonal * diagonal);
+  if (f < 0) return Status::Ok();
+  return Degenerate("triangle " + std::to_string(f) +
+                        " collapses to zero area between the keyframes around this frame: add "
+                        "a keyframe between them, or interpolate \"linear\"",
+                    "keyframes");
 }
 
-// The last (up to three) frames' flat meshes carried on to the next frame,
-// into *carried; null before the second frame.
+// The last (up to three) frames' flat meshes carried on to the next frame
+// (CarryOn), into *carried; null before the second frame.
 const std::vector<Vec2>* Carried(const AnimatedSheets& done, std::vector<Vec2>* carried) {
-  static constexpr double kCarry[3][3] = {{1, 0, 0}, {2, -1, 0}, {3, -3, 1}};
-  const int history = static_cast<int>(std::min<size_t>(3, done.surfaces.size()));
+  const size_t history = std::min<size_t>(3, done.surfaces.size());
   if (history < 2) return nullptr;
-  const double* c = kCarry[history - 1];
-  const size_t n = done.surfaces.back()->flat_mesh()->flat.size();
-  carried->assign(n, Vec2::Zero());
-  for (int h = 0; h < history; ++h) {
-    const std::vector<Vec2>& x = done.surfaces[done.surfaces.size() - 1 - h]->flat_mesh()->flat;
-    for (size_t v = 0; v < n; ++v) (*carried)[v] += c[h] * x[v];
+  const std::vector<Vec2>* last[3] = {};
+  for (size_t h = 0; h < history; ++h) {
+    last[h] = &done.surfaces[done.surfaces.size() - 1 - h]->flat_mesh()->flat;
   }
+  *carried = CarryOn(std::span(last, history));
   return carried;
 }
 
