@@ -19,39 +19,6 @@ std::string Name(const EnumEntry<E> (&table)[N], E value) {
 
 }  // namespace
 
-json CanonicalJson(const PlacementOptions& p) {
-  json anchor =
-      p.anchor == AnchorMode::kValue ? json(p.anchor_value) : json(Name(kAnchorModes, p.anchor));
-  json center;
-  switch (p.center_mode) {
-    case CenterMode::kSheetCenter:
-      center = "center";
-      break;
-    case CenterMode::kSheetUnits:
-      center = {p.center.x(), p.center.y()};
-      break;
-    case CenterMode::kFraction:
-      center = {{"fraction", {p.center.x(), p.center.y()}}};
-      break;
-  }
-  json j = {{"up", Name(kUpAxes, p.up)},      {"rigid", Name(kRigidModes, p.rigid)},
-            {"anchor", std::move(anchor)},    {"center", std::move(center)},
-            {"rotation_deg", p.rotation_deg}, {"outside", Name(kOutsideModes, p.outside)}};
-  if (p.fit) {
-    j["scale"] = "fit";
-    j["fit_margin"] = p.fit_margin;
-  } else {
-    j["scale"] = p.scale;
-  }
-  return j;
-}
-
-json CanonicalJson(const SubdivisionOptions& s) {
-  return {{"mode", Name(kSubdivisionModes, s.mode)},
-          {"epsilon", s.epsilon},
-          {"tolerance", s.tolerance}};
-}
-
 json CanonicalJson(const OutputOptions& o, OutputFormat format) {
   json j = {{"format", OutputFormatName(format)}, {"distortion", o.distortion}};
   bool draco = format == OutputFormat::kDrc;
@@ -60,15 +27,7 @@ json CanonicalJson(const OutputOptions& o, OutputFormat format) {
     j["compression"] = Name(kGlbCompressions, c);
     draco = c == GlbCompression::kDraco;
   }
-  if (draco) {
-    const DracoOptions& d = o.draco;
-    j["draco"] = {{"position_bits", d.position_bits},
-                  {"normal_bits", d.normal_bits},
-                  {"uv_bits", d.uv_bits},
-                  {"color_bits", d.color_bits},
-                  {"speed", d.speed},
-                  {"sequential", d.sequential}};
-  }
+  if (draco) j["draco"] = CanonicalJson(o.draco);
   return j;
 }
 

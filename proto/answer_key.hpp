@@ -30,10 +30,8 @@ struct AnswerKeyParts {
   size_t glb_split_vertices = 0;
 };
 
-// Canonical forms of the options, as the engine reads them (every default
-// filled in; for output, only what the format uses).
-nlohmann::json CanonicalJson(const PlacementOptions& placement);
-nlohmann::json CanonicalJson(const SubdivisionOptions& subdivision);
+// The canonical form of the output options, as the encoders read them:
+// only what the format uses (placement and subdivision: proto/api.hpp).
 nlohmann::json CanonicalJson(const OutputOptions& output, OutputFormat format);
 
 // The key's text, versioned: a change to the server that changes answers'

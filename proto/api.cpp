@@ -11,6 +11,11 @@ namespace {
 
 using nlohmann::json;
 
+template <typename E, size_t N>
+std::string EnumName(const EnumEntry<E> (&table)[N], E value) {
+  return std::string(NameOf<E>(table, value));
+}
+
 // A spec of `kind` with every field at its default ("nurbs": rational).
 SurfaceSpec EmptySpec(SurfaceKind kind) {
   switch (kind) {
@@ -450,6 +455,98 @@ json CanonicalJson(const AnimationRequest& r) {
                                           kInterpolations, r.animation.interpolation))},
                     {"frames", r.animation.frames},
                     {"fps", r.animation.fps}};
+  return j;
+}
+
+json CanonicalJson(const PlacementOptions& p) {
+  json anchor = p.anchor == AnchorMode::kValue ? json(p.anchor_value)
+                                               : json(EnumName(kAnchorModes, p.anchor));
+  json center;
+  switch (p.center_mode) {
+    case CenterMode::kSheetCenter:
+      center = "center";
+      break;
+    case CenterMode::kSheetUnits:
+      center = {p.center.x(), p.center.y()};
+      break;
+    case CenterMode::kFraction:
+      center = {{"fraction", {p.center.x(), p.center.y()}}};
+      break;
+  }
+  json j = {{"up", EnumName(kUpAxes, p.up)},  {"rigid", EnumName(kRigidModes, p.rigid)},
+            {"anchor", std::move(anchor)},    {"center", std::move(center)},
+            {"rotation_deg", p.rotation_deg}, {"outside", EnumName(kOutsideModes, p.outside)}};
+  if (p.fit) {
+    j["scale"] = "fit";
+    j["fit_margin"] = p.fit_margin;
+  } else {
+    j["scale"] = p.scale;
+  }
+  return j;
+}
+
+json CanonicalJson(const SubdivisionOptions& s) {
+  return {{"mode", EnumName(kSubdivisionModes, s.mode)},
+          {"epsilon", s.epsilon},
+          {"tolerance", s.tolerance}};
+}
+
+json CanonicalJson(const DracoOptions& d) {
+  return {{"position_bits", d.position_bits},
+          {"normal_bits", d.normal_bits},
+          {"uv_bits", d.uv_bits},
+          {"color_bits", d.color_bits},
+          {"speed", d.speed},
+          {"sequential", d.sequential}};
+}
+
+namespace {
+
+json OutputJson(const OutputOptions& o) {
+  json j = {{"distortion", o.distortion}};
+  if (o.format) j["format"] = OutputFormatName(*o.format);
+  if (o.compression) {
+    j["compression"] = EnumName(kGlbCompressions, *o.compression);
+  }
+  if (o.draco_given) j["draco"] = CanonicalJson(o.draco);
+  return j;
+}
+
+// What a deformation and an animation share: the model, and what is done
+// with it.
+template <typename Params>
+void WriteMeshParts(const Params& p, json* j) {
+  if (!p.model_id.empty()) (*j)["model_id"] = p.model_id;
+  (*j)["placement"] = CanonicalJson(p.placement);
+  (*j)["subdivision"] = CanonicalJson(p.subdivision);
+  (*j)["output"] = OutputJson(p.output);
+}
+
+}  // namespace
+
+json ToJson(const CreateSurfaceRequest& r) {
+  json j = CanonicalJson(r.request);
+  if (!r.warm_start.empty()) j["warm_start"] = r.warm_start;
+  return j;
+}
+
+json ToJson(const DeformParams& p) {
+  json j = json::object();
+  if (p.surface) {
+    j = CanonicalJson(*p.surface);
+  } else if (p.animation) {
+    j = CanonicalJson(*p.animation);
+    j["frame"] = p.frame;
+  } else {
+    j["surface_id"] = p.surface_id;
+  }
+  WriteMeshParts(p, &j);
+  return j;
+}
+
+json ToJson(const AnimateParams& p) {
+  json j = CanonicalJson(p.animation);
+  WriteMeshParts(p, &j);
   return j;
 }
 

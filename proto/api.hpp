@@ -122,6 +122,22 @@ Result<SurfaceRequest> ParseSurfaceRequest(const nlohmann::json& body);
 Result<DeformParams> ParseDeformParams(const nlohmann::json& body);
 Result<AnimateParams> ParseAnimateParams(const nlohmann::json& body);
 
+// The request bodies as JSON, which the parsers above read back into the
+// same requests: every field written, with its default when not given (the
+// client builds its requests with these). Only what a client may send:
+// output.draco when it was given, output.format and output.compression when
+// set.
+nlohmann::json ToJson(const CreateSurfaceRequest& request);
+nlohmann::json ToJson(const DeformParams& params);
+nlohmann::json ToJson(const AnimateParams& params);
+
+// Canonical forms of the deformation's options, as the engine reads them
+// (every default filled in; scale "fit" with its margin, or a number): the
+// request bodies above and the answers' keys (proto/answer_key.hpp).
+nlohmann::json CanonicalJson(const PlacementOptions& placement);
+nlohmann::json CanonicalJson(const SubdivisionOptions& subdivision);
+nlohmann::json CanonicalJson(const DracoOptions& draco);
+
 // The surface request with every default filled in, in a canonical form
 // (sorted keys, shortest round-trip numbers): equal requests, equal text.
 nlohmann::json CanonicalJson(const SurfaceRequest& request);

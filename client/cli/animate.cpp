@@ -102,19 +102,18 @@ int RunAnimate(const Connection& c, const DeformOptions& d, const AnimateOptions
   }
   // The deform options' parameters (placement, subdivision, --scale ...),
   // with the animation in place of a surface.
-  DeformOptions base = d;
-  json params = json::object();
-  if (!d.params.empty() && !ReadJsonArgument(d.params, &params, &error)) {
+  // With --frames, each frame alone: the animation's request with a frame,
+  // as POST /v1/deform takes it. Both read before anything is sent.
+  proto::AnimateParams params;
+  DeformRequest frame_request;
+  if ((!out_path.empty() && !BuildAnimateRequest(d, animation, a.compression, &params, &error)) ||
+      (!a.frames_dir.empty() &&
+       !BuildFrameRequest(d, animation, *frame_kind, &frame_request, &error))) {
     std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
     return error.exit_code();
   }
-  for (const char* key : {"animation", "sampling", "flatten"}) {
-    if (animation.contains(key)) params[key] = animation[key];
-  }
-  base.params = params.dump();
-  base.surface_file.clear();
-  base.surface_id.clear();
-  const int frames = params["animation"].value("frames", 60);
+  const int frames = out_path.empty() ? frame_request.params.animation->animation.frames
+                                      : params.animation.animation.frames;
   ApiClient client(c.server, c.retry, c.timeout_s);
   ConfigureRetries(c, &client);
   // The keyframes' meshes, uploaded once (the server keeps what it knew).
@@ -131,14 +130,6 @@ int RunAnimate(const Connection& c, const DeformOptions& d, const AnimateOptions
   }
 
   if (!out_path.empty()) {
-    DeformRequest request;
-    if (!BuildDeformRequest(base, OutputKind::kGlb, &request, &error)) {
-      std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
-      return error.exit_code();
-    }
-    json body = json::parse(request.params);
-    body["output"].erase("format");
-    if (!a.compression.empty()) body["output"]["compression"] = a.compression;
     std::string mesh, message;
     if (!ReadFileBytes(mesh_path, &mesh, &message)) {
       std::fprintf(stderr, "surfdeform: %s\n", message.c_str());
@@ -147,7 +138,7 @@ int RunAnimate(const Connection& c, const DeformOptions& d, const AnimateOptions
     std::fprintf(stderr, "animating %d frames of %s ...\n", frames, mesh_path.c_str());
     HttpReply r;
     HttpFailure f;
-    if (!PostWithModel(client, "/v1/animate", mesh, body.dump(), "model/gltf-binary", &r, &f)) {
+    if (!PostWithModel(client, "/v1/animate", mesh, params, "model/gltf-binary", &r, &f)) {
       std::fprintf(stderr, "surfdeform: %s: %s\n", mesh_path.c_str(), f.message.c_str());
       return ExitFor(f);
     }
@@ -172,20 +163,12 @@ int RunAnimate(const Connection& c, const DeformOptions& d, const AnimateOptions
     }
     const bool tty = isatty(fileno(stderr)) != 0;  // a line per frame in logs
     for (int k = 0; k < frames; ++k) {
-      json p = json::parse(base.params);
-      p["frame"] = k;
-      DeformOptions one = base;
-      one.params = p.dump();
-      DeformRequest request;
-      if (!BuildDeformRequest(one, *frame_kind, &request, &error)) {
-        std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
-        return error.exit_code();
-      }
+      frame_request.params.frame = k;
       char name[32];
       std::snprintf(name, sizeof name, "frame_%04d", k);
       const std::string path = a.frames_dir + "/" + name + a.frame_ext;
       std::string message;
-      const int code = DeformFile(client, request, mesh_path, path, &message);
+      const int code = DeformFile(client, frame_request, mesh_path, path, &message);
       if (code != kExitOk) {
         std::fprintf(stderr, "\nsurfdeform: frame %d: %s\n", k, message.c_str());
         return code;

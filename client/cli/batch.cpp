@@ -149,18 +149,14 @@ int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std:
     DeformRequest probe;
     if (CliError e; !BuildDeformRequest(o, *kind, &probe, &e)) {
       std::fprintf(stderr, "surfdeform: %s\n", e.message.c_str());
-      return kExitUsage;
+      return e.exit_code();
     }
-    const auto params = nlohmann::json::parse(probe.params);
-    nlohmann::json surface_request;
-    for (const char* key : {"surface", "sampling", "flatten"}) {
-      if (params.contains(key)) surface_request[key] = params[key];
-    }
+    const proto::CreateSurfaceRequest surface_request{*probe.params.surface, {}};
     ApiClient client(c.server, c.retry, c.timeout_s);
     HttpReply r;
     HttpFailure f;
     if (!UploadSurfaceMesh(client, probe, &f) ||
-        !client.PostJson("/v1/surfaces", surface_request.dump(), &r, &f)) {
+        !client.PostJson("/v1/surfaces", proto::ToJson(surface_request).dump(), &r, &f)) {
       std::fprintf(stderr, "surfdeform: the surface: %s\n", f.message.c_str());
       return f.unreachable || f.status >= 500 ? kExitUnavailable : kExitRefused;
     }
@@ -170,7 +166,7 @@ int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std:
   DeformRequest request;
   if (CliError e; !BuildDeformRequest(by_id, *kind, &request, &e)) {
     std::fprintf(stderr, "surfdeform: %s\n", e.message.c_str());
-    return kExitUsage;
+    return e.exit_code();
   }
 
   const bool terminal = ::isatty(STDERR_FILENO) != 0;

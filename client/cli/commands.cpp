@@ -83,6 +83,108 @@ bool ReadSurfaceRequest(const std::string& file, json* out, CliError* error,
   return true;
 }
 
+// A request the API refuses: its field and message, as the server gives them.
+CliError Refused(const Status& status) {
+  return {CliError::Kind::kRefused,
+          (status.field().empty() ? "" : status.field() + ": ") + status.message()};
+}
+
+// Reads `request` with `parse` (one of proto's parsers) into *out; false
+// with the error when the API refuses it.
+template <typename Params, typename Parse>
+bool ReadRequest(const json& request, Parse parse, Params* out, CliError* error) {
+  auto parsed = parse(request);
+  if (!parsed.ok()) {
+    *error = Refused(parsed.status());
+    return false;
+  }
+  *out = std::move(*parsed);
+  return true;
+}
+
+// The flags of deform, batch and animate on a request read from --params
+// (proto::DeformParams or proto::AnimateParams), for an output of `kind`;
+// *decode: the reply is Draco to decode here into OBJ or PLY.
+template <typename Params>
+bool ApplyFlags(const DeformOptions& o, OutputKind kind, Params* p, bool* decode, CliError* error) {
+  if (!o.model_id.empty()) p->model_id = o.model_id;
+  if (!o.subdivision.empty()) {
+    const auto mode = ValueOf<SubdivisionMode>(kSubdivisionModes, o.subdivision);
+    if (!mode) {
+      *error = {CliError::Kind::kUsage, "--subdivision: off, adaptive or uniform"};
+      return false;
+    }
+    p->subdivision.mode = *mode;
+  }
+  if (o.tolerance > 0.0) p->subdivision.tolerance = o.tolerance;
+  if (o.scale == "fit") {
+    p->placement.fit = true;
+  } else if (!o.scale.empty()) {
+    char* end = nullptr;
+    const double s = std::strtod(o.scale.c_str(), &end);
+    if (end == o.scale.c_str() || *end != '\0') {
+      *error = {CliError::Kind::kUsage, "--scale: \"fit\" or a number, got " + o.scale};
+      return false;
+    }
+    p->placement.fit = false;
+    p->placement.scale = s;
+  }
+  proto::OutputOptions& output = p->output;
+  const bool distortion = o.distortion || output.distortion;
+  if (distortion) {
+    if (kind != OutputKind::kGlb && kind != OutputKind::kPly) {
+      *error = {CliError::Kind::kUsage,
+                "--distortion: the distortion map is written in .glb and .ply output only"};
+      return false;
+    }
+    output.distortion = true;
+  }
+  if (!o.compression.empty()) {
+    if (kind != OutputKind::kGlb) {
+      *error = {CliError::Kind::kUsage, "--compression: compresses .glb output only"};
+      return false;
+    }
+    const auto c = ValueOf<proto::GlbCompression>(proto::kGlbCompressions, o.compression);
+    if (!c) {
+      *error = {CliError::Kind::kUsage, "--compression: draco, meshopt or none"};
+      return false;
+    }
+    output.compression = *c;
+  }
+  *decode = false;
+  switch (kind) {
+    case OutputKind::kDrc:
+      output.format = proto::OutputFormat::kDrc;
+      break;
+    case OutputKind::kGlb:
+      output.format = proto::OutputFormat::kGlb;
+      break;
+    case OutputKind::kObj:
+    case OutputKind::kPly:
+      if (o.lossless || distortion) {  // Draco would not carry the distortion map
+        output.format =
+            kind == OutputKind::kObj ? proto::OutputFormat::kObj : proto::OutputFormat::kPly;
+      } else {
+        // Draco over the wire (a fraction of the bytes), decoded here; the
+        // sequential encoding keeps the vertex order.
+        output.format = proto::OutputFormat::kDrc;
+        output.draco.sequential = true;
+        output.draco_given = true;
+        *decode = true;
+      }
+      break;
+  }
+  return true;
+}
+
+// The request as it will be sent, read back: flags that make a request the
+// API refuses (--scale -1, a compression with draco settings) are found here.
+template <typename Params, typename Parse>
+bool CheckAsSent(const Params& p, Parse parse, CliError* error) {
+  Params again;
+  return ReadRequest(proto::ToJson(p), parse, &again, error);
+}
+
 // The JSON reply of a request that creates something with an id; false,
 // having said so, for anything else.
 bool ReplyWithId(const HttpReply& r, json* out) {
@@ -160,6 +262,12 @@ int RunFlatten(const Connection& c, const std::string& surface_file, const std::
     std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
     return kExitLocalFile;  // the surface file is the one input: unreadable or unusable
   }
+  auto parsed = proto::ParseCreateSurfaceRequest(request);
+  if (!parsed.ok()) {
+    std::fprintf(stderr, "surfdeform: %s: %s\n", surface_file.c_str(),
+                 Refused(parsed.status()).message.c_str());
+    return kExitRefused;
+  }
   ApiClient client(c.server, c.retry, c.timeout_s);
   ConfigureRetries(c, &client);
   HttpReply r;
@@ -168,7 +276,7 @@ int RunFlatten(const Connection& c, const std::string& surface_file, const std::
     std::fprintf(stderr, "surfdeform: %s: %s\n", surface_file.c_str(), f.message.c_str());
     return ExitFor(f);
   }
-  if (!client.PostJson("/v1/surfaces", request.dump(), &r, &f)) {
+  if (!client.PostJson("/v1/surfaces", proto::ToJson(*parsed).dump(), &r, &f)) {
     std::fprintf(stderr, "surfdeform: %s\n", f.message.c_str());
     return ExitFor(f);
   }
@@ -202,16 +310,61 @@ int RunFlatten(const Connection& c, const std::string& surface_file, const std::
   return kExitOk;
 }
 
+namespace {
+
+// --params, a JSON object (empty without it).
+bool ReadParams(const DeformOptions& o, json* params, CliError* error) {
+  *params = json::object();
+  if (o.params.empty()) return true;
+  if (!ReadJsonArgument(o.params, params, error)) return false;
+  if (!params->is_object()) {
+    *error = {CliError::Kind::kUsage, "--params: a JSON object is needed"};
+    return false;
+  }
+  return true;
+}
+
+// The request from `params` (--params with the surface's or the
+// animation's parts in place) and the flags.
+bool FinishDeformRequest(const json& params, const DeformOptions& o, OutputKind kind,
+                         DeformRequest* out, CliError* error) {
+  if (!ReadRequest(params, proto::ParseDeformParams, &out->params, error) ||
+      !ApplyFlags(o, kind, &out->params, &out->decode, error) ||
+      !CheckAsSent(out->params, proto::ParseDeformParams, error)) {
+    return false;
+  }
+  out->kind = kind;
+  switch (kind) {
+    case OutputKind::kDrc:
+      out->accept = "application/octet-stream";
+      break;
+    case OutputKind::kGlb:
+      out->accept = "model/gltf-binary";
+      break;
+    case OutputKind::kObj:
+    case OutputKind::kPly:
+      out->accept = "";
+      break;
+  }
+  return true;
+}
+
+// --params with the animation file's parts in place.
+bool ReadAnimationParams(const DeformOptions& o, const json& animation, json* params,
+                         CliError* error) {
+  if (!ReadParams(o, params, error)) return false;
+  for (const char* key : {"animation", "sampling", "flatten"}) {
+    if (animation.contains(key)) (*params)[key] = animation[key];
+  }
+  return true;
+}
+
+}  // namespace
+
 bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* out,
                         CliError* error) {
-  json params = json::object();
-  if (!o.params.empty()) {
-    if (!ReadJsonArgument(o.params, &params, error)) return false;
-    if (!params.is_object()) {
-      *error = {CliError::Kind::kUsage, "--params: a JSON object is needed"};
-      return false;
-    }
-  }
+  json params;
+  if (!ReadParams(o, &params, error)) return false;
   if (!o.surface_file.empty()) {
     json request;
     if (!ReadSurfaceRequest(o.surface_file, &request, error, &out->surface_mesh)) return false;
@@ -230,66 +383,37 @@ bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* 
               "no surface: give --surface FILE, --surface-id ID, or a surface in --params"};
     return false;
   }
-  if (!o.model_id.empty()) params["model_id"] = o.model_id;
-  if (!o.subdivision.empty()) params["subdivision"]["mode"] = o.subdivision;
-  if (o.tolerance > 0.0) params["subdivision"]["tolerance"] = o.tolerance;
-  if (!o.scale.empty()) {
-    if (o.scale == "fit") {
-      params["placement"]["scale"] = "fit";
-    } else {
-      char* end = nullptr;
-      const double s = std::strtod(o.scale.c_str(), &end);
-      if (end == o.scale.c_str() || *end != '\0') {
-        *error = {CliError::Kind::kUsage, "--scale: \"fit\" or a number, got " + o.scale};
-        return false;
-      }
-      params["placement"]["scale"] = s;
-    }
+  return FinishDeformRequest(params, o, kind, out, error);
+}
+
+bool BuildFrameRequest(const DeformOptions& o, const json& animation, OutputKind kind,
+                       DeformRequest* out, CliError* error) {
+  json params;
+  if (!ReadAnimationParams(o, animation, &params, error)) return false;
+  params["frame"] = 0;
+  return FinishDeformRequest(params, o, kind, out, error);
+}
+
+bool BuildAnimateRequest(const DeformOptions& o, const json& animation,
+                         const std::string& compression, proto::AnimateParams* out,
+                         CliError* error) {
+  json params;
+  if (!ReadAnimationParams(o, animation, &params, error)) return false;
+  bool decode = false;
+  if (!ReadRequest(params, proto::ParseAnimateParams, out, error) ||
+      !ApplyFlags(o, OutputKind::kGlb, out, &decode, error)) {
+    return false;
   }
-  out->kind = kind;
-  out->decode = false;
-  json& output = params["output"];
-  const bool distortion = o.distortion || (output.is_object() && output.value("distortion", false));
-  if (distortion) {
-    if (kind != OutputKind::kGlb && kind != OutputKind::kPly) {
-      *error = {CliError::Kind::kUsage,
-                "--distortion: the distortion map is written in .glb and .ply output only"};
+  out->output.format.reset();  // always a GLB: its compression says which
+  if (!compression.empty()) {
+    const auto c = ValueOf<proto::GlbCompression>(proto::kGlbCompressions, compression);
+    if (!c) {
+      *error = {CliError::Kind::kUsage, "--compression: meshopt or none"};
       return false;
     }
-    output["distortion"] = true;
+    out->output.compression = *c;
   }
-  if (!o.compression.empty()) {
-    if (kind != OutputKind::kGlb) {
-      *error = {CliError::Kind::kUsage, "--compression: compresses .glb output only"};
-      return false;
-    }
-    output["compression"] = o.compression;
-  }
-  switch (kind) {
-    case OutputKind::kDrc:
-      output["format"] = "drc";
-      out->accept = "application/octet-stream";
-      break;
-    case OutputKind::kGlb:
-      output["format"] = "glb";
-      out->accept = "model/gltf-binary";
-      break;
-    case OutputKind::kObj:
-    case OutputKind::kPly:
-      if (o.lossless || distortion) {  // Draco would not carry the distortion map
-        output["format"] = kind == OutputKind::kObj ? "obj" : "ply";
-      } else {
-        // Draco over the wire (a fraction of the bytes), decoded here; the
-        // sequential encoding keeps the vertex order.
-        output["format"] = "drc";
-        output["draco"]["sequential"] = true;
-        out->decode = true;
-      }
-      out->accept = "";
-      break;
-  }
-  out->params = params.dump();
-  return true;
+  return CheckAsSent(*out, proto::ParseAnimateParams, error);
 }
 
 bool UploadSurfaceMesh(ApiClient& client, const DeformRequest& request, HttpFailure* failure) {
@@ -299,18 +423,33 @@ bool UploadSurfaceMesh(ApiClient& client, const DeformRequest& request, HttpFail
                           &uploaded, failure);
 }
 
-bool PostWithModel(ApiClient& client, const std::string& path, const std::string& mesh,
-                   const std::string& params, const std::string& accept, HttpReply* out,
-                   HttpFailure* failure) {
-  json p = json::parse(params);
-  const std::string id = proto::Sha256Hex(mesh, 32);  // what the server names it (proto/api.hpp)
-  p["model_id"] = id;
-  const std::string body = p.dump();
+namespace {
+
+template <typename Params>
+bool PostParamsWithModel(ApiClient& client, const std::string& path, const std::string& mesh,
+                         Params params, const std::string& accept, HttpReply* out,
+                         HttpFailure* failure) {
+  params.model_id = proto::ModelId(mesh);  // what the server names it
+  const std::string body = proto::ToJson(params).dump();
   if (client.PostJson(path, body, out, failure, accept)) return true;
   if (failure->code != "unknown_model") return false;
   HttpReply uploaded;
-  if (!client.PostModel(mesh, id, &uploaded, failure)) return false;
+  if (!client.PostModel(mesh, params.model_id, &uploaded, failure)) return false;
   return client.PostJson(path, body, out, failure, accept);
+}
+
+}  // namespace
+
+bool PostWithModel(ApiClient& client, const std::string& path, const std::string& mesh,
+                   proto::DeformParams params, const std::string& accept, HttpReply* out,
+                   HttpFailure* failure) {
+  return PostParamsWithModel(client, path, mesh, std::move(params), accept, out, failure);
+}
+
+bool PostWithModel(ApiClient& client, const std::string& path, const std::string& mesh,
+                   proto::AnimateParams params, const std::string& accept, HttpReply* out,
+                   HttpFailure* failure) {
+  return PostParamsWithModel(client, path, mesh, std::move(params), accept, out, failure);
 }
 
 int RunUpload(const Connection& c, const std::string& mesh_path, bool json_output) {
@@ -350,7 +489,8 @@ int DeformFile(ApiClient& client, const DeformRequest& request, const std::strin
     return ExitFor(f);
   }
   if (mesh_path.empty()) {
-    sent = client.PostJson("/v1/deform", request.params, &r, &f, request.accept);
+    sent =
+        client.PostJson("/v1/deform", proto::ToJson(request.params).dump(), &r, &f, request.accept);
   } else {
     std::string mesh;
     if (!ReadFileBytes(mesh_path, &mesh, message)) return kExitLocalFile;

@@ -9,6 +9,7 @@
 
 #include "cli/api_client.hpp"
 #include "cli/output_files.hpp"
+#include "proto/api.hpp"
 
 namespace surfdeform::cli {
 
@@ -24,11 +25,23 @@ enum ExitCode {
 
 // A failure before any request is sent: which kind it is (and so the exit
 // code), and the message for the person.
+// kRefused: a request the API's own parsers (proto) refuse, as the server
+// would, with the same message; it is not sent.
 struct CliError {
-  enum class Kind { kUsage, kLocalFile };
+  enum class Kind { kUsage, kLocalFile, kRefused };
   Kind kind = Kind::kUsage;
   std::string message;
-  int exit_code() const { return kind == Kind::kLocalFile ? kExitLocalFile : kExitUsage; }
+  int exit_code() const {
+    switch (kind) {
+      case Kind::kLocalFile:
+        return kExitLocalFile;
+      case Kind::kRefused:
+        return kExitRefused;
+      case Kind::kUsage:
+        break;
+    }
+    return kExitUsage;
+  }
 };
 
 struct Connection {
@@ -89,7 +102,7 @@ bool ReadJsonArgument(const std::string& text_or_file, nlohmann::json* out, CliE
 
 // Shared by deform, batch and animate.
 struct DeformRequest {
-  std::string params;  // the JSON sent
+  proto::DeformParams params;  // sent as proto::ToJson(params)
   // A surface given as a mesh file (--surface panel.obj): its bytes, which
   // the params name by id ({"kind": "mesh", "model_id"}) and which go to the
   // server first (UploadSurfaceMesh); empty otherwise.
@@ -103,17 +116,35 @@ struct DeformRequest {
 // already costs a reply), when there is one.
 bool UploadSurfaceMesh(ApiClient& client, const DeformRequest& request, HttpFailure* failure);
 
-// The request for an output of `kind`, from the options; false with the
-// error (a file that cannot be read, or options that make no request).
+// The request for an output of `kind`, from the options: --params (with
+// the surface file's parts in place) read by proto's parser, then the flags
+// on the request, which is read back once more; false with the error (a
+// file that cannot be read, options that make no request, or one the API
+// refuses).
 bool BuildDeformRequest(const DeformOptions& o, OutputKind kind, DeformRequest* out,
                         CliError* error);
 
-// POST `path` with `params` (JSON text) naming the mesh by its id: the mesh
-// is uploaded (POST /v1/models) only when the server does not hold it (404
+// The same for POST /v1/animate: --params with the animation file's
+// {"animation", "sampling", "flatten"} in place, and the flags;
+// output.compression is `compression` when not empty.
+bool BuildAnimateRequest(const DeformOptions& o, const nlohmann::json& animation,
+                         const std::string& compression, proto::AnimateParams* out,
+                         CliError* error);
+
+// One frame of that animation alone (POST /v1/deform with "frame": 0; the
+// caller sets params.frame), for an output of `kind`.
+bool BuildFrameRequest(const DeformOptions& o, const nlohmann::json& animation, OutputKind kind,
+                       DeformRequest* out, CliError* error);
+
+// POST `path` with `params` naming the mesh by its id: the mesh is uploaded
+// (POST /v1/models) only when the server does not hold it (404
 // unknown_model: never sent, or evicted since), and the request sent again.
 // So a mesh crosses the wire once per server however many requests use it.
 bool PostWithModel(ApiClient& client, const std::string& path, const std::string& mesh,
-                   const std::string& params, const std::string& accept, HttpReply* out,
+                   proto::DeformParams params, const std::string& accept, HttpReply* out,
+                   HttpFailure* failure);
+bool PostWithModel(ApiClient& client, const std::string& path, const std::string& mesh,
+                   proto::AnimateParams params, const std::string& accept, HttpReply* out,
                    HttpFailure* failure);
 
 // One mesh through the server into `out_path` (an empty `mesh_path`: the

@@ -12,7 +12,8 @@ namespace {
 constexpr char kExitCodes[] = R"(Exit codes:
   0  success
   1  usage: bad flags or arguments
-  2  the server refused the request (4xx; its message is printed): fix the request
+  2  the request is refused (its message is printed): fix the request. By the server (4xx),
+     or here, before it is sent, by the API's own request types (unknown fields, types, ranges)
   3  the server could not be reached or failed (5xx), after retrying what is safe to retry
      (connection errors, 503 with Retry-After); 4xx are never retried
   4  a local file could not be read, written or decoded

@@ -143,6 +143,17 @@ expect 4 flatten "$out/missing.json"
 expect 4 flatten "$out/bad.json"
 expect 4 deform "$samples/bunny.ply" --surface "$out/missing.json" -o "$out/x.drc"
 expect 1 deform "$samples/bunny.ply" --surface-id "$id" --params "{not json" -o "$out/x.drc"
+# Requests the API refuses are read by proto's parsers here and not sent:
+# the server's message and exit code 2, even with no server to send them to.
+expect 2 --server http://127.0.0.1:1 deform "$samples/bunny.ply" --surface-id "$id" \
+  --params '{"placement":{"scale":-1}}' -o "$out/x.drc"
+grep -q "placement.scale" "$out/e" || fail "a refused scale: $(cat "$out/e")"
+expect 2 --server http://127.0.0.1:1 deform "$samples/bunny.ply" --surface "$out/cylinder.json" \
+  --params '{"subdivision":{"tolerence":1}}' -o "$out/x.drc"
+grep -q "subdivision.tolerence" "$out/e" || fail "an unknown field: $(cat "$out/e")"
+echo '{"kind":"cylindre","radius":2}' > "$out/misspelt.json"
+expect 2 --server http://127.0.0.1:1 flatten "$out/misspelt.json"
+grep -q "surface.kind" "$out/e" || fail "a refused surface file: $(cat "$out/e")"
 expect 3 --server http://127.0.0.1:1 --retries 2 -v health
 grep -q "retry 1" "$out/e" || fail "no retry report for a connection error"
 
@@ -180,6 +191,9 @@ grep -q "an animation is a GLB" "$out/e" || fail "animate .drc: $(cat "$out/e")"
 expect 1 animate "$samples/bunny.ply" --surface "$out/cylinder.json" -o "$out/x.glb"
 grep -q "an animation file holds" "$out/e" || fail "animate with a surface file: $(cat "$out/e")"
 expect 1 animate "$samples/bunny.ply" --surface "$out/wave.json" -o "$out/x.glb" --compression zip
+expect 2 --server http://127.0.0.1:1 animate "$samples/bunny.ply" --surface "$out/wave.json" \
+  --params '{"output":{"distortion":true}}' -o "$out/x.glb"
+grep -q "output.distortion" "$out/e" || fail "a refused animation: $(cat "$out/e")"
 # Keyframes given as mesh files (a cloth's frames), named relative to the
 # animation file: uploaded once, then animated like any keys.
 mkdir -p "$out/cloth"

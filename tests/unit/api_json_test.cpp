@@ -231,5 +231,83 @@ TEST(ApiJson, DuplicateKeysAreRefusedWithTheirPath) {
   EXPECT_EQ(j.status().field(), "params.a");
 }
 
+// Every value of `given` at its path in `written`: a field that the writer
+// drops or changes fails here.
+void ExpectHolds(const json& written, const json& given, const std::string& path) {
+  if (given.is_object()) {
+    ASSERT_TRUE(written.is_object()) << path << ": " << written.dump();
+    for (const auto& [key, value] : given.items()) {
+      ASSERT_TRUE(written.contains(key)) << path << "." << key << " was not written";
+      ExpectHolds(written.at(key), value, path + "." + key);
+    }
+  } else if (given.is_array()) {
+    ASSERT_TRUE(written.is_array() && written.size() == given.size())
+        << path << ": " << written.dump();
+    for (size_t i = 0; i < given.size(); ++i) {
+      ExpectHolds(written.at(i), given.at(i), path + "[" + std::to_string(i) + "]");
+    }
+  } else if (given.is_number()) {
+    EXPECT_EQ(written.get<double>(), given.get<double>()) << path;
+  } else {
+    EXPECT_EQ(written, given) << path;
+  }
+}
+
+// `given`, read by `parse` and written by ToJson, holds every given value
+// and reads back into a request that writes the same.
+template <typename Parse>
+void ExpectReadsBack(const json& given, Parse parse) {
+  SCOPED_TRACE(given.dump());
+  auto request = parse(given);
+  ASSERT_TRUE(request.ok()) << request.status().ToString();
+  const json written = ToJson(*request);
+  ExpectHolds(written, given, "");
+  auto again = parse(written);
+  ASSERT_TRUE(again.ok()) << again.status().ToString() << " in " << written.dump();
+  EXPECT_EQ(ToJson(*again), written);
+}
+
+// Requests with every field away from its default: written by ToJson, they
+// hold every given value and read back into requests that write the same.
+TEST(ApiJson, WrittenRequestsReadBackTheSame) {
+  const std::string mesh_parts = R"("model_id":"00112233445566778899aabbccddeeff",
+      "placement":{"up":"-y","rigid":"components","anchor":0.25,"center":{"fraction":[0.5,0.25]},
+                   "rotation_deg":30,"scale":"fit","fit_margin":0.1,"outside":"clamp"},
+      "subdivision":{"mode":"uniform","epsilon":0.5,"tolerance":0.002})";
+  const std::string flatten = R"("sampling":{"nu":9,"nv":7},
+      "flatten":{"method":"paper","range":2,"tolerance":1e-5,"max_iterations":50,"step":0.01,
+                 "exact_developable":false,"lattice_factor":3,"relax_steps":1})";
+  const std::string deforms[] = {
+      R"({"surface":{"kind":"cylinder","radius":2,"angle_deg":90,"height":3},)" + flatten + "," +
+          mesh_parts +
+          R"(,"output":{"format":"glb","draco":{"position_bits":16,"normal_bits":8,
+             "uv_bits":10,"color_bits":6,"speed":3,"sequential":true},"distortion":true}})",
+      R"({"surface_id":"0123456789abcdef0123456789abcdef",)" + mesh_parts +
+          R"(,"placement":{"up":"+x","anchor":"top","center":[1.5,-2],"scale":3,
+             "outside":"extrapolate"},"output":{"compression":"meshopt"}})",
+      R"({"animation":{"keyframes":[{"time":0,"surface":{"kind":"wave","amplitude":0.1}},
+          {"time":1,"surface":{"kind":"wave","amplitude":0.3}}],"interpolation":"linear",
+          "frames":5,"fps":10},"frame":3,)" +
+          flatten + "," + mesh_parts + R"(,"output":{"format":"ply"}})",
+  };
+  for (const std::string& text : deforms) ExpectReadsBack(json::parse(text), ParseDeformParams);
+
+  const json animate = json::parse(
+      R"({"animation":{"keyframes":[{"time":0,"surface":{"kind":"wave","amplitude":0.1}},
+          {"time":2,"surface":{"kind":"wave","amplitude":0.3}}],"frames":4,"fps":12},)" +
+      flatten + "," + mesh_parts + R"(,"output":{"compression":"none"}})");
+  ExpectReadsBack(animate, ParseAnimateParams);
+
+  const json create = json::parse(
+      R"({"warm_start":"0123456789abcdef0123456789abcdef",
+          "surface":{"kind":"mesh","model_id":"00112233445566778899aabbccddeeff"},)" +
+      flatten + "}");
+  ExpectReadsBack(create, ParseCreateSurfaceRequest);
+  auto c = ParseCreateSurfaceRequest(create);
+  auto c_again = ParseCreateSurfaceRequest(ToJson(*c));
+  ASSERT_TRUE(c.ok() && c_again.ok());
+  EXPECT_EQ(SurfaceId(c_again->request), SurfaceId(c->request));
+}
+
 }  // namespace
 }  // namespace surfdeform::proto
