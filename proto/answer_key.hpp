@@ -22,8 +22,8 @@ namespace surfdeform::proto {
 struct AnswerKeyParts {
   std::string_view model;    // the model's id (ModelId of its file's bytes)
   std::string_view surface;  // the surface id and its sheet's digest
-  const PlacementOptions* placement = nullptr;
-  const SubdivisionOptions* subdivision = nullptr;
+  const PlacementSettings* placement = nullptr;
+  const SubdivisionSettings* subdivision = nullptr;
   const OutputOptions* output = nullptr;
   OutputFormat format = OutputFormat::kDrc;  // as chosen (output.format or Accept)
   // The server's --glb-split-vertices: where a Draco GLB is cut into pieces.

@@ -82,7 +82,7 @@ Status ReadSampling(JsonObject& parent, SamplingOptions* out) {
   return ValidateSampling(*out).WithFieldPrefix(parent.PathOf("sampling"));
 }
 
-Status ReadFlatten(JsonObject& parent, FlattenOptions* out) {
+Status ReadFlatten(JsonObject& parent, FlattenSettings* out) {
   const json* v = parent.Find("flatten");
   if (v == nullptr) return Status::Ok();
   SURFDEFORM_ASSIGN_OR_RETURN(auto o, JsonObject::Open(*v, parent.PathOf("flatten")));
@@ -96,7 +96,7 @@ Status ReadFlatten(JsonObject& parent, FlattenOptions* out) {
   SURFDEFORM_RETURN_IF_ERROR(o.Integer("relax_steps", &out->relax_steps));
   SURFDEFORM_RETURN_IF_ERROR(o.Finish());
   // The engine's own rules name the field without the prefix.
-  return ValidateFlattenOptions(*out).WithFieldPrefix(parent.PathOf("flatten"));
+  return ValidateFlattenSettings(*out).WithFieldPrefix(parent.PathOf("flatten"));
 }
 
 Status ReadSurfaceParts(JsonObject& o, SurfaceRequest* out) {
@@ -108,9 +108,9 @@ Status ReadSurfaceParts(JsonObject& o, SurfaceRequest* out) {
   return ReadFlatten(o, &out->flatten);
 }
 
-Status ReadPlacement(JsonObject& parent, PlacementOptions* out) {
+Status ReadPlacement(JsonObject& parent, PlacementSettings* out) {
   const json* v = parent.Find("placement");
-  if (v == nullptr) return ValidatePlacement(*out);
+  if (v == nullptr) return ValidatePlacementSettings(*out);
   const std::string path = parent.PathOf("placement");
   SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(*v, path));
   SURFDEFORM_RETURN_IF_ERROR(o.Choice<UpAxis>("up", kUpAxes, &out->up));
@@ -158,9 +158,7 @@ Status ReadPlacement(JsonObject& parent, PlacementOptions* out) {
   SURFDEFORM_RETURN_IF_ERROR(o.Number("fit_margin", &out->fit_margin));
   SURFDEFORM_RETURN_IF_ERROR(o.Choice<OutsideMode>("outside", kOutsideModes, &out->outside));
   SURFDEFORM_RETURN_IF_ERROR(o.Finish());
-  Status s = ValidatePlacement(*out);
-  // ValidatePlacement already names "placement.*".
-  return s;
+  return ValidatePlacementSettings(*out);  // names "placement.*" itself
 }
 
 Status ReadOutput(JsonObject& parent, OutputOptions* out) {
@@ -193,7 +191,7 @@ Status ReadOutput(JsonObject& parent, OutputOptions* out) {
   return o.Finish();
 }
 
-Status ReadSubdivision(JsonObject& parent, SubdivisionOptions* out) {
+Status ReadSubdivision(JsonObject& parent, SubdivisionSettings* out) {
   const json* v = parent.Find("subdivision");
   if (v == nullptr) return Status::Ok();
   SURFDEFORM_ASSIGN_OR_RETURN(auto s, JsonObject::Open(*v, parent.PathOf("subdivision")));
@@ -201,7 +199,7 @@ Status ReadSubdivision(JsonObject& parent, SubdivisionOptions* out) {
   SURFDEFORM_RETURN_IF_ERROR(s.Number("epsilon", &out->epsilon));
   SURFDEFORM_RETURN_IF_ERROR(s.Number("tolerance", &out->tolerance));
   SURFDEFORM_RETURN_IF_ERROR(s.Finish());
-  return ValidateSubdivision(*out);
+  return ValidateSubdivisionSettings(*out);
 }
 
 // "animation" (keyframes, interpolation, frames, fps) and, beside it,
@@ -300,21 +298,6 @@ const char* OutputMediaType(OutputFormat format) {
       return "application/x-ply";
   }
   return "application/octet-stream";
-}
-
-MeshFormat OutputMeshFormat(OutputFormat format) {
-  switch (format) {
-    case OutputFormat::kDrc:
-      return MeshFormat::kDraco;
-    case OutputFormat::kGlb:
-    case OutputFormat::kGlbPlain:
-      return MeshFormat::kGlb;
-    case OutputFormat::kObj:
-      return MeshFormat::kObj;
-    case OutputFormat::kPly:
-      return MeshFormat::kPly;
-  }
-  return MeshFormat::kDraco;
 }
 
 Result<SurfaceRequest> ParseSurfaceRequest(const json& body) {
@@ -427,7 +410,7 @@ Result<AnimateParams> ParseAnimateParams(const json& body) {
 }
 
 json CanonicalJson(const SurfaceRequest& r) {
-  const FlattenOptions& f = r.flatten;
+  const FlattenSettings& f = r.flatten;
   return {{"surface", SurfaceJson(r.surface)},
           {"sampling", {{"nu", r.sampling.nu}, {"nv", r.sampling.nv}}},
           {"flatten",
@@ -458,7 +441,7 @@ json CanonicalJson(const AnimationRequest& r) {
   return j;
 }
 
-json CanonicalJson(const PlacementOptions& p) {
+json CanonicalJson(const PlacementSettings& p) {
   json anchor = p.anchor == AnchorMode::kValue ? json(p.anchor_value)
                                                : json(EnumName(kAnchorModes, p.anchor));
   json center;
@@ -485,7 +468,7 @@ json CanonicalJson(const PlacementOptions& p) {
   return j;
 }
 
-json CanonicalJson(const SubdivisionOptions& s) {
+json CanonicalJson(const SubdivisionSettings& s) {
   return {{"mode", EnumName(kSubdivisionModes, s.mode)},
           {"epsilon", s.epsilon},
           {"tolerance", s.tolerance}};
@@ -570,45 +553,6 @@ bool IsSurfaceIdShaped(std::string_view text) {
     if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
   }
   return true;
-}
-
-json QualityJson(const FlattenQuality& q) {
-  return {{"stress", q.stress},
-          {"max_edge_error", q.max_edge_error},
-          {"area_ratio_min", q.area_ratio_min},
-          {"area_ratio_max", q.area_ratio_max},
-          {"folded_cells", q.folded_cells},
-          {"iterations", q.iterations},
-          {"converged", q.converged}};
-}
-
-json SubdivisionStatsJson(const SubdivisionStats& s) {
-  return {{"mode", SubdivisionModeName(s.mode)},
-          {"vertices_before", s.vertices_before},
-          {"triangles_before", s.triangles_before},
-          {"vertices_after", s.vertices_after},
-          {"triangles_after", s.triangles_after},
-          {"vertices_added", s.vertices_after - s.vertices_before},
-          {"edge_points_considered", s.edge_points_considered},
-          {"edge_points_kept", s.edge_points_kept},
-          {"face_points_considered", s.face_points_considered},
-          {"face_points_kept", s.face_points_kept},
-          {"refinement_points", s.refinement_points},
-          {"epsilon", s.epsilon},
-          {"tolerance", s.tolerance},
-          {"max_deviation", s.max_deviation},
-          {"max_estimated_deviation", s.max_estimated_deviation},
-          {"measured_points", s.measured_points}};
-}
-
-json DeformStatsJson(const DeformStats& s) {
-  json j = {{"vertices", s.vertices},  {"triangles", s.triangles},
-            {"outside", s.outside},    {"max_outside_distance", s.max_outside_distance},
-            {"scale", s.scale},        {"up", NameOf<UpAxis>(kUpAxes, s.up)},
-            {"up_reason", s.up_reason}};
-  if (s.fit_frame >= 0) j["fit_frame"] = s.fit_frame;
-  if (s.turns > 0.0) j["turns"] = s.turns;  // round a closed surface
-  return j;
 }
 
 }  // namespace surfdeform::proto

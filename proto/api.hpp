@@ -1,11 +1,14 @@
 // The request types of the HTTP API and their JSON mapping (proto/openapi.yaml
 // is the contract; this is its C++ side, shared by the server and the client).
-// Field names are the engine's option-struct names, one to one; the engine's
-// own validation gives the value rules. Parsing is strict: unknown fields and
+// The requests are built from plain vocabulary shared with the engine: the
+// surface description (surface_spec.hpp, animation_spec.hpp) and each
+// option group's settings (*_settings.hpp, sampling_options.hpp,
+// draco_options.hpp), whose field names are the JSON's, one to one, and
+// whose own validation gives the value rules. Never the algorithms' option
+// structs: how work runs (threads, time budgets, output limits, the input's
+// axis convention) is the service's to add when it maps a request to the
+// engine (service/engine_options.hpp). Parsing is strict: unknown fields and
 // wrong types are kMalformed errors naming the JSON path.
-//
-// Not exposed: the engine's `threads` options (the server decides; results do
-// not depend on them).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -13,15 +16,13 @@
 #include <string>
 
 #include "base/status.hpp"
-#include "engine/animation.hpp"
-#include "engine/deform.hpp"
-#include "engine/flatten.hpp"
-#include "engine/sample_grid.hpp"
-#include "engine/subdivide.hpp"
+#include "engine/animation_spec.hpp"
+#include "engine/flatten_settings.hpp"
+#include "engine/placement_settings.hpp"
+#include "engine/sampling_options.hpp"
+#include "engine/subdivision_settings.hpp"
 #include "engine/surface_spec.hpp"
-#include "meshio/animation_glb.hpp"
-#include "meshio/mesh_export.hpp"
-#include "meshio/mesh_format.hpp"
+#include "meshio/draco_options.hpp"
 
 namespace surfdeform::proto {
 
@@ -34,7 +35,7 @@ using ::surfdeform::SurfaceKind;
 struct SurfaceRequest {
   SurfaceSpec surface;
   SamplingOptions sampling;
-  FlattenOptions flatten;
+  FlattenSettings flatten;
 };
 
 // Output formats: Draco .drc, GLB with KHR_draco_mesh_compression, plain GLB,
@@ -49,7 +50,6 @@ inline constexpr EnumEntry<OutputFormat> kOutputFormats[] = {
 };
 const char* OutputFormatName(OutputFormat format);  // from kOutputFormats
 const char* OutputMediaType(OutputFormat format);
-MeshFormat OutputMeshFormat(OutputFormat format);
 
 // output.compression: how a GLB's vertex data are compressed.
 enum class GlbCompression { kDraco, kMeshopt, kNone };
@@ -81,7 +81,7 @@ struct OutputOptions {
 struct AnimationRequest {
   AnimationSpec animation;
   SamplingOptions sampling;
-  FlattenOptions flatten;
+  FlattenSettings flatten;
 };
 
 // POST /v1/deform parameters: a surface inline (with its sampling and
@@ -93,8 +93,8 @@ struct DeformParams {
   std::string surface_id;                     // ... or by id ...
   std::optional<AnimationRequest> animation;  // ... or one frame of an animation
   int frame = -1;                             // with animation: which, 0 .. frames - 1
-  PlacementOptions placement;
-  SubdivisionOptions subdivision;  // mode, epsilon, tolerance (limits: the server's)
+  PlacementSettings placement;
+  SubdivisionSettings subdivision;
   OutputOptions output;
 };
 
@@ -103,8 +103,8 @@ struct DeformParams {
 struct AnimateParams {
   std::string model_id;  // as in DeformParams
   AnimationRequest animation;
-  PlacementOptions placement;
-  SubdivisionOptions subdivision;
+  PlacementSettings placement;
+  SubdivisionSettings subdivision;
   OutputOptions output;
 };
 
@@ -134,8 +134,8 @@ nlohmann::json ToJson(const AnimateParams& params);
 // Canonical forms of the deformation's options, as the engine reads them
 // (every default filled in; scale "fit" with its margin, or a number): the
 // request bodies above and the answers' keys (proto/answer_key.hpp).
-nlohmann::json CanonicalJson(const PlacementOptions& placement);
-nlohmann::json CanonicalJson(const SubdivisionOptions& subdivision);
+nlohmann::json CanonicalJson(const PlacementSettings& placement);
+nlohmann::json CanonicalJson(const SubdivisionSettings& subdivision);
 nlohmann::json CanonicalJson(const DracoOptions& draco);
 
 // The surface request with every default filled in, in a canonical form
@@ -160,9 +160,5 @@ bool IsSurfaceIdShaped(std::string_view text);
 // SHA-256 of the mesh file's bytes, nothing else, so that a client can
 // compute it before uploading (and a load balancer route by it).
 std::string ModelId(std::string_view mesh_bytes);
-
-nlohmann::json QualityJson(const FlattenQuality& quality);
-nlohmann::json DeformStatsJson(const DeformStats& stats);
-nlohmann::json SubdivisionStatsJson(const SubdivisionStats& stats);
 
 }  // namespace surfdeform::proto

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "base/status.hpp"
-#include "engine/sheet_marks.hpp"
+#include "engine/sheet_mark.hpp"
 
 namespace surfdeform::proto {
 
@@ -24,7 +24,7 @@ struct MapRequest {
   std::vector<Vec2> points;
   std::vector<std::vector<Vec2>> polylines;
   std::vector<Vec3> surface_points;
-  PolylineOptions polyline;  // max_segment and tolerance (max_points: the service's)
+  PolylineSettings polyline;
 };
 
 struct MapLimits {

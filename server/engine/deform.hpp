@@ -66,7 +66,7 @@ struct DeformStats {
 struct DeformOptions {
   PlacementOptions placement;
   // None unless asked for (the options' own default mode is adaptive).
-  SubdivisionOptions subdivision = {.mode = SubdivisionMode::kOff};
+  SubdivisionOptions subdivision = SubdivisionIn(SubdivisionMode::kOff);
   bool distortion = false;  // Mesh::distortion per output vertex, and its stats
   // Only the geometry the map computes (positions, normals, tangents, and the
   // distortion when asked for) is written: for callers that keep the rest

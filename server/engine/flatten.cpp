@@ -65,7 +65,7 @@ const char* FlattenMethodName(FlattenMethod method) {
   return name.empty() ? "unknown" : name.data();  // the table's literals end in NUL
 }
 
-Status ValidateFlattenOptions(const FlattenOptions& o) {
+Status ValidateFlattenSettings(const FlattenSettings& o) {
   if (o.range < 1 || o.range > 8) {
     return InvalidArgument("must be from 1 to 8, got " + std::to_string(o.range), "range");
   }
@@ -86,6 +86,15 @@ Status ValidateFlattenOptions(const FlattenOptions& o) {
         "must be from 0 (automatic) to 16, got " + std::to_string(o.lattice_factor),
         "lattice_factor");
   }
+  if (o.relax_steps < 0 || o.relax_steps > 8) {
+    return InvalidArgument("must be from 0 to 8, got " + std::to_string(o.relax_steps),
+                           "relax_steps");
+  }
+  return Status::Ok();
+}
+
+Status ValidateFlattenOptions(const FlattenOptions& o) {
+  SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenSettings(o));
   if (o.threads < 0 || o.threads > 256) {
     return InvalidArgument("must be from 0 (one per core) to 256, got " + std::to_string(o.threads),
                            "threads");
@@ -93,10 +102,6 @@ Status ValidateFlattenOptions(const FlattenOptions& o) {
   if (!(o.time_budget_ms >= 0.0 && o.time_budget_ms < 1e12)) {
     return InvalidArgument("must be a non-negative number of milliseconds (0 = none)",
                            "time_budget_ms");
-  }
-  if (o.relax_steps < 0 || o.relax_steps > 8) {
-    return InvalidArgument("must be from 0 to 8, got " + std::to_string(o.relax_steps),
-                           "relax_steps");
   }
   return Status::Ok();
 }

@@ -37,6 +37,7 @@
 
 #include "base/enum_table.hpp"
 #include "base/status.hpp"
+#include "engine/flatten_settings.hpp"
 #include "engine/geometry_types.hpp"
 #include "engine/sample_grid.hpp"
 #include "engine/surface.hpp"
@@ -44,26 +45,11 @@
 
 namespace surfdeform {
 
-enum class FlattenMethod { kMajorization, kPaper };
-inline constexpr EnumEntry<FlattenMethod> kFlattenMethods[] = {
-    {FlattenMethod::kMajorization, "majorization",
-     "stress majorization (Guttman transform), the default"},
-    {FlattenMethod::kPaper, "paper", "the paper's gradient descent (the baseline)"},
-};
-
-const char* FlattenMethodName(FlattenMethod method);
-
-struct FlattenOptions {
-  FlattenMethod method = FlattenMethod::kMajorization;
-  int range = 3;                  // r: grid range of the neighbourhood Omega_i, 1..8
-  double tolerance = 1e-7;        // stop when an iteration lowers C by less than this fraction
-  int max_iterations = 0;         // 0 = the method's default (majorization 3000, paper 200000)
-  double step = 0.0;              // the paper's rho; 0 = automatic, 1 / (8 max |Omega_i|)
-  bool exact_developable = true;  // unroll analytic cylinder and cone patches in closed form
-  int lattice_factor = 0;         // distance integration lattice per cell side; 0 = automatic
-  int relax_steps = 2;            // geodesic relaxation steps per pair; 0 = straight segments
-  int threads = 0;                // worker threads; 0 = one per core. Results do not depend on it.
-  double time_budget_ms = 0.0;    // the solver stops with kLimitExceeded past this; 0 = none
+// A flattening as the engine runs it: the request's settings and how it
+// runs (set by the service from its flags and limits, never by a request).
+struct FlattenOptions : FlattenSettings {
+  int threads = 0;              // worker threads; 0 = one per core. Results do not depend on it.
+  double time_budget_ms = 0.0;  // the solver stops with kLimitExceeded past this; 0 = none
   // A surface given as a mesh: the most vertex pairs within max(range, 3)
   // rings it may have (kLimitExceeded past it, found before they are all
   // listed); 0 = no limit. Set by the service, not by requests.

@@ -303,7 +303,7 @@ double LargestScale(const SheetMap& map, const Outline& outline) {
 
 }  // namespace
 
-Status ValidatePlacement(const PlacementOptions& o) {
+Status ValidatePlacementSettings(const PlacementSettings& o) {
   if (!std::isfinite(o.anchor_value)) {
     return InvalidArgument("must be a finite number", "placement.anchor");
   }
@@ -318,6 +318,11 @@ Status ValidatePlacement(const PlacementOptions& o) {
   if (!(o.fit_margin >= 0.0 && o.fit_margin < 0.5)) {
     return InvalidArgument("must be in [0, 0.5), got " + Num(o.fit_margin), "placement.fit_margin");
   }
+  return Status::Ok();
+}
+
+Status ValidatePlacement(const PlacementOptions& o) {
+  SURFDEFORM_RETURN_IF_ERROR(ValidatePlacementSettings(o));
   if (o.threads < 0 || o.threads > 256) {
     return InvalidArgument("must be from 0 to 256", "placement.threads");
   }

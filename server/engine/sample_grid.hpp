@@ -5,17 +5,10 @@
 
 #include "base/status.hpp"
 #include "engine/geometry_types.hpp"
+#include "engine/sampling_options.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {
-
-inline constexpr int kMinGridSide = 2;
-inline constexpr int kMaxGridSide = 512;
-
-struct SamplingOptions {
-  int nu = 16;  // samples along u, 2..512
-  int nv = 16;  // samples along v, 2..512
-};
 
 // Sample (i, j) sits at (u, v) = (i / (nu - 1), j / (nv - 1)); index i + nu * j.
 struct SampledGrid {
@@ -29,7 +22,6 @@ struct SampledGrid {
 // Errors: kInvalidArgument for a grid size out of range; kDegenerate naming the
 // first sample whose position is not finite or whose normal vanishes (a pole, an
 // apex, a collapsed row of control points).
-Status ValidateSampling(const SamplingOptions& options);
 Result<SampledGrid> SampleSurface(const Surface& surface, const SamplingOptions& options);
 
 }  // namespace surfdeform

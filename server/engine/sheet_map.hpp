@@ -17,17 +17,11 @@
 #include "engine/flat_locator.hpp"
 #include "engine/flatten.hpp"
 #include "engine/geometry_types.hpp"
+#include "engine/placement_settings.hpp"
 #include "engine/seam_extension.hpp"
 #include "engine/surface.hpp"
 
 namespace surfdeform {
-
-enum class OutsideMode { kError, kClamp, kExtrapolate };
-inline constexpr EnumEntry<OutsideMode> kOutsideModes[] = {
-    {OutsideMode::kError, "error", "a footprint off the sheet fails (422), saying how far"},
-    {OutsideMode::kClamp, "clamp", "points off the sheet move to its nearest boundary point"},
-    {OutsideMode::kExtrapolate, "extrapolate", "the nearest boundary cell's map continues"},
-};
 
 // Where a flat point lands on the surface.
 struct SheetParameters {

@@ -8,34 +8,17 @@
 
 #include "base/status.hpp"
 #include "engine/sheet_map.hpp"
+#include "engine/sheet_mark.hpp"
 
 namespace surfdeform {
-
-struct SheetMark {
-  Vec3 point = Vec3::Zero();    // on the surface
-  Vec3 normal = Vec3::UnitZ();  // unit
-  Vec2 uv = Vec2::Zero();       // surface parameters
-  Vec2 sheet = Vec2::Zero();    // flat-sheet coordinates
-  bool on_sheet = true;         // false: the sheet point was off the sheet (clamped to it)
-  double distance = 0.0;        // MarkNearest: from the query point to `point`
-};
 
 // The surface under sheet point `ab`; off the sheet, under the nearest point
 // of its boundary (on_sheet false; `sheet` stays `ab`).
 SheetMark MarkAt(const SheetMap& map, const Vec2& ab);
 
-// The finest tolerance and segment a resampling takes, as a share of the
-// sheet's diagonal: the flattening keeps distances to about 1e-6, so finer
-// pieces only multiply points (to the output limit, from a request of a
-// few bytes).
-inline constexpr double kFinestMarkShare = 1e-7;
-
-struct PolylineOptions {
-  double max_segment = 0.0;     // > 0: no piece longer than this on the sheet (at least
-                                // kFinestMarkShare of its diagonal)
-  double tolerance = 0.0;       // > 0: the largest distance of the image's chords from the
-                                // surface (at least kFinestMarkShare of the diagonal);
-                                // 0 = 1e-3 of the sheet's diagonal
+// A resampling as the engine runs it: the request's settings and the
+// service's point limit.
+struct PolylineOptions : PolylineSettings {
   size_t max_points = 1000000;  // over all polylines of a call
 };
 

@@ -93,7 +93,7 @@ const char* SubdivisionModeName(SubdivisionMode mode) {
   return name.empty() ? "off" : name.data();  // the table's literals end in NUL
 }
 
-Status ValidateSubdivision(const SubdivisionOptions& o) {
+Status ValidateSubdivisionSettings(const SubdivisionSettings& o) {
   if (!(std::isfinite(o.epsilon) && o.epsilon >= 0.0)) {
     return InvalidArgument("must be a finite number >= 0 (1 / surface units; 0 = none)",
                            "subdivision.epsilon");
@@ -102,6 +102,11 @@ Status ValidateSubdivision(const SubdivisionOptions& o) {
     return InvalidArgument("must be a finite number >= 0 (surface units; 0 = automatic)",
                            "subdivision.tolerance");
   }
+  return Status::Ok();
+}
+
+Status ValidateSubdivision(const SubdivisionOptions& o) {
+  SURFDEFORM_RETURN_IF_ERROR(ValidateSubdivisionSettings(o));
   if (o.max_vertices == 0 || o.max_triangles == 0) {
     return InvalidArgument("the output size limits must be positive", "subdivision");
   }

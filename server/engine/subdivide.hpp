@@ -72,20 +72,15 @@
 #include "engine/mesh.hpp"
 #include "engine/sheet_footprint.hpp"
 #include "engine/sheet_map.hpp"
-#include "engine/subdivision_mode.hpp"
+#include "engine/subdivision_settings.hpp"
 
 namespace surfdeform {
 
 const char* SubdivisionModeName(SubdivisionMode mode);  // "off", "adaptive", "uniform"
 
-struct SubdivisionOptions {
-  SubdivisionMode mode = SubdivisionMode::kAdaptive;
-  // Curvature threshold, 1 / surface units (the paper's epsilon); 0 = none.
-  double epsilon = 0.0;
-  // Largest deviation from the exact deformation, output (surface) units;
-  // 0 = none when epsilon is given, else automatic: 1e-3 of the diagonal of
-  // the flat sheet's bounding box.
-  double tolerance = 0.0;
+// A subdivision as the engine runs it: the request's settings, the
+// service's output limits and budget, and threads.
+struct SubdivisionOptions : SubdivisionSettings {
   size_t max_vertices = 4'000'000;   // output size limit (vertices)
   size_t max_triangles = 8'000'000;  // and triangles
   // Wall-clock budget of the call, ms; 0 = none. Past it the subdivision
@@ -94,6 +89,13 @@ struct SubdivisionOptions {
   double time_budget_ms = 0.0;
   int threads = 0;  // 0 = one per core; results do not depend on it
 };
+
+// The options with `mode`, everything else at its default.
+inline SubdivisionOptions SubdivisionIn(SubdivisionMode mode) {
+  SubdivisionOptions o;
+  o.mode = mode;
+  return o;
+}
 
 struct SubdivisionStats {
   SubdivisionMode mode = SubdivisionMode::kOff;

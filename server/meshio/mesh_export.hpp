@@ -11,23 +11,13 @@
 
 #include "base/status.hpp"
 #include "engine/mesh.hpp"
+#include "meshio/draco_options.hpp"
 #include "meshio/mesh_format.hpp"
 
 namespace surfdeform {
 namespace meshio {
 struct GltfLook;  // gltf_look.hpp
 }
-
-struct DracoOptions {
-  // Quantization bits per attribute (Draco's own defaults are 11 / 8 / 10 / 8;
-  // these are chosen by measurement: see BENCHMARKS.md).
-  int position_bits = 14;
-  int normal_bits = 10;
-  int uv_bits = 12;
-  int color_bits = 8;
-  int speed = 5;            // Draco encoder speed 0 (smallest) .. 10 (fastest)
-  bool sequential = false;  // keep the vertex order (larger files)
-};
 
 // How a GLB carries its vertex data.
 enum class GlbEncoding {
@@ -80,7 +70,5 @@ int GlbPieces(size_t vertices, size_t split_vertices);
 // options; kUnsupportedFormat for formats that are read but not written (STL, OFF).
 Result<std::string> ExportMesh(const Mesh& mesh, MeshFormat format,
                                const ExportOptions& options = {});
-
-Status ValidateDracoOptions(const DracoOptions& options);
 
 }  // namespace surfdeform

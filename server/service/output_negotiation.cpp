@@ -92,4 +92,19 @@ Status CheckDistortionFormat(const proto::OutputOptions& o, proto::OutputFormat 
                          "output.distortion");
 }
 
+MeshFormat OutputMeshFormat(proto::OutputFormat format) {
+  switch (format) {
+    case proto::OutputFormat::kDrc:
+      return MeshFormat::kDraco;
+    case proto::OutputFormat::kGlb:
+    case proto::OutputFormat::kGlbPlain:
+      return MeshFormat::kGlb;
+    case proto::OutputFormat::kObj:
+      return MeshFormat::kObj;
+    case proto::OutputFormat::kPly:
+      return MeshFormat::kPly;
+  }
+  return MeshFormat::kDraco;
+}
+
 }  // namespace surfdeform

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "base/status.hpp"
+#include "meshio/mesh_format.hpp"
 #include "proto/api.hpp"
 
 namespace surfdeform {
@@ -31,5 +32,8 @@ bool PrefersBytesToJson(std::string_view accept);
 // output.distortion travels only in formats that name custom attributes
 // (glb, glb_plain, ply); else kInvalidArgument naming the field.
 Status CheckDistortionFormat(const proto::OutputOptions& output, proto::OutputFormat format);
+
+// The writer of a format.
+MeshFormat OutputMeshFormat(proto::OutputFormat format);
 
 }  // namespace surfdeform

@@ -21,6 +21,8 @@
 #include "meshio/mesh_export.hpp"
 #include "proto/content_hash.hpp"
 #include "service/limit_checks.hpp"
+#include "service/output_negotiation.hpp"
+#include "service/stats_json.hpp"
 
 namespace surfdeform {
 namespace {
@@ -131,7 +133,7 @@ json SheetSummary(const StoredSurface& s, bool cached) {
             {"method", s.sheet.method},
             {"periodic_u", false},
             {"periodic_v", false},
-            {"quality", proto::QualityJson(s.sheet.quality)},
+            {"quality", QualityJson(s.sheet.quality)},
             {"timing_ms", {{"flatten", s.flatten_ms}}}};
   if (const std::optional<SheetPeriod> period = PeriodOf(*s.surface, s.sheet)) {
     // A model may cross the seam: the flat point p of the column u = 0 and
@@ -214,9 +216,9 @@ json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, boo
             {"input_format", MeshFormatName(imported.format)},
             {"vertices", st.vertices},
             {"triangles", st.triangles},
-            {"subdivision", proto::SubdivisionStatsJson(st.subdivision)},
-            {"placement", proto::DeformStatsJson(st)},
-            {"quality", proto::QualityJson(quality)},
+            {"subdivision", SubdivisionStatsJson(st.subdivision)},
+            {"placement", DeformStatsJson(st)},
+            {"quality", QualityJson(quality)},
             {"warnings", Warnings(imported, st)}};
   j["placement"]["reused"] = placement_reused;  // from the memo: the same model came before
   // Not run: it added nothing to the same model with the same options before.
@@ -269,9 +271,9 @@ json AnimationStatsHeader(const StoredAnimation& animation, bool hit, double fps
       {"triangles", model.mesh.triangles.size()},
       {"compression", NameOf<AnimationCompression>(kAnimationCompressions, compression)},
       {"input_format", MeshFormatName(imported.format)},
-      {"subdivision", proto::SubdivisionStatsJson(model.subdivision)},
+      {"subdivision", SubdivisionStatsJson(model.subdivision)},
       {"subdivision_passes", model.subdivision_passes},
-      {"placement", proto::DeformStatsJson(first_frame)},
+      {"placement", DeformStatsJson(first_frame)},
       {"flatten",
        {{"iterations_first", cold},
         {"iterations_warm_mean",
@@ -309,7 +311,7 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   export_options.threads = std::max(1, encode.threads);
   export_options.split_vertices = encode.glb_split_vertices;
   SURFDEFORM_ASSIGN_OR_RETURN(auto bytes,
-                              ExportMesh(mesh, proto::OutputMeshFormat(format), export_options));
+                              ExportMesh(mesh, OutputMeshFormat(format), export_options));
   timings.push_back({"encode", MsSince(t0)});
   Reply reply = BytesReply(std::move(bytes), proto::OutputMediaType(format), encode.etag);
   reply.cache_hit = hit;

@@ -20,6 +20,7 @@
 #include "proto/map_api.hpp"
 #include "service/answer_cache.hpp"
 #include "service/content_coding.hpp"
+#include "service/engine_options.hpp"
 #include "service/flat_sheet_svg.hpp"
 #include "service/limit_checks.hpp"
 #include "service/meshopt_orders.hpp"
@@ -42,25 +43,6 @@ constexpr int kDefaultFieldSide = 64;
 
 // Placements the memo keeps (~250 bytes each with their index).
 constexpr size_t kPlacementMemoEntries = 1024;
-
-PlacementOptions PlacementFor(const PlacementOptions& given, const ImportedMesh& m, int threads) {
-  PlacementOptions p = given;
-  p.threads = threads;
-  p.y_up_input = m.format == MeshFormat::kGlb || m.format == MeshFormat::kGltf;
-  return p;
-}
-
-// The subdivision as asked, within this request's threads, output limits and
-// what is left of its time budget.
-SubdivisionOptions SubdivisionFor(const SubdivisionOptions& given, const ServiceLimits& limits,
-                                  const RequestWork& work) {
-  SubdivisionOptions s = given;
-  s.threads = work.threads();
-  s.max_vertices = MaxOutputVertices(limits);
-  s.max_triangles = limits.max_output_triangles;
-  s.time_budget_ms = work.clock().BudgetFor(limits.request_time_budget_ms);
-  return s;
-}
 
 // A model on an animation: its sheets, one map per frame, and the model
 // placed on every frame's sheet and refined for every frame.
@@ -268,7 +250,7 @@ struct Service::Impl {
                             proto::OutputFormat format, const RequestWork& work, std::string etag) {
     DeformOptions deform;
     deform.placement = PlacementFor(params.placement, imported, work.threads());
-    deform.subdivision = params.subdivision;
+    deform.subdivision = WithRunDefaults<SubdivisionOptions>(params.subdivision);
     deform.distortion = params.output.distortion;
     SURFDEFORM_ASSIGN_OR_RETURN(
         AnimatedModel a,
@@ -325,7 +307,7 @@ struct Service::Impl {
     SURFDEFORM_ASSIGN_OR_RETURN(auto imported, MeshOf(params.model_id, mesh, work));
     DeformOptions deform;
     deform.placement = PlacementFor(params.placement, imported, work.threads());
-    deform.subdivision = params.subdivision;
+    deform.subdivision = WithRunDefaults<SubdivisionOptions>(params.subdivision);
     deform.geometry_only = true;
     // Checked before any work on the input's count, and again after the
     // subdivision on the output's.
@@ -558,7 +540,7 @@ Result<Reply> Service::MapOnSurface(std::string_view id, std::string_view body) 
       for (const Vec3& p : request.surface_points) marks[0].push_back(MarkNearest(map, p));
       break;
     case proto::MapRequest::Kind::kPolylines: {
-      PolylineOptions o = request.polyline;
+      auto o = WithRunDefaults<PolylineOptions>(request.polyline);
       o.max_points = MaxMapOutputPoints(limits);
       SURFDEFORM_ASSIGN_OR_RETURN(marks, ResamplePolylines(map, request.polylines, o));
       break;

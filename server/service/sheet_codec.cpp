@@ -8,6 +8,7 @@
 
 #include "proto/api.hpp"
 #include "proto/content_hash.hpp"
+#include "service/stats_json.hpp"
 
 namespace surfdeform {
 namespace {
@@ -76,10 +77,10 @@ class Reader {
   size_t pos_ = 0;
 };
 
-// proto's quality fields, and the timings (which the sheet summary reports
-// apart).
-json QualityJson(const FlattenQuality& q) {
-  json j = proto::QualityJson(q);
+// The replies' quality fields, and the timings (which the sheet summary
+// reports apart).
+json QualityWithTimings(const FlattenQuality& q) {
+  json j = QualityJson(q);
   j["distance_ms"] = q.distance_ms;
   j["solve_ms"] = q.solve_ms;
   j["total_ms"] = q.total_ms;
@@ -123,7 +124,7 @@ std::string EncodeSheet(const FlatSheet& sheet, const EncodedSheetParts& parts) 
                        sheet.frame_linear(1, 1), sheet.frame_offset.x(), sheet.frame_offset.y()}},
                      {"period_u", {sheet.period_u.x(), sheet.period_u.y()}},
                      {"period_v", {sheet.period_v.x(), sheet.period_v.y()}},
-                     {"quality", QualityJson(sheet.quality)},
+                     {"quality", QualityWithTimings(sheet.quality)},
                      {"mesh_pairs", parts.mesh_pairs},
                      {"mesh_dropped_pairs", parts.mesh_dropped_pairs}};
   Writer w;

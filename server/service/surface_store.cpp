@@ -19,6 +19,7 @@
 #include "proto/content_hash.hpp"
 #include "proto/json_object.hpp"
 #include "service/digest_hex.hpp"
+#include "service/engine_options.hpp"
 #include "service/limit_checks.hpp"
 #include "service/memory_budget.hpp"
 #include "service/sheet_codec.hpp"
@@ -230,9 +231,9 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
     ticket.emplace(std::move(t));
   }
   const auto t0 = Clock::now();
-  FlattenOptions flatten = request.flatten;
-  flatten.threads = ticket ? ThreadsFor(*ticket, engine_threads_) : engine_threads_;
-  flatten.time_budget_ms = clock.BudgetFor(limits_.flatten_time_budget_ms);
+  FlattenOptions flatten =
+      FlattenFor(request.flatten, ticket ? ThreadsFor(*ticket, engine_threads_) : engine_threads_,
+                 clock.BudgetFor(limits_.flatten_time_budget_ms));
   auto resolved = ResolveMesh(request.surface, flatten);
   if (!resolved.ok()) {
     const Status& s = resolved.status();
@@ -311,8 +312,9 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Rebuild(const std::st
     return Status(ErrorCode::kMalformed, "the shared sheet's mesh does not match its surface",
                   "shared_tier");
   }
-  SURFDEFORM_ASSIGN_OR_RETURN(auto resolved, ResolveMesh(request.surface, request.flatten,
-                                                         &decoded.parts, decoded.sheet.quality));
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      auto resolved, ResolveMesh(request.surface, WithRunDefaults<FlattenOptions>(request.flatten),
+                                 &decoded.parts, decoded.sheet.quality));
   SURFDEFORM_ASSIGN_OR_RETURN(auto surface, MakeSurface(resolved ? *resolved : request.surface));
   auto entry = std::make_shared<StoredSurface>();
   entry->id = id;
@@ -380,9 +382,8 @@ Result<std::shared_ptr<const StoredAnimation>> SurfaceStore::FlattenedAnimation(
       id,
       [&]() -> Result<std::shared_ptr<const StoredAnimation>> {
         const auto t0 = Clock::now();
-        FlattenOptions flatten = request.flatten;
-        flatten.threads = threads;
-        flatten.time_budget_ms = clock.BudgetFor(limits_.flatten_time_budget_ms);
+        FlattenOptions flatten =
+            FlattenFor(request.flatten, threads, clock.BudgetFor(limits_.flatten_time_budget_ms));
         SURFDEFORM_ASSIGN_OR_RETURN(const AnimationSpec spec, ResolveMeshKeys(request.animation));
         size_t mesh_vertices = 0;
         if (const auto* m = std::get_if<MeshSpec>(&spec.keyframes[0].surface)) {

@@ -5,7 +5,11 @@
 # - it raises only the geometry codes of base/status.hpp, never the codes of
 #   formats, requests or the service;
 # - base/ includes nothing but itself and the standard library;
-# - no caller picks a behaviour from an error's message text.
+# - no caller picks a behaviour from an error's message text;
+# - proto/ (the API's request types) includes from the engine and meshio
+#   only their plain vocabulary (the surface description and each option
+#   group's settings), which includes nothing else of theirs: never an
+#   algorithm's header or option struct.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 fail=0
@@ -26,5 +30,13 @@ hits=$(grep -rnE '(message|error)\(\)\.(rfind|find|starts_with|compare)\(|field\
 [[ -z $hits ]] || report "a caller decides from an error's text" "$hits"
 hits=$(grep -rnE 'error\.rfind\("|message\.rfind\("' "$root/server" "$root/proto" "$root/client/cli" || true)
 [[ -z $hits ]] || report "a caller decides from an error's text" "$hits"
+vocabulary='(engine/(surface_spec|surface_fields|surface|animation_spec|flatten_settings|placement_settings|sampling_options|subdivision_settings|subdivision_mode|sheet_mark|geometry_types)|meshio/draco_options)\.hpp'
+hits=$(grep -rnE '#include "(engine|meshio)/' "$root/proto" | grep -vE "#include \"$vocabulary\"" || true)
+[[ -z $hits ]] || report "proto includes an engine or meshio header that is not vocabulary" "$hits"
+for header in $(grep -ohE "$vocabulary" -r "$root/proto" | sort -u); do
+  hits=$(grep -nE '#include "(engine|meshio)/' "$root/server/$header" |
+           grep -vE "#include \"$vocabulary\"" || true)
+  [[ -z $hits ]] || report "the vocabulary header $header includes more than vocabulary" "$hits"
+done
 ((fail == 0)) && echo "engine boundaries: all hold"
 exit $fail

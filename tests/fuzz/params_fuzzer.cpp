@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "engine/animation.hpp"
 #include "proto/api.hpp"
 #include "proto/json_object.hpp"
 #include "proto/map_api.hpp"

@@ -89,7 +89,7 @@ TEST(PlacementMemo, FindsWhatWasStoredAndDropsTheLeastRecentlyUsed) {
 TEST(PlacementMemo, SubdivisionKeysTellOptionsAndTrianglesApart) {
   const PlacementMemo memo(8);
   const std::vector<std::array<uint32_t, 3>> triangles = {{0, 1, 2}, {0, 2, 3}};
-  const SubdivisionOptions o{.mode = SubdivisionMode::kAdaptive};
+  const SubdivisionOptions o = SubdivisionIn(SubdivisionMode::kAdaptive);
   const auto key = memo.SubdivisionKeyOf(o, triangles);
   SubdivisionOptions same = o;
   same.threads = 3;
@@ -119,8 +119,8 @@ TEST(PlacementMemo, KeepsTheLastUnrefinedVerdictOfAnEntry) {
   PlacementMemo memo(8);
   const auto a = memo.KeyOf("a", PlacementOptions{}, Square());
   const std::vector<std::array<uint32_t, 3>> triangles = {{0, 1, 2}, {0, 2, 3}};
-  const auto adaptive = memo.SubdivisionKeyOf({.mode = SubdivisionMode::kAdaptive}, triangles);
-  const auto uniform = memo.SubdivisionKeyOf({.mode = SubdivisionMode::kUniform}, triangles);
+  const auto adaptive = memo.SubdivisionKeyOf(SubdivisionIn(SubdivisionMode::kAdaptive), triangles);
+  const auto uniform = memo.SubdivisionKeyOf(SubdivisionIn(SubdivisionMode::kUniform), triangles);
   SubdivisionStats stats;
   stats.measured_points = 17;
   memo.NoteUnrefined(a, adaptive, stats);  // not stored yet: nothing

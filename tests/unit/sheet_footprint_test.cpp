@@ -107,7 +107,7 @@ TEST(SheetFootprint, VerticesOffTheSheetAreLocatedAgain) {
   for (OutsideMode mode : {OutsideMode::kClamp, OutsideMode::kExtrapolate}) {
     PlacementOptions o;
     o.outside = mode;
-    const SubdivisionOptions off{.mode = SubdivisionMode::kOff};
+    const SubdivisionOptions off = SubdivisionIn(SubdivisionMode::kOff);
     const DeformResult recorded = Recording(t, m, o, off);
     EXPECT_GT(recorded.stats.outside, 0u);
     EXPECT_LT(recorded.stats.outside, m.positions.size());
@@ -136,7 +136,7 @@ TEST(SheetFootprint, TheGivenFootprintIsReadAndAWrongSizedOneIgnored) {
   const Mesh m = WithoutFrame(testing::FlatGrid(-3, -3, 6, 6, 20, 20, 0.2));
   PlacementOptions o;
   o.fit = true;
-  const SubdivisionOptions off{.mode = SubdivisionMode::kOff};
+  const SubdivisionOptions off = SubdivisionIn(SubdivisionMode::kOff);
   const DeformResult recorded = Recording(t, m, o, off);
   SheetFootprint moved = recorded.footprint;
   SheetLocation& l = moved.location[7];

@@ -53,7 +53,7 @@ void ExpectSameBits(const DeformResult& a, const DeformResult& b, const std::str
 TEST(UnrefinedVerdict, ReplayingAnUnrefinedVerdictGivesTheSameBits) {
   const Target t = Flattened(testing::LoadBezierFile(testing::DataPath("figure10.json")), 16);
   const Mesh fine = testing::FlatGrid(-3, -3, 6, 6, 90, 90, 0.2);
-  const SubdivisionOptions adaptive{.mode = SubdivisionMode::kAdaptive};
+  const SubdivisionOptions adaptive = SubdivisionIn(SubdivisionMode::kAdaptive);
   for (const Mesh& m : {fine, WithoutFrame(fine)}) {
     const std::string what = m.normals.empty() ? "no frame" : "with frame";
     GivenMemo recording;
@@ -94,11 +94,11 @@ TEST(UnrefinedVerdict, ReplayingAnUnrefinedVerdictGivesTheSameBits) {
 TEST(UnrefinedVerdict, OnlyASubdivisionThatAddedNothingGivesOne) {
   const Target t = Flattened(testing::LoadBezierFile(testing::DataPath("figure10.json")), 16);
   const Mesh coarse = testing::FlatGrid(-3, -3, 6, 6, 3, 3, 0.2);
-  const DeformResult refined = DeformOk(t, coarse, {.mode = SubdivisionMode::kAdaptive}, {});
+  const DeformResult refined = DeformOk(t, coarse, SubdivisionIn(SubdivisionMode::kAdaptive), {});
   EXPECT_FALSE(refined.unrefined);
   EXPECT_GT(refined.mesh.positions.size(), coarse.positions.size());
 
-  const SubdivisionOptions off{.mode = SubdivisionMode::kOff};
+  const SubdivisionOptions off = SubdivisionIn(SubdivisionMode::kOff);
   const DeformResult plain = DeformOk(t, coarse, off, {});
   EXPECT_FALSE(plain.unrefined);
   GivenMemo given;

@@ -1,0 +1,31 @@
+#include "service/engine_options.hpp"
+
+#include "service/limit_checks.hpp"
+
+namespace surfdeform {
+
+FlattenOptions FlattenFor(const FlattenSettings& given, int threads, double time_budget_ms) {
+  auto f = WithRunDefaults<FlattenOptions>(given);
+  f.threads = threads;
+  f.time_budget_ms = time_budget_ms;
+  return f;
+}
+
+PlacementOptions PlacementFor(const PlacementSettings& given, const ImportedMesh& m, int threads) {
+  auto p = WithRunDefaults<PlacementOptions>(given);
+  p.threads = threads;
+  p.y_up_input = m.format == MeshFormat::kGlb || m.format == MeshFormat::kGltf;
+  return p;
+}
+
+SubdivisionOptions SubdivisionFor(const SubdivisionSettings& given, const ServiceLimits& limits,
+                                  const RequestWork& work) {
+  auto s = WithRunDefaults<SubdivisionOptions>(given);
+  s.threads = work.threads();
+  s.max_vertices = MaxOutputVertices(limits);
+  s.max_triangles = limits.max_output_triangles;
+  s.time_budget_ms = work.clock().BudgetFor(limits.request_time_budget_ms);
+  return s;
+}
+
+}  // namespace surfdeform
