@@ -20,6 +20,7 @@
 #include "engine/subdivide.hpp"
 #include "meshio/mesh_export.hpp"
 #include "proto/content_hash.hpp"
+#include "proto/surface_json.hpp"
 #include "service/limit_checks.hpp"
 #include "service/output_negotiation.hpp"
 #include "service/stats_json.hpp"
@@ -164,26 +165,22 @@ json SheetSummary(const StoredSurface& s, bool cached) {
 json SheetJson(const StoredSurface& s) {
   json j = SheetSummary(s, true);
   j["request"] = proto::CanonicalJson(s.request);
-  json points = json::array();
   json flat = json::array();
-  for (const Vec3& p : s.sheet.points) points.push_back({p.x(), p.y(), p.z()});
   for (const Vec2& p : s.sheet.flat) flat.push_back({p.x(), p.y()});
-  j["points"] = std::move(points);
+  j["points"] = proto::PointsJson(s.sheet.points);
   j["flat"] = std::move(flat);
   if (const FlatMesh* m = s.surface->flat_mesh()) {
     // The flat triangles in the sheet's frame: the sheet itself, where the
     // grid above only samples its box.
     json vertices = json::array();
-    json space = json::array();
     json triangles = json::array();
     for (const Vec2& p : m->flat) {
       const Vec2 q = s.sheet.frame_linear * p + s.sheet.frame_offset;
       vertices.push_back({q.x(), q.y()});
     }
-    for (const Vec3& p : m->mesh.positions) space.push_back({p.x(), p.y(), p.z()});
     for (const auto& t : m->mesh.triangles) triangles.push_back({t[0], t[1], t[2]});
     j["mesh"]["flat"] = std::move(vertices);
-    j["mesh"]["points"] = std::move(space);  // the vertices in space (welded)
+    j["mesh"]["points"] = proto::PointsJson(m->mesh.positions);  // in space (welded)
     j["mesh"]["triangles"] = std::move(triangles);
   }
   return j;
