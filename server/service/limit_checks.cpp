@@ -128,14 +128,15 @@ Status CheckSurfaceMesh(const ServiceLimits& limits, size_t vertices) {
       "flattening a mesh of " + std::to_string(vertices) + " vertices", "surface.model_id");
 }
 
-Status CheckMeshFrames(const ServiceLimits& limits, size_t frames, size_t vertices) {
+Status CheckMeshFrames(const ServiceLimits& limits, size_t frames, size_t keys, size_t vertices) {
   const double v = static_cast<double>(vertices);
-  return CheckMemory(kMeshSheetBytesPerVertex * v +
-                         kMeshAnimationBytesPerFrameVertex * static_cast<double>(frames) * v,
-                     limits.request_memory_bytes,
-                     "flattening " + std::to_string(frames) + " frames of a mesh of " +
-                         std::to_string(vertices) + " vertices",
-                     "animation.frames");
+  const double for_frames = kMeshAnimationBytesPerFrameVertex * static_cast<double>(frames) * v;
+  const double for_keys = kMeshKeyBytesPerVertex * static_cast<double>(keys) * v;
+  return CheckMemory(
+      kMeshSheetBytesPerVertex * v + for_frames + for_keys, limits.request_memory_bytes,
+      "flattening " + std::to_string(frames) + " frames of a mesh of " + std::to_string(vertices) +
+          " vertices between " + std::to_string(keys) + " keyframes",
+      for_keys > for_frames ? "animation.keyframes" : "animation.frames");
 }
 
 size_t MaxSurfaceMeshPairs(const ServiceLimits& limits, size_t vertices) {

@@ -58,9 +58,11 @@ size_t MaxSurfaceMeshPairs(const ServiceLimits& limits, size_t vertices);
 // said in its terms; any other error as it is.
 Status SurfaceMeshPairsError(const ServiceLimits& limits, size_t vertices, Status error);
 
-// An animation of `frames` frames whose keyframes are meshes of `vertices`
-// vertices: every frame's flat mesh, beside one flattening's work.
-Status CheckMeshFrames(const ServiceLimits& limits, size_t frames, size_t vertices);
+// An animation of `frames` frames whose `keys` keyframes are meshes of
+// `vertices` vertices: every frame's flat mesh and every key's positions,
+// beside one flattening's work. The field is animation.keyframes when the
+// keys weigh more than the frames, else animation.frames.
+Status CheckMeshFrames(const ServiceLimits& limits, size_t frames, size_t keys, size_t vertices);
 
 // The same for an animation's model, which every one of its `frames` holds:
 // also within the frame vertices' limit and, at kAnimationBytesPerFrameVertex,

@@ -51,6 +51,11 @@ inline constexpr double kMeshSheetBytesPerPair = 224;
 // and normals) and its surface's triangle index, kept for every frame
 // (measured 275 B: 20 and 60 frames of a 10.2k-vertex mesh, 32 x 32).
 inline constexpr double kMeshAnimationBytesPerFrameVertex = 320;
+// A keyframe that is a mesh, per vertex: its positions as the
+// interpolation's numbers (3 doubles), all keys' kept while the frames are
+// flattened. Counted, not measured: keys of one uploaded mesh cost a request
+// some 70 bytes each, and each brings its mesh's vertices.
+inline constexpr double kMeshKeyBytesPerVertex = 24;
 // A resampled polyline's point: the marks and the JSON reply built from
 // them (measured 2.06 KB at 262k points; 170 B of it the reply's text).
 inline constexpr double kMapBytesPerOutputPoint = 2048;

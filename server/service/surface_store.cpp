@@ -214,10 +214,12 @@ Result<AnimationSpec> SurfaceStore::ResolveMeshKeys(const AnimationSpec& spec) {
     key->disk = disk;
   }
   if (const auto* m = std::get_if<MeshSpec>(&out.keyframes[0].surface)) {
-    // The meshes' topology, now that they are known.
+    // What the frames and keys will take, before the work that grows with
+    // them; then the meshes' topology, now that they are known.
+    SURFDEFORM_RETURN_IF_ERROR(
+        CheckMeshFrames(limits_, out.frames, out.keyframes.size(), m->disk->positions.size()));
     SURFDEFORM_RETURN_IF_ERROR(
         ValidateAnimation(out, std::numeric_limits<int>::max()).WithFieldPrefix("animation"));
-    SURFDEFORM_RETURN_IF_ERROR(CheckMeshFrames(limits_, out.frames, m->disk->positions.size()));
   }
   return out;
 }

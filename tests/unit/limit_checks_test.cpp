@@ -127,18 +127,25 @@ TEST(LimitChecks, AMeshSurfacesPairsFitBesideItsVertices) {
   EXPECT_EQ(SurfaceMeshPairsError(limits, 22'801, pair_limit).message(), pair_limit.message());
 }
 
-TEST(LimitChecks, AMeshAnimationsFramesAreCountedPerVertex) {
+TEST(LimitChecks, AMeshAnimationsFramesAndKeysAreCountedPerVertex) {
   ServiceLimits limits;  // 1 GiB
   // 10k vertices: 41 MB for the first flattening, 3.2 MB a frame.
-  EXPECT_TRUE(CheckMeshFrames(limits, 300, 10'000).ok());    // 1.0 GB
-  const Status many = CheckMeshFrames(limits, 400, 10'000);  // 1.32 GB
+  EXPECT_TRUE(CheckMeshFrames(limits, 300, 2, 10'000).ok());    // 1.0 GB
+  const Status many = CheckMeshFrames(limits, 400, 2, 10'000);  // 1.32 GB
   EXPECT_EQ(many.code(), ErrorCode::kLimitExceeded);
   EXPECT_EQ(many.field(), "animation.frames");
-  EXPECT_NE(many.message().find("400 frames of a mesh of 10000 vertices"), std::string::npos)
+  EXPECT_NE(many.message().find("400 frames of a mesh of 10000 vertices between 2 keyframes"),
+            std::string::npos)
       << many.message();
   // The largest mesh a surface may be takes most of the budget alone.
-  EXPECT_TRUE(CheckMeshFrames(limits, 2, 200'000).ok());
-  EXPECT_EQ(CheckMeshFrames(limits, 10, 200'000).code(), ErrorCode::kLimitExceeded);
+  EXPECT_TRUE(CheckMeshFrames(limits, 2, 2, 200'000).ok());
+  EXPECT_EQ(CheckMeshFrames(limits, 10, 2, 200'000).code(), ErrorCode::kLimitExceeded);
+  // A key of an uploaded mesh costs its request some 70 bytes and brings
+  // the mesh's vertices: 2,000 keys of 100k vertices would hold 4.8 GB.
+  const Status keys = CheckMeshFrames(limits, 2, 2'000, 100'000);
+  EXPECT_EQ(keys.code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(keys.field(), "animation.keyframes");
+  EXPECT_TRUE(CheckMeshFrames(limits, 2, 100, 100'000).ok());  // 0.7 GB
 }
 
 TEST(LimitChecks, ClosesInUAgreesWithTheSurfaces) {

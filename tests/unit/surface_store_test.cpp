@@ -275,6 +275,42 @@ TEST(SurfaceStore, AMeshSurfaceIsSharedWithItsFlatVertices) {
             (*flat)->map->Position(at, OutsideMode::kClamp, &hint));
 }
 
+// Keys of one uploaded mesh cost a request some 70 bytes each and bring
+// the mesh's vertices each: counted against the memory budget before the
+// work that grows with them.
+TEST(SurfaceStore, AMeshAnimationsKeysAreCountedBeforeTheyAreCopied) {
+  ServiceLimits limits = Limits();
+  limits.request_memory_bytes = 500 << 10;  // 35 vertices: 143 KB + 840 B a key
+  ModelStore models(limits, nullptr);
+  SurfaceStore store(limits, 1, nullptr);
+  store.UseModels(&models);
+  const std::string obj = HalfCylinderObj();
+  const std::string model = proto::ModelId(obj);
+  bool known = true;
+  ASSERT_TRUE(models.Put(model, obj, &known).ok());
+  auto animation = [&](int keys) {
+    json keyframes = json::array();
+    for (int k = 0; k < keys; ++k) {
+      keyframes.push_back({{"time", k}, {"surface", {{"kind", "mesh"}, {"model_id", model}}}});
+    }
+    auto r = proto::ParseAnimateParams(
+        json{{"animation", {{"keyframes", keyframes}, {"frames", 2}, {"interpolation", "linear"}}},
+             {"sampling", {{"nu", 9}, {"nv", 9}}}});
+    EXPECT_TRUE(r.ok()) << r.status().ToString();
+    return r->animation;
+  };
+  const RequestClock clock(60000);
+  bool hit = true;
+  auto few = store.FlattenedAnimation(animation(3), clock, 1, &hit);
+  EXPECT_TRUE(few.ok()) << few.status().ToString();
+  auto many = store.FlattenedAnimation(animation(1000), clock, 1, &hit);
+  ASSERT_FALSE(many.ok());
+  EXPECT_EQ(many.status().code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(many.status().field(), "animation.keyframes");
+  EXPECT_NE(many.status().message().find("between 1000 keyframes"), std::string::npos)
+      << many.status().message();
+}
+
 // An edit started from the previous sheet (a live edit's warm start): the
 // same surface within 1e-6 of a cold flattening's stress, in fewer
 // iterations; a sheet of another grid is not used.
