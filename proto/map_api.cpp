@@ -107,6 +107,27 @@ Result<MapRequest> ParseMapRequest(const json& body, const MapLimits& limits) {
   return r;
 }
 
+json ToJson(const MapRequest& r) {
+  auto list = [](const auto& points) {
+    json a = json::array();
+    for (const auto& p : points) a.push_back(Vec(p));
+    return a;
+  };
+  switch (r.kind) {
+    case MapRequest::Kind::kPoints:
+      return {{"points", list(r.points)}};
+    case MapRequest::Kind::kSurfacePoints:
+      return {{"surface_points", list(r.surface_points)}};
+    case MapRequest::Kind::kPolylines:
+      break;
+  }
+  json lines = json::array();
+  for (const auto& line : r.polylines) lines.push_back(list(line));
+  return {{"polylines", std::move(lines)},
+          {"max_segment", r.polyline.max_segment},
+          {"tolerance", r.polyline.tolerance}};
+}
+
 json MapResponseJson(MapRequest::Kind kind, const std::vector<std::vector<SheetMark>>& marks) {
   const bool nearest = kind == MapRequest::Kind::kSurfacePoints;
   auto list = [nearest](const std::vector<SheetMark>& line) {

@@ -10,6 +10,7 @@
 //   surface_points).
 #pragma once
 
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -37,6 +38,16 @@ struct MapLimits {
 // polylines; kInvalidArgument for a negative or non-finite number;
 // kLimitExceeded past the limits (with the limit and the count).
 Result<MapRequest> ParseMapRequest(const nlohmann::json& body, const MapLimits& limits);
+
+// The request as JSON, which ParseMapRequest reads back into the same
+// request (the client builds its requests with it): max_segment and
+// tolerance with polylines only, 0 when not given.
+nlohmann::json ToJson(const MapRequest& request);
+
+// The limits a client reads a request with: none (the server's are its own
+// to apply, at /v1/info).
+inline constexpr MapLimits kNoMapLimits{std::numeric_limits<size_t>::max(),
+                                        std::numeric_limits<size_t>::max()};
 
 // The answer: {"<kind>": [mark, ...]} or, for polylines, [[mark, ...], ...].
 nlohmann::json MapResponseJson(const MapRequest::Kind kind,

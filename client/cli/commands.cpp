@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "proto/content_hash.hpp"
+#include "proto/map_api.hpp"
 
 namespace surfdeform::cli {
 
@@ -234,11 +235,18 @@ int RunMap(const Connection& c, const std::string& surface_id, const std::string
     std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
     return error.exit_code();
   }
+  // Read as the server reads it, but for its limits (its own, at /v1/info).
+  auto parsed = proto::ParseMapRequest(body, proto::kNoMapLimits);
+  if (!parsed.ok()) {
+    std::fprintf(stderr, "surfdeform: %s\n", Refused(parsed.status()).message.c_str());
+    return kExitRefused;
+  }
   ApiClient client(c.server, c.retry, c.timeout_s);
   ConfigureRetries(c, &client);
   HttpReply r;
   HttpFailure f;
-  if (!client.PostJson("/v1/surfaces/" + surface_id + "/map", body.dump(), &r, &f)) {
+  if (!client.PostJson("/v1/surfaces/" + surface_id + "/map", proto::ToJson(*parsed).dump(), &r,
+                       &f)) {
     std::fprintf(stderr, "surfdeform: %s\n", f.message.c_str());
     return ExitFor(f);
   }

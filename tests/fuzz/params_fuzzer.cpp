@@ -39,7 +39,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (auto deform = surfdeform::proto::ParseDeformParams(*json); deform.ok()) {
     ExpectReadsBack(*deform, surfdeform::proto::ParseDeformParams);
   }
-  (void)surfdeform::proto::ParseMapRequest(*json, surfdeform::proto::MapLimits{});
+  if (auto map = surfdeform::proto::ParseMapRequest(*json, surfdeform::proto::MapLimits{});
+      map.ok()) {
+    ExpectReadsBack(*map, [](const nlohmann::json& body) {
+      return surfdeform::proto::ParseMapRequest(body, surfdeform::proto::kNoMapLimits);
+    });
+  }
   if (auto animate = surfdeform::proto::ParseAnimateParams(*json); animate.ok()) {
     ExpectReadsBack(*animate, surfdeform::proto::ParseAnimateParams);
     const surfdeform::AnimationSpec& spec = animate->animation.animation;

@@ -151,6 +151,8 @@ grep -q "placement.scale" "$out/e" || fail "a refused scale: $(cat "$out/e")"
 expect 2 --server http://127.0.0.1:1 deform "$samples/bunny.ply" --surface "$out/cylinder.json" \
   --params '{"subdivision":{"tolerence":1}}' -o "$out/x.drc"
 grep -q "subdivision.tolerence" "$out/e" || fail "an unknown field: $(cat "$out/e")"
+expect 2 --server http://127.0.0.1:1 map "$id" '{"points": [[1, 2]], "tolerance": 1}'
+grep -q "tolerance: only polylines take it" "$out/e" || fail "a refused map request: $(cat "$out/e")"
 echo '{"kind":"cylindre","radius":2}' > "$out/misspelt.json"
 expect 2 --server http://127.0.0.1:1 flatten "$out/misspelt.json"
 grep -q "surface.kind" "$out/e" || fail "a refused surface file: $(cat "$out/e")"

@@ -79,6 +79,28 @@ TEST(MapApi, LimitsSayTheLimitAndTheCount) {
   EXPECT_TRUE(ErrorOf(json::parse(R"({"points": [[0,0],[0,0],[0,0]]})"), limits).ok());
 }
 
+// Each form, written by ToJson, reads back into a request that writes the
+// same, holding what was given.
+TEST(MapApi, WrittenRequestsReadBackTheSame) {
+  const char* forms[] = {
+      R"({"points": [[1, 2], [3.5, -4]]})",
+      R"({"surface_points": [[1, 2, 3], [-0.5, 0, 1e-3]]})",
+      R"({"polylines": [[[0, 0], [1, 0]], [[2, 2], [3, 3], [4, 2]]], "max_segment": 0.25,
+          "tolerance": 0.001})",
+  };
+  for (const char* text : forms) {
+    SCOPED_TRACE(text);
+    const json given = json::parse(text);
+    auto r = ParseMapRequest(given, kNoMapLimits);
+    ASSERT_TRUE(r.ok()) << r.status().ToString();
+    const json written = ToJson(*r);
+    for (const auto& [key, value] : given.items()) EXPECT_EQ(written.at(key), value) << key;
+    auto again = ParseMapRequest(json::parse(written.dump()), kNoMapLimits);
+    ASSERT_TRUE(again.ok()) << again.status().ToString();
+    EXPECT_EQ(ToJson(*again), written);
+  }
+}
+
 TEST(MapApi, TheAnswerHasTheRequestsKey) {
   SheetMark m;
   m.point = Vec3(1, 2, 3);
