@@ -162,10 +162,13 @@ Status SurfaceMeshPairsError(const ServiceLimits& limits, size_t vertices, Statu
 size_t MaxAnimationOutputVertices(const ServiceLimits& limits, size_t frames) {
   frames = std::max<size_t>(frames, 1);
   const size_t by_count = limits.max_animation_frame_vertices / frames;
-  const size_t by_memory =
-      CountWithin(limits.request_memory_bytes,
-                  kAnimationBytesPerFrameVertex * static_cast<double>(frames), by_count);
-  return std::max<size_t>(1, std::min(MaxOutputVertices(limits), by_memory));
+  // The refined model (as a deformation's output) and every frame's share,
+  // held at once.
+  const size_t by_memory = CountWithin(
+      limits.request_memory_bytes,
+      kSubdivisionBytesPerVertex + kAnimationBytesPerFrameVertex * static_cast<double>(frames),
+      std::min(by_count, limits.max_output_vertices));
+  return std::max<size_t>(1, by_memory);
 }
 
 Status AnimationSubdivisionError(const ServiceLimits& limits, size_t frames, Status error) {

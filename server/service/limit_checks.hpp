@@ -65,9 +65,11 @@ Status SurfaceMeshPairsError(const ServiceLimits& limits, size_t vertices, Statu
 Status CheckMeshFrames(const ServiceLimits& limits, size_t frames, size_t keys, size_t vertices);
 
 // The same for an animation's model, which every one of its `frames` holds:
-// also within the frame vertices' limit and, at kAnimationBytesPerFrameVertex,
-// the memory budget. Bounded before the refinement, so that a refinement the
-// frames cannot hold stops where it passes the bound, not after it.
+// also within the frame vertices' limit, and the memory budget holding the
+// refined model (kSubdivisionBytesPerVertex) and every frame's share of it
+// (kAnimationBytesPerFrameVertex) at once. Bounded before the refinement,
+// so that a refinement the frames cannot hold stops where it passes the
+// bound, not after it.
 size_t MaxAnimationOutputVertices(const ServiceLimits& limits, size_t frames);
 
 // An animation's subdivision stopped at MaxAnimationOutputVertices, said in

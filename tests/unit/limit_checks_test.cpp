@@ -54,20 +54,27 @@ TEST(LimitChecks, AnAnimationAcrossTheSeamIsEstimatedAtItsMapsCost) {
 
 TEST(LimitChecks, AnAnimationsModelIsBoundedByWhatItsFramesHold) {
   ServiceLimits limits;  // 8M frame vertices, 1 GiB per request, 4M output vertices
-  EXPECT_EQ(MaxAnimationOutputVertices(limits, 1), MaxOutputVertices(limits));
-  EXPECT_EQ(MaxAnimationOutputVertices(limits, 0), MaxOutputVertices(limits));
+  // The refined model (256 B a vertex) and its frames (96 B a frame and
+  // vertex) at once: one frame holds less than a deformation's 4M (a
+  // 2-frame animation refined to 4M vertices peaked at 1.5 GB; at this
+  // bound, 1.02 GB).
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 1), (size_t{1} << 30) / (256 + 96));
+  EXPECT_LT(MaxAnimationOutputVertices(limits, 1), MaxOutputVertices(limits));
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 0), MaxAnimationOutputVertices(limits, 1));
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 2), (size_t{1} << 30) / (256 + 2 * 96));
   EXPECT_EQ(MaxAnimationOutputVertices(limits, 300), 8'000'000u / 300);
-  // A smaller memory budget binds first: 256 MiB over 300 frames at 96 B.
+  // A smaller memory budget binds first: 256 MiB over the model and 300
+  // frames.
   limits.request_memory_bytes = 256u << 20;
-  EXPECT_EQ(MaxAnimationOutputVertices(limits, 300), 9320u);
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 300), (size_t{256} << 20) / (256 + 300 * 96));
   // The subdivision's error at that bound says why, in the animation's
   // terms; any other error passes as it is.
   const Status at_bound = Status::LimitExceeded("the subdivision would produce more",
-                                                "subdivision.tolerance", 9320, 9400);
+                                                "subdivision.tolerance", 9238, 9400);
   const Status said = AnimationSubdivisionError(limits, 300, at_bound);
   EXPECT_EQ(said.code(), ErrorCode::kLimitExceeded);
   EXPECT_EQ(said.field(), "subdivision.tolerance");
-  EXPECT_EQ(said.limit(), 9320.0);
+  EXPECT_EQ(said.limit(), 9238.0);
   EXPECT_EQ(said.actual(), 9400.0);
   EXPECT_NE(said.message().find("300 frames"), std::string::npos) << said.message();
   const Status elsewhere =
