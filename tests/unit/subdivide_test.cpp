@@ -93,6 +93,27 @@ TEST(Subdivide, ThinPlateOnTheBumpyBezierStaysWithinTheToleranceAndWatertight) {
   }
 }
 
+// A layer of small triangles 1.2 above a short wave (wavelength 0.5,
+// amplitude 0.02): the offset surface bends with the rate at which the
+// wave's curvature changes, which the screen's estimate once left out (it
+// skipped edges and faces that strayed by 0.0074 at tolerance 0.005).
+TEST(Subdivide, ALayerHighAboveAShortWaveStaysWithinTheTolerance) {
+  WaveSpec wave;
+  wave.length = wave.width = 4.0;
+  wave.amplitude = 0.02;
+  wave.wavelength = 0.5;
+  const Target t = Flattened(wave, 64);
+  PlacementOptions raised;  // heights as given: the layer at 1.2
+  raised.anchor = AnchorMode::kValue;
+  const Mesh layer = testing::FlatGrid(1.0, 1.0, 1.5, 1.5, 40, 40, 1.2);
+  for (double tolerance : {1e-2, 5e-3}) {
+    const Refined r = Refine(t, layer, raised, Adaptive(tolerance));
+    ASSERT_TRUE(r.ok);
+    EXPECT_LE(r.stats.max_deviation, tolerance) << tolerance;
+    EXPECT_LE(DenseDeviation(t, r, OutsideMode::kError), tolerance) << tolerance;
+  }
+}
+
 TEST(Subdivide, AFlatTargetAddsNoVertex) {
   const Target t = Flattened(Plane(), 8);
   const Mesh plate = testing::ThinPlate(1.5, 1.2, 0.1);

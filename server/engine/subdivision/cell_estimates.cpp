@@ -61,6 +61,52 @@ double SideKink(const Context& ctx, const CellGrid::Side& side, double h_lo, dou
          step;
 }
 
+// How fast the unit normal turns per unit length along u and along v at a
+// surface point (Weingarten's equations over the arc length, which the
+// sheet keeps); zero where the parametrization degenerates.
+struct NormalRates {
+  Vec3 along_u = Vec3::Zero();
+  Vec3 along_v = Vec3::Zero();
+};
+NormalRates RatesAt(const SurfacePoint& s) {
+  NormalRates r;
+  const Vec3 n = UnitNormal(s);
+  const double e = s.su.squaredNorm(), f = s.su.dot(s.sv), g = s.sv.squaredNorm();
+  const double det = e * g - f * f;
+  if (!(det > 0.0)) return r;
+  const double l = s.suu.dot(n), m = s.suv.dot(n), nn = s.svv.dot(n);
+  const Vec3 nu = ((f * m - g * l) * s.su + (f * l - e * m) * s.sv) / det;
+  const Vec3 nv = ((f * nn - g * m) * s.su + (f * m - e * nn) * s.sv) / det;
+  r.along_u = nu / std::sqrt(e);
+  r.along_v = nv / std::sqrt(g);
+  return r;
+}
+
+// The normal's second derivative along the sheet in a cell, at most, from
+// the rates at its corners ([di][dj] slots in `rates`, p_ij their sheet
+// positions): the differences of the rate along u across the cell's u sides
+// (d2N/da2), of the rate along v across its v sides (d2N/db2), and of either
+// across the other's sides (d2N/da db). For a unit direction (x, y),
+// |x^2 N_aa + 2 x y N_ab + y^2 N_bb| <= max(|N_aa|, |N_bb|) + |N_ab|.
+double Bend(const std::vector<NormalRates>& rates, const int (&slot)[2][2], const Vec2& p00,
+            const Vec2& p10, const Vec2& p01, const Vec2& p11) {
+  auto rate_of_change = [](const Vec3& from, const Vec3& to, const Vec2& a, const Vec2& b) {
+    const double step = (b - a).norm();
+    return step > 0.0 ? (to - from).norm() / step : 0.0;
+  };
+  const NormalRates &r00 = rates[slot[0][0]], &r10 = rates[slot[1][0]];
+  const NormalRates &r01 = rates[slot[0][1]], &r11 = rates[slot[1][1]];
+  const double aa = std::max(rate_of_change(r00.along_u, r10.along_u, p00, p10),
+                             rate_of_change(r01.along_u, r11.along_u, p01, p11));
+  const double bb = std::max(rate_of_change(r00.along_v, r01.along_v, p00, p01),
+                             rate_of_change(r10.along_v, r11.along_v, p10, p11));
+  const double ab = std::max({rate_of_change(r00.along_u, r01.along_u, p00, p01),
+                              rate_of_change(r10.along_u, r11.along_u, p10, p11),
+                              rate_of_change(r00.along_v, r10.along_v, p00, p10),
+                              rate_of_change(r01.along_v, r11.along_v, p01, p11)});
+  return std::max(aa, bb) + ab;
+}
+
 }  // namespace
 
 CellEstimates::CellEstimates(const Context& ctx, const IdVector<VertexId, int>& vertex_cell)
@@ -72,23 +118,32 @@ CellEstimates::CellEstimates(const Context& ctx, const IdVector<VertexId, int>& 
     h_hi = std::max(h_hi, p.z());
   }
   const std::vector<int> needed = NeededCells(grid_, vertex_cell);
-  // The nodes and the interior sides of those cells, each once.
+  // The nodes (each with its slot in `nodes`) and the interior sides of those
+  // cells, each once.
   std::vector<int> nodes, sides;
-  std::vector<char> node_seen(grid_.node_count(), 0);
+  std::vector<int> node_slot(grid_.node_count(), -1);
   std::vector<char> side_seen(grid_.side_count(), 0);
   const int cu = grid_.cells_u(), cv = grid_.cells_v();
   for (int c : needed) {
     const GridIndex at = grid_.CellAt(c);
     const int i = at.i, j = at.j;
     for (int dj = 0; dj < 2; ++dj)
-      for (int di = 0; di < 2; ++di) AddOnce(node_seen, nodes, grid_.Node(i + di, j + dj));
+      for (int di = 0; di < 2; ++di) {
+        int& slot = node_slot[grid_.Node(i + di, j + dj)];
+        if (slot < 0) {
+          slot = static_cast<int>(nodes.size());
+          nodes.push_back(grid_.Node(i + di, j + dj));
+        }
+      }
     if (j > 0) AddOnce(side_seen, sides, grid_.SideAlongU(i, j));
     if (j + 1 < cv) AddOnce(side_seen, sides, grid_.SideAlongU(i, j + 1));
     if (i > 0) AddOnce(side_seen, sides, grid_.SideAlongV(i, j));
     if (i + 1 < cu) AddOnce(side_seen, sides, grid_.SideAlongV(i + 1, j));
   }
-  // The largest principal curvature at each node; the kink across each side.
-  std::vector<double> node_curvature(node_seen.size(), 0.0);
+  // The largest principal curvature and the normal's rates of turning at
+  // each node; the kink across each side.
+  std::vector<double> node_curvature(nodes.size(), 0.0);
+  std::vector<NormalRates> node_rates(nodes.size());
   side_kink_.assign(side_seen.size(), 0.0);
   const int node_count = static_cast<int>(nodes.size());
   const int count = node_count + static_cast<int>(sides.size());
@@ -99,7 +154,8 @@ CellEstimates::CellEstimates(const Context& ctx, const IdVector<VertexId, int>& 
         const GridIndex n = grid_.NodeAt(nodes[q]);
         const SurfacePoint s = ctx.map.surface().Evaluate(static_cast<double>(n.i) / cu,
                                                           static_cast<double>(n.j) / cv, 2);
-        node_curvature[nodes[q]] = MaxAbsCurvature(s);
+        node_curvature[q] = MaxAbsCurvature(s);
+        node_rates[q] = RatesAt(s);
       } else {
         const int side = sides[q - node_count];
         side_kink_[side] = SideKink(ctx, grid_.SideAt(side), h_lo, h_hi, &hint);
@@ -109,15 +165,19 @@ CellEstimates::CellEstimates(const Context& ctx, const IdVector<VertexId, int>& 
   for (int c : needed) {
     const GridIndex at = grid_.CellAt(c);
     const int i = at.i, j = at.j;
+    int slot[2][2];  // [di][dj]
     double kappa = 0.0;
     for (int dj = 0; dj < 2; ++dj)
-      for (int di = 0; di < 2; ++di)
-        kappa = std::max(kappa, node_curvature[grid_.Node(i + di, j + dj)]);
+      for (int di = 0; di < 2; ++di) {
+        slot[di][dj] = node_slot[grid_.Node(i + di, j + dj)];
+        kappa = std::max(kappa, node_curvature[slot[di][dj]]);
+      }
     const Vec2 &p00 = ctx.locator.Node(i, j), &p10 = ctx.locator.Node(i + 1, j);
     const Vec2 &p01 = ctx.locator.Node(i, j + 1), &p11 = ctx.locator.Node(i + 1, j + 1);
     const double side = ctx.locator.CellMinSide(c);
     CellTerms& e = cells_[c];
     e.curvature = kappa;
+    e.bend = Bend(node_rates, slot, p00, p10, p01, p11);
     e.min_side = side;
     e.twist = side > 0.0 ? (p00 - p10 + p11 - p01).norm() / (side * side) : kInf;
   }
@@ -130,6 +190,7 @@ CellTerms CellEstimates::BlockTerms(int i0, int j0, int i1, int j1) const {
   for (int q = 1; q < 4; ++q) {
     const CellTerms& e = cells_[cells[q]];
     t.curvature = std::max(t.curvature, e.curvature);
+    t.bend = std::max(t.bend, e.bend);
     t.twist = std::max(t.twist, e.twist);
     t.min_side = std::min(t.min_side, e.min_side);
   }

@@ -2,11 +2,13 @@
 //
 // How far a straight edge or a flat triangle strays from the exact
 // deformation depends, inside one cell or a 2 x 2 block of cells, on: the
-// largest curvature at the cells' nodes, their twist (how far from a
-// parallelogram a flat quad is, which bends the inverse bilinear map), and
-// the largest kink across the sides inside the block (the jump of the
-// deformation's derivative there: the cell-wise map is only continuous
-// across grid lines). Computed only for the cells near the model's vertices.
+// largest curvature at the cells' nodes, how much faster the normal turns
+// across them (its second derivative: a model above the surface follows
+// that), their twist (how far from a parallelogram a flat quad is, which
+// bends the inverse bilinear map), and the largest kink across the sides
+// inside the block (the jump of the deformation's derivative there: the
+// cell-wise map is only continuous across grid lines). Computed only for the
+// cells near the model's vertices.
 #pragma once
 
 #include <algorithm>
@@ -19,6 +21,9 @@ namespace surfdeform::subdivision {
 
 struct CellTerms {
   double curvature = -1.0;  // < 0: not computed
+  // The unit normal's second derivative along the sheet (per length^2), at
+  // most: its rate of turning changes across the cell.
+  double bend = 0.0;
   double twist = 0.0;
   double kink = 0.0;      // 0 for a single cell
   double min_side = 0.0;  // the shortest cell side on the sheet
@@ -27,8 +32,10 @@ struct CellTerms {
 // An estimate, with a safety factor of two, of how far a straight segment or
 // a triangle in these cells strays from the exact deformation: the second
 // derivatives of F(a, b, h) = S + h N there are about the surface's
-// curvature (of the offset surface at height h) plus the bending of the
-// cells' inverse bilinear maps, and d2F/(da dh) = dN/da about the curvature;
+// curvature, plus h times the normal's second derivative (at least the
+// curvature squared; more where the curvature changes, as along a short
+// wave), plus the bending of the cells' inverse bilinear maps, and
+// d2F/(da dh) = dN/da about the curvature;
 // a straight piece of size l then strays (F'' l^2) / 8, plus j l / 4 for a
 // kink j of the map where it crosses from one cell to the next. `length` is
 // the piece's size on the sheet, `dh` the spread of its heights, `h` their
@@ -36,7 +43,7 @@ struct CellTerms {
 // every face of the model.
 inline double EstimateOf(const CellTerms& t, double length, double dh, double h) {
   const double k = t.curvature;
-  const double second = k * (1.0 + std::abs(h) * k) + 2.0 * t.twist;
+  const double second = k + std::abs(h) * std::max(k * k, t.bend) + 2.0 * t.twist;
   return 2.0 * ((second * length * length + 2.0 * k * length * std::abs(dh)) / 8.0 +
                 t.kink * length / 4.0);
 }

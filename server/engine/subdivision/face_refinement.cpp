@@ -1,5 +1,6 @@
 #include "engine/subdivision/face_refinement.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <queue>
 #include <tuple>
@@ -53,6 +54,21 @@ bool Sliver(const FaceTriangulation& tri, int t) {
   return false;
 }
 
+// True when triangle t has (next to) no area: its corners on one line, its
+// height under 1e-6 of its longest side. Its samples all lie on that line, so
+// a split only adds points on it (each split making more such triangles) and
+// never reaches the deviation beside it. Such triangles come of points
+// inserted on a chord that lies along a side of the face.
+bool Flat(const FaceTriangulation& tri, int t) {
+  const FaceTriangulation::Triangle& tr = tri.triangles()[t];
+  const std::vector<Vec2>& pts = tri.points();
+  const Vec2 a = pts[tr.v[0]], b = pts[tr.v[1]], c = pts[tr.v[2]];
+  const double longest2 =
+      std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  // twice the area < 1e-6 * longest^2: height < 1e-6 * longest
+  return std::abs(Cross2(b - a, c - a)) < 1e-6 * longest2;
+}
+
 // Splits triangle t: the interior edge that strays most at its middle, or
 // the longest when none strays (the deviation is inside), or the centroid of
 // a triangle that is the whole face. False when a split cannot help.
@@ -91,7 +107,7 @@ bool SplitWorst(const Context& ctx, const GraphFace& face, double target, int t,
     return true;
   }
   if (best_len < 1e-6 * tri.size()) return false;  // as fine as it gets
-  if (Sliver(tri, t)) return false;
+  if (Sliver(tri, t) || Flat(tri, t)) return false;
   tri.SplitInteriorEdge(t, best);
   return true;
 }

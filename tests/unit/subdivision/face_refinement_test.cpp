@@ -3,7 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
+
 #include "engine/subdivision/triangle_deviation.hpp"
+#include "meshio/mesh_import.hpp"
 #include "stage_test_util.hpp"
 
 namespace surfdeform::subdivision {
@@ -137,6 +141,55 @@ TEST(FaceRefinement, AFlatFaceStaysAsItIs) {
     EXPECT_TRUE(o.points.empty());
     EXPECT_LT(o.tally.max_dev, 1e-9);
   }
+}
+
+// The Stanford bunny of client/web/samples (37,706 vertices).
+Mesh SampleBunny() {
+  std::ifstream file(testing::DataPath("bunny.ply"), std::ios::binary);
+  std::stringstream bytes;
+  bytes << file.rdbuf();
+  auto imported = ImportMesh(bytes.str());
+  EXPECT_TRUE(imported.ok()) << imported.status().ToString();
+  return imported.ok() ? std::move(imported->mesh) : Mesh{};
+}
+
+// A face whose sides stray from the exact deformation by more than the
+// face's share of the tolerance (the sides are refined first, to their own
+// share measured at a few points, or skipped on an estimate) cannot meet
+// that share beside them however finely it splits, and must stop. The bunny
+// fitted on a short wave once split a face's degenerate triangles along such
+// a side without end: 196,697 points in one face, then 413 at the output
+// limit after 19 s and 800 MB. Here the sides are refined to a tolerance
+// eight times the faces'.
+TEST(FaceRefinement, SidesThatStrayFartherThanTheFacesShareDoNotRunAway) {
+  WaveSpec wave;
+  wave.length = wave.width = 4.0;
+  wave.amplitude = 0.02;
+  wave.wavelength = 0.5;
+  PlacementOptions fit;
+  fit.fit = true;
+  const Mesh bunny = SampleBunny();
+  auto coarse =
+      testing::MakeStageInputs(testing::Flattened(wave, 64), bunny, testing::Tolerance(0.04), fit);
+  const auto sides = testing::RunThroughFaces(*coarse);
+  SubdivisionOptions fine_options = testing::Tolerance(0.005);
+  fine_options.max_vertices = 200000;
+  auto fine = testing::MakeStageInputs(testing::Flattened(wave, 64), bunny, fine_options, fit);
+  const FaceStageInputs inputs{*fine->ctx,   sides->graph,   sides->marking,
+                               sides->edges, sides->located, *sides->estimates};
+  Budget budget(fine->ctx->options);
+  const IdVector<FaceId, FaceOutput> faces = RefineFaces(inputs, &budget);
+  ASSERT_FALSE(budget.OverLimit()) << "a face ran away: " << budget.added() << " points";
+  size_t refinement = 0;
+  for (const FaceOutput& o : faces) {
+    EXPECT_FALSE(o.failed);
+    refinement += o.tally.refinement;
+  }
+  // About 55k points over the bunny's faces (a face meeting its share adds
+  // some, one stopped beside a stray side adds a few dozen); a runaway adds
+  // them up to the limit.
+  EXPECT_GT(refinement, 0u);
+  EXPECT_LT(refinement, 100000u);
 }
 
 }  // namespace
