@@ -22,7 +22,7 @@ void HandOverPositions(InputPositions want, LocatedVertices* located, Subdivisio
 
 Result<SubdivisionResult> Run(const Context& ctx, InputPositions want) {
   const auto t0 = std::chrono::steady_clock::now();
-  Budget budget(ctx.options);
+  Budget budget(ctx.options, ctx.mesh.positions.size());
   SubdivisionStats stats;
   stats.mode = ctx.options.mode;
   stats.vertices_before = ctx.mesh.positions.size();
@@ -49,9 +49,11 @@ Result<SubdivisionResult> Run(const Context& ctx, InputPositions want) {
   // Each stage is bounded by the input's size; the refinement, by the output
   // limits and the time budget; and a request whose least work passes the
   // output limit is refused before any of it.
+  const size_t input = ctx.mesh.positions.size();
   if (const WorkEstimate least = EstimateWork(ctx, located, estimates);
-      !(least.total() <= static_cast<double>(ctx.options.max_vertices))) {
-    return Budget::OverLimitError(ctx.options.max_vertices, least);
+      !(static_cast<double>(input) + least.total() <=
+        static_cast<double>(ctx.options.max_vertices))) {
+    return Budget::OverLimitError(ctx.options.max_vertices, input, least);
   }
   if (budget.OutOfTime()) return budget.TimeUp();
   const EdgeGraph graph = BuildEdgeGraph(ctx.mesh);
@@ -65,13 +67,13 @@ Result<SubdivisionResult> Run(const Context& ctx, InputPositions want) {
   const IdVector<EdgeId, RefinedEdge> edges =
       RefineEdges(ctx, graph, marking, located, estimates, &budget);
   if (budget.OverLimit()) {
-    return Budget::OverLimitError("new vertices", ctx.options.max_vertices, budget.added());
+    return Budget::OverLimitError("vertices", ctx.options.max_vertices, budget.vertices());
   }
   if (budget.OutOfTime()) return budget.TimeUp();
   const FaceStageInputs inputs{ctx, graph, marking, edges, located, estimates};
   const IdVector<FaceId, FaceOutput> faces = RefineFaces(inputs, &budget);
   if (budget.OverLimit()) {
-    return Budget::OverLimitError("new vertices", ctx.options.max_vertices, budget.added());
+    return Budget::OverLimitError("vertices", ctx.options.max_vertices, budget.vertices());
   }
   if (budget.OutOfTime()) return budget.TimeUp();
   for (const FaceOutput& f : faces) {

@@ -159,20 +159,23 @@ Status SurfaceMeshPairsError(const ServiceLimits& limits, size_t vertices, Statu
       error.field(), error.limit(), error.actual());
 }
 
-size_t MaxAnimationOutputVertices(const ServiceLimits& limits, size_t frames) {
+size_t MaxAnimationOutputVertices(const ServiceLimits& limits, size_t frames, int threads) {
   frames = std::max<size_t>(frames, 1);
   const size_t by_count = limits.max_animation_frame_vertices / frames;
-  // The refined model (as a deformation's output) and every frame's share,
-  // held at once.
+  // The refined model (as a deformation's output), the pass's subdivisions
+  // of it (a frame a thread) and every frame's share, held at once.
+  const size_t at_once = std::min(frames, static_cast<size_t>(std::max(threads, 1)));
   const size_t by_memory = CountWithin(
       limits.request_memory_bytes,
-      kSubdivisionBytesPerVertex + kAnimationBytesPerFrameVertex * static_cast<double>(frames),
+      kSubdivisionBytesPerVertex + kSubdivisionPassBytesPerVertex * static_cast<double>(at_once) +
+          kAnimationBytesPerFrameVertex * static_cast<double>(frames),
       std::min(by_count, limits.max_output_vertices));
   return std::max<size_t>(1, by_memory);
 }
 
-Status AnimationSubdivisionError(const ServiceLimits& limits, size_t frames, Status error) {
-  const size_t bound = MaxAnimationOutputVertices(limits, frames);
+Status AnimationSubdivisionError(const ServiceLimits& limits, size_t frames, int threads,
+                                 Status error) {
+  const size_t bound = MaxAnimationOutputVertices(limits, frames, threads);
   if (!AtBudgetBound(error, bound, MaxOutputVertices(limits))) return error;
   return Status::LimitExceeded(
       error.message() + "; each of the animation's " + std::to_string(frames) +

@@ -65,15 +65,18 @@ Status SurfaceMeshPairsError(const ServiceLimits& limits, size_t vertices, Statu
 Status CheckMeshFrames(const ServiceLimits& limits, size_t frames, size_t keys, size_t vertices);
 
 // The same for an animation's model, which every one of its `frames` holds:
-// also within the frame vertices' limit, and the memory budget holding the
-// refined model (kSubdivisionBytesPerVertex) and every frame's share of it
-// (kAnimationBytesPerFrameVertex) at once. Bounded before the refinement,
-// so that a refinement the frames cannot hold stops where it passes the
-// bound, not after it.
-size_t MaxAnimationOutputVertices(const ServiceLimits& limits, size_t frames);
+// also within the frame vertices' limit, and the memory budget holding at
+// once the refined model (kSubdivisionBytesPerVertex), the refinement pass's
+// subdivision of it for each frame measured at once, one per thread of the
+// `threads` the request runs on (kSubdivisionPassBytesPerVertex), and every
+// frame's share of it (kAnimationBytesPerFrameVertex). Bounded before the
+// refinement, so that a refinement the frames cannot hold stops where it
+// passes the bound, not after it.
+size_t MaxAnimationOutputVertices(const ServiceLimits& limits, size_t frames, int threads);
 
 // An animation's subdivision stopped at MaxAnimationOutputVertices, said in
 // the animation's terms; any other error as it is.
-Status AnimationSubdivisionError(const ServiceLimits& limits, size_t frames, Status error);
+Status AnimationSubdivisionError(const ServiceLimits& limits, size_t frames, int threads,
+                                 Status error);
 
 }  // namespace surfdeform

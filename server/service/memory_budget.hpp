@@ -32,13 +32,21 @@ inline constexpr double kClosedAnimationBytesPerFrameSample = 1536;
 // at range 8).
 inline constexpr double kAnimationBytesPerFrameExtraPair = 3;
 // A subdivided, deformed and encoded mesh, per output vertex (measured
-// 216 B at 1M vertices, PLY out).
-inline constexpr double kSubdivisionBytesPerVertex = 256;
+// 372 B at 789k and 377 B at 1.61M vertices, OBJ out: the bunny refined on a
+// short wave; Draco 310-344 B, GLB 296 B, PLY 330 B).
+inline constexpr double kSubdivisionBytesPerVertex = 384;
+// An animation's refinement passes over the refined model, per vertex of it
+// and per frame measured at once (one a thread): the edge graph, the grid's
+// marks, the refined edges and faces and their assembly of a whole
+// subdivision whose input is the refined model (measured 924 B at 290k
+// vertices: 125 + 280 + 235 + 187 + 97; 1.2 KB at 80k), rounded up.
+inline constexpr double kSubdivisionPassBytesPerVertex = 1280;
 // An animation's model, per frame and vertex after the subdivision: the
 // positions the refinement keeps for every frame, the frames' deformed
-// vertices and their share of the GLB (measured 74 B: 100 frames of a
-// label refined to 24.8k vertices, less the sheets), rounded up.
-inline constexpr double kAnimationBytesPerFrameVertex = 96;
+// vertices and their share of the GLB (measured 230 B: the bunny refined to
+// 431k and 449k vertices at 2 and 4 frames; 74 B for 100 frames of a label
+// refined to 24.8k vertices, less the sheets), rounded up.
+inline constexpr double kAnimationBytesPerFrameVertex = 256;
 // A surface given as a mesh: per vertex, the conformal start (measured
 // 3.8 KB at 90.6k and 194k vertices: what is taken before the pairs are
 // listed), and per vertex pair within max(range, 3) rings, the pairs, their

@@ -185,11 +185,13 @@ struct Service::Impl {
     DeformOptions deform = asked;
     deform.subdivision = SubdivisionFor(asked.subdivision, options.limits, work);
     const size_t frames = sheets.sheets.size();
-    deform.subdivision.max_vertices = MaxAnimationOutputVertices(options.limits, frames);
+    const int threads = ResolveThreads(deform.subdivision.threads);
+    deform.subdivision.max_vertices = MaxAnimationOutputVertices(options.limits, frames, threads);
     auto model = PrepareModel(maps, std::move(mesh), deform);
     if (!model.ok()) {
-      return WithinBudget(clock, "subdivision",
-                          AnimationSubdivisionError(options.limits, frames, model.status()));
+      return WithinBudget(
+          clock, "subdivision",
+          AnimationSubdivisionError(options.limits, frames, threads, model.status()));
     }
     a.model = std::move(*model);
     a.subdivide_ms = MsSince(t1);

@@ -220,6 +220,34 @@ TEST(BoundedCost, SmallRequestsAreAnsweredWithinASecondInLittleMemory) {
   EXPECT_LT(peak - idle, 64 * 1024) << "peak RSS grew from " << idle << " kB to " << peak << " kB";
 }
 
+// One request with a sample model as its body to a fresh server whose
+// memory budget per request is 256 MiB (with `flags` besides): its reply and
+// how far the server's peak resident set grew above the idle one.
+struct BudgetedReply {
+  int status = 0;
+  std::string body;
+  long grew_kb = -1;
+};
+BudgetedReply PostSampleUnderBudget(std::vector<std::string> flags, const std::string& sample,
+                                    const std::string& route, const std::string& params) {
+  flags.insert(flags.begin(), {"--log-level", "error", "--request-memory-mib", "256"});
+  ServerProcess server(flags);
+  BudgetedReply out;
+  if (server.port() <= 0) return out;
+  httplib::Client c("127.0.0.1", server.port());
+  c.set_read_timeout(120, 0);
+  auto model = c.Get("/samples/" + sample);
+  if (!model || model->status != 200) return out;
+  const long idle = StatusKb(server.pid(), "VmHWM");
+  auto r =
+      c.Post(route, {{"X-Surfdeform-Params", params}}, model->body, "application/octet-stream");
+  if (!r || idle <= 0) return out;
+  out.status = r->status;
+  out.body = r->body;
+  out.grew_kb = StatusKb(server.pid(), "VmHWM") - idle;
+  return out;
+}
+
 // An animation's model is refined against every frame, and every frame
 // holds it: 300 frames of the viewer's label on a rising wave took 60 s and
 // 6.7 GB (one refined mesh kept per frame while a pass measured them all, and
@@ -227,31 +255,63 @@ TEST(BoundedCost, SmallRequestsAreAnsweredWithinASecondInLittleMemory) {
 // refinement is now bounded by what the frames can hold within the memory
 // budget, and a pass keeps one mesh, not one per frame.
 TEST(BoundedCost, AnAnimationsRefinementStaysWithinTheMemoryBudget) {
-  ServerProcess server({"--log-level", "error", "--request-memory-mib", "256"});
-  ASSERT_GT(server.port(), 0);
-  httplib::Client c("127.0.0.1", server.port());
-  c.set_read_timeout(120, 0);
-  auto label = c.Get("/samples/label.obj");
-  ASSERT_TRUE(label && label->status == 200);
-  const long idle = StatusKb(server.pid(), "VmHWM");
-  ASSERT_GT(idle, 0);
   const std::string wave = R"({"kind":"wave","length":4,"width":1.5,"wavelength":2,"amplitude":)";
-  const std::string params = R"({"animation":{"keyframes":[{"time":0,"surface":)" + wave +
-                             R"(0.25}},{"time":1,"surface":)" + wave +
-                             R"(0.5}}],"frames":300},"sampling":{"nu":32,"nv":32},)"
-                             R"("placement":{"scale":"fit"}})";
-  auto r = c.Post("/v1/animate", {{"X-Surfdeform-Params", params}}, label->body,
-                  "application/octet-stream");
-  ASSERT_TRUE(r);
-  ASSERT_EQ(r->status, 413) << r->body.substr(0, 300);
-  const auto problem = nlohmann::json::parse(r->body);
+  // One engine thread: the bound counts a pass's subdivision per thread.
+  const BudgetedReply r = PostSampleUnderBudget(
+      {"--engine-threads", "1"}, "label.obj", "/v1/animate",
+      R"({"animation":{"keyframes":[{"time":0,"surface":)" + wave +
+          R"(0.25}},{"time":1,"surface":)" + wave +
+          R"(0.5}}],"frames":300},"sampling":{"nu":32,"nv":32},"placement":{"scale":"fit"}})");
+  ASSERT_EQ(r.status, 413) << r.body.substr(0, 300);
+  const auto problem = nlohmann::json::parse(r.body);
   EXPECT_EQ(problem.value("field", ""), "subdivision.tolerance");
-  // 256 MiB over the refined model (256 B a vertex) and 300 frames at 96 B
-  // a frame vertex.
-  EXPECT_EQ(problem.value("limit", 0.0), 9238.0);
+  // 256 MiB over the refined model (384 B a vertex), one pass's
+  // subdivision of it (1280 B) and 300 frames at 256 B a frame vertex.
+  EXPECT_EQ(problem.value("limit", 0.0), 3421.0);
   EXPECT_NE(problem.value("detail", "").find("300 frames"), std::string::npos);
-  const long peak = StatusKb(server.pid(), "VmHWM");
-  EXPECT_LT(peak - idle, 256 * 1024) << "peak RSS grew from " << idle << " kB to " << peak << " kB";
+  EXPECT_LT(r.grew_kb, 256 * 1024);
+}
+
+// The bunny fitted on a wave of wavelength 0.5 sampled 128 x 128: the
+// params' surface, sampling and placement.
+const char kBunnyOnAShortWave[] = R"("sampling":{"nu":128,"nv":128},"placement":{"scale":"fit"})";
+std::string ShortWave(double amplitude) {
+  return R"({"kind":"wave","length":4,"width":4,"wavelength":0.5,"amplitude":)" +
+         std::to_string(amplitude) + "}";
+}
+
+// A deformation refined to a small tolerance is bounded by what its output
+// takes to make, map and encode (384 B a vertex, measured up to 377 B with
+// OBJ out). At 256 B a vertex, the bunny at tolerance 1e-4 was refined to
+// 789k vertices and peaked 293 MB above idle under a 256 MiB budget.
+TEST(BoundedCost, ARefinedDeformationStaysWithinTheMemoryBudget) {
+  const BudgetedReply r = PostSampleUnderBudget(
+      {"--answer-cache-mib", "0", "--footprint-memo-mib", "0"}, "bunny.ply", "/v1/deform",
+      R"({"surface":)" + ShortWave(0.02) + "," + kBunnyOnAShortWave +
+          R"(,"subdivision":{"tolerance":0.0001},"output":{"format":"obj"}})");
+  ASSERT_EQ(r.status, 413) << r.body.substr(0, 300);
+  const auto problem = nlohmann::json::parse(r.body);
+  EXPECT_EQ(problem.value("field", ""), "subdivision.tolerance");
+  EXPECT_EQ(problem.value("limit", 0.0), static_cast<double>((size_t{256} << 20) / 384));
+  EXPECT_LT(r.grew_kb, 256 * 1024);
+}
+
+// An animation's refinement passes subdivide the refined model once for
+// each frame, a frame a thread at once: about 1 KB a vertex each, beside the
+// model and its frames. Counting only those, a 2-frame animation of the
+// bunny at tolerance 3e-4 was refined to 431k vertices and peaked 1.18 GB
+// under a 256 MiB budget.
+TEST(BoundedCost, AnAnimationsRefinementPassesAreCountedInTheBudget) {
+  const BudgetedReply r = PostSampleUnderBudget(
+      {"--engine-threads", "2", "--answer-cache-mib", "0"}, "bunny.ply", "/v1/animate",
+      R"({"animation":{"keyframes":[{"time":0,"surface":)" + ShortWave(0.02) +
+          R"(},{"time":1,"surface":)" + ShortWave(0.03) + R"(}],"frames":2},)" +
+          kBunnyOnAShortWave + R"(,"subdivision":{"tolerance":0.0003}})");
+  ASSERT_EQ(r.status, 413) << r.body.substr(0, 300);
+  const auto problem = nlohmann::json::parse(r.body);
+  EXPECT_EQ(problem.value("field", ""), "subdivision.tolerance");
+  EXPECT_NE(problem.value("detail", "").find("2 frames"), std::string::npos);
+  EXPECT_LT(r.grew_kb, 256 * 1024);
 }
 
 // Half a cylinder of radius 1 and height 2 as an OBJ grid of cells x cells

@@ -48,7 +48,7 @@ std::unique_ptr<StagesThroughFaces> RunThroughFaces(const StageInputs& in) {
   s->estimates = std::make_unique<CellEstimates>(*in.ctx, s->located.cell);
   s->graph = BuildEdgeGraph(in.mesh);
   s->marking = in.Marked(s->graph, s->located, *s->estimates);
-  Budget budget(in.options);
+  Budget budget(in.options, in.mesh.positions.size());
   s->edges = RefineEdges(*in.ctx, s->graph, s->marking, s->located, *s->estimates, &budget);
   const FaceStageInputs inputs{*in.ctx, s->graph, s->marking, s->edges, s->located, *s->estimates};
   s->faces = RefineFaces(inputs, &budget);

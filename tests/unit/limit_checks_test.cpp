@@ -54,34 +54,42 @@ TEST(LimitChecks, AnAnimationAcrossTheSeamIsEstimatedAtItsMapsCost) {
 
 TEST(LimitChecks, AnAnimationsModelIsBoundedByWhatItsFramesHold) {
   ServiceLimits limits;  // 8M frame vertices, 1 GiB per request, 4M output vertices
-  // The refined model (256 B a vertex) and its frames (96 B a frame and
-  // vertex) at once: one frame holds less than a deformation's 4M (a
-  // 2-frame animation refined to 4M vertices peaked at 1.5 GB; at this
-  // bound, 1.02 GB).
-  EXPECT_EQ(MaxAnimationOutputVertices(limits, 1), (size_t{1} << 30) / (256 + 96));
-  EXPECT_LT(MaxAnimationOutputVertices(limits, 1), MaxOutputVertices(limits));
-  EXPECT_EQ(MaxAnimationOutputVertices(limits, 0), MaxAnimationOutputVertices(limits, 1));
-  EXPECT_EQ(MaxAnimationOutputVertices(limits, 2), (size_t{1} << 30) / (256 + 2 * 96));
-  EXPECT_EQ(MaxAnimationOutputVertices(limits, 300), 8'000'000u / 300);
-  // A smaller memory budget binds first: 256 MiB over the model and 300
-  // frames.
+  // The refined model (384 B a vertex), the refinement pass's subdivision of
+  // it for each frame measured at once, one a thread (1.25 KiB a vertex), and
+  // its frames (256 B a frame and vertex) at once. Counting the model and
+  // the frames alone, a 2-frame animation of the bunny refined to 431k
+  // vertices peaked at 1.18 GB over a 256 MiB budget; one frame holds less
+  // than a deformation's bound.
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 1, 2), (size_t{1} << 30) / (384 + 1280 + 256));
+  EXPECT_LT(MaxAnimationOutputVertices(limits, 1, 2), MaxOutputVertices(limits));
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 0, 2), MaxAnimationOutputVertices(limits, 1, 2));
+  // Two frames on two threads: both measured at once; on one, in turn.
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 2, 2),
+            (size_t{1} << 30) / (384 + 2 * 1280 + 2 * 256));
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 2, 1), (size_t{1} << 30) / (384 + 1280 + 2 * 256));
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 2, 0), MaxAnimationOutputVertices(limits, 2, 1));
+  // The frame vertices' limit binds where the memory allows more.
+  limits.request_memory_bytes = size_t{16} << 30;
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 300, 2), 8'000'000u / 300);
+  // A smaller memory budget binds first: 256 MiB over 300 frames.
   limits.request_memory_bytes = 256u << 20;
-  EXPECT_EQ(MaxAnimationOutputVertices(limits, 300), (size_t{256} << 20) / (256 + 300 * 96));
+  EXPECT_EQ(MaxAnimationOutputVertices(limits, 300, 2),
+            (size_t{256} << 20) / (384 + 2 * 1280 + 300 * 256));
   // The subdivision's error at that bound says why, in the animation's
   // terms; any other error passes as it is.
   const Status at_bound = Status::LimitExceeded("the subdivision would produce more",
-                                                "subdivision.tolerance", 9238, 9400);
-  const Status said = AnimationSubdivisionError(limits, 300, at_bound);
+                                                "subdivision.tolerance", 3366, 3400);
+  const Status said = AnimationSubdivisionError(limits, 300, 2, at_bound);
   EXPECT_EQ(said.code(), ErrorCode::kLimitExceeded);
   EXPECT_EQ(said.field(), "subdivision.tolerance");
-  EXPECT_EQ(said.limit(), 9238.0);
-  EXPECT_EQ(said.actual(), 9400.0);
+  EXPECT_EQ(said.limit(), 3366.0);
+  EXPECT_EQ(said.actual(), 3400.0);
   EXPECT_NE(said.message().find("300 frames"), std::string::npos) << said.message();
   const Status elsewhere =
       Status::LimitExceeded("the output limit", "subdivision.tolerance", 4e6, 5e6);
-  EXPECT_EQ(AnimationSubdivisionError(limits, 300, elsewhere).message(), elsewhere.message());
+  EXPECT_EQ(AnimationSubdivisionError(limits, 300, 2, elsewhere).message(), elsewhere.message());
   const Status late = Status::DeadlineExceeded("late", "request", 60000, 60001);
-  EXPECT_EQ(AnimationSubdivisionError(limits, 300, late).code(), ErrorCode::kDeadlineExceeded);
+  EXPECT_EQ(AnimationSubdivisionError(limits, 300, 2, late).code(), ErrorCode::kDeadlineExceeded);
 }
 
 TEST(LimitChecks, AGridsFlatteningIsEstimatedAtItsRange) {

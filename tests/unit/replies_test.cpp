@@ -96,8 +96,8 @@ TEST(Replies, InfoPublishesTheLimitsAsConfigured) {
   const json info = json::parse(InfoJson(limits));
   EXPECT_EQ(info["limits"]["max_grid_side"], 77);
   EXPECT_EQ(info["limits"]["request_memory_bytes"], 64u << 20);
-  // The output limit shrinks to fit the memory budget: 64 MiB / 256 B.
-  EXPECT_EQ(info["limits"]["max_output_vertices"], (64u << 20) / 256);
+  // The output limit shrinks to fit the memory budget: 64 MiB / 384 B.
+  EXPECT_EQ(info["limits"]["max_output_vertices"], (64u << 20) / 384);
   EXPECT_EQ(info["limits"]["max_map_points"], kMapLimits.max_points);
   EXPECT_FALSE(info["enums"]["problem.code"].empty());
 }

@@ -29,8 +29,8 @@ Context::Context(const Mesh& mesh_in, const std::vector<Vec3>& placed_in, const 
   refine = !uniform && tolerance > 0.0;
 }
 
-Budget::Budget(const SubdivisionOptions& o)
-    : budget_ms_(o.time_budget_ms), max_vertices_(o.max_vertices) {
+Budget::Budget(const SubdivisionOptions& o, size_t input_vertices)
+    : budget_ms_(o.time_budget_ms), max_vertices_(o.max_vertices), input_(input_vertices) {
   deadline_ = DeadlineAfter(start_, o.time_budget_ms);
 }
 
@@ -51,22 +51,22 @@ Status Budget::OverLimitError(const char* what, size_t limit, size_t actual) {
       "subdivision.tolerance", static_cast<double>(limit), static_cast<double>(actual));
 }
 
-Status Budget::OverLimitError(size_t limit, const WorkEstimate& least) {
-  const double actual = std::min(least.total(), 1e300);
+Status Budget::OverLimitError(size_t limit, size_t input, const WorkEstimate& least) {
+  const double actual = std::min(static_cast<double>(input) + least.total(), 1e300);
   if (!(least.grid_points <= least.tolerance_points)) {  // the footprint's size (or not finite)
     return Status::LimitExceeded(
         Format("the model's footprint on the sheet (placed, before clamping) spans about %.3g "
-               "cells of the sheet's grid: refining it would add more than %zu vertices (the "
-               "server's limit); lay it on less of the sheet (placement.scale or \"fit\", "
+               "cells of the sheet's grid: refining it would take the model past %zu vertices "
+               "(the server's limit); lay it on less of the sheet (placement.scale or \"fit\", "
                "placement.center) or use subdivision mode \"off\"",
                std::min(least.grid_points, 1e300), limit),
         "placement", static_cast<double>(limit), actual);
   }
   return Status::LimitExceeded(
       Format("meeting subdivision.tolerance %g on this surface's curvature would add at least "
-             "%.3g vertices (estimated before the work), more than the server's limit of %zu; "
-             "raise the tolerance or use subdivision mode \"off\"",
-             least.tolerance, least.tolerance_points, limit),
+             "%.3g vertices to the model's %zu (estimated before the work), more than the "
+             "server's limit of %zu; raise the tolerance or use subdivision mode \"off\"",
+             least.tolerance, least.tolerance_points, input, limit),
       "subdivision.tolerance", static_cast<double>(limit), actual);
 }
 

@@ -79,10 +79,11 @@ struct Context {
 };
 
 // The time budget and the output-size budget, shared by every thread of the
-// refining stages: once either is spent, every loop that checks stops.
+// refining stages: once either is spent, every loop that checks stops. The
+// output's size counts the input's vertices and the points added.
 class Budget {
  public:
-  explicit Budget(const SubdivisionOptions& options);
+  Budget(const SubdivisionOptions& options, size_t input_vertices);
 
   bool OutOfTime() {
     if (out_of_time_.load(std::memory_order_relaxed)) return true;
@@ -92,23 +93,26 @@ class Budget {
   }
   // Counts one added point against max_vertices.
   void AddPoint() {
-    if (added_.fetch_add(1) + 1 > max_vertices_) over_limit_ = true;
+    if (input_ + added_.fetch_add(1) + 1 > max_vertices_) over_limit_ = true;
   }
   bool OverLimit() const { return over_limit_.load(); }
   size_t added() const { return added_.load(); }
+  size_t vertices() const { return input_ + added(); }  // the output so far
   // kDeadlineExceeded, with the budget and the time spent.
   Status TimeUp() const;
   // kLimitExceeded for the size limits: `what` ("vertices", ...).
   static Status OverLimitError(const char* what, size_t limit, size_t actual);
-  // The same, known before the work (work_estimate.hpp): it names the
-  // footprint's size or the tolerance, whichever asks for more.
-  static Status OverLimitError(size_t limit, const WorkEstimate& least);
+  // The same, known before the work (work_estimate.hpp) for a model of
+  // `input` vertices: it names the footprint's size or the tolerance,
+  // whichever asks for more.
+  static Status OverLimitError(size_t limit, size_t input, const WorkEstimate& least);
 
  private:
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
   double budget_ms_ = 0.0;
   size_t max_vertices_;
+  size_t input_;
   std::atomic<size_t> added_{0};
   std::atomic<bool> over_limit_{false};
   std::atomic<bool> out_of_time_{false};

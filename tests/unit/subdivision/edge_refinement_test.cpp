@@ -102,7 +102,7 @@ TEST(EdgeRefinement, TheSizeBudgetStopsTheBisection) {
   const CellEstimates est(*in->ctx, l.cell);
   const EdgeGraph g = BuildEdgeGraph(in->mesh);
   const GridMarking m = in->Marked(g, l, est);
-  Budget budget(o);
+  Budget budget(o, in->mesh.positions.size());
   const auto edges = RefineEdges(*in->ctx, g, m, l, est, &budget);
   EXPECT_TRUE(budget.OverLimit());
   size_t added = 0;

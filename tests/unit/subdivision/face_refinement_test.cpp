@@ -177,7 +177,7 @@ TEST(FaceRefinement, SidesThatStrayFartherThanTheFacesShareDoNotRunAway) {
   auto fine = testing::MakeStageInputs(testing::Flattened(wave, 64), bunny, fine_options, fit);
   const FaceStageInputs inputs{*fine->ctx,   sides->graph,   sides->marking,
                                sides->edges, sides->located, *sides->estimates};
-  Budget budget(fine->ctx->options);
+  Budget budget(fine->ctx->options, bunny.positions.size());
   const IdVector<FaceId, FaceOutput> faces = RefineFaces(inputs, &budget);
   ASSERT_FALSE(budget.OverLimit()) << "a face ran away: " << budget.added() << " points";
   size_t refinement = 0;
