@@ -103,6 +103,19 @@ bool ReadRequest(const json& request, Parse parse, Params* out, CliError* error)
   return true;
 }
 
+// The GLB compression named by --compression (`choices` lists those the
+// command takes, for its usage error).
+bool ReadCompression(const std::string& name, const char* choices, proto::GlbCompression* out,
+                     CliError* error) {
+  const auto c = ValueOf<proto::GlbCompression>(proto::kGlbCompressions, name);
+  if (!c) {
+    *error = {CliError::Kind::kUsage, std::string("--compression: ") + choices};
+    return false;
+  }
+  *out = *c;
+  return true;
+}
+
 // The flags of deform, batch and animate on a request read from --params
 // (proto::DeformParams or proto::AnimateParams), for an output of `kind`;
 // *decode: the reply is Draco to decode here into OBJ or PLY.
@@ -145,12 +158,9 @@ bool ApplyFlags(const DeformOptions& o, OutputKind kind, Params* p, bool* decode
       *error = {CliError::Kind::kUsage, "--compression: compresses .glb output only"};
       return false;
     }
-    const auto c = ValueOf<proto::GlbCompression>(proto::kGlbCompressions, o.compression);
-    if (!c) {
-      *error = {CliError::Kind::kUsage, "--compression: draco, meshopt or none"};
-      return false;
-    }
-    output.compression = *c;
+    proto::GlbCompression c;
+    if (!ReadCompression(o.compression, "draco, meshopt or none", &c, error)) return false;
+    output.compression = c;
   }
   *decode = false;
   switch (kind) {
@@ -236,16 +246,17 @@ int RunMap(const Connection& c, const std::string& surface_id, const std::string
     return error.exit_code();
   }
   // Read as the server reads it, but for its limits (its own, at /v1/info).
-  auto parsed = proto::ParseMapRequest(body, proto::kNoMapLimits);
-  if (!parsed.ok()) {
-    std::fprintf(stderr, "surfdeform: %s\n", Refused(parsed.status()).message.c_str());
-    return kExitRefused;
+  proto::MapRequest parsed;
+  auto parse = [](const json& j) { return proto::ParseMapRequest(j, proto::kNoMapLimits); };
+  if (!ReadRequest(body, parse, &parsed, &error)) {
+    std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
+    return error.exit_code();
   }
   ApiClient client(c.server, c.retry, c.timeout_s);
   ConfigureRetries(c, &client);
   HttpReply r;
   HttpFailure f;
-  if (!client.PostJson("/v1/surfaces/" + surface_id + "/map", proto::ToJson(*parsed).dump(), &r,
+  if (!client.PostJson("/v1/surfaces/" + surface_id + "/map", proto::ToJson(parsed).dump(), &r,
                        &f)) {
     std::fprintf(stderr, "surfdeform: %s\n", f.message.c_str());
     return ExitFor(f);
@@ -270,11 +281,10 @@ int RunFlatten(const Connection& c, const std::string& surface_file, const std::
     std::fprintf(stderr, "surfdeform: %s\n", error.message.c_str());
     return kExitLocalFile;  // the surface file is the one input: unreadable or unusable
   }
-  auto parsed = proto::ParseCreateSurfaceRequest(request);
-  if (!parsed.ok()) {
-    std::fprintf(stderr, "surfdeform: %s: %s\n", surface_file.c_str(),
-                 Refused(parsed.status()).message.c_str());
-    return kExitRefused;
+  proto::CreateSurfaceRequest parsed;
+  if (!ReadRequest(request, proto::ParseCreateSurfaceRequest, &parsed, &error)) {
+    std::fprintf(stderr, "surfdeform: %s: %s\n", surface_file.c_str(), error.message.c_str());
+    return error.exit_code();
   }
   ApiClient client(c.server, c.retry, c.timeout_s);
   ConfigureRetries(c, &client);
@@ -284,7 +294,7 @@ int RunFlatten(const Connection& c, const std::string& surface_file, const std::
     std::fprintf(stderr, "surfdeform: %s: %s\n", surface_file.c_str(), f.message.c_str());
     return ExitFor(f);
   }
-  if (!client.PostJson("/v1/surfaces", proto::ToJson(*parsed).dump(), &r, &f)) {
+  if (!client.PostJson("/v1/surfaces", proto::ToJson(parsed).dump(), &r, &f)) {
     std::fprintf(stderr, "surfdeform: %s\n", f.message.c_str());
     return ExitFor(f);
   }
@@ -414,12 +424,9 @@ bool BuildAnimateRequest(const DeformOptions& o, const json& animation,
   }
   out->output.format.reset();  // always a GLB: its compression says which
   if (!compression.empty()) {
-    const auto c = ValueOf<proto::GlbCompression>(proto::kGlbCompressions, compression);
-    if (!c) {
-      *error = {CliError::Kind::kUsage, "--compression: meshopt or none"};
-      return false;
-    }
-    out->output.compression = *c;
+    proto::GlbCompression c;
+    if (!ReadCompression(compression, "meshopt or none", &c, error)) return false;
+    out->output.compression = c;
   }
   return CheckAsSent(*out, proto::ParseAnimateParams, error);
 }
