@@ -3,10 +3,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "engine/elapsed.hpp"
 #include "engine/subdivision/assembly.hpp"
 #include "engine/subdivision/screen.hpp"
+#include "engine/subdivision/target_edges.hpp"
 #include "engine/subdivision/work_estimate.hpp"
 
 namespace surfdeform {
@@ -141,6 +143,11 @@ Result<SubdivisionResult> Subdivide(const Mesh& mesh, const std::vector<Vec3>& p
   Context ctx(mesh, placed, map, outside, options);
   if (extents.size() == mesh.triangles.size()) ctx.extents = extents;
   ctx.footprint = footprint;
+  std::optional<TargetEdges> target;
+  if (const FlatMesh* flat = map.surface().flat_mesh()) {
+    target.emplace(*flat, map.sheet().frame_linear, map.sheet().frame_offset);
+    ctx.target = &*target;
+  }
   return Run(ctx, want);
 }
 

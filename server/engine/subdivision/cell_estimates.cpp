@@ -4,6 +4,7 @@
 
 #include "engine/grid_points.hpp"
 #include "engine/parallel.hpp"
+#include "engine/subdivision/target_edges.hpp"
 
 namespace surfdeform::subdivision {
 namespace {
@@ -180,6 +181,12 @@ CellEstimates::CellEstimates(const Context& ctx, const IdVector<VertexId, int>& 
     e.bend = Bend(node_rates, slot, p00, p10, p01, p11);
     e.min_side = side;
     e.twist = side > 0.0 ? (p00 - p10 + p11 - p01).norm() / (side * side) : kInf;
+    if (ctx.target != nullptr) {
+      // A mesh surface bends only across its edges, inside the cells.
+      Eigen::AlignedBox2d box(p00);
+      box.extend(p10).extend(p01).extend(p11);
+      e.kink = ctx.target->MaxKinkIn(box, std::max(std::abs(h_lo), std::abs(h_hi)));
+    }
   }
 }
 
@@ -191,6 +198,7 @@ CellTerms CellEstimates::BlockTerms(int i0, int j0, int i1, int j1) const {
     const CellTerms& e = cells_[cells[q]];
     t.curvature = std::max(t.curvature, e.curvature);
     t.bend = std::max(t.bend, e.bend);
+    t.kink = std::max(t.kink, e.kink);
     t.twist = std::max(t.twist, e.twist);
     t.min_side = std::min(t.min_side, e.min_side);
   }

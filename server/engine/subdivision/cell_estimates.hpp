@@ -25,7 +25,9 @@ struct CellTerms {
   // most: its rate of turning changes across the cell.
   double bend = 0.0;
   double twist = 0.0;
-  double kink = 0.0;      // 0 for a single cell
+  // 0 for a single cell of a parametric surface; on a mesh surface, the
+  // largest kink of its edges in the cell (TargetEdges::Edge::kink).
+  double kink = 0.0;
   double min_side = 0.0;  // the shortest cell side on the sheet
 };
 

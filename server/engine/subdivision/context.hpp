@@ -21,6 +21,7 @@
 namespace surfdeform::subdivision {
 
 struct WorkEstimate;  // work_estimate.hpp
+class TargetEdges;    // target_edges.hpp
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -61,6 +62,9 @@ struct Context {
   std::span<const FaceExtent> extents;
   // Where the input vertices lie on the sheet, if known; or to record.
   FootprintUse footprint;
+  // A surface given as a mesh: its edges on the sheet, which take the grid's
+  // part in the marking (edge points, face points, chords); else null.
+  const TargetEdges* target = nullptr;
 
   const Vec3& Placed(VertexId v) const { return placed[v.value()]; }
   // The placed point at t from a to b, and at barycentric (l1, l2) of corners

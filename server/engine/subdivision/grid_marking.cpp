@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/parallel.hpp"
+#include "engine/subdivision/target_edges.hpp"
 
 namespace surfdeform::subdivision {
 namespace {
@@ -20,6 +21,29 @@ void FindEdgePoints(const Context& ctx, const EdgeGraph& graph,
       EdgeMarks& marks = m->edges[EdgeId(e)];
       const int c0 = vertex_cell[edge.v0], c1 = vertex_cell[edge.v1];
       const Vec2 a = ctx.Placed(edge.v0).head<2>(), b = ctx.Placed(edge.v1).head<2>();
+      if (ctx.target != nullptr) {
+        // A mesh surface bends only across its edges: an edge that crosses
+        // none lies on one flat triangle.
+        ctx.target->Crossings(a, b, &crossings, &marks.cell_side, &scratch);
+        // Without the point where it crosses a kink j, the edge strays at
+        // most j l / 4: crossings that cannot pass the threshold are left
+        // out (every one counts in uniform mode).
+        const double length = (b - a).norm();
+        const double h =
+            std::max(std::abs(ctx.Placed(edge.v0).z()), std::abs(ctx.Placed(edge.v1).z()));
+        if (!ctx.uniform) {
+          marks.kink_threshold = ctx.tolerance > 0.0 && length > 0.0
+                                     ? 4.0 * kEdgeShare * ctx.tolerance / length
+                                     : kInf;
+          std::erase_if(crossings, [&](const GridCrossing& c) {
+            return !(ctx.target->edges()[c.u_line].KinkAt(h) > marks.kink_threshold);
+          });
+        }
+        marks.long_edge = !crossings.empty();
+        marks.points.resize(crossings.size());
+        for (size_t k = 0; k < crossings.size(); ++k) marks.points[k].crossing = crossings[k];
+        continue;
+      }
       CellTerms terms;
       const bool in_block = estimates.Terms(c0, c1, c1, &terms);
       if (in_block) {
@@ -56,6 +80,18 @@ void ClassifyFaces(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
     if (!f.large) continue;
     if (ctx.uniform) {
       f.threshold = -kInf;
+    } else if (ctx.target != nullptr) {
+      // A mesh surface: a vertex inside the face whose edges kink by j makes
+      // the face stray about j l / 4 without it (l: the face's size).
+      if (ctx.tolerance > 0.0) {
+        double longest = 0.0;
+        for (int k = 0; k < 3; ++k) {
+          longest = std::max(longest, (ctx.Placed(face.corner[(k + 1) % 3]).head<2>() -
+                                       ctx.Placed(face.corner[k]).head<2>())
+                                          .norm());
+        }
+        if (longest > 0.0) f.threshold = 4.0 * kFaceShare * ctx.tolerance / longest;
+      }
     } else {
       if (ctx.options.epsilon > 0.0) f.threshold = ctx.options.epsilon;
       // Without this grid point the pieces beside it double to about 2
@@ -77,8 +113,38 @@ void ClassifyFaces(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
   }
 }
 
+// A mesh surface's vertices inside each large face: how much the surface
+// bends there (the largest kink of its edges, which ClassifyFaces's
+// threshold for a mesh surface reads).
+void FindTargetVertices(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
+  const TargetEdges& target = *ctx.target;
+  ParallelChunks(static_cast<int>(graph.faces.size()), ctx.threads, [&](int, int begin, int end) {
+    std::vector<GridNodeInside> nodes;
+    for (int fi = begin; fi < end; ++fi) {
+      FaceMarks& f = m->faces[FaceId(fi)];
+      if (!f.large) continue;
+      const auto& c = graph.faces[FaceId(fi)].corner;
+      target.VerticesInside(ctx.Placed(c[0]).head<2>(), ctx.Placed(c[1]).head<2>(),
+                            ctx.Placed(c[2]).head<2>(), &nodes);
+      f.points.resize(nodes.size());
+      for (size_t k = 0; k < nodes.size(); ++k) {
+        FacePoint& p = f.points[k];
+        p.node = nodes[k];
+        for (int e : target.EdgesAt(nodes[k].i)) {
+          p.across_u_line = std::max(p.across_u_line, target.edges()[e].kink);
+        }
+        p.across_v_line = p.across_u_line;
+      }
+    }
+  });
+}
+
 // The grid nodes inside each large face, with their curvatures.
 void FindFacePoints(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
+  if (ctx.target != nullptr) {
+    FindTargetVertices(ctx, graph, m);
+    return;
+  }
   ParallelChunks(static_cast<int>(graph.faces.size()), ctx.threads, [&](int, int begin, int end) {
     std::vector<GridNodeInside> nodes;
     std::vector<int> scratch;
@@ -133,6 +199,10 @@ void MeasureEdgePoints(const Context& ctx, const EdgeGraph& graph, GridMarking* 
         const Vec3 f0 = ctx.Deformed(mid, &hint);
         const Vec3 fp = ctx.Deformed(mid + d3, &hint), fm = ctx.Deformed(mid - d3, &hint);
         p.kink = ((fp - f0) - (f0 - fm)).norm() / step;
+        // On a mesh surface an edge's crossings are apart: one at t strays
+        // the straight edge by j t (1 - t) l, which the threshold's j l / 4
+        // counts at t = 1/2.
+        if (ctx.target != nullptr) p.kink *= 4.0 * p.crossing.t * (1.0 - p.crossing.t);
       }
     }
   });
@@ -153,8 +223,32 @@ bool ChordTurns(const FlatLocator& locator, const Chord& chord, const GridNodeIn
   return std::abs(Cross2(b - a, p - a)) > 1e-4 * (b - a).squaredNorm();
 }
 
+// A mesh surface's chords are its edges' pieces, which kink only where
+// their edge does: a chord is kept for what its own points need, and its
+// other end marked so that the face can follow it, without carrying the
+// mark on along the edge (a grid line is kept whole: its curvature runs
+// along it). One pass; the marks it adds do not keep chords.
+void MarkTargetChords(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
+  std::vector<std::pair<EdgeId, int>> marks;
+  for (size_t f = 0; f < graph.faces.size(); ++f) {
+    const FaceId fi(static_cast<int>(f));
+    if (!m->faces[fi].large) continue;
+    for (const Chord& chord : Chords(ctx, graph, *m, fi)) {
+      if (!ChordKept(ctx, graph, *m, fi, chord)) continue;
+      for (const ChordEntry& e : chord.entries) {
+        if (e.IsEdgePoint()) marks.push_back({graph.faces[fi].edge[e.side], e.ref});
+      }
+    }
+  }
+  for (const auto& [edge, ref] : marks) m->edges[edge].points[ref].marked = true;
+}
+
 // Marks the edge points of the chords kept, to a fixed point over the faces.
 void PropagateChords(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
+  if (ctx.target != nullptr) {
+    MarkTargetChords(ctx, graph, m);
+    return;
+  }
   std::vector<FaceId> queue;
   std::vector<char> queued(graph.faces.size(), 0);
   for (size_t f = 0; f < graph.faces.size(); ++f) {
@@ -187,12 +281,23 @@ void PropagateChords(const Context& ctx, const EdgeGraph& graph, GridMarking* m)
 }
 
 // Keeps the face points on kept chords where the chord turns, and where two
-// kept chords cross; on a straight run of a chord they are not needed.
+// kept chords cross; on a straight run of a chord they are not needed. On a
+// mesh surface every one on a kept chord ends it (a chord is one of its
+// edges).
 void KeepFacePoints(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
   const int nu = ctx.locator.nu();
   for (size_t fi = 0; fi < graph.faces.size(); ++fi) {
     FaceMarks& f = m->faces[FaceId(fi)];
     if (!f.large) continue;
+    if (ctx.target != nullptr) {
+      for (const Chord& chord : Chords(ctx, graph, *m, FaceId(fi))) {
+        if (!ChordKept(ctx, graph, *m, FaceId(fi), chord)) continue;
+        for (const ChordEntry& e : chord.entries) {
+          if (!e.IsEdgePoint()) f.points[e.ref].kept = true;
+        }
+      }
+      continue;
+    }
     std::vector<char> on_u(f.points.size(), 0), on_v(f.points.size(), 0);
     for (const Chord& chord : Chords(ctx, graph, *m, FaceId(fi))) {
       if (!ChordKept(ctx, graph, *m, FaceId(fi), chord)) continue;
@@ -238,8 +343,48 @@ void MarkGridPoints(const Context& ctx, const EdgeGraph& graph, GridMarking* m) 
   KeepFacePoints(ctx, graph, m);
 }
 
+namespace {
+
+// A mesh surface's chords in face `fi`: the pieces of its edges inside the
+// face, each from an edge point or a vertex inside to the next (a straight
+// edge meets a triangle in one piece).
+std::vector<Chord> TargetChords(const Context& ctx, const EdgeGraph& graph,
+                                const GridMarking& marking, FaceId fi) {
+  using Kind = ChordEntry::Kind;
+  std::vector<std::pair<int, ChordEntry>> entries;
+  const GraphFace& face = graph.faces[fi];
+  for (int k = 0; k < 3; ++k) {
+    const EdgeMarks& e = marking.edges[face.edge[k]];
+    for (size_t q = 0; q < e.points.size(); ++q) {
+      const GridCrossing& c = e.points[q].crossing;
+      entries.push_back({c.u_line, {c.u_along, Kind::kEdgePoint, k, static_cast<int>(q)}});
+    }
+  }
+  const FaceMarks& f = marking.faces[fi];
+  for (size_t q = 0; q < f.points.size(); ++q) {
+    const int v = f.points[q].node.i;
+    for (int edge : ctx.target->EdgesAt(v)) {
+      const double along = ctx.target->edges()[edge].v[0] == v ? 0.0 : 1.0;
+      entries.push_back({edge, {along, Kind::kFacePoint, 0, static_cast<int>(q)}});
+    }
+  }
+  std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : a.second.along < b.second.along;
+  });
+  std::vector<Chord> chords;
+  for (size_t k = 0; k < entries.size(); ++k) {
+    if (k == 0 || entries[k].first != entries[k - 1].first)
+      chords.push_back({entries[k].first, {}});
+    chords.back().entries.push_back(entries[k].second);
+  }
+  return chords;
+}
+
+}  // namespace
+
 std::vector<Chord> Chords(const Context& ctx, const EdgeGraph& graph, const GridMarking& marking,
                           FaceId fi) {
+  if (ctx.target != nullptr) return TargetChords(ctx, graph, marking, fi);
   struct Entry {
     int line;
     ChordEntry e;
@@ -301,6 +446,9 @@ bool ChordKept(const Context& ctx, const EdgeGraph& graph, const GridMarking& ma
   for (const ChordEntry& e : chord.entries) {
     if (e.IsEdgePoint()) {
       if (marking.edges[graph.faces[fi].edge[e.side]].points[e.ref].marked) return true;
+    } else if (ctx.target != nullptr) {
+      // A mesh surface's vertex needs the chords along its edges that kink.
+      if (ctx.target->edges()[chord.line].kink > f.threshold) return true;
     } else {
       const FacePoint& p = f.points[e.ref];
       if ((u_line ? p.across_u_line : p.across_v_line) > f.threshold) return true;

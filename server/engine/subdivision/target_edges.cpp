@@ -1,0 +1,205 @@
+#include "engine/subdivision/target_edges.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace surfdeform::subdivision {
+namespace {
+
+// The derivative along sheet direction d of the per-vertex `values`
+// interpolated linearly over triangle t (`sheet`: the vertices on the
+// sheet): the positions give the map's, the normals the normal field's.
+Vec3 DerivativeAlong(const FlatMesh& m, const std::vector<Vec2>& sheet,
+                     const std::vector<Vec3>& values, int t, const Vec2& d) {
+  const auto& tri = m.mesh.triangles[t];
+  const Vec2 e1 = sheet[tri[1]] - sheet[tri[0]], e2 = sheet[tri[2]] - sheet[tri[0]];
+  const Vec3 p1 = values[tri[1]] - values[tri[0]];
+  const Vec3 p2 = values[tri[2]] - values[tri[0]];
+  const double det = Cross2(e1, e2);
+  if (!(std::abs(det) > 0.0)) return Vec3::Zero();
+  // d = x e1 + y e2
+  const double x = Cross2(d, e2) / det, y = Cross2(e1, d) / det;
+  return x * p1 + y * p2;
+}
+
+}  // namespace
+
+TargetEdges::TargetEdges(const FlatMesh& mesh, const Eigen::Matrix2d& linear, const Vec2& offset) {
+  const DiskMesh& m = mesh.mesh;
+  flat_.reserve(mesh.flat.size());
+  for (const Vec2& p : mesh.flat) flat_.push_back(linear * p + offset);
+  const int nv = static_cast<int>(flat_.size());
+  // Each edge once, from the triangle that holds it first (its neighbour,
+  // if any, across it).
+  for (int t = 0; t < static_cast<int>(m.triangles.size()); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int u = m.neighbours[t][k];
+      if (u >= 0 && u < t) continue;  // listed from u
+      const int a = m.triangles[t][k], b = m.triangles[t][(k + 1) % 3];
+      Edge e;
+      e.v = {std::min(a, b), std::max(a, b)};
+      const Vec2 along = flat_[b] - flat_[a];
+      e.length = along.norm();
+      if (u >= 0 && e.length > 0.0) {
+        const Vec2 across = Vec2(-along.y(), along.x()) / e.length;
+        auto jump = [&](const std::vector<Vec3>& values) {
+          return (DerivativeAlong(mesh, flat_, values, t, across) -
+                  DerivativeAlong(mesh, flat_, values, u, across))
+              .norm();
+        };
+        e.kink = jump(m.positions);
+        if (mesh.normals.size() == m.positions.size()) e.normal_kink = jump(mesh.normals);
+      }
+      edges_.push_back(e);
+    }
+  }
+  incident_start_.assign(nv + 1, 0);
+  for (const Edge& e : edges_) {
+    ++incident_start_[e.v[0] + 1];
+    ++incident_start_[e.v[1] + 1];
+  }
+  for (int v = 0; v < nv; ++v) incident_start_[v + 1] += incident_start_[v];
+  incident_.resize(incident_start_.back());
+  std::vector<int> fill(incident_start_.begin(), incident_start_.end() - 1);
+  for (int k = 0; k < static_cast<int>(edges_.size()); ++k) {
+    incident_[fill[edges_[k].v[0]]++] = k;
+    incident_[fill[edges_[k].v[1]]++] = k;
+  }
+
+  // Buckets of about one edge each, square cells.
+  for (const Vec2& p : flat_) bounds_.extend(p);
+  const Vec2 size = bounds_.sizes().cwiseMax(1e-300);
+  const double cell =
+      std::sqrt(size.x() * size.y() / std::max<double>(1.0, static_cast<double>(edges_.size())));
+  columns_ = std::clamp(static_cast<int>(std::ceil(size.x() / cell)), 1, 4096);
+  rows_ = std::clamp(static_cast<int>(std::ceil(size.y() / cell)), 1, 4096);
+  cell_ = Vec2(size.x() / columns_, size.y() / rows_);
+  auto fill_buckets = [&](int items, auto box_of, std::vector<int>* start, std::vector<int>* ids) {
+    start->assign(static_cast<size_t>(columns_) * rows_ + 1, 0);
+    for (int k = 0; k < items; ++k) {
+      ForBuckets(box_of(k), [&](int b) { ++(*start)[b + 1]; });
+    }
+    for (size_t b = 1; b < start->size(); ++b) (*start)[b] += (*start)[b - 1];
+    ids->resize(start->back());
+    std::vector<int> next(start->begin(), start->end() - 1);
+    for (int k = 0; k < items; ++k) {
+      ForBuckets(box_of(k), [&](int b) { (*ids)[next[b]++] = k; });
+    }
+  };
+  fill_buckets(
+      static_cast<int>(edges_.size()),
+      [&](int k) {
+        Eigen::AlignedBox2d b(flat_[edges_[k].v[0]]);
+        b.extend(flat_[edges_[k].v[1]]);
+        return b;
+      },
+      &edge_start_, &edge_ids_);
+  fill_buckets(
+      nv, [&](int v) { return Eigen::AlignedBox2d(flat_[v], flat_[v]); }, &vertex_start_,
+      &vertex_ids_);
+}
+
+template <typename Visit>
+void TargetEdges::ForBuckets(const Eigen::AlignedBox2d& box, Visit&& visit) const {
+  if (box.isEmpty() || !bounds_.intersects(box)) return;
+  auto column = [&](double x) {
+    return std::clamp(static_cast<int>(std::floor((x - bounds_.min().x()) / cell_.x())), 0,
+                      columns_ - 1);
+  };
+  auto row = [&](double y) {
+    return std::clamp(static_cast<int>(std::floor((y - bounds_.min().y()) / cell_.y())), 0,
+                      rows_ - 1);
+  };
+  const int x0 = column(box.min().x()), x1 = column(box.max().x());
+  const int y0 = row(box.min().y()), y1 = row(box.max().y());
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) visit(x + columns_ * y);
+  }
+}
+
+void TargetEdges::Crossings(const Vec2& a, const Vec2& b, std::vector<GridCrossing>* out,
+                            double* min_length, std::vector<int>* scratch) const {
+  out->clear();
+  *min_length = std::numeric_limits<double>::infinity();
+  const Vec2 d = b - a;
+  const double len2 = d.squaredNorm();
+  if (!(len2 > 0.0)) return;
+  // The edges in the buckets of the segment's box, each once.
+  Eigen::AlignedBox2d box(a);
+  box.extend(b);
+  scratch->clear();
+  ForBuckets(box, [&](int bucket) {
+    scratch->insert(scratch->end(), edge_ids_.begin() + edge_start_[bucket],
+                    edge_ids_.begin() + edge_start_[bucket + 1]);
+  });
+  std::sort(scratch->begin(), scratch->end());
+  scratch->erase(std::unique(scratch->begin(), scratch->end()), scratch->end());
+  const double end_gap = 1e-7;
+  for (int k : *scratch) {
+    const Vec2& p = flat_[edges_[k].v[0]];
+    const Vec2 e = flat_[edges_[k].v[1]] - p;
+    const double den = Cross2(d, e);
+    // Parallel (or along it): no crossing in the interior.
+    if (!(std::abs(den) > 1e-12 * std::sqrt(len2) * e.norm())) continue;
+    const Vec2 ap = p - a;
+    const double t = Cross2(ap, e) / den;  // along a-b
+    const double s = Cross2(ap, d) / den;  // along the edge
+    if (!(t > end_gap && t < 1.0 - end_gap && s >= 0.0 && s <= 1.0)) continue;
+    GridCrossing c;
+    c.t = t;
+    c.u_line = k;
+    c.u_along = s;
+    out->push_back(c);
+    *min_length = std::min(*min_length, edges_[k].length);
+  }
+  // Where a-b passes through a target vertex it crosses several edges at one
+  // point: one crossing stands for them, the edge there that kinks most.
+  std::sort(out->begin(), out->end(),
+            [](const GridCrossing& x, const GridCrossing& y) { return x.t < y.t; });
+  size_t kept = 0;
+  for (size_t k = 0; k < out->size(); ++k) {
+    const GridCrossing& c = (*out)[k];
+    if (kept > 0 && c.t - (*out)[kept - 1].t <= 1e-9) {
+      if (edges_[c.u_line].kink > edges_[(*out)[kept - 1].u_line].kink) (*out)[kept - 1] = c;
+      continue;
+    }
+    (*out)[kept++] = c;
+  }
+  out->resize(kept);
+}
+
+void TargetEdges::VerticesInside(const Vec2& a, const Vec2& b, const Vec2& c,
+                                 std::vector<GridNodeInside>* out) const {
+  out->clear();
+  const double det = Cross2(b - a, c - a);
+  const double size = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+  if (!(std::abs(det) > 1e-12 * size * size)) return;
+  Eigen::AlignedBox2d box(a);
+  box.extend(b);
+  box.extend(c);
+  const double margin = 1e-7;
+  ForBuckets(box, [&](int bucket) {
+    for (int q = vertex_start_[bucket]; q < vertex_start_[bucket + 1]; ++q) {
+      const int v = vertex_ids_[q];
+      const Vec2 p = flat_[v] - a;
+      const double l1 = Cross2(p, c - a) / det, l2 = Cross2(b - a, p) / det;
+      const double l0 = 1.0 - l1 - l2;
+      if (l0 > margin && l1 > margin && l2 > margin) out->push_back({v, -1, l1, l2});
+    }
+  });
+  std::sort(out->begin(), out->end(),
+            [](const GridNodeInside& x, const GridNodeInside& y) { return x.i < y.i; });
+}
+
+double TargetEdges::MaxKinkIn(const Eigen::AlignedBox2d& box, double h) const {
+  double kink = 0.0;
+  ForBuckets(box, [&](int bucket) {
+    for (int q = edge_start_[bucket]; q < edge_start_[bucket + 1]; ++q) {
+      kink = std::max(kink, edges_[edge_ids_[q]].KinkAt(h));
+    }
+  });
+  return kink;
+}
+
+}  // namespace surfdeform::subdivision
