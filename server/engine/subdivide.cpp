@@ -62,7 +62,8 @@ Result<SubdivisionResult> Run(const Context& ctx, InputPositions want) {
   if (budget.OutOfTime()) return budget.TimeUp();
   CompleteDeformed(ctx, &located);
   if (budget.OutOfTime()) return budget.TimeUp();
-  GridMarking marking = FindGridPoints(ctx, graph, located.cell, estimates);
+  GridMarking marking = FindGridPoints(ctx, graph, located.cell, estimates, &budget);
+  if (budget.TooManyCrossings()) return budget.TooManyCrossingsError();
   if (budget.OutOfTime()) return budget.TimeUp();
   MarkGridPoints(ctx, graph, &marking);
   if (budget.OutOfTime()) return budget.TimeUp();
@@ -111,7 +112,7 @@ Status ValidateSubdivisionSettings(const SubdivisionSettings& o) {
 
 Status ValidateSubdivision(const SubdivisionOptions& o) {
   SURFDEFORM_RETURN_IF_ERROR(ValidateSubdivisionSettings(o));
-  if (o.max_vertices == 0 || o.max_triangles == 0) {
+  if (o.max_vertices == 0 || o.max_triangles == 0 || o.max_crossings == 0) {
     return InvalidArgument("the output size limits must be positive", "subdivision");
   }
   if (o.threads < 0 || o.threads > 256) {

@@ -83,6 +83,10 @@ const char* SubdivisionModeName(SubdivisionMode mode);  // "off", "adaptive", "u
 struct SubdivisionOptions : SubdivisionSettings {
   size_t max_vertices = 4'000'000;   // output size limit (vertices)
   size_t max_triangles = 8'000'000;  // and triangles
+  // The model's edges' crossings of the grid lines (or of a mesh surface's
+  // edges), each kept to be measured and maybe marked: over it, kLimitExceeded
+  // before they are all stored.
+  size_t max_crossings = 32'000'000;
   // Wall-clock budget of the call, ms; 0 = none. Past it the subdivision
   // stops with kDeadlineExceeded (checked between its phases and per edge and
   // face while refining, so it stops within one face's work of the budget).

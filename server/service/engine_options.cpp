@@ -23,6 +23,7 @@ SubdivisionOptions SubdivisionFor(const SubdivisionSettings& given, const Servic
   auto s = WithRunDefaults<SubdivisionOptions>(given);
   s.threads = work.threads();
   s.max_vertices = MaxOutputVertices(limits);
+  s.max_crossings = MaxSubdivisionCrossings(limits);
   s.max_triangles = limits.max_output_triangles;
   s.time_budget_ms = work.clock().BudgetFor(limits.request_time_budget_ms);
   return s;

@@ -5,6 +5,7 @@
 #include <variant>
 
 #include "base/format.hpp"
+#include "engine/subdivide.hpp"
 #include "service/memory_budget.hpp"
 
 namespace surfdeform {
@@ -120,6 +121,11 @@ size_t MaxMapOutputPoints(const ServiceLimits& limits) {
 size_t MaxOutputVertices(const ServiceLimits& limits) {
   return CountWithin(limits.request_memory_bytes, kSubdivisionBytesPerVertex,
                      limits.max_output_vertices);
+}
+
+size_t MaxSubdivisionCrossings(const ServiceLimits& limits) {
+  return std::max<size_t>(1, CountWithin(limits.request_memory_bytes, kSubdivisionBytesPerCrossing,
+                                         SubdivisionOptions{}.max_crossings));
 }
 
 Status CheckSurfaceMesh(const ServiceLimits& limits, size_t vertices) {

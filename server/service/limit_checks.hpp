@@ -64,6 +64,10 @@ Status SurfaceMeshPairsError(const ServiceLimits& limits, size_t vertices, Statu
 // keys weigh more than the frames, else animation.frames.
 Status CheckMeshFrames(const ServiceLimits& limits, size_t frames, size_t keys, size_t vertices);
 
+// The crossings of a model's edges with the sheet's grid lines that the
+// subdivision may keep to measure, within the memory budget.
+size_t MaxSubdivisionCrossings(const ServiceLimits& limits);
+
 // The same for an animation's model, which every one of its `frames` holds:
 // also within the frame vertices' limit, and the memory budget holding at
 // once the refined model (kSubdivisionBytesPerVertex), the refinement pass's

@@ -35,6 +35,10 @@ inline constexpr double kAnimationBytesPerFrameExtraPair = 3;
 // 372 B at 789k and 377 B at 1.61M vertices, OBJ out: the bunny refined on a
 // short wave; Draco 310-344 B, GLB 296 B, PLY 330 B).
 inline constexpr double kSubdivisionBytesPerVertex = 384;
+// A crossing of a model's edge with a grid line (or a mesh surface's edge),
+// kept to be measured and marked: 64 B (the crossing, its curvature and
+// kink), doubled for what measuring it takes.
+inline constexpr double kSubdivisionBytesPerCrossing = 128;
 // An animation's refinement passes over the refined model, per vertex of it
 // and per frame measured at once (one a thread): the edge graph, the grid's
 // marks, the refined edges and faces and their assembly of a whole

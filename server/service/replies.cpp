@@ -421,6 +421,7 @@ std::string InfoJson(const ServiceLimits& l) {
               {"max_surface_mesh_pairs", l.max_surface_mesh_pairs},
               {"max_output_vertices", MaxOutputVertices(l)},
               {"max_output_triangles", l.max_output_triangles},
+              {"max_subdivision_crossings", MaxSubdivisionCrossings(l)},
               {"max_json_depth", l.max_json_depth},
               {"max_in_flight", l.max_in_flight},
               {"max_queued", l.max_queued},

@@ -1,5 +1,7 @@
 #include "support/subdivision_stages.hpp"
 
+#include <limits>
+
 #include "support/expect_ok.hpp"
 
 namespace surfdeform::testing {
@@ -37,7 +39,12 @@ LocatedVertices StageInputs::Located(bool positions) const {
 
 GridMarking StageInputs::Marked(const EdgeGraph& graph, const LocatedVertices& located,
                                 const CellEstimates& estimates) const {
-  GridMarking marking = FindGridPoints(*ctx, graph, located.cell, estimates);
+  // Unbounded here: the later stages' tests set small output limits for
+  // themselves (the marking's bound has its own test).
+  SubdivisionOptions unbounded = options;
+  unbounded.max_vertices = std::numeric_limits<size_t>::max() / 2;
+  Budget budget(unbounded, mesh.positions.size());
+  GridMarking marking = FindGridPoints(*ctx, graph, located.cell, estimates, &budget);
   MarkGridPoints(*ctx, graph, &marking);
   return marking;
 }

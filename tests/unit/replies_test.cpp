@@ -98,6 +98,8 @@ TEST(Replies, InfoPublishesTheLimitsAsConfigured) {
   EXPECT_EQ(info["limits"]["request_memory_bytes"], 64u << 20);
   // The output limit shrinks to fit the memory budget: 64 MiB / 384 B.
   EXPECT_EQ(info["limits"]["max_output_vertices"], (64u << 20) / 384);
+  // And the crossings the subdivision may keep to measure: 64 MiB / 128 B.
+  EXPECT_EQ(info["limits"]["max_subdivision_crossings"], (64u << 20) / 128);
   EXPECT_EQ(info["limits"]["max_map_points"], kMapLimits.max_points);
   EXPECT_FALSE(info["enums"]["problem.code"].empty());
 }

@@ -30,7 +30,10 @@ Context::Context(const Mesh& mesh_in, const std::vector<Vec3>& placed_in, const 
 }
 
 Budget::Budget(const SubdivisionOptions& o, size_t input_vertices)
-    : budget_ms_(o.time_budget_ms), max_vertices_(o.max_vertices), input_(input_vertices) {
+    : budget_ms_(o.time_budget_ms),
+      max_vertices_(o.max_vertices),
+      max_crossings_(o.max_crossings),
+      input_(input_vertices) {
   deadline_ = DeadlineAfter(start_, o.time_budget_ms);
 }
 
@@ -49,6 +52,17 @@ Status Budget::OverLimitError(const char* what, size_t limit, size_t actual) {
           " (the server's limit) at this tolerance; raise subdivision.tolerance or epsilon, or "
           "use a coarser grid",
       "subdivision.tolerance", static_cast<double>(limit), static_cast<double>(actual));
+}
+
+Status Budget::TooManyCrossingsError() const {
+  return Status::LimitExceeded(
+      Format("the model's edges cross the sheet's grid lines (or the surface mesh's edges) more "
+             "than %zu times (the server's limit), each a point to measure and maybe keep; "
+             "sample the surface more coarsely, lay the model on less of the sheet "
+             "(placement.scale), split its long thin triangles, or use subdivision mode "
+             "\"off\"",
+             max_crossings_),
+      "subdivision", static_cast<double>(max_crossings_), static_cast<double>(crossings()));
 }
 
 Status Budget::OverLimitError(size_t limit, size_t input, const WorkEstimate& least) {

@@ -100,12 +100,23 @@ class Budget {
     if (input_ + added_.fetch_add(1) + 1 > max_vertices_) over_limit_ = true;
   }
   bool OverLimit() const { return over_limit_.load(); }
+  // Counts `n` crossings of grid lines (or a mesh surface's edges) found on
+  // the model's edges against max_crossings. False once past it.
+  bool AddCrossings(size_t n) {
+    return crossings_.fetch_add(n, std::memory_order_relaxed) + n <= max_crossings_;
+  }
+  bool TooManyCrossings() const {
+    return crossings_.load(std::memory_order_relaxed) > max_crossings_;
+  }
+  size_t crossings() const { return crossings_.load(); }
   size_t added() const { return added_.load(); }
   size_t vertices() const { return input_ + added(); }  // the output so far
   // kDeadlineExceeded, with the budget and the time spent.
   Status TimeUp() const;
   // kLimitExceeded for the size limits: `what` ("vertices", ...).
   static Status OverLimitError(const char* what, size_t limit, size_t actual);
+  // kLimitExceeded for the crossings (AddCrossings).
+  Status TooManyCrossingsError() const;
   // The same, known before the work (work_estimate.hpp) for a model of
   // `input` vertices: it names the footprint's size or the tolerance,
   // whichever asks for more.
@@ -116,8 +127,10 @@ class Budget {
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
   double budget_ms_ = 0.0;
   size_t max_vertices_;
+  size_t max_crossings_;
   size_t input_;
   std::atomic<size_t> added_{0};
+  std::atomic<size_t> crossings_{0};
   std::atomic<bool> over_limit_{false};
   std::atomic<bool> out_of_time_{false};
 };

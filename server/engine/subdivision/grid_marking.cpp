@@ -12,11 +12,11 @@ namespace {
 // The grid crossings of each edge, and whether it is larger than its cells.
 void FindEdgePoints(const Context& ctx, const EdgeGraph& graph,
                     const IdVector<VertexId, int>& vertex_cell, const CellEstimates& estimates,
-                    GridMarking* m) {
+                    Budget* budget, GridMarking* m) {
   ParallelChunks(static_cast<int>(graph.edges.size()), ctx.threads, [&](int, int begin, int end) {
     std::vector<GridCrossing> crossings;
     std::vector<int> scratch;
-    for (int e = begin; e < end; ++e) {
+    for (int e = begin; e < end && !budget->TooManyCrossings(); ++e) {
       const GraphEdge& edge = graph.edges[EdgeId(e)];
       EdgeMarks& marks = m->edges[EdgeId(e)];
       const int c0 = vertex_cell[edge.v0], c1 = vertex_cell[edge.v1];
@@ -40,6 +40,7 @@ void FindEdgePoints(const Context& ctx, const EdgeGraph& graph,
           });
         }
         marks.long_edge = !crossings.empty();
+        if (!budget->AddCrossings(crossings.size())) break;
         marks.points.resize(crossings.size());
         for (size_t k = 0; k < crossings.size(); ++k) marks.points[k].crossing = crossings[k];
         continue;
@@ -59,6 +60,7 @@ void FindEdgePoints(const Context& ctx, const EdgeGraph& graph,
         marks.long_edge = (b - a).norm() > min_side;
         marks.cell_side = min_side;
       }
+      if (!budget->AddCrossings(crossings.size())) break;
       marks.points.resize(crossings.size());
       for (size_t k = 0; k < crossings.size(); ++k) marks.points[k].crossing = crossings[k];
     }
@@ -317,11 +319,12 @@ void KeepFacePoints(const Context& ctx, const EdgeGraph& graph, GridMarking* m) 
 
 GridMarking FindGridPoints(const Context& ctx, const EdgeGraph& graph,
                            const IdVector<VertexId, int>& vertex_cell,
-                           const CellEstimates& estimates) {
+                           const CellEstimates& estimates, Budget* budget) {
   GridMarking m;
   m.edges.resize(graph.edges.size());
   m.faces.resize(graph.faces.size());
-  FindEdgePoints(ctx, graph, vertex_cell, estimates, &m);
+  FindEdgePoints(ctx, graph, vertex_cell, estimates, budget, &m);
+  if (budget->TooManyCrossings()) return m;
   ClassifyFaces(ctx, graph, &m);
   FindFacePoints(ctx, graph, &m);
   if (!ctx.uniform) MeasureEdgePoints(ctx, graph, &m);

@@ -84,10 +84,12 @@ struct Chord {
 };
 
 // Finds every edge and face point of the large faces, with the curvatures
-// and kinks that the marking reads; nothing is marked yet.
+// and kinks that the marking reads; nothing is marked yet. The edges'
+// crossings are counted against the budget (Budget::AddCrossings): past it,
+// the search stops, incomplete, with budget->TooManyCrossings().
 GridMarking FindGridPoints(const Context& ctx, const EdgeGraph& graph,
                            const IdVector<VertexId, int>& vertex_cell,
-                           const CellEstimates& estimates);
+                           const CellEstimates& estimates, Budget* budget);
 
 // The first rule alone: marks the edge points of candidate edges whose
 // curvature or kink exceeds their edge's thresholds (every one, in uniform

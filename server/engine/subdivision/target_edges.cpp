@@ -118,6 +118,64 @@ void TargetEdges::ForBuckets(const Eigen::AlignedBox2d& box, Visit&& visit) cons
   }
 }
 
+template <typename Visit>
+void TargetEdges::ForBucketsAlong(const Vec2& a, const Vec2& b, Visit&& visit) const {
+  // The segment clipped to the buckets' box (Liang-Barsky), in bucket units.
+  const Vec2 lo = bounds_.min(), d = b - a;
+  double t0 = 0.0, t1 = 1.0;
+  for (int axis = 0; axis < 2; ++axis) {
+    const double p0 = a[axis], span = d[axis];
+    const double min = lo[axis], max = bounds_.max()[axis];
+    if (span == 0.0) {
+      if (p0 < min || p0 > max) return;
+      continue;
+    }
+    double ta = (min - p0) / span, tb = (max - p0) / span;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return;
+  }
+  const Vec2 from = (a + t0 * d - lo).cwiseQuotient(cell_);
+  const Vec2 to = (a + t1 * d - lo).cwiseQuotient(cell_);
+  auto clamp_x = [&](double v) {
+    return std::clamp(static_cast<int>(std::floor(v)), 0, columns_ - 1);
+  };
+  auto clamp_y = [&](double v) {
+    return std::clamp(static_cast<int>(std::floor(v)), 0, rows_ - 1);
+  };
+  int x = clamp_x(from.x()), y = clamp_y(from.y());
+  const int x_end = clamp_x(to.x()), y_end = clamp_y(to.y());
+  const Vec2 step_d = to - from;
+  const int sx = step_d.x() > 0 ? 1 : -1, sy = step_d.y() > 0 ? 1 : -1;
+  // The segment's parameter (0 at `from`, 1 at `to`) at the next bucket
+  // boundary in x and in y, and between boundaries.
+  const double dx = std::abs(step_d.x()), dy = std::abs(step_d.y());
+  const double inf = std::numeric_limits<double>::infinity();
+  double next_x = dx > 0 ? ((sx > 0 ? x + 1 - from.x() : from.x() - x) / dx) : inf;
+  double next_y = dy > 0 ? ((sy > 0 ? y + 1 - from.y() : from.y() - y) / dy) : inf;
+  const double delta_x = dx > 0 ? 1.0 / dx : inf, delta_y = dy > 0 ? 1.0 / dy : inf;
+  const int steps = std::abs(x_end - x) + std::abs(y_end - y);
+  visit(x + columns_ * y);
+  for (int k = 0; k < steps && (x != x_end || y != y_end); ++k) {
+    if (std::abs(next_x - next_y) <= 1e-12) {
+      // Through a corner: the buckets on both sides of it too.
+      if (x + sx >= 0 && x + sx < columns_) visit(x + sx + columns_ * y);
+      if (y + sy >= 0 && y + sy < rows_) visit(x + columns_ * (y + sy));
+    }
+    if (next_x < next_y || (next_x == next_y && x != x_end)) {
+      if (x == x_end) break;
+      x += sx;
+      next_x += delta_x;
+    } else {
+      if (y == y_end) break;
+      y += sy;
+      next_y += delta_y;
+    }
+    visit(x + columns_ * y);
+  }
+}
+
 void TargetEdges::Crossings(const Vec2& a, const Vec2& b, std::vector<GridCrossing>* out,
                             double* min_length, std::vector<int>* scratch) const {
   out->clear();
@@ -125,11 +183,9 @@ void TargetEdges::Crossings(const Vec2& a, const Vec2& b, std::vector<GridCrossi
   const Vec2 d = b - a;
   const double len2 = d.squaredNorm();
   if (!(len2 > 0.0)) return;
-  // The edges in the buckets of the segment's box, each once.
-  Eigen::AlignedBox2d box(a);
-  box.extend(b);
+  // The edges in the buckets along the segment, each once.
   scratch->clear();
-  ForBuckets(box, [&](int bucket) {
+  ForBucketsAlong(a, b, [&](int bucket) {
     scratch->insert(scratch->end(), edge_ids_.begin() + edge_start_[bucket],
                     edge_ids_.begin() + edge_start_[bucket + 1]);
   });

@@ -69,6 +69,10 @@ class TargetEdges {
  private:
   template <typename Visit>
   void ForBuckets(const Eigen::AlignedBox2d& box, Visit&& visit) const;
+  // The buckets segment a-b passes through (and both beside a corner it
+  // passes): a long segment visits O(its length) buckets, not its box's.
+  template <typename Visit>
+  void ForBucketsAlong(const Vec2& a, const Vec2& b, Visit&& visit) const;
 
   std::vector<Vec2> flat_;  // the vertices on the sheet
   std::vector<Edge> edges_;

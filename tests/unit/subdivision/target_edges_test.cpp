@@ -67,8 +67,16 @@ TEST(TargetEdges, FindsTheCrossingsAndTheVerticesInsideThatABruteSearchFinds) {
   std::vector<GridNodeInside> inside;
   std::vector<int> scratch;
   int crossed = 0, held = 0;
-  for (int trial = 0; trial < 200; ++trial) {
-    const Vec2 a(x(rng), y(rng)), b(x(rng), y(rng)), c(x(rng), y(rng));
+  for (int trial = 0; trial < 300; ++trial) {
+    Vec2 a(x(rng), y(rng)), b(x(rng), y(rng));
+    const Vec2 c(x(rng), y(rng));
+    // Also along the axes and the buckets' diagonals, through their corners.
+    if (trial % 3 == 1) b.y() = a.y();
+    if (trial % 6 == 2) b.x() = a.x();
+    if (trial % 6 == 5) {
+      a = Vec2(0.0, 0.0);
+      b = Vec2(3.0, 2.0) * (0.5 + trial / 600.0);
+    }
     double shortest;
     target.Crossings(a, b, &crossings, &shortest, &scratch);
     const std::vector<double> expected = BruteCrossings(m, a, b);
