@@ -235,7 +235,23 @@ void TargetEdges::VerticesInside(const Vec2& a, const Vec2& b, const Vec2& c,
   box.extend(b);
   box.extend(c);
   const double margin = 1e-7;
+  // A bucket wholly outside one of the triangle's sides is skipped: a long
+  // thin face's box spans many buckets that it does not touch.
+  const double orientation = det > 0.0 ? 1.0 : -1.0;
+  const Vec2 corners[3] = {a, b, c};
+  auto outside = [&](int bucket) {
+    const Vec2 lo = bounds_.min() + Vec2(bucket % columns_, bucket / columns_).cwiseProduct(cell_);
+    const Vec2 box_corners[4] = {lo, lo + Vec2(cell_.x(), 0), lo + Vec2(0, cell_.y()), lo + cell_};
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 &p = corners[k], e = corners[(k + 1) % 3] - p;
+      bool all_out = true;
+      for (const Vec2& q : box_corners) all_out = all_out && orientation * Cross2(e, q - p) < 0.0;
+      if (all_out) return true;
+    }
+    return false;
+  };
   ForBuckets(box, [&](int bucket) {
+    if (outside(bucket)) return;
     for (int q = vertex_start_[bucket]; q < vertex_start_[bucket + 1]; ++q) {
       const int v = vertex_ids_[q];
       const Vec2 p = flat_[v] - a;
