@@ -31,12 +31,19 @@ void FindEdgePoints(const Context& ctx, const EdgeGraph& graph,
         const double length = (b - a).norm();
         const double h =
             std::max(std::abs(ctx.Placed(edge.v0).z()), std::abs(ctx.Placed(edge.v1).z()));
+        // With epsilon, a crossing is needed where the kink over the crossed
+        // edge's length (a curvature) passes it.
+        const double epsilon = ctx.options.epsilon;
         if (!ctx.uniform) {
           marks.kink_threshold = ctx.tolerance > 0.0 && length > 0.0
                                      ? 4.0 * kEdgeShare * ctx.tolerance / length
                                      : kInf;
+          if (epsilon > 0.0) marks.threshold = epsilon;
           std::erase_if(crossings, [&](const GridCrossing& c) {
-            return !(ctx.target->edges()[c.u_line].KinkAt(h) > marks.kink_threshold);
+            const TargetEdges::Edge& crossed = ctx.target->edges()[c.u_line];
+            const double kink = crossed.KinkAt(h);
+            return !(kink > marks.kink_threshold ||
+                     (epsilon > 0.0 && kink > epsilon * crossed.length));
           });
         }
         marks.long_edge = !crossings.empty();
@@ -94,6 +101,10 @@ void ClassifyFaces(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
         }
         if (longest > 0.0) f.threshold = 4.0 * kFaceShare * ctx.tolerance / longest;
       }
+      // With epsilon: a kink j over the face's cells' size c, j / c, past it.
+      if (ctx.options.epsilon > 0.0 && std::isfinite(cell)) {
+        f.threshold = std::min(f.threshold, ctx.options.epsilon * cell);
+      }
     } else {
       if (ctx.options.epsilon > 0.0) f.threshold = ctx.options.epsilon;
       // Without this grid point the pieces beside it double to about 2
@@ -109,7 +120,9 @@ void ClassifyFaces(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
     for (int k = 0; k < 3; ++k) {
       EdgeMarks& e = m->edges[face.edge[k]];
       e.candidate = true;
-      e.threshold = std::min(e.threshold, f.threshold);
+      // (A mesh surface's edge points have their own curvature threshold,
+      // epsilon; its faces' is on kinks.)
+      if (ctx.target == nullptr) e.threshold = std::min(e.threshold, f.threshold);
       e.kink_threshold = std::min(e.kink_threshold, f.kink_threshold);
     }
   }
@@ -180,7 +193,8 @@ void MeasureEdgePoints(const Context& ctx, const EdgeGraph& graph, GridMarking* 
       EdgeMarks& marks = m->edges[EdgeId(e)];
       if (!marks.candidate || marks.points.empty()) continue;
       const Vec2 a = ctx.Placed(edge.v0).head<2>(), b = ctx.Placed(edge.v1).head<2>();
-      const bool kinks = std::isfinite(marks.kink_threshold);
+      const bool kinks = std::isfinite(marks.kink_threshold) ||
+                         (ctx.target != nullptr && std::isfinite(marks.threshold));
       const double step = 1e-4 * marks.cell_side;
       for (EdgePoint& p : marks.points) {
         const Vec2 at = a + p.crossing.t * (b - a);
@@ -201,10 +215,15 @@ void MeasureEdgePoints(const Context& ctx, const EdgeGraph& graph, GridMarking* 
         const Vec3 f0 = ctx.Deformed(mid, &hint);
         const Vec3 fp = ctx.Deformed(mid + d3, &hint), fm = ctx.Deformed(mid - d3, &hint);
         p.kink = ((fp - f0) - (f0 - fm)).norm() / step;
-        // On a mesh surface an edge's crossings are apart: one at t strays
-        // the straight edge by j t (1 - t) l, which the threshold's j l / 4
-        // counts at t = 1/2.
-        if (ctx.target != nullptr) p.kink *= 4.0 * p.crossing.t * (1.0 - p.crossing.t);
+        if (ctx.target != nullptr) {
+          // A mesh surface bends at its edges: its curvature there is the
+          // kink over the crossed edge's length.
+          const double crossed = ctx.target->edges()[p.crossing.u_line].length;
+          if (crossed > 0.0) p.curvature = p.kink / crossed;
+          // An edge's crossings are apart: one at t strays the straight edge
+          // by j t (1 - t) l, which the threshold's j l / 4 counts at t = 1/2.
+          p.kink *= 4.0 * p.crossing.t * (1.0 - p.crossing.t);
+        }
       }
     }
   });

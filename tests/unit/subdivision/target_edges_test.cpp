@@ -219,5 +219,48 @@ TEST(TargetEdges, APlateAlongAFacetedCylinderMeetsTheToleranceWithFewPoints) {
   }
 }
 
+// The paper's threshold alone (epsilon, a curvature, no tolerance): a mesh
+// bends only at its edges, by its kink over the crossed edge's length there:
+// half a cylinder of 12 facets 1/3 tall bends by 0.26 / (1/3) = 0.78 at each
+// vertical edge, and nowhere else.
+TEST(TargetEdges, EpsilonKeepsTheCrossingsOfEdgesThatBendMoreThanIt) {
+  const Soup soup = testing::Grid(13, 7, 0.0, 1, [](double s, double t) {
+    const double a = std::numbers::pi * s;
+    return Vec3(std::cos(a), std::sin(a), 2.0 * t);
+  });
+  const testing::Target target = MeshTarget(soup);
+  // A strip of triangles on the surface (heights 0), across several facets.
+  const Mesh plate = testing::FlatGrid(-1.0, 0.05, 2.0, 0.2, 6, 1, 0.0);
+  PlacementOptions fit;
+  fit.anchor = AnchorMode::kValue;
+  for (double epsilon : {0.5, 1.0}) {
+    SubdivisionOptions s;
+    s.epsilon = epsilon;
+    const testing::Refined r = testing::Refine(target, plate, fit, s);
+    ASSERT_TRUE(r.ok);
+    EXPECT_EQ(r.stats.refinement_points, 0u);
+    if (epsilon < 0.78) {
+      EXPECT_GT(r.stats.edge_points_kept, 10u);
+      // Every point added is on one of the mesh's edges on the sheet.
+      const TargetEdges edges(*target.surface->flat_mesh(), target.sheet.frame_linear,
+                              target.sheet.frame_offset);
+      std::vector<GridCrossing> none;
+      std::vector<int> scratch;
+      for (size_t v = plate.positions.size(); v < r.placed.size(); ++v) {
+        const Vec2 p = r.placed[v].head<2>();
+        // A hair across p, along x or along y, crosses an edge through p.
+        double shortest;
+        const Vec2 dx(1e-9, 0.0), dy(0.0, 1e-9);
+        edges.Crossings(p - dx, p + dx, &none, &shortest, &scratch);
+        const bool along_x = !none.empty();
+        edges.Crossings(p - dy, p + dy, &none, &shortest, &scratch);
+        EXPECT_TRUE(along_x || !none.empty()) << v << ": " << p.transpose();
+      }
+    } else {
+      EXPECT_EQ(r.model.positions.size(), plate.positions.size());
+    }
+  }
+}
+
 }  // namespace
 }  // namespace surfdeform::subdivision
