@@ -38,30 +38,10 @@ FlatTriangles::FlatTriangles(const std::vector<Vec2>& flat,
   for (int k = 0; k < nb; ++k) {
     segments_[k] = {flat[boundary[k]], flat[boundary[(k + 1) % nb]]};
   }
-  for (const Vec2& p : flat) bounds_.extend(p);
-  // About one triangle per bucket, square cells.
-  const Vec2 size = bounds_.sizes().cwiseMax(1e-300);
-  const double cell = std::sqrt(size.x() * size.y() / std::max(nf, 1));
-  columns_ = std::clamp(static_cast<int>(std::ceil(size.x() / cell)), 1, 4096);
-  rows_ = std::clamp(static_cast<int>(std::ceil(size.y() / cell)), 1, 4096);
-  cell_ = Vec2(size.x() / columns_, size.y() / rows_);
-
-  auto fill = [&](int items, auto box_of, std::vector<int>* start, std::vector<int>* ids) {
-    start->assign(columns_ * rows_ + 1, 0);
-    auto each_cell = [&](int k, auto visit) {
-      const Eigen::AlignedBox2d b = box_of(k);
-      const Eigen::Vector2i lo = CellOf(b.min()), hi = CellOf(b.max());
-      for (int y = lo.y(); y <= hi.y(); ++y) {
-        for (int x = lo.x(); x <= hi.x(); ++x) visit(Bucket(Eigen::Vector2i(x, y)));
-      }
-    };
-    for (int k = 0; k < items; ++k) each_cell(k, [&](int b) { ++(*start)[b + 1]; });
-    for (size_t b = 1; b < start->size(); ++b) (*start)[b] += (*start)[b - 1];
-    ids->resize(start->back());
-    std::vector<int> next(start->begin(), start->end() - 1);
-    for (int k = 0; k < items; ++k) each_cell(k, [&](int b) { (*ids)[next[b]++] = k; });
-  };
-  fill(
+  Eigen::AlignedBox2d bounds;
+  for (const Vec2& p : flat) bounds.extend(p);
+  grid_ = UniformBuckets(bounds, nf);  // about one triangle per bucket
+  grid_.Fill(
       nf,
       [&](int f) {
         Eigen::AlignedBox2d b;
@@ -69,7 +49,7 @@ FlatTriangles::FlatTriangles(const std::vector<Vec2>& flat,
         return b;
       },
       &triangle_start_, &triangle_ids_);
-  fill(
+  grid_.Fill(
       nb,
       [&](int k) {
         Eigen::AlignedBox2d b;
@@ -80,12 +60,6 @@ FlatTriangles::FlatTriangles(const std::vector<Vec2>& flat,
       &segment_start_, &segment_ids_);
 }
 
-Eigen::Vector2i FlatTriangles::CellOf(const Vec2& p) const {
-  const Vec2 g = (p - bounds_.min()).cwiseQuotient(cell_);
-  return Eigen::Vector2i(std::clamp(static_cast<int>(std::floor(g.x())), 0, columns_ - 1),
-                         std::clamp(static_cast<int>(std::floor(g.y())), 0, rows_ - 1));
-}
-
 Vec3 FlatTriangles::Barycentric(int f, const Vec2& p) const {
   const Vec2 st = inverse_[f] * (p - origin_[f]);
   return Vec3(1.0 - st.x() - st.y(), st.x(), st.y());
@@ -93,8 +67,8 @@ Vec3 FlatTriangles::Barycentric(int f, const Vec2& p) const {
 
 int FlatTriangles::Locate(const Vec2& p, Vec3* bary) const {
   constexpr double kIn = -1e-12;
-  if (bounds_.exteriorDistance(p) > 0.0) return -1;
-  const int b = Bucket(CellOf(p));
+  if (grid_.bounds().exteriorDistance(p) > 0.0) return -1;
+  const int b = grid_.Bucket(grid_.CellOf(p));
   for (int k = triangle_start_[b]; k < triangle_start_[b + 1]; ++k) {
     const int f = triangle_ids_[k];
     const Vec3 l = Barycentric(f, p);
@@ -122,10 +96,10 @@ FlatTriangles::Nearest FlatTriangles::NearestOnBoundary(const Vec2& p) const {
   // point of ring r is nearer than `outside` and (r - 1) cells together),
   // until no nearer segment can be left; past as many buckets as there are
   // segments, every segment instead: a query costs at most O(segments).
-  const Eigen::Vector2i c = CellOf(p);
-  const double step = cell_.minCoeff();
-  const double outside = bounds_.exteriorDistance(p);
-  const int most = std::max(columns_, rows_);
+  const Eigen::Vector2i c = grid_.CellOf(p);
+  const double step = grid_.cell().minCoeff();
+  const double outside = grid_.bounds().exteriorDistance(p);
+  const int most = std::max(grid_.columns(), grid_.rows());
   long long visited = 0;
   const long long budget = static_cast<long long>(segments_.size());
   for (int r = 0; r <= most; ++r) {
@@ -136,11 +110,11 @@ FlatTriangles::Nearest FlatTriangles::NearestOnBoundary(const Vec2& p) const {
       break;
     }
     for (int y = c.y() - r; y <= c.y() + r; ++y) {
-      if (y < 0 || y >= rows_) continue;
+      if (y < 0 || y >= grid_.rows()) continue;
       const bool edge_row = y == c.y() - r || y == c.y() + r;
       for (int x = c.x() - r; x <= c.x() + r; x += edge_row ? 1 : 2 * std::max(r, 1)) {
-        if (x < 0 || x >= columns_) continue;
-        const int b = Bucket(Eigen::Vector2i(x, y));
+        if (x < 0 || x >= grid_.columns()) continue;
+        const int b = grid_.Bucket(Eigen::Vector2i(x, y));
         ++visited;
         for (int k = segment_start_[b]; k < segment_start_[b + 1]; ++k) consider(segment_ids_[k]);
       }

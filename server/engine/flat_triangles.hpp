@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "engine/geometry_types.hpp"
+#include "engine/uniform_buckets.hpp"
 
 namespace surfdeform {
 
@@ -33,19 +34,14 @@ class FlatTriangles {
   // The barycentric coordinates of `p` in triangle f (any p: extrapolated).
   Vec3 Barycentric(int f, const Vec2& p) const;
 
-  const Eigen::AlignedBox2d& bounds() const { return bounds_; }
+  const Eigen::AlignedBox2d& bounds() const { return grid_.bounds(); }
 
  private:
-  Eigen::Vector2i CellOf(const Vec2& p) const;
-  int Bucket(const Eigen::Vector2i& c) const { return c.x() + columns_ * c.y(); }
-
   std::vector<Vec2> origin_;              // corner 0 of each triangle
   std::vector<Eigen::Matrix2d> inverse_;  // (corner 1 - 0, corner 2 - 0)^-1
   std::vector<std::array<Vec2, 2>> segments_;
   std::vector<int> segment_triangle_;
-  Eigen::AlignedBox2d bounds_;
-  Vec2 cell_ = Vec2::Ones();
-  int columns_ = 1, rows_ = 1;
+  UniformBuckets grid_;
   std::vector<int> triangle_start_, triangle_ids_;  // buckets, compressed rows
   std::vector<int> segment_start_, segment_ids_;
 };

@@ -67,27 +67,10 @@ TargetEdges::TargetEdges(const FlatMesh& mesh, const Eigen::Matrix2d& linear, co
     incident_[fill[edges_[k].v[1]]++] = k;
   }
 
-  // Buckets of about one edge each, square cells.
-  for (const Vec2& p : flat_) bounds_.extend(p);
-  const Vec2 size = bounds_.sizes().cwiseMax(1e-300);
-  const double cell =
-      std::sqrt(size.x() * size.y() / std::max<double>(1.0, static_cast<double>(edges_.size())));
-  columns_ = std::clamp(static_cast<int>(std::ceil(size.x() / cell)), 1, 4096);
-  rows_ = std::clamp(static_cast<int>(std::ceil(size.y() / cell)), 1, 4096);
-  cell_ = Vec2(size.x() / columns_, size.y() / rows_);
-  auto fill_buckets = [&](int items, auto box_of, std::vector<int>* start, std::vector<int>* ids) {
-    start->assign(static_cast<size_t>(columns_) * rows_ + 1, 0);
-    for (int k = 0; k < items; ++k) {
-      ForBuckets(box_of(k), [&](int b) { ++(*start)[b + 1]; });
-    }
-    for (size_t b = 1; b < start->size(); ++b) (*start)[b] += (*start)[b - 1];
-    ids->resize(start->back());
-    std::vector<int> next(start->begin(), start->end() - 1);
-    for (int k = 0; k < items; ++k) {
-      ForBuckets(box_of(k), [&](int b) { (*ids)[next[b]++] = k; });
-    }
-  };
-  fill_buckets(
+  Eigen::AlignedBox2d bounds;
+  for (const Vec2& p : flat_) bounds.extend(p);
+  grid_ = UniformBuckets(bounds, static_cast<double>(edges_.size()));  // about one edge a bucket
+  grid_.Fill(
       static_cast<int>(edges_.size()),
       [&](int k) {
         Eigen::AlignedBox2d b(flat_[edges_[k].v[0]]);
@@ -95,37 +78,22 @@ TargetEdges::TargetEdges(const FlatMesh& mesh, const Eigen::Matrix2d& linear, co
         return b;
       },
       &edge_start_, &edge_ids_);
-  fill_buckets(
+  grid_.Fill(
       nv, [&](int v) { return Eigen::AlignedBox2d(flat_[v], flat_[v]); }, &vertex_start_,
       &vertex_ids_);
 }
 
 template <typename Visit>
-void TargetEdges::ForBuckets(const Eigen::AlignedBox2d& box, Visit&& visit) const {
-  if (box.isEmpty() || !bounds_.intersects(box)) return;
-  auto column = [&](double x) {
-    return std::clamp(static_cast<int>(std::floor((x - bounds_.min().x()) / cell_.x())), 0,
-                      columns_ - 1);
-  };
-  auto row = [&](double y) {
-    return std::clamp(static_cast<int>(std::floor((y - bounds_.min().y()) / cell_.y())), 0,
-                      rows_ - 1);
-  };
-  const int x0 = column(box.min().x()), x1 = column(box.max().x());
-  const int y0 = row(box.min().y()), y1 = row(box.max().y());
-  for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) visit(x + columns_ * y);
-  }
-}
-
-template <typename Visit>
 void TargetEdges::ForBucketsAlong(const Vec2& a, const Vec2& b, Visit&& visit) const {
   // The segment clipped to the buckets' box (Liang-Barsky), in bucket units.
-  const Vec2 lo = bounds_.min(), d = b - a;
+  const Eigen::AlignedBox2d& bounds = grid_.bounds();
+  const Vec2& cell = grid_.cell();
+  const int columns = grid_.columns(), rows = grid_.rows();
+  const Vec2 lo = bounds.min(), d = b - a;
   double t0 = 0.0, t1 = 1.0;
   for (int axis = 0; axis < 2; ++axis) {
     const double p0 = a[axis], span = d[axis];
-    const double min = lo[axis], max = bounds_.max()[axis];
+    const double min = lo[axis], max = bounds.max()[axis];
     if (span == 0.0) {
       if (p0 < min || p0 > max) return;
       continue;
@@ -136,14 +104,12 @@ void TargetEdges::ForBucketsAlong(const Vec2& a, const Vec2& b, Visit&& visit) c
     t1 = std::min(t1, tb);
     if (t0 > t1) return;
   }
-  const Vec2 from = (a + t0 * d - lo).cwiseQuotient(cell_);
-  const Vec2 to = (a + t1 * d - lo).cwiseQuotient(cell_);
+  const Vec2 from = (a + t0 * d - lo).cwiseQuotient(cell);
+  const Vec2 to = (a + t1 * d - lo).cwiseQuotient(cell);
   auto clamp_x = [&](double v) {
-    return std::clamp(static_cast<int>(std::floor(v)), 0, columns_ - 1);
+    return std::clamp(static_cast<int>(std::floor(v)), 0, columns - 1);
   };
-  auto clamp_y = [&](double v) {
-    return std::clamp(static_cast<int>(std::floor(v)), 0, rows_ - 1);
-  };
+  auto clamp_y = [&](double v) { return std::clamp(static_cast<int>(std::floor(v)), 0, rows - 1); };
   int x = clamp_x(from.x()), y = clamp_y(from.y());
   const int x_end = clamp_x(to.x()), y_end = clamp_y(to.y());
   const Vec2 step_d = to - from;
@@ -156,12 +122,12 @@ void TargetEdges::ForBucketsAlong(const Vec2& a, const Vec2& b, Visit&& visit) c
   double next_y = dy > 0 ? ((sy > 0 ? y + 1 - from.y() : from.y() - y) / dy) : inf;
   const double delta_x = dx > 0 ? 1.0 / dx : inf, delta_y = dy > 0 ? 1.0 / dy : inf;
   const int steps = std::abs(x_end - x) + std::abs(y_end - y);
-  visit(x + columns_ * y);
+  visit(x + columns * y);
   for (int k = 0; k < steps && (x != x_end || y != y_end); ++k) {
     if (std::abs(next_x - next_y) <= 1e-12) {
       // Through a corner: the buckets on both sides of it too.
-      if (x + sx >= 0 && x + sx < columns_) visit(x + sx + columns_ * y);
-      if (y + sy >= 0 && y + sy < rows_) visit(x + columns_ * (y + sy));
+      if (x + sx >= 0 && x + sx < columns) visit(x + sx + columns * y);
+      if (y + sy >= 0 && y + sy < rows) visit(x + columns * (y + sy));
     }
     if (next_x < next_y || (next_x == next_y && x != x_end)) {
       if (x == x_end) break;
@@ -172,7 +138,7 @@ void TargetEdges::ForBucketsAlong(const Vec2& a, const Vec2& b, Visit&& visit) c
       y += sy;
       next_y += delta_y;
     }
-    visit(x + columns_ * y);
+    visit(x + columns * y);
   }
 }
 
@@ -240,8 +206,11 @@ void TargetEdges::VerticesInside(const Vec2& a, const Vec2& b, const Vec2& c,
   const double orientation = det > 0.0 ? 1.0 : -1.0;
   const Vec2 corners[3] = {a, b, c};
   auto outside = [&](int bucket) {
-    const Vec2 lo = bounds_.min() + Vec2(bucket % columns_, bucket / columns_).cwiseProduct(cell_);
-    const Vec2 box_corners[4] = {lo, lo + Vec2(cell_.x(), 0), lo + Vec2(0, cell_.y()), lo + cell_};
+    const Vec2& cell = grid_.cell();
+    const int columns = grid_.columns();
+    const Vec2 lo =
+        grid_.bounds().min() + Vec2(bucket % columns, bucket / columns).cwiseProduct(cell);
+    const Vec2 box_corners[4] = {lo, lo + Vec2(cell.x(), 0), lo + Vec2(0, cell.y()), lo + cell};
     for (int k = 0; k < 3; ++k) {
       const Vec2 &p = corners[k], e = corners[(k + 1) % 3] - p;
       bool all_out = true;
@@ -250,7 +219,7 @@ void TargetEdges::VerticesInside(const Vec2& a, const Vec2& b, const Vec2& c,
     }
     return false;
   };
-  ForBuckets(box, [&](int bucket) {
+  grid_.ForBox(box, [&](int bucket) {
     if (outside(bucket)) return;
     for (int q = vertex_start_[bucket]; q < vertex_start_[bucket + 1]; ++q) {
       const int v = vertex_ids_[q];
@@ -266,7 +235,7 @@ void TargetEdges::VerticesInside(const Vec2& a, const Vec2& b, const Vec2& c,
 
 double TargetEdges::MaxKinkIn(const Eigen::AlignedBox2d& box, double h) const {
   double kink = 0.0;
-  ForBuckets(box, [&](int bucket) {
+  grid_.ForBox(box, [&](int bucket) {
     for (int q = edge_start_[bucket]; q < edge_start_[bucket + 1]; ++q) {
       kink = std::max(kink, edges_[edge_ids_[q]].KinkAt(h));
     }

@@ -22,6 +22,7 @@
 #include "engine/geometry_types.hpp"
 #include "engine/grid_points.hpp"
 #include "engine/mesh_flatten.hpp"
+#include "engine/uniform_buckets.hpp"
 
 namespace surfdeform::subdivision {
 
@@ -67,8 +68,6 @@ class TargetEdges {
   double MaxKinkIn(const Eigen::AlignedBox2d& box, double h) const;
 
  private:
-  template <typename Visit>
-  void ForBuckets(const Eigen::AlignedBox2d& box, Visit&& visit) const;
   // The buckets segment a-b passes through (and both beside a corner it
   // passes): a long segment visits O(its length) buckets, not its box's.
   template <typename Visit>
@@ -77,9 +76,7 @@ class TargetEdges {
   std::vector<Vec2> flat_;  // the vertices on the sheet
   std::vector<Edge> edges_;
   std::vector<int> incident_start_, incident_;
-  Eigen::AlignedBox2d bounds_;
-  Vec2 cell_ = Vec2::Ones();
-  int columns_ = 1, rows_ = 1;
+  UniformBuckets grid_;
   std::vector<int> edge_start_, edge_ids_;      // buckets of edges, compressed rows
   std::vector<int> vertex_start_, vertex_ids_;  // buckets of vertices
 };
