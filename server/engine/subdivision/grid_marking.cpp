@@ -128,28 +128,19 @@ void ClassifyFaces(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
   }
 }
 
-// A mesh surface's vertices inside each large face: how much the surface
-// bends there (the largest kink of its edges, which ClassifyFaces's
-// threshold for a mesh surface reads).
+// A mesh surface's vertices inside each large face. (How much the surface
+// bends at one is its edges' kinks, which ChordKept reads per chord.)
 void FindTargetVertices(const Context& ctx, const EdgeGraph& graph, GridMarking* m) {
-  const TargetEdges& target = *ctx.target;
   ParallelChunks(static_cast<int>(graph.faces.size()), ctx.threads, [&](int, int begin, int end) {
     std::vector<GridNodeInside> nodes;
     for (int fi = begin; fi < end; ++fi) {
       FaceMarks& f = m->faces[FaceId(fi)];
       if (!f.large) continue;
       const auto& c = graph.faces[FaceId(fi)].corner;
-      target.VerticesInside(ctx.Placed(c[0]).head<2>(), ctx.Placed(c[1]).head<2>(),
-                            ctx.Placed(c[2]).head<2>(), &nodes);
+      ctx.target->VerticesInside(ctx.Placed(c[0]).head<2>(), ctx.Placed(c[1]).head<2>(),
+                                 ctx.Placed(c[2]).head<2>(), &nodes);
       f.points.resize(nodes.size());
-      for (size_t k = 0; k < nodes.size(); ++k) {
-        FacePoint& p = f.points[k];
-        p.node = nodes[k];
-        for (int e : target.EdgesAt(nodes[k].i)) {
-          p.across_u_line = std::max(p.across_u_line, target.edges()[e].kink);
-        }
-        p.across_v_line = p.across_u_line;
-      }
+      for (size_t k = 0; k < nodes.size(); ++k) f.points[k].node = nodes[k];
     }
   });
 }
