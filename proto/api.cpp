@@ -352,6 +352,7 @@ Result<DeformParams> ParseDeformParams(const json& body) {
     SurfaceRequest request;
     SURFDEFORM_RETURN_IF_ERROR(ReadSurfaceParts(o, &request));
     params.surface = std::move(request);
+    SURFDEFORM_RETURN_IF_ERROR(ReadId(o, "warm_start", "/v1/surfaces", &params.warm_start));
   } else {
     SURFDEFORM_RETURN_IF_ERROR(ReadId(o, "surface_id", "/v1/surfaces", &params.surface_id));
     if (o.Find("sampling") != nullptr || o.Find("flatten") != nullptr) {
@@ -360,6 +361,12 @@ Result<DeformParams> ParseDeformParams(const json& body) {
           "them out",
           o.Find("sampling") != nullptr ? "sampling" : "flatten");
     }
+  }
+  if (!params.surface && o.Find("warm_start") != nullptr) {
+    return Malformed(
+        "goes with an inline \"surface\": an edit of the surface it names, flattened "
+        "here from that surface's sheet",
+        "warm_start");
   }
   params.placement.up = UpAxis::kAuto;  // the API's default
   SURFDEFORM_RETURN_IF_ERROR(ReadPlacement(o, &params.placement));
@@ -517,6 +524,7 @@ json ToJson(const DeformParams& p) {
   json j = json::object();
   if (p.surface) {
     j = CanonicalJson(*p.surface);
+    if (!p.warm_start.empty()) j["warm_start"] = p.warm_start;
   } else if (p.animation) {
     j = CanonicalJson(*p.animation);
     j["frame"] = p.frame;

@@ -89,8 +89,14 @@ struct AnimationRequest {
 struct DeformParams {
   // The mesh: from POST /v1/models by its id, or (empty) the request's body.
   std::string model_id;
-  std::optional<SurfaceRequest> surface;      // inline ...
-  std::string surface_id;                     // ... or by id ...
+  std::optional<SurfaceRequest> surface;  // inline ...
+  std::string surface_id;                 // ... or by id ...
+  // With an inline surface: an edit of this flattened surface. Its sheet is
+  // where the flattening starts (as POST /v1/surfaces's "warm_start"), and
+  // the one the placement's centre and rotation are given on: they are moved
+  // onto the new sheet by the sheet's motion (not part of the answer's key:
+  // the moved placement is).
+  std::string warm_start;
   std::optional<AnimationRequest> animation;  // ... or one frame of an animation
   int frame = -1;                             // with animation: which, 0 .. frames - 1
   PlacementSettings placement;

@@ -120,12 +120,15 @@ struct Service::Impl {
   }
 
   // The surface a deformation names: flattened (or from the store) when it
-  // is inline, looked up when it is named by id (then *hit).
+  // is inline, from `warm`'s sheet where it names one (an edit: its paths
+  // kept for the next), looked up when it is named by id (then *hit).
   Result<std::shared_ptr<const StoredSurface>> SurfaceOf(const proto::DeformParams& params,
+                                                         const WarmStart& warm,
                                                          const RequestClock& clock, bool* hit) {
     *hit = false;
     if (params.surface) {
-      auto flattened = store.Flattened(*params.surface, clock, hit);
+      const EditStart edit{!warm.from.empty(), warm.entry.get()};
+      auto flattened = store.Flattened(*params.surface, clock, hit, nullptr, edit);
       if (!flattened.ok()) return WithinBudget(clock, "flattening", flattened.status());
       return flattened;
     }
@@ -587,15 +590,22 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   const auto t1 = Clock::now();
   bool hit = true;
   std::shared_ptr<const StoredSurface> entry;
+  WarmStart warm;
   if (params.surface) {  // it may have to be flattened: a slot first
     SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+    if (!params.warm_start.empty()) {
+      warm = WarmStartFor(*params.surface, params.warm_start, impl_->store);
+    }
   }
-  SURFDEFORM_ASSIGN_OR_RETURN(entry, impl_->SurfaceOf(params, work.clock(), &hit));
+  SURFDEFORM_ASSIGN_OR_RETURN(entry, impl_->SurfaceOf(params, warm, work.clock(), &hit));
   const double flatten_ms = MsSince(t1);
+  // An edit: the placement was given on the sheet it started from.
+  std::optional<SheetMotion> motion = MotionOf(warm, *entry);
+  if (motion) MovePlacement(*motion, &params.placement);
 
   // The answer's key, before any work on the model.
   const std::string sheet = entry->id + "/" + SheetDigest(entry->sheet);
-  return impl_->KeptOrMade(
+  auto reply = impl_->KeptOrMade(
       request,
       proto::AnswerKey({model, sheet, &params.placement, &params.subdivision, &params.output,
                         format, impl_->options.limits.glb_split_vertices}),
@@ -609,6 +619,21 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
         return impl_->DeformOnSheet(params, *entry, hit, format, std::move(imported), work,
                                     flatten_ms, std::move(etag));
       });
+  if (!reply.ok() || warm.from.empty()) return reply;
+  // The edit's account, this request's own (a kept answer may have been
+  // made from another start): the warm start, and where the placement went.
+  json stats = json::parse(reply->stats_json, nullptr, /*allow_exceptions=*/false);
+  if (!stats.is_object()) return reply;
+  stats["warm_start"] = WarmStartJson(warm, *entry, hit);
+  if (motion) {
+    json& moved = stats["warm_start"]["placement"];
+    moved["rotation_deg"] = params.placement.rotation_deg;
+    if (params.placement.center_mode == CenterMode::kSheetUnits) {
+      moved["center"] = {params.placement.center.x(), params.placement.center.y()};
+    }
+  }
+  reply->stats_json = Dump(stats);
+  return reply;
 }
 
 Result<Reply> Service::Animate(const DeformRequest& request) {

@@ -30,9 +30,10 @@ bool SameShape(const SurfaceSpec& a, const SurfaceSpec& b) {
   return true;
 }
 
-WarmStart WarmStartFor(const proto::CreateSurfaceRequest& create, SurfaceStore& store) {
+WarmStart WarmStartFor(const proto::SurfaceRequest& now, std::string_view from,
+                       SurfaceStore& store) {
   WarmStart w;
-  w.from = create.warm_start;
+  w.from = from;
   if (w.from.empty()) return w;
   auto found = store.Find(w.from);
   if (!found.ok()) {
@@ -40,7 +41,6 @@ WarmStart WarmStartFor(const proto::CreateSurfaceRequest& create, SurfaceStore& 
     return w;
   }
   const proto::SurfaceRequest& was = (*found)->request;
-  const proto::SurfaceRequest& now = create.request;
   if (!SameShape(was.surface, now.surface)) {
     w.reason = "another kind or shape (degrees, control grid)";
   } else if (was.sampling.nu != now.sampling.nu || was.sampling.nv != now.sampling.nv) {
@@ -53,6 +53,22 @@ WarmStart WarmStartFor(const proto::CreateSurfaceRequest& create, SurfaceStore& 
   return w;
 }
 
+std::optional<SheetMotion> MotionOf(const WarmStart& w, const StoredSurface& made) {
+  if (w.entry == nullptr || w.entry->sheet.flat.size() != made.sheet.flat.size()) {
+    return std::nullopt;
+  }
+  auto m = BestSheetMotion(w.entry->sheet.flat, made.sheet.flat);
+  if (!m.ok()) return std::nullopt;
+  return *m;
+}
+
+void MovePlacement(const SheetMotion& motion, PlacementSettings* placement) {
+  if (placement->center_mode == CenterMode::kSheetUnits) {
+    placement->center = motion.Apply(placement->center);
+  }
+  placement->rotation_deg += motion.angle * 180.0 / std::numbers::pi;
+}
+
 // The reply's account of a warm start: used or not and why, and the
 // iterations it saved (estimated: those of the sheet it started from, which
 // a cold start of a nearby surface takes about as many of).
@@ -62,12 +78,10 @@ json WarmStartJson(const WarmStart& w, const StoredSurface& made, bool hit) {
   // Where the surface it names (same shape and grid) lies on the new sheet,
   // used or not (a surface flattened already included): a client keeps its
   // placement on the surface by moving it so.
-  if (w.entry != nullptr && w.entry->sheet.flat.size() == made.sheet.flat.size()) {
-    if (auto m = BestSheetMotion(w.entry->sheet.flat, made.sheet.flat); m.ok()) {
-      j["motion"] = {{"rotation_deg", m->angle * 180.0 / std::numbers::pi},
-                     {"translation", {m->translation.x(), m->translation.y()}},
-                     {"rms", m->rms}};
-    }
+  if (auto m = MotionOf(w, made)) {
+    j["motion"] = {{"rotation_deg", m->angle * 180.0 / std::numbers::pi},
+                   {"translation", {m->translation.x(), m->translation.y()}},
+                   {"rms", m->rms}};
   }
   std::string reason = w.reason;
   if (hit) {

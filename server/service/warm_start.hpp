@@ -6,8 +6,12 @@
 
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <string_view>
 
+#include "engine/placement_settings.hpp"
+#include "engine/sheet_motion.hpp"
 #include "engine/surface_spec.hpp"
 #include "proto/api.hpp"
 #include "service/surface_store.hpp"
@@ -24,8 +28,24 @@ struct WarmStart {
   std::string reason;                          // then why
 };
 
-// The surface `create.warm_start` names, from `store`, when it fits.
-WarmStart WarmStartFor(const proto::CreateSurfaceRequest& create, SurfaceStore& store);
+// The surface `from` names, from `store`, when it fits `now`.
+WarmStart WarmStartFor(const proto::SurfaceRequest& now, std::string_view from,
+                       SurfaceStore& store);
+inline WarmStart WarmStartFor(const proto::CreateSurfaceRequest& create, SurfaceStore& store) {
+  return WarmStartFor(create.request, create.warm_start, store);
+}
+
+// How the sheet of the surface the warm start names lies on `made`'s sheet,
+// whether the warm start was used or not (`made` may have been flattened
+// already): known where both are held and share a grid.
+std::optional<SheetMotion> MotionOf(const WarmStart& w, const StoredSurface& made);
+
+// A placement given on the warm start's sheet, moved onto the new one: a
+// centre in sheet units by the motion, and the rotation by its angle, so the
+// model stays on the same part of the surface. A centre given as the
+// sheet's centre (the image of the surface's middle) or as a fraction of
+// its box is left as given.
+void MovePlacement(const SheetMotion& motion, PlacementSettings* placement);
 
 // The reply's "warm_start" for the surface `made` (hit: found flattened).
 nlohmann::json WarmStartJson(const WarmStart& w, const StoredSurface& made, bool hit);

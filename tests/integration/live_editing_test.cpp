@@ -9,8 +9,10 @@
 #include <gtest/gtest.h>
 #include <httplib.h>
 
+#include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "proto/content_hash.hpp"
@@ -395,6 +397,117 @@ TEST_F(LiveEditingTest, AnEditStartsWarmFromTheSurfaceItNamesOrSaysWhyNot) {
   json p =
       Problem(c.Post("/v1/surfaces", with("0.5", R"(,"warm_start":"nope")"), "application/json"),
               422, "invalid_argument");
+  EXPECT_EQ(p.value("field", ""), "warm_start");
+}
+
+// The mean of an OBJ's vertices.
+std::array<double, 3> ObjCentroid(const std::string& obj) {
+  std::istringstream in(obj);
+  std::string line;
+  std::array<double, 3> sum{0, 0, 0};
+  int n = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("v ", 0) != 0) continue;
+    std::istringstream v(line.substr(2));
+    double x = 0, y = 0, z = 0;
+    v >> x >> y >> z;
+    sum[0] += x, sum[1] += y, sum[2] += z;
+    ++n;
+  }
+  for (double& c : sum) c /= std::max(n, 1);
+  return sum;
+}
+
+double Distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+}
+
+TEST_F(LiveEditingTest, AnEditsDeformationMovesThePlacementWithTheSheetInOneRoundTrip) {
+  auto c = Client();
+  // A 0.3-wide square tile, 0.05 thick, uploaded once.
+  const std::string tile =
+      "v -0.15 -0.15 0\nv 0.15 -0.15 0\nv 0.15 0.15 0\nv -0.15 0.15 0\n"
+      "v -0.15 -0.15 0.05\nv 0.15 -0.15 0.05\nv 0.15 0.15 0.05\nv -0.15 0.15 0.05\n"
+      "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\n";
+  auto up = c.Post("/v1/models", tile, "application/octet-stream");
+  ASSERT_TRUE(up && (up->status == 201 || up->status == 200)) << (up ? up->body : "no reply");
+  const std::string model = json::parse(up->body).at("id");
+  // A bent patch, then an edit of its corner control point: the canonical
+  // frame (sample (0, 0) at the origin) turns and shifts under the model.
+  auto patch = [](const std::string& corner) {
+    return R"("surface":{"kind":"bezier","degree_u":2,"degree_v":2,"control_points":[)" + corner +
+           R"(,[1,0,0.3],[2,0,0],[0,1,0.2],[1,1,0.5],[2,1,0.2],[0,2,0],[1,2,0.3],[2,2,0]]},"sampling":{"nu":12,"nv":12})";
+  };
+  const std::string before = patch("[0,0,0]"), after = patch("[0,-0.1,0.35]");
+  auto created = c.Post("/v1/surfaces", "{" + before + "}", "application/json");
+  ASSERT_TRUE(created && created->status / 100 == 2) << (created ? created->body : "no reply");
+  const std::string from = json::parse(created->body).at("id");
+  auto deform = [&](const std::string& where, const std::string& placement) {
+    auto r = c.Post("/v1/deform",
+                    R"({"model_id":")" + model + "\"," + where + R"(,"placement":)" + placement +
+                        R"(,"subdivision":{"mode":"off"},"output":{"format":"obj"}})",
+                    "application/json");
+    EXPECT_TRUE(r && r->status == 200) << (r ? r->body : "no reply");
+    return r;
+  };
+  const std::string asked = R"({"center":[1.3,0.8],"rotation_deg":20,"scale":1})";
+  auto on_before = deform(R"("surface_id":")" + from + "\"", asked);
+  // The edit and its deformation in one request, the placement given on the
+  // sheet it started from.
+  auto edit = deform(after + R"(,"warm_start":")" + from + "\"", asked);
+  ASSERT_TRUE(on_before && edit);
+  const json stats = json::parse(edit->get_header_value("X-Surfdeform-Stats"));
+  const json& w = stats.at("warm_start");
+  EXPECT_EQ(w.at("from"), from);
+  EXPECT_EQ(w.at("used"), true) << w.dump();
+  // Moved by the motion POST /v1/surfaces reports for the same edit.
+  auto same =
+      c.Post("/v1/surfaces", "{" + after + R"(,"warm_start":")" + from + "\"}", "application/json");
+  ASSERT_TRUE(same && same->status == 200) << (same ? same->body : "no reply");
+  const json summary = json::parse(same->body);
+  EXPECT_EQ(summary.at("id"), stats.at("surface_id"));  // flattened by the deformation
+  const json& m = summary.at("warm_start").at("motion");
+  const double turn = m.at("rotation_deg").get<double>() * M_PI / 180.0;
+  EXPECT_GT(std::abs(m.at("rotation_deg").get<double>()), 1.0) << "the edit turns the frame";
+  const double cx =
+      std::cos(turn) * 1.3 - std::sin(turn) * 0.8 + m.at("translation")[0].get<double>();
+  const double cy =
+      std::sin(turn) * 1.3 + std::cos(turn) * 0.8 + m.at("translation")[1].get<double>();
+  const json& moved = w.at("placement");
+  EXPECT_NEAR(moved.at("center")[0].get<double>(), cx, 1e-12);
+  EXPECT_NEAR(moved.at("center")[1].get<double>(), cy, 1e-12);
+  EXPECT_NEAR(moved.at("rotation_deg").get<double>(), 20 + m.at("rotation_deg").get<double>(),
+              1e-12);
+  // The answer is the one for the moved placement, by the new surface's id.
+  const std::string moved_placement = R"({"center":)" + moved.at("center").dump() +
+                                      R"(,"rotation_deg":)" + moved.at("rotation_deg").dump() +
+                                      R"(,"scale":1})";
+  auto by_id = deform(R"("surface_id":")" + stats.at("surface_id").get<std::string>() + "\"",
+                      moved_placement);
+  ASSERT_TRUE(by_id);
+  EXPECT_TRUE(by_id->body == edit->body);
+  EXPECT_EQ(by_id->get_header_value("ETag"), edit->get_header_value("ETag"));
+  // The model stayed where it was on the surface: nearer than the same
+  // placement read on the new sheet's own frame.
+  auto unmoved = deform(after, asked);
+  ASSERT_TRUE(unmoved);
+  const auto was = ObjCentroid(on_before->body);
+  EXPECT_LT(Distance(ObjCentroid(edit->body), was),
+            0.5 * Distance(ObjCentroid(unmoved->body), was));
+  // An unknown start: a cold flattening, the placement as given.
+  auto cold = deform(after + R"(,"warm_start":")" + std::string(kUnknown) + "\"", asked);
+  ASSERT_TRUE(cold);
+  EXPECT_TRUE(cold->body == unmoved->body);
+  const json cold_start =
+      json::parse(cold->get_header_value("X-Surfdeform-Stats")).at("warm_start");
+  EXPECT_EQ(cold_start.at("used"), false);
+  EXPECT_FALSE(cold_start.contains("placement"));
+  // Only an inline surface is flattened from a start.
+  json p = Problem(c.Post("/v1/deform",
+                          R"({"model_id":")" + model + R"(","surface_id":")" + from +
+                              R"(","warm_start":")" + from + "\"}",
+                          "application/json"),
+                   400, "malformed");
   EXPECT_EQ(p.value("field", ""), "warm_start");
 }
 

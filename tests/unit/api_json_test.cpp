@@ -278,8 +278,9 @@ TEST(ApiJson, WrittenRequestsReadBackTheSame) {
       "flatten":{"method":"paper","range":2,"tolerance":1e-5,"max_iterations":50,"step":0.01,
                  "exact_developable":false,"lattice_factor":3,"relax_steps":1})";
   const std::string deforms[] = {
-      R"({"surface":{"kind":"cylinder","radius":2,"angle_deg":90,"height":3},)" + flatten + "," +
-          mesh_parts +
+      R"({"surface":{"kind":"cylinder","radius":2,"angle_deg":90,"height":3},
+          "warm_start":"fedcba9876543210fedcba9876543210",)" +
+          flatten + "," + mesh_parts +
           R"(,"output":{"format":"glb","draco":{"position_bits":16,"normal_bits":8,
              "uv_bits":10,"color_bits":6,"speed":3,"sequential":true},"distortion":true}})",
       R"({"surface_id":"0123456789abcdef0123456789abcdef",)" + mesh_parts +
