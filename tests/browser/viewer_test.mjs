@@ -79,9 +79,13 @@ try {
     window.fetch = (input, init = {}) => {
       if ((init.method || 'GET') === 'POST') {
         const headers = init.headers || {};
-        window.sentPosts.push({ path: new URL(String(input), location.href).pathname,
-                                type: headers['Content-Type'] || '',
+        const path = new URL(String(input), location.href).pathname;
+        window.sentPosts.push({ path, type: headers['Content-Type'] || '',
                                 body: typeof init.body === 'string' ? init.body : '' });
+        // A test may hold new surfaces back (a slow network), ms.
+        if (path === '/v1/surfaces' && window.holdSurfaces) {
+          return new Promise((resolve) => setTimeout(resolve, window.holdSurfaces)).then(() => original(input, init));
+        }
       }
       return original(input, init);
     };
@@ -271,6 +275,36 @@ try {
             `the moved field is nearer the server's field for that pose than the unmoved one ` +
             `(${on.gap.toExponential(2)} against ${on.unmoved.toExponential(2)} of the diagonal; ` +
             `${on.raw.toExponential(2)} without the sheet's motion)`);
+    }
+    // Let go at once after a move: that pose is not flattened yet (the live
+    // request for it held back 1 s, as on a slow network). The release is
+    // one request, the edit flattened and the model deformed on it
+    // (warm_start in /v1/deform), the placement moved with the new sheet by
+    // the server; the sheet and its field come after.
+    const uv2 = await viewer(() => window.surfdeformViewer.placementParams());
+    const at2 = await viewer((i) => window.surfdeformViewer.handlePoint(i), k);
+    await page.mouse.move(at2[0], at2[1]);
+    await page.mouse.down();
+    const quick = (await posts()).length;
+    await page.evaluate(() => { window.holdSurfaces = 1000; });
+    await page.mouse.move(at2[0], at2[1] + 15);
+    await page.mouse.up();
+    const quickSettled = await settled('ready', 'the exact result after a quick control-point drag');
+    await page.evaluate(() => { window.holdSurfaces = 0; });
+    if (quickSettled) {
+      const after = (await posts()).slice(quick);
+      const exact = after.filter((p) => p.path === '/v1/deform');
+      check(exact.length === 1 && /"surface":\{/.test(exact[0].body) &&
+            /"warm_start":"[0-9a-f]{32}"/.test(exact[0].body),
+            `a quick release is one deformation of the edit inline, warm (${after.map((p) => p.path).join(', ')})`);
+      const uv3 = await viewer(() => window.surfdeformViewer.placementParams());
+      const slid = Math.hypot(uv3[0] - uv2[0], uv3[1] - uv2[1]);
+      check(slid < 2e-3, `the server kept the placement on the same surface point (slid ${slid.toExponential(2)} in u, v)`);
+      const st = await viewer(() => ({ shown: window.surfdeformViewer.state.surfaceId,
+                                       stats: window.surfdeformViewer.state.lastStats }));
+      check(st.stats.surface_id === st.shown && Boolean(st.stats.warm_start?.placement),
+            `the page shows the surface the deformation made, the placement the server moved ` +
+            `(${JSON.stringify(st.stats.warm_start)})`);
     }
   }
   {

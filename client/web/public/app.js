@@ -58,6 +58,7 @@ const state = {
   placementSheet: null,  // the id of the surface whose sheet the placement is on
   specVersion: 0,        // bumped by every control-point move
   fieldVersion: -1,      // the spec version the field shows
+  releasedVersion: -1,   // the spec version of the last control-point release
   // Live edits: surfaces fetched, fields moved at once with a control point,
   // previews shown, and the largest gap between a moved field and the
   // server's field of the same pose (of the sheet's diagonal).
@@ -196,6 +197,7 @@ async function liveSurface() {
     do {
       liveAgain = false;
       const version = state.specVersion;
+      if (version <= state.releasedVersion) break;  // released: the release flattens it
       // Each pose starts from the sheet of the one before (warm_start): the
       // sheet the placement is on, whose motion to the new sheet it follows.
       const request = JSON.parse(JSON.stringify({
@@ -204,7 +206,8 @@ async function liveSurface() {
       const t0 = performance.now();
       const summary = await createSurface(request, kLiveFieldSide);
       const t1 = performance.now();
-      if (version <= state.fieldVersion) continue;  // the release's surface came first
+      // The release's surface came first, or the release has this pose.
+      if (version <= state.fieldVersion || version <= state.releasedVersion) continue;
       // How far the field moved at once for this pose was from its own.
       const moved = movedField(state.field, state.fieldSpec, request.surface);
       if (moved && moved !== state.field) {
@@ -238,6 +241,7 @@ let releasePending = false;
 function releaseControlPoint() {
   performance.mark('surfdeform:release-control-point');
   releasePending = true;
+  state.releasedVersion = state.specVersion;
   state.surfacePending = true;
   holdDeform();
   settleRelease();
@@ -248,18 +252,61 @@ function settleRelease() {
   performance.mark('surfdeform:settle-release');
   releasePending = false;
   const live = state.liveSummary;
-  refreshSurface(live && live.version === state.specVersion ? live : null);
+  if (live && live.version === state.specVersion) return refreshSurface(live);
+  // Where the model stays put on the sheet: the edit flattened and the model
+  // deformed on it in one request, the placement moved with the sheet by
+  // the server; the new sheet and its field after the result is shown.
+  if (state.placementSheet && state.placement.center && !state.recentre && state.model && !deforming) {
+    return releaseEdit();
+  }
+  refreshSurface(null);
+}
+
+async function releaseEdit() {
+  const run = ++surfaceRun;
+  state.sheetPending = true;
+  clearTimeout(deformTimer);
+  const edit = JSON.parse(JSON.stringify({ surface: state.spec, sampling: { nu: state.grid, nv: state.grid },
+                                           warm_start: state.placementSheet }));
+  const version = state.specVersion;
+  const done = await runDeform(edit);
+  if (run !== surfaceRun) return;
+  // Failed (shown), or a newer deformation asked in between: as before.
+  if (!done || version !== state.specVersion) return refreshSurface(null);
+  refreshSurface(null, true);
 }
 
 // --- surface -------------------------------------------------------------
 
 let surfaceRun = 0;
+// An edit's exact result came (runDeform with `edit`): its surface is the
+// current one, and the placement is on its sheet, as the server moved it
+// when it is the one sent (`sent`, JSON), else moved here by the same motion
+// (it changed in flight) and deformed again.
+function followEdit(stats, sent) {
+  const w = stats.warm_start || {};
+  state.surfaceId = stats.surface_id;
+  state.surfacePending = false;
+  const changed = JSON.stringify(state.placement) !== sent;
+  if (w.placement && !changed) {
+    if (w.placement.center) state.placement.center = w.placement.center;
+    state.placement.rotation_deg = w.placement.rotation_deg;
+    state.placementSheet = stats.surface_id;
+    showPlacement();
+  } else {
+    followSheet({ id: stats.surface_id, warm_start: w });
+    if (changed) pending = true;
+  }
+}
+
 // The surface of state.spec: flattened (POST, with its field), or `known`
 // ({summary, version}: a live edit's reply for this very spec); then its
 // sheet. Where the placement stays, the exact deformation comes first and
 // the sheet after it: with software WebGL, drawing the new sheet and surface
 // while the exact reply was on its way held that reply for a frame or two.
-async function refreshSurface(known = null) {
+// With `deformed`, the exact result of this very spec is on screen already
+// (releaseEdit), and the surface is held by the server: its field and sheet.
+async function refreshSurface(known = null, deformed = false) {
   const run = ++surfaceRun;
   setState('loading');
   try {
@@ -275,8 +322,8 @@ async function refreshSurface(known = null) {
     if (!known) followSheet(summary);  // a live reply was followed when it came
     state.surfaceId = summary.id;
     state.surfacePending = false;
-    const early = Boolean(state.placement.center) && !state.recentre;
-    if (early) {
+    const early = deformed || (Boolean(state.placement.center) && !state.recentre);
+    if (early && !deformed) {
       clearTimeout(deformTimer);
       state.sheetPending = true;  // the page is not settled until the sheet is shown
       await runDeform();
@@ -337,10 +384,13 @@ function scheduleSurface() {
 
 // --- deformation ---------------------------------------------------------
 
-function deformParams(format, compression) {
+// `edit` ({surface, sampling, warm_start}): the surface inline, an edit of
+// the one the placement is on (/v1/deform flattens it and moves the
+// placement with its sheet); else the current surface by id.
+function deformParams(format, compression, edit = null) {
   const p = state.placement;
   return {
-    surface_id: state.surfaceId,
+    ...(edit || { surface_id: state.surfaceId }),
     placement: {
       up: $('up').value,
       anchor: $('anchor').value,
@@ -403,29 +453,34 @@ function afterNextFrame() {
   });
 }
 
-async function runDeform() {
+// The exact deformation of the current placement, on the current surface or
+// (`edit`, see deformParams) on an edit of it flattened by the same request;
+// true once it is shown.
+async function runDeform(edit = null) {
   // Never while a button is held: the release asks again.
-  if (sheetView.drag || modelView.drag) return;
+  if (sheetView.drag || modelView.drag) return false;
   performance.mark('surfdeform:run-deform');
   // Without a model or a surface, or while a new surface is on its way (which
   // deforms when it arrives), there is nothing to send.
-  if (!state.surfaceId || !state.model || state.surfacePending) {
+  if (!edit && (!state.surfaceId || !state.model || state.surfacePending)) {
     if (!state.surfacePending && !state.sheetPending) setState(state.lastError ? 'error' : 'ready');
-    return;
+    return false;
   }
   if (deforming) {
     pending = true;
-    return;
+    return false;
   }
   deforming = true;
   setState('loading');
   try {
     const t0 = performance.now();
     const asked = state.fitNext ? null : { ...state.placement, center: [...state.placement.center] };
+    const sent = JSON.stringify(state.placement);
     const { bytes, stats, timing } = await deform(state.model.bytes, state.model.name,
-                                                  deformParams('glb', 'meshopt'), 'model/gltf-binary');
+                                                  deformParams('glb', 'meshopt', edit), 'model/gltf-binary');
     const t1 = performance.now();
     performance.mark('surfdeform:exact-received');
+    if (edit) followEdit(stats, sent);
     const scene = (await gltf.parseAsync(bytes, '')).scene;
     modelView.setModel(scene, { distortion: $('distortion').checked });
     // What the exact result cost: the round trip, the server's part of it,
@@ -471,8 +526,10 @@ async function runDeform() {
     }
     showError(null);
     setState(state.sheetPending ? 'loading' : 'ready');
+    return true;
   } catch (e) {
     showError(e);
+    return false;
   } finally {
     deforming = false;
     if (pending) {
