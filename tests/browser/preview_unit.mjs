@@ -1,7 +1,9 @@
 // The viewer's field sampling (client/web/public/preview.js) in Node, without
 // a browser: the surface point and the surface parameters at a sheet point,
-// interpolated over the field's lattice as the shader does.
+// interpolated over the field's lattice as the shader does. And the
+// placement's model frame (footprint.js), kept per model between moves.
 import assert from 'node:assert/strict';
+import { placementFrame } from '../../client/web/public/footprint.js';
 import { sampleField, sampleParams } from '../../client/web/public/preview.js';
 
 // A 3 x 3 lattice over [0, 2] x [0, 2] whose points are (a, b, a b) and whose
@@ -43,4 +45,18 @@ for (const [a, b] of [[0.25, 0.75], [1.5, 1.2], [1.9, 0.1]]) {
 }
 // A field without parameters (version 1) has none to give.
 assert.equal(sampleParams({ ...field, params: undefined }, 1, 1), null);
+
+// The model's frame: the box's middle in (a, b), its bottom, middle or top
+// along up; the same object for the same model, up and anchor, a new one
+// when either changes.
+const model = new Float32Array([0, 0, 0, 1, 2, 3, -1, 0, 1]);
+const bottom = placementFrame(model, '+z', 'bottom');
+assert.deepEqual(bottom.centre, [0, 1]);
+near(bottom.h0, 0, 'the bottom along +z');
+assert.equal(placementFrame(model, '+z', 'bottom'), bottom);
+near(placementFrame(model, '+z', 'top').h0, 3, 'the top along +z');
+near(placementFrame(model, '+z', 'center').h0, 1.5, 'the middle along +z');
+near(placementFrame(model, '+y', 'top').h0, 2, 'the top along +y');
+assert.notEqual(placementFrame(model, '+z', 'bottom'), bottom, 'asked again after others: made again');
+near(placementFrame(new Float32Array([0, 0, 5, 1, 1, 7]), '+z', 'bottom').h0, 5, 'another model');
 console.log(`preview_unit: ${checks + 1} checks passed`);

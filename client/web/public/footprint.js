@@ -134,12 +134,26 @@ export function footprint(positions, up) {
   return { hull, centre: [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2] };
 }
 
+// placementFrame's last result per positions array: a drag asks for it at
+// every pointer move, and a model of a million triangles took ~11 ms a move
+// to go over its vertices again.
+const frames = new WeakMap();
+
 // The part of the server's placement (engine/placement.cpp) that depends on
 // the model alone: the basis (rows: model -> a, b, h), the footprint's centre
 // (the middle of its box in (a, b)) and the height h0 that lands on the
-// surface (anchor bottom, center or top of the box along up).
+// surface (anchor bottom, center or top of the box along up). The same
+// object again for the same positions (not changed in place), up and anchor.
 export function placementFrame(positions, up, anchor) {
   if (!positions || positions.length < 3) return null;
+  const kept = frames.get(positions);
+  if (kept && kept.up === up && kept.anchor === anchor) return kept.frame;
+  const frame = computePlacementFrame(positions, up, anchor);
+  frames.set(positions, { up, anchor, frame });
+  return frame;
+}
+
+function computePlacementFrame(positions, up, anchor) {
   const m = kBasis[up] || kBasis['+z'];
   const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
   for (let k = 0; k < positions.length; k += 3) {
