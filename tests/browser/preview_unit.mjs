@@ -1,10 +1,14 @@
 // The viewer's field sampling (client/web/public/preview.js) in Node, without
 // a browser: the surface point and the surface parameters at a sheet point,
 // interpolated over the field's lattice as the shader does. And the
-// placement's model frame (footprint.js), kept per model between moves.
+// placement's model frame (footprint.js), kept per model between moves, and
+// the exact result's vertex normals (vertex_normals.js) against three.js's.
 import assert from 'node:assert/strict';
+// The client's own three.js (the module its files import as 'three').
+import * as THREE from '../../client/web/node_modules/three/build/three.module.js';
 import { placementFrame } from '../../client/web/public/footprint.js';
 import { sampleField, sampleParams } from '../../client/web/public/preview.js';
+import { computeNormals } from '../../client/web/public/vertex_normals.js';
 
 // A 3 x 3 lattice over [0, 2] x [0, 2] whose points are (a, b, a b) and whose
 // parameters are (a / 2, b / 2 + a / 10): bilinear in each cell.
@@ -59,4 +63,61 @@ near(placementFrame(model, '+z', 'center').h0, 1.5, 'the middle along +z');
 near(placementFrame(model, '+y', 'top').h0, 2, 'the top along +y');
 assert.notEqual(placementFrame(model, '+z', 'bottom'), bottom, 'asked again after others: made again');
 near(placementFrame(new Float32Array([0, 0, 5, 1, 1, 7]), '+z', 'bottom').h0, 5, 'another model');
+
+// Vertex normals of a bumpy 20 x 20 grid, as three.js computes them: from
+// Float32 positions, and from quantized ones as the exact result's GLB has
+// them (normalized Int16, interleaved four to a vertex).
+const side = 20;
+const grid = [], index = [];
+for (let j = 0; j < side; ++j) {
+  for (let i = 0; i < side; ++i) grid.push(i / side, j / side, 0.1 * Math.sin(i) * Math.cos(0.7 * j));
+}
+for (let j = 0; j + 1 < side; ++j) {
+  for (let i = 0; i + 1 < side; ++i) {
+    const a = i + side * j;
+    index.push(a, a + 1, a + side + 1, a, a + side + 1, a + side);
+  }
+}
+const reference = new THREE.BufferGeometry();
+reference.setAttribute('position', new THREE.Float32BufferAttribute(grid, 3));
+reference.setIndex(index);
+reference.computeVertexNormals();
+const want = reference.getAttribute('normal');
+const sameNormals = (geometry, what) => {
+  const got = geometry.getAttribute('normal');
+  assert.equal(got.count, want.count, what);
+  let worst = 0;
+  for (let k = 0; k < want.count; ++k) {
+    worst = Math.max(worst, Math.abs(got.getX(k) - want.getX(k)), Math.abs(got.getY(k) - want.getY(k)),
+                     Math.abs(got.getZ(k) - want.getZ(k)));
+  }
+  assert.ok(worst < 1e-6, `${what}: off by ${worst}`);
+  ++checks;
+};
+const plain = new THREE.BufferGeometry();
+plain.setAttribute('position', new THREE.Float32BufferAttribute(grid, 3));
+plain.setIndex(index);
+computeNormals(plain);
+sameNormals(plain, 'Float32 positions');
+// Quantized to [-32767, 32767] over the grid's box, one scale for x, y and z.
+const quantized = new Int16Array(4 * side * side);
+for (let v = 0; v < side * side; ++v) {
+  for (let c = 0; c < 3; ++c) quantized[4 * v + c] = Math.round(grid[3 * v + c] * 32767);
+}
+const packed = new THREE.BufferGeometry();
+packed.setAttribute('position',
+                    new THREE.InterleavedBufferAttribute(new THREE.InterleavedBuffer(quantized, 4), 3, 0, true));
+packed.setIndex(index);
+computeNormals(packed);
+// Against three.js's on the same quantized positions.
+const packedReference = packed.clone();
+packedReference.deleteAttribute('normal');
+packedReference.computeVertexNormals();
+const quantizedWant = packedReference.getAttribute('normal');
+let worst = 0;
+for (let k = 0; k < quantizedWant.count; ++k) {
+  worst = Math.max(worst, Math.abs(packed.getAttribute('normal').getZ(k) - quantizedWant.getZ(k)));
+}
+assert.ok(worst < 1e-6, `quantized interleaved positions: off by ${worst}`);
+++checks;
 console.log(`preview_unit: ${checks + 1} checks passed`);

@@ -3,6 +3,8 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
+import { computeNormals } from './vertex_normals.js';
+
 // Per vertex, the sheet view's colour scale: white where lengths keep, towards
 // red where the larger change stretches, towards blue where it shrinks; full
 // colour at |log s| = spread. `d` holds (s1 - 1, s2 - 1).
@@ -230,7 +232,7 @@ export class ModelView {
       }
     }
     for (const o of meshes) {
-      if (!o.geometry.getAttribute('normal')) o.geometry.computeVertexNormals();
+      if (!o.geometry.getAttribute('normal')) computeNormals(o.geometry);
       if (colour) {
         o.geometry.setAttribute('color', distortionColours(o.geometry.getAttribute('_distortion'), spread));
         o.material = new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.6,
