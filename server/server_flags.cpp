@@ -109,7 +109,7 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
        "CORS origins allowed to call the API (\"*\": any)")
       ->delimiter(',');
   Flag(app, "--web-root", h.web_root,
-       "The web viewer's folder (client/web, with npm's node_modules/three); empty: a landing "
+       "The web viewer's folder (client/web, with npm's node_modules); empty: a landing "
        "page instead");
   Flag(app, "--read-timeout", h.read_timeout_s, "Socket read timeout, seconds", 1, 600);
   Flag(app, "--head-timeout-ms", h.head_timeout_ms,

@@ -527,8 +527,11 @@ struct HttpServer::Impl {
     httplib::Headers cache = {{"Cache-Control", "no-cache"}};
     bool ok = server.set_mount_point("/", root + "/public", cache);
     ok = ok && server.set_mount_point("/samples", root + "/samples", cache);
-    if (std::filesystem::is_directory(root + "/node_modules/three")) {
-      ok = ok && server.set_mount_point("/vendor/three", root + "/node_modules/three", cache);
+    for (const char* package : {"three", "meshoptimizer"}) {
+      const std::string dir = root + "/node_modules/" + package;
+      if (std::filesystem::is_directory(dir)) {
+        ok = ok && server.set_mount_point(std::string("/vendor/") + package, dir, cache);
+      }
     }
     return ok;
   }

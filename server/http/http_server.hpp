@@ -41,7 +41,7 @@ struct HttpOptions {
   int send_buffer_bytes = 0;
   LogLevel log_level = LogLevel::kInfo;
   // The web viewer's folder (client/web): public/ is served at /, samples/ at
-  // /samples/ and node_modules/three at /vendor/three/. Empty or missing: / is
+  // /samples/ and node_modules/{three,meshoptimizer} at /vendor/. Empty or missing: / is
   // a small landing page built in.
   std::string web_root;
 };

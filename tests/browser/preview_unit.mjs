@@ -1,13 +1,15 @@
 // The viewer's field sampling (client/web/public/preview.js) in Node, without
 // a browser: the surface point and the surface parameters at a sheet point,
 // interpolated over the field's lattice as the shader does. And the
-// placement's model frame (footprint.js), kept per model between moves, and
-// the exact result's vertex normals (vertex_normals.js) against three.js's.
+// placement's model frame (footprint.js), kept per model between moves, the
+// exact result's vertex normals (vertex_normals.js) against three.js's, and
+// the preview's triangles reordered for the vertex cache (vertex_cache.js).
 import assert from 'node:assert/strict';
 // The client's own three.js (the module its files import as 'three').
 import * as THREE from '../../client/web/node_modules/three/build/three.module.js';
 import { placementFrame } from '../../client/web/public/footprint.js';
 import { sampleField, sampleParams } from '../../client/web/public/preview.js';
+import { reorderForVertexCache } from '../../client/web/public/vertex_cache.js';
 import { computeNormals } from '../../client/web/public/vertex_normals.js';
 
 // A 3 x 3 lattice over [0, 2] x [0, 2] whose points are (a, b, a b) and whose
@@ -120,4 +122,49 @@ for (let k = 0; k < quantizedWant.count; ++k) {
 }
 assert.ok(worst < 1e-6, `quantized interleaved positions: off by ${worst}`);
 ++checks;
+
+// The grid's triangles shuffled (as a scanned model lists them), then
+// reordered: the same triangles with the same winding, in an order that
+// misses a 16-entry FIFO cache far less.
+const shuffled = [];
+for (let t = 0; t < index.length; t += 3) shuffled.push([index[t], index[t + 1], index[t + 2]]);
+let seed = 12345;
+const random = () => (seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648;
+for (let k = shuffled.length - 1; k > 0; --k) {
+  const j = Math.floor(random() * (k + 1));
+  [shuffled[k], shuffled[j]] = [shuffled[j], shuffled[k]];
+}
+const missRatio = (idx) => {
+  const fifo = [], cached = new Set();
+  let misses = 0;
+  for (const v of idx) {
+    if (cached.has(v)) continue;
+    ++misses;
+    fifo.push(v);
+    cached.add(v);
+    if (fifo.length > 16) cached.delete(fifo.shift());
+  }
+  return misses / (idx.length / 3);
+};
+const canonical = (idx) => {
+  const tris = [];
+  for (let t = 0; t < idx.length; t += 3) {
+    const tri = [idx[t], idx[t + 1], idx[t + 2]];
+    const k = tri.indexOf(Math.min(...tri));  // rotated to its smallest vertex: winding kept
+    tris.push([tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]].join());
+  }
+  return tris.sort();
+};
+const scanned = new THREE.BufferGeometry();
+scanned.setAttribute('position', new THREE.Float32BufferAttribute(grid, 3));
+scanned.setIndex(shuffled.flat());
+const before = Array.from(scanned.index.array);
+assert.ok(await reorderForVertexCache(scanned), 'meshoptimizer reordered the triangles');
+const after = Array.from(scanned.index.array);
+assert.deepEqual(canonical(after), canonical(before), 'the same triangles, the same winding');
+assert.ok(missRatio(after) < 0.5 * missRatio(before),
+          `cache misses per triangle ${missRatio(before).toFixed(2)} -> ${missRatio(after).toFixed(2)}`);
+assert.equal(scanned.getAttribute('position').array.length, grid.length, 'the vertices stay');
+checks += 3;
+assert.equal(await reorderForVertexCache(new THREE.BufferGeometry()), false, 'no index: nothing to do');
 console.log(`preview_unit: ${checks + 1} checks passed`);

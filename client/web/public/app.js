@@ -31,6 +31,7 @@ import { fieldGap, movedField, moveSheetPoint } from './field_edit.js';
 import { FieldPreview, nearestDistances, previewPositions, sampleParams } from './preview.js';
 import { sampleModel, surfacePreset } from './samples.js';
 import { SheetView } from './sheet_view.js';
+import { reorderForVertexCache } from './vertex_cache.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -588,6 +589,7 @@ $('clear-marks').addEventListener('click', () => {
 
 async function useModel(name, bytes) {
   const read = await readModel(name, bytes);
+  await reorderForVertexCache(read.geometry);
   state.model = { name, bytes, positions: read.positions };
   preview.setGeometry(read.geometry);
   state.upResolved = null;

@@ -169,7 +169,10 @@ vec2 sdQab = sdQ.xy - sdCentre;
 vec2 sdAB = sdTarget + sdScale * vec2(sdRotation.x * sdQab.x - sdRotation.y * sdQab.y,
                                       sdRotation.y * sdQab.x + sdRotation.x * sdQab.y);
 float sdH = sdScale * (sdQ.z - sdH0);
-if (sdRotAngle != 0.0) {  // past a cone's seam: the same point a turn of the sector away
+// The seams' rules are compiled in only for sheets that have them: a
+// software renderer runs both sides of a branch for every vertex.
+#ifdef SD_ROTATION
+{  // past a cone's seam: the same point a turn of the sector away
   vec2 sdD = sdAB - sdRotCentre;
   float sdSpan = abs(sdRotAngle), sdGap = 6.283185307179586 - sdSpan;
   float sdPhi = sign(sdRotAngle) * (atan(sdD.y, sdD.x) - sdRotStart);
@@ -177,12 +180,13 @@ if (sdRotAngle != 0.0) {  // past a cone's seam: the same point a turn of the se
   float sdR = -floor(sdPhi / sdSpan) * sdRotAngle;
   sdAB = sdRotCentre + mat2(cos(sdR), sin(sdR), -sin(sdR), cos(sdR)) * sdD;
 }
-if (dot(sdPeriod, sdPeriod) > 0.0) {  // past the seam: the same point a period away
-  sdAB -= floor(dot(sdAB - sdLo, sdPeriod) / dot(sdPeriod, sdPeriod)) * sdPeriod;
-}
-if (dot(sdPeriodV, sdPeriodV) > 0.0) {
-  sdAB -= floor(dot(sdAB - sdLo, sdPeriodV) / dot(sdPeriodV, sdPeriodV)) * sdPeriodV;
-}
+#endif
+#ifdef SD_PERIOD  // past the seam: the same point a period away
+sdAB -= floor(dot(sdAB - sdLo, sdPeriod) / dot(sdPeriod, sdPeriod)) * sdPeriod;
+#endif
+#ifdef SD_PERIOD_V
+sdAB -= floor(dot(sdAB - sdLo, sdPeriodV) / dot(sdPeriodV, sdPeriodV)) * sdPeriodV;
+#endif
 vec2 sdT = (sdAB - sdLo) / (sdHi - sdLo) * (sdN - 1.0);
 vec2 sdI = clamp(floor(sdT), vec2(0.0), vec2(sdN - 2.0));
 vec2 sdF = sdT - sdI;  // past the lattice, the border cell's map continues
@@ -276,7 +280,18 @@ export class FieldPreview {
     this.uniforms.sdRotAngle.value = this.rotation ? this.rotation.angle : 0;
     this.uniforms.sdRotCentre.value.set(...(this.rotation ? this.rotation.centre : [0, 0]));
     this.uniforms.sdRotStart.value = this.rotation ? this.rotation.start : 0;
+    this.useDefines({ SD_PERIOD: Boolean(this.period), SD_PERIOD_V: Boolean(this.periodV),
+                      SD_ROTATION: Boolean(this.rotation) });
     this.onChange();
+  }
+
+  // The shader's seam rules for this sheet (recompiled when they change).
+  useDefines(wanted) {
+    const defines = {};
+    for (const [name, on] of Object.entries(wanted)) if (on) defines[name] = '';
+    if (JSON.stringify(defines) === JSON.stringify(this.material.defines || {})) return;
+    this.material.defines = defines;
+    this.material.needsUpdate = true;
   }
 
   // The field as GET /v1/surfaces/{id}/field returns it in JSON.
