@@ -535,9 +535,23 @@ try {
   // The can, a whole cylinder: its sheet is periodic. The footprint dragged
   // left past the seam comes back from the right, a period away, and the
   // model is deformed across the seam.
+  // The sheet view paints its cells and seams once per sheet: the new
+  // sheet's seams (dashed, #c60) must show where the last sheet had none.
+  const seamPixels = () => page.$eval('#sheet', (c) => {
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let n = 0;
+    for (let k = 0; k < d.length; k += 4) {
+      n += Math.abs(d[k] - 204) < 30 && Math.abs(d[k + 1] - 102) < 30 && d[k + 2] < 40 ? 1 : 0;
+    }
+    return n;
+  });
+  const seamsBefore = await seamPixels();
   await page.select('#preset', 'can');
   await sleep(300);
   if (await settled('ready', 'on the can')) {
+    const seamsAfter = await seamPixels();
+    check(seamsBefore < 20 && seamsAfter > 200,
+          `the new sheet's seams are painted (${seamsBefore} -> ${seamsAfter} seam-coloured pixels)`);
     const before = await page.evaluate(() => [...window.surfdeformViewer.state.placement.center]);
     await toTop();
     const canBox = await (await page.$('#sheet')).boundingBox();

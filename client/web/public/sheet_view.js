@@ -190,11 +190,27 @@ export class SheetView {
     });
   }
 
-  draw() {
-    const ctx = this.ctx;
+  // The sheet's cells and seams, painted once per sheet and canvas size into
+  // a canvas of their own: a drag repaints only the footprint over them (a
+  // 64 x 64 sheet's 3,969 cells took ~18 ms to paint in Chromium, and a
+  // pointer move painted them twice).
+  sheetLayer() {
+    const { width, height } = this.canvas;
+    const kept = this.layer;
+    if (kept && kept.sheet === this.sheet && kept.canvas.width === width && kept.canvas.height === height) {
+      return kept.canvas;
+    }
+    const canvas = kept ? kept.canvas : document.createElement('canvas');
+    canvas.width = width;
+    canvas.height = height;
+    this.paintSheet(canvas.getContext('2d'));
+    this.layer = { canvas, sheet: this.sheet };
+    return canvas;
+  }
+
+  paintSheet(ctx) {
     ctx.fillStyle = '#fafafa';
     ctx.fillRect(0, 0, this.canvas.width, this.canvas.height);
-    if (!this.sheet) return;
     const { nu, nv, flat, ratios, spread, mesh } = this.sheet;
     const { toPx } = this.frame();
     const patch = (corners, ratio) => {
@@ -235,6 +251,18 @@ export class SheetView {
       ctx.setLineDash([]);
       ctx.lineWidth = 1;
     }
+  }
+
+  draw() {
+    const ctx = this.ctx;
+    if (!this.sheet) {
+      ctx.fillStyle = '#fafafa';
+      ctx.fillRect(0, 0, this.canvas.width, this.canvas.height);
+      return;
+    }
+    ctx.drawImage(this.sheetLayer(), 0, 0);
+    const { spread } = this.sheet;
+    const { toPx } = this.frame();
     const hull = this.placed();
     if (hull) {
       // On a closed surface, the footprint also where it lands past the
