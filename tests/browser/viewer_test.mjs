@@ -225,6 +225,7 @@ try {
     const live0 = await viewer(() => window.surfdeformViewer.state.live.surfaces);
     const moved0 = await viewer(() => window.surfdeformViewer.state.live.moved);
     const uv0 = await viewer(() => window.surfdeformViewer.placementParams());
+    const gpu0 = await viewer(() => window.surfdeformViewer.gpuMemory());
     await page.mouse.move(at[0], at[1]);
     await page.mouse.down();
     for (let s = 1; s <= 8; ++s) {
@@ -256,6 +257,12 @@ try {
     if (await settled('ready', 'the exact result after the control-point drag')) {
       const deforms = (await posts()).slice(before).filter((p) => p.path === '/v1/deform').length;
       check(deforms === 1, `the release sends one exact deformation (${deforms})`);
+      // Each pointer move replaced the surface (and the release the model):
+      // the ones replaced are freed on the GPU, not kept until the page closes.
+      const gpu1 = await viewer(() => window.surfdeformViewer.gpuMemory());
+      check(gpu1.geometries <= gpu0.geometries + 1 && gpu1.textures <= gpu0.textures + 2,
+            `the replaced surfaces and models are freed (geometries ${gpu0.geometries} -> ` +
+            `${gpu1.geometries}, textures ${gpu0.textures} -> ${gpu1.textures})`);
       const uv1 = await viewer(() => window.surfdeformViewer.placementParams());
       // The model stays on the same part of the surface: its placement moved
       // with each new sheet (warm_start.motion). Measured: 2.1e-4 in (u, v);

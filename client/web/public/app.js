@@ -814,6 +814,7 @@ window.surfdeformViewer = { state, animation: animationPanel, preview, compareEn
                             handlePoint: (k) => modelView.handleClientPoint(k),
                             previewShown: () => preview.mesh.visible,
                             pixelCounts: () => modelView.pixelCounts(),
+                            gpuMemory: () => ({ ...modelView.renderer.info.memory }),
                             texturedMeshes: () => modelView.texturedMeshes() };
 
 (async () => {

@@ -25,6 +25,19 @@ function distortionColours(d, spread) {
   return new THREE.BufferAttribute(rgb, 3);
 }
 
+// Frees what `object` holds on the GPU (geometries, materials, their
+// textures): three.js keeps a geometry's buffers until it is disposed, and
+// a control-point drag replaces the surface at every pointer move.
+function disposeObject(object) {
+  object.traverse((o) => {
+    if (o.geometry) o.geometry.dispose();
+    for (const m of [o.material || []].flat()) {
+      if (m.map) m.map.dispose();
+      m.dispose();
+    }
+  });
+}
+
 // Whether WebGL here is drawn by the CPU (SwiftShader, llvmpipe).
 function softwareWebGl() {
   try {
@@ -134,7 +147,10 @@ export class ModelView {
   // surface given as a mesh is drawn as its own triangles).
   setSurfaceMesh(points, index) {
     this.invalidate();
-    if (this.surface) this.scene.remove(this.surface);
+    if (this.surface) {
+      this.scene.remove(this.surface);
+      disposeObject(this.surface);
+    }
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.Float32BufferAttribute(points.flat(), 3));
     geometry.setIndex(index);
@@ -175,6 +191,7 @@ export class ModelView {
   // it (along the normal) so that the surface does not hide them.
   setMarks(polylines) {
     this.invalidate();
+    disposeObject(this.marks);
     this.marks.clear();
     if (!this.surface) return;
     const size = new THREE.Box3().setFromObject(this.surface).getSize(new THREE.Vector3()).length();
@@ -193,6 +210,7 @@ export class ModelView {
   // Bezier control points as draggable handles (an empty list hides them).
   setControlPoints(points) {
     this.invalidate();
+    disposeObject(this.handles);
     this.handles.clear();
     if (!points.length) return;
     const box = new THREE.Box3().setFromArray(points.flat());
@@ -211,7 +229,10 @@ export class ModelView {
   // with distortion, coloured by its _DISTORTION attribute.
   setModel(object, { distortion = false, mixer = null } = {}) {
     this.invalidate();
-    if (this.model) this.scene.remove(this.model);
+    if (this.model && this.model !== object) {
+      this.scene.remove(this.model);
+      disposeObject(this.model);
+    }
     this.model = object;
     if (this.preview) this.preview.visible = false;  // the exact result replaces the preview
     this.mixer = mixer;  // null stops an animation that was playing
