@@ -438,19 +438,13 @@ constexpr double kRemeasuredMove = 1e-4;
 // where the chord now turns little, else along that path evaluated exactly and
 // along the path moved by one Gauss-Newton step from those evaluations, the
 // shorter. The chord's turn goes to state.turn; the path measured goes to
-// `record` (if given) when a path is followed. A pair whose chord turned by
-// `was` >= kClearTurn on the earlier surface is not looked at directly (an
-// edit does not halve the turn): its turn stays `was`.
+// `record` (if given) when a path is followed.
 double RefollowPair(const Surface& surface, const Lattice& lattice, int i, int j, int di, int dj,
-                    std::span<const Vec2> q, double was, ChunkState& state, Vec2* record) {
+                    std::span<const Vec2> q, ChunkState& state, Vec2* record) {
   const PathPoint& start = lattice.Sample(i, j);
   const PathPoint& finish = lattice.Sample(i + di, j + dj);
   double direct = 0.0;
-  if (!(was >= kClearTurn)) {
-    if (MeasuredDirectly(start, finish, state, &direct)) return direct;
-  } else {
-    state.turn = was;
-  }
+  if (MeasuredDirectly(start, finish, state, &direct)) return direct;
   ++state.reused;
   const size_t m = q.size();
   const double before = LengthThrough(surface, start, finish, q, state);
@@ -738,8 +732,7 @@ Result<SurfaceDistances> RefollowSurfaceDistances(const Surface& surface,
     const double d =
         previous.Followed(edge)
             ? RefollowPair(surface, lattice, i, j, di, dj,
-                           std::span<const Vec2>(previous.q.data() + edge * m, m),
-                           previous.turn[edge], state, record)
+                           std::span<const Vec2>(previous.q.data() + edge * m, m), state, record)
             : MeasurePair(surface, lattice, i, j, di, dj, options.relax_steps, state, record);
     if (next != nullptr) next->turn[edge] = state.turn;
     return d;
