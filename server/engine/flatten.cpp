@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <span>
 #include <string>
 
 #include "engine/elapsed.hpp"
@@ -33,6 +34,19 @@ std::vector<Vec2> ScaledParameterLayout(const SurfaceDistances& dist) {
     for (int i = 0; i < nu; ++i) x[i + nu * j] = Vec2(i * cell_u, j * cell_v);
   }
   return x;
+}
+
+// The warm start `x` (warm's layout) moved on along `trend` as far as the
+// samples `now` moved along its samples' change from warm's, where that
+// lowers the stress over `edges`; returns the step taken (0: none).
+double ExtrapolateStart(const FlatSheet& warm, const SheetTrend& trend, std::span<const Vec3> now,
+                        const std::vector<GridEdge>& edges, std::vector<Vec2>* x) {
+  const double step = TrendStep(trend, warm.points, now);
+  if (step == 0.0) return 0.0;
+  std::vector<Vec2> ahead = Extrapolated(*x, trend, step);
+  if (!(internal::Stress(edges, ahead) < internal::Stress(edges, *x))) return 0.0;
+  *x = std::move(ahead);
+  return step;
 }
 
 // The quality of a periodic sheet (nu x nv; column nu - 1 the seam in u
@@ -268,7 +282,7 @@ Result<FlatSheet> MeshSheet(const Surface& surface, const FlatMesh& mesh,
 
 Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptions& sampling,
                                      const FlatSheet* warm_start, const DistancePaths* warm_paths,
-                                     DistancePaths* paths_out) {
+                                     DistancePaths* paths_out, const SheetTrend* warm_trend) {
   const auto t0 = Clock::now();
   SURFDEFORM_RETURN_IF_ERROR(ValidateFlattenOptions(options_));
   if (const FlatMesh* mesh = surface.flat_mesh()) return MeshSheet(surface, *mesh, sampling, t0);
@@ -280,8 +294,8 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const SamplingOptio
                                   DistanceOptionsFor(options_, t0), paths_out, warm_paths));
   const double distance_ms = MsSince(td);
   const int refollowed = dist.reused_paths;
-  SURFDEFORM_ASSIGN_OR_RETURN(
-      auto sheet, Solve(surface, std::move(grid), warm_start, std::move(dist), distance_ms, t0));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto sheet, Solve(surface, std::move(grid), warm_start, warm_trend,
+                                                std::move(dist), distance_ms, t0));
   sheet.quality.refollowed_paths = refollowed;
   return sheet;
 }
@@ -296,13 +310,14 @@ Result<FlatSheet> Flattener::Flatten(const Surface& surface, const FlatSheet* wa
   if (d.nu != size.x() || d.nv != size.y() || d.range != std::max(options_.range, 3)) {
     return InvalidArgument("the distances were measured for another grid or range");
   }
-  return Solve(surface, std::move(measured.grid), warm_start, std::move(measured.distances), 0.0,
-               t0);
+  return Solve(surface, std::move(measured.grid), warm_start, nullptr,
+               std::move(measured.distances), 0.0, t0);
 }
 
 Result<FlatSheet> Flattener::Solve(const Surface& surface, SampledGrid grid,
-                                   const FlatSheet* warm_start, SurfaceDistances dist,
-                                   double distance_ms, std::chrono::steady_clock::time_point t0) {
+                                   const FlatSheet* warm_start, const SheetTrend* warm_trend,
+                                   SurfaceDistances dist, double distance_ms,
+                                   std::chrono::steady_clock::time_point t0) {
   const internal::Deadline deadline = DeadlineAfter(t0, options_.time_budget_ms);
   const int nu = grid.nu, nv = grid.nv;
   const int n = nu * nv;
@@ -383,6 +398,10 @@ Result<FlatSheet> Flattener::Solve(const Surface& surface, SampledGrid grid,
         }
       }
       x = warm ? warm_start->flat : ScaledParameterLayout(dist);
+      if (warm && warm_trend != nullptr) {
+        sheet.quality.extrapolated =
+            ExtrapolateStart(*warm_start, *warm_trend, grid.points, edges, &x);
+      }
       if (options_.method == FlattenMethod::kMajorization) {
         stats = internal::SolveMajorization(*lap, edges, options_.tolerance, max_it,
                                             options_.threads, &x, deadline);

@@ -40,6 +40,7 @@
 #include "engine/flatten_settings.hpp"
 #include "engine/geometry_types.hpp"
 #include "engine/sample_grid.hpp"
+#include "engine/sheet_trend.hpp"
 #include "engine/surface.hpp"
 #include "engine/surface_distance.hpp"
 
@@ -71,6 +72,9 @@ struct FlattenQuality {
   // (Flattener::Flatten's warm_paths) rather than relaxed afresh; 0 for a
   // cold measurement.
   int refollowed_paths = 0;
+  // The step along the warm start's trend that the solve started from
+  // (sheet_trend.hpp); 0 when it started from the warm start itself.
+  double extrapolated = 0.0;
   double solve_ms = 0.0;  // the solver itself (factorisation included)
   double total_ms = 0.0;  // sampling, distances, solve and quality
 };
@@ -121,11 +125,16 @@ class Flattener {
   // lattice): the distances are measured from them
   // (RefollowSurfaceDistances). The paths this measurement follows go to
   // `*paths_out` when given, for the next edit (some 60 bytes a pair: the
-  // service keeps them for surfaces made to be edited).
+  // service keeps them for surfaces made to be edited). `warm_trend`, when
+  // given, is how the warm start changed over its own edit
+  // (TrendBetween): the solve starts from the warm start moved on along it
+  // as far as this surface's samples moved along its samples' change, if
+  // that layout's stress is the lower (non-periodic sheets only).
   Result<FlatSheet> Flatten(const Surface& surface, const SamplingOptions& sampling,
                             const FlatSheet* warm_start = nullptr,
                             const DistancePaths* warm_paths = nullptr,
-                            DistancePaths* paths_out = nullptr);
+                            DistancePaths* paths_out = nullptr,
+                            const SheetTrend* warm_trend = nullptr);
   // The same with the samples and their distances measured already
   // (FlattenDistances with these options; an animation measures its frames'
   // in parallel). quality.distance_ms is then theirs.
@@ -139,7 +148,7 @@ class Flattener {
 
  private:
   Result<FlatSheet> Solve(const Surface& surface, SampledGrid grid, const FlatSheet* warm_start,
-                          SurfaceDistances dist, double distance_ms,
+                          const SheetTrend* warm_trend, SurfaceDistances dist, double distance_ms,
                           std::chrono::steady_clock::time_point t0);
 
   struct Cache;

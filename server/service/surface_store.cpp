@@ -113,7 +113,7 @@ SurfaceStore::SurfaceStore(const ServiceLimits& limits, int engine_threads,
       shared_(std::move(shared)),
       surfaces_(limits.cache_bytes, [](const StoredSurface& s) { return s.bytes; }),
       animations_(limits.cache_bytes, [](const StoredAnimation& a) { return a.bytes; }),
-      edit_paths_(kEditPathsBytes, [](const DistancePaths& p) { return p.bytes(); }) {}
+      edit_paths_(kEditPathsBytes, [](const EditTrail& t) { return t.bytes(); }) {}
 
 SharedTierStats SurfaceStore::shared_tier_stats() const {
   return shared_ != nullptr ? shared_->stats() : SharedTierStats{};
@@ -247,19 +247,24 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
   const FlatSheet* warm = edit.from != nullptr ? &edit.from->sheet : nullptr;
   const bool fits =
       warm != nullptr && warm->nu == request.sampling.nu && warm->nv == request.sampling.nv;
-  const std::shared_ptr<const DistancePaths> warm_paths =
+  const std::shared_ptr<const EditTrail> warm_trail =
       fits ? edit_paths_.Find(edit.from->id) : nullptr;
-  // The paths this flattening follows, for the next edit: kept apart from
-  // the entry (a sheet's 20 times over).
-  auto paths = edit.keep_paths ? std::make_shared<DistancePaths>() : nullptr;
-  auto sheet = flattener.Flatten(**surface, request.sampling, fits ? warm : nullptr,
-                                 warm_paths.get(), paths.get());
+  // What this flattening leaves for the next edit: kept apart from the
+  // entry (a sheet's 20 times over).
+  auto trail = edit.keep_paths ? std::make_shared<EditTrail>() : nullptr;
+  auto sheet = flattener.Flatten(
+      **surface, request.sampling, fits ? warm : nullptr,
+      warm_trail != nullptr ? &warm_trail->paths : nullptr, trail ? &trail->paths : nullptr,
+      warm_trail != nullptr && !warm_trail->trend.empty() ? &warm_trail->trend : nullptr);
   if (!sheet.ok()) {
     const Status& s = sheet.status();
     // Sampling errors name a sample of the surface.
     return s.field().empty() ? Status(s.code(), s.message(), "surface") : s;
   }
-  if (paths != nullptr && paths->nu > 0) edit_paths_.Put(id, std::move(paths));  // none: a mesh
+  if (trail != nullptr && trail->paths.nu > 0) {  // none: a mesh
+    if (fits) trail->trend = TrendBetween(*warm, *sheet);
+    edit_paths_.Put(id, std::move(trail));
+  }
   auto entry = std::make_shared<StoredSurface>();
   entry->id = id;
   entry->request = request;

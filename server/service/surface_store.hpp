@@ -66,15 +66,26 @@ size_t EstimateBytes(const StoredSurface& s);
 void KeepMap(StoredSurface* entry);
 size_t EstimateBytes(const StoredAnimation& a);
 
-// What the distance paths of edited surfaces take at most (see
-// SurfaceStore::Flattened): some 60 bytes a pair, 1.2 MB for a 32 x 32 grid
-// and 5 MB for 64 x 64, so a few dozen editors' latest surfaces.
+// What a surface made for editing keeps for the next edit of it: the paths
+// its distances followed, and how its sheet changed from the one it started
+// from (empty for a cold start), which the next edit's solve starts along.
+struct EditTrail {
+  DistancePaths paths;
+  SheetTrend trend;
+  size_t bytes() const { return paths.bytes() + trend.bytes(); }
+};
+
+// What the trails of edited surfaces take at most (see
+// SurfaceStore::Flattened): some 60 bytes a pair and 40 a sample, 1.3 MB for
+// a 32 x 32 grid and 5 MB for 64 x 64, so a few dozen editors' latest
+// surfaces.
 inline constexpr size_t kEditPathsBytes = size_t{64} << 20;
 
 // A flattening made for an edit (POST /v1/surfaces), which the next edit of
 // the surface may start from.
 struct EditStart {
-  // Keep the distance paths this flattening follows, for the next edit.
+  // Keep the distance paths this flattening follows, and how its sheet
+  // changed from the one it started from, for the next edit.
   bool keep_paths = false;
   // The surface this one is an edit of, whose sheet it starts from (a warm
   // start), and whose kept paths, if any, it measures from; may be null.
@@ -153,7 +164,7 @@ class SurfaceStore {
   ModelStore* models_ = nullptr;
   SingleFlightCache<StoredSurface> surfaces_;
   SingleFlightCache<StoredAnimation> animations_;
-  SingleFlightCache<DistancePaths> edit_paths_;  // by surface id
+  SingleFlightCache<EditTrail> edit_paths_;  // by surface id
 };
 
 }  // namespace surfdeform

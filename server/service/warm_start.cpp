@@ -100,6 +100,7 @@ json WarmStartJson(const WarmStart& w, const StoredSurface& made, bool hit) {
   // Pairs measured from the paths the previous surface's distances followed
   // (0 when they were not kept, or were evicted: measured afresh).
   j["paths_reused"] = q.refollowed_paths;
+  if (q.extrapolated != 0.0) j["extrapolated"] = q.extrapolated;
   return j;
 }
 

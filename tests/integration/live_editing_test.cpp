@@ -380,6 +380,17 @@ TEST_F(LiveEditingTest, AnEditStartsWarmFromTheSurfaceItNamesOrSaysWhyNot) {
   EXPECT_LT(std::abs(motion.at("rotation_deg").get<double>()), 5.0) << motion.dump();
   EXPECT_EQ(motion.at("translation").size(), 2u);
   EXPECT_LT(motion.at("rms").get<double>(), 0.05) << motion.dump();
+  // The first edit started from a cold sheet; the next starts ahead along
+  // it, as far as it repeats it (0.015 of its 0.02 lift), and one that goes
+  // back starts behind.
+  EXPECT_FALSE(w.contains("extrapolated")) << w.dump();
+  const json on =
+      post(with("0.535", R"(,"warm_start":")" + edit.at("id").get<std::string>() + "\""), 201);
+  EXPECT_NEAR(on.at("warm_start").at("extrapolated").get<double>(), 0.75, 1e-9) << on.dump();
+  const json back =
+      post(with("0.525", R"(,"warm_start":")" + on.at("id").get<std::string>() + "\""), 201);
+  EXPECT_NEAR(back.at("warm_start").at("extrapolated").get<double>(), -2.0 / 3.0, 1e-9)
+      << back.dump();
   // Not an error when it cannot be used: a cold start, and why.
   const json unknown = post(with("0.54", R"(,"warm_start":")" + std::string(kUnknown) + "\""), 201);
   EXPECT_EQ(unknown.at("warm_start").at("used"), false);
