@@ -325,64 +325,6 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   return reply;
 }
 
-namespace {
-
-// x at float32's precision, as the double that prints shortest (9
-// significant digits, which give the float back): the field's JSON is as
-// exact as its bytes, at about half the text of full doubles.
-double AsFloat(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.9g", static_cast<double>(static_cast<float>(x)));
-  return std::strtod(text, nullptr);
-}
-
-}  // namespace
-
-json FieldJson(const SheetField& f) {
-  json positions = json::array(), normals = json::array(), on_sheet = json::array(),
-       params = json::array();
-  for (size_t k = 0; k < f.positions.size(); ++k) {
-    const Vec3& p = f.positions[k];
-    const Vec3& q = f.normals[k];
-    positions.push_back({AsFloat(p.x()), AsFloat(p.y()), AsFloat(p.z())});
-    normals.push_back({AsFloat(q.x()), AsFloat(q.y()), AsFloat(q.z())});
-    on_sheet.push_back(f.on_sheet[k] != 0);
-    params.push_back({AsFloat(f.params[k].x()), AsFloat(f.params[k].y())});
-  }
-  return {
-      {"n", f.n},
-      {"bounds", {{AsFloat(f.lo.x()), AsFloat(f.lo.y())}, {AsFloat(f.hi.x()), AsFloat(f.hi.y())}}},
-      {"positions", std::move(positions)},
-      {"normals", std::move(normals)},
-      {"on_sheet", std::move(on_sheet)},
-      {"params", std::move(params)}};
-}
-
-std::string FieldBinary(const SheetField& f) {
-  static_assert(std::endian::native == std::endian::little,
-                "the field's bytes are little-endian numbers as they are in memory");
-  std::string out("SDFD", 4);
-  auto u32 = [&out](uint32_t v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); };
-  auto f32 = [&out](double v) {
-    const float x = static_cast<float>(v);
-    out.append(reinterpret_cast<const char*>(&x), sizeof x);
-  };
-  const size_t count = f.positions.size();
-  out.reserve(32 + count * 33);
-  u32(kFieldFormatVersion);
-  u32(static_cast<uint32_t>(f.n));
-  u32(0);
-  for (double v : {f.lo.x(), f.lo.y(), f.hi.x(), f.hi.y()}) f32(v);
-  for (const Vec3& p : f.positions)
-    for (int c = 0; c < 3; ++c) f32(p[c]);
-  for (const Vec3& q : f.normals)
-    for (int c = 0; c < 3; ++c) f32(q[c]);
-  out.append(reinterpret_cast<const char*>(f.on_sheet.data()), f.on_sheet.size());
-  for (const Vec2& uv : f.params)
-    for (int c = 0; c < 2; ++c) f32(uv[c]);
-  return out;
-}
-
 json ModelSummary(const StoredModel& m) {
   const ImportedMesh& in = m.imported;
   const Mesh& mesh = in.mesh;

@@ -62,21 +62,6 @@ nlohmann::json SheetJson(const StoredSurface& s);
 // "up": "auto" resolves to (placement.hpp's rule), with why.
 nlohmann::json ModelSummary(const StoredModel& m);
 
-// GET /v1/surfaces/{id}/field as JSON: {"n", "bounds": [[xmin, ymin], [xmax,
-// ymax]], "positions", "normals", "on_sheet",
-// "params"}, n * n entries each, x fastest.
-nlohmann::json FieldJson(const SheetField& f);
-
-// The same as bytes (application/octet-stream), all little-endian:
-//   0  "SDFD" (4 bytes), uint32 version (2), uint32 n, uint32 flags (0),
-//  16  float32 xmin, ymin, xmax, ymax,
-//  32  float32 positions[n * n][3], then float32 normals[n * n][3],
-//      then uint8 on_sheet[n * n] (1: on the sheet),
-//      then float32 params[n * n][2] (the surface's u, v; version 2 on).
-// Version 2 appends the params: a version 1 reader's offsets still hold.
-inline constexpr uint32_t kFieldFormatVersion = 2;
-std::string FieldBinary(const SheetField& f);
-
 // The X-Surfdeform-Stats of a deformation.
 nlohmann::json DeformStatsHeader(const std::string& surface_id, const FlattenQuality& quality,
                                  bool hit, proto::OutputFormat format, const ImportedMesh& imported,

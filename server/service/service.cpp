@@ -21,6 +21,7 @@
 #include "service/answer_cache.hpp"
 #include "service/content_coding.hpp"
 #include "service/engine_options.hpp"
+#include "service/field_encoding.hpp"
 #include "service/flat_sheet_svg.hpp"
 #include "service/limit_checks.hpp"
 #include "service/meshopt_orders.hpp"
@@ -434,14 +435,16 @@ Result<Reply> Service::CreateSurface(std::string_view body, std::string_view fie
   const double flatten_ms = MsSince(t1);
   json summary = SheetSummary(**entry, hit);
   if (!warm.from.empty()) summary["warm_start"] = WarmStartJson(warm, **entry, hit);
+  SURFDEFORM_ASSIGN_OR_RETURN(std::string text, DumpFinite(summary, "reply"));
   double field_ms = 0.0;
   if (side != 0) {
     const auto t2 = Clock::now();
     SURFDEFORM_ASSIGN_OR_RETURN(SheetField field, impl_->FieldOf(**entry, side, work));
-    summary["field"] = FieldJson(field);
+    SURFDEFORM_ASSIGN_OR_RETURN(std::string field_text, FieldJsonText(field, "field"));
+    text = WithMember(std::move(text), "field", field_text);
     field_ms = MsSince(t2);
   }
-  SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(summary));
+  Reply reply = BytesReply(std::move(text), "application/json");
   reply.cache_hit = hit;
   reply.surface_id = (*entry)->id;
   reply.timings = {{"parse", work.parse_ms()}, {"flatten", flatten_ms}};
@@ -469,7 +472,8 @@ Result<Reply> Service::GetSurfaceField(std::string_view id, std::string_view sid
   if (PrefersBytesToJson(accept)) {
     reply = BytesReply(FieldBinary(field), "application/octet-stream");
   } else {
-    SURFDEFORM_ASSIGN_OR_RETURN(reply, JsonReply(FieldJson(field)));
+    SURFDEFORM_ASSIGN_OR_RETURN(std::string text, FieldJsonText(field));
+    reply = BytesReply(std::move(text), "application/json");
   }
   reply.cache_hit = true;
   reply.surface_id = entry->id;
