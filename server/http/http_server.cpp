@@ -164,19 +164,38 @@ struct HttpServer::Impl {
       return;
     }
     res.status = http_status;
+    const bool gzip = AcceptsGzip(req.get_header_value("Accept-Encoding"));
     if (!reply.gzip_body.empty()) {
       res.set_header("Vary", "Accept-Encoding");
-      if (AcceptsGzip(req.get_header_value("Accept-Encoding"))) {
+      if (gzip) {
         // Another representation, another entity tag (the service's
         // If-None-Match takes both).
         res.headers.erase("ETag");
         res.set_header("ETag", "\"" + reply.etag + "-gzip\"");
         res.set_header("Content-Encoding", "gzip");
         res.set_content(reply.gzip_body, reply.content_type.c_str());
+        EncodedAlready(req);
+        return;
+      }
+    } else if (gzip && HttplibWouldGzip(reply.content_type)) {
+      // What httplib would gzip at its default level, at level 1 (the
+      // entity tag stays, as httplib left it).
+      std::string packed = GzipFast(reply.body);
+      if (!packed.empty()) {
+        res.set_header("Vary", "Accept-Encoding");
+        res.set_header("Content-Encoding", "gzip");
+        res.set_content(std::move(packed), reply.content_type.c_str());
+        EncodedAlready(req);
         return;
       }
     }
     res.set_content(reply.body, reply.content_type.c_str());
+  }
+
+  // The reply's body is encoded already: httplib, which reads the request's
+  // Accept-Encoding after the handler, must not encode it again.
+  static void EncodedAlready(const httplib::Request& req) {
+    const_cast<httplib::Request&>(req).headers.erase("Accept-Encoding");
   }
 
   // A service call's answer: its problem, or its reply.

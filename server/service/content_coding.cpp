@@ -13,6 +13,15 @@ bool AcceptsGzip(std::string_view header) {
   });
 }
 
+bool HttplibWouldGzip(std::string_view type) {
+  // httplib's own list (detail::can_compress_content_type), which compares
+  // the whole Content-Type value.
+  return (type.starts_with("text/") && type != "text/event-stream") || type == "image/svg+xml" ||
+         type == "application/javascript" || type == "application/json" ||
+         type == "application/xml" || type == "application/protobuf" ||
+         type == "application/xhtml+xml";
+}
+
 std::string GzipFast(std::string_view bytes) {
   z_stream z{};
   // 15 window bits + 16: a gzip header and trailer.

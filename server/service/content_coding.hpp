@@ -13,6 +13,12 @@ namespace surfdeform {
 // entry without q=0), RFC 9110 section 12.5.3.
 bool AcceptsGzip(std::string_view accept_encoding);
 
+// Whether httplib 0.11.4 would gzip a reply of this type itself where the
+// client accepts it (text, JSON, SVG, ...): at zlib's default level, 22 ms
+// for the 0.4 MB JSON of a live edit's field, against 3.5 ms at level 1
+// (168 KB instead of 153). The HTTP layer gzips these at level 1 instead.
+bool HttplibWouldGzip(std::string_view content_type);
+
 // `bytes` as one gzip member at zlib level 1 (empty on failure).
 std::string GzipFast(std::string_view bytes);
 

@@ -301,6 +301,18 @@ TEST_F(LiveEditingTest, TheFieldsJsonAndBytesAgreeAndAreCachedForever) {
   ASSERT_TRUE(packed);
   EXPECT_EQ(packed->status, 200);
   EXPECT_EQ(packed->get_header_value("Content-Encoding"), "gzip");
+  EXPECT_EQ(packed->get_header_value("Vary"), "Accept");  // and Accept-Encoding
+  EXPECT_EQ(json::parse(packed->body).at("n"), 64);       // inflated once: JSON
+  // At zlib's fastest level (the gzip header's XFL byte is 4), not httplib's
+  // default (0): 3.5 against 22 ms for a live edit's 0.4 MB field.
+  auto raw_client = Client();
+  raw_client.set_decompress(false);
+  auto raw = raw_client.Get("/v1/surfaces/" + id + "/field?n=64", {{"Accept-Encoding", "gzip"}});
+  ASSERT_TRUE(raw);
+  ASSERT_GT(raw->body.size(), 10u);
+  EXPECT_EQ(static_cast<unsigned char>(raw->body[0]), 0x1f);
+  EXPECT_EQ(static_cast<unsigned char>(raw->body[1]), 0x8b);
+  EXPECT_EQ(static_cast<int>(raw->body[8]), 4);
   auto only_br = c.Get("/v1/surfaces/" + id + "/field?n=64", {{"Accept-Encoding", "br"}});
   ASSERT_TRUE(only_br);
   EXPECT_EQ(only_br->get_header_value("Content-Encoding"), "");

@@ -51,5 +51,18 @@ TEST(ContentCoding, GzipInflatesBack) {
   EXPECT_EQ(Inflate(GzipFast(""), 0), "");
 }
 
+// The types httplib 0.11.4 would gzip itself at its default level, which
+// the HTTP layer gzips at level 1 instead; answers of other types are left
+// to their own encodings.
+TEST(ContentCoding, KnowsWhatHttplibWouldGzip) {
+  EXPECT_TRUE(HttplibWouldGzip("application/json"));
+  EXPECT_TRUE(HttplibWouldGzip("text/plain; version=0.0.4"));
+  EXPECT_TRUE(HttplibWouldGzip("image/svg+xml"));
+  EXPECT_FALSE(HttplibWouldGzip("text/event-stream"));
+  EXPECT_FALSE(HttplibWouldGzip("application/problem+json"));
+  EXPECT_FALSE(HttplibWouldGzip("model/gltf-binary"));
+  EXPECT_FALSE(HttplibWouldGzip("application/octet-stream"));
+}
+
 }  // namespace
 }  // namespace surfdeform
