@@ -15,15 +15,15 @@
 
 #include "draco_peer.hpp"
 #include "harness.hpp"
-#include "http/http_server.hpp"
+#include "loopback_server.hpp"
 #include "service/allocator_tuning.hpp"
-#include "service/service.hpp"
 
 using Clock = std::chrono::steady_clock;
 using nlohmann::json;
 
 namespace {
 
+using surfdeform::bench::Phase;
 using surfdeform::bench::ReadFile;
 
 std::string PlateObj() {
@@ -37,12 +37,6 @@ std::string PlateObj() {
   return obj + "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
 }
 
-// Server-Timing "name;dur=1.2, ..." -> the value of `name`.
-double Phase(const std::string& timing, const std::string& name) {
-  const size_t at = timing.find(name + ";dur=");
-  return at == std::string::npos ? 0.0 : std::atof(timing.c_str() + at + name.size() + 5);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -54,13 +48,8 @@ int main(int argc, char** argv) {
 
   surfdeform::ServiceOptions options;
   options.limits.answer_cache_bytes = 0;  // every request does its work
-  surfdeform::Service service(options);
-  surfdeform::http::HttpOptions http_options;
-  http_options.port = 0;
-  http_options.log_level = surfdeform::http::LogLevel::kOff;
-  surfdeform::http::HttpServer server(service, http_options);
-  if (!server.Bind()) return 1;
-  std::thread runner([&] { server.Run(); });
+  surfdeform::bench::LoopbackServer server(options);
+  if (!server.ok()) return 1;
   // The transport floor: a bare cpp-httplib server on loopback that answers a
   // POST of the same body with as many bytes as the service's reply.
   httplib::Server bare;
@@ -159,8 +148,6 @@ int main(int argc, char** argv) {
       "floor: a bare cpp-httplib server on loopback answering the same body with as many "
       "bytes (the transport alone).\n"
       "draco ms: draco::Encoder on the decoded output, same settings (14 bits, speed 5).\n");
-  server.Stop();
-  runner.join();
   bare.stop();
   bare_runner.join();
   return 0;
