@@ -228,11 +228,23 @@ try {
     const gpu0 = await viewer(() => window.surfdeformViewer.gpuMemory());
     await page.mouse.move(at[0], at[1]);
     await page.mouse.down();
+    let programs0 = [];
     for (let s = 1; s <= 8; ++s) {
       await page.mouse.move(at[0], at[1] - 5 * s);
       await sleep(150);
+      // From the second move on, the preview and the surface are drawn with
+      // programs compiled already.
+      if (s === 2) programs0 = await viewer(() => window.surfdeformViewer.programs());
     }
     await sleep(300);
+    const programs1 = await viewer(() => window.surfdeformViewer.programs());
+    const compiled = programs1.filter((id) => !programs0.includes(id));
+    // A surface replaced with a new material of its own released the old
+    // one's program and compiled it again, at every pointer move (SwiftShader:
+    // 323 ms of a 4 s drag in getProgramInfoLog alone).
+    check(compiled.length === 0,
+          `no shader is compiled while a control point is dragged (${compiled.length} new programs; ` +
+          `${programs0.length} held)`);
     const m1 = await mask();
     const live = (await viewer(() => window.surfdeformViewer.state.live.surfaces)) - live0;
     const moved = (await viewer(() => window.surfdeformViewer.state.live.moved)) - moved0;

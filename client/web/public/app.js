@@ -815,6 +815,8 @@ window.surfdeformViewer = { state, animation: animationPanel, preview, compareEn
                             previewShown: () => preview.mesh.visible,
                             pixelCounts: () => modelView.pixelCounts(),
                             gpuMemory: () => ({ ...modelView.renderer.info.memory }),
+                            // The shader programs three.js holds, by id (a new id: one compiled).
+                            programs: () => modelView.renderer.info.programs.map((p) => p.id),
                             texturedMeshes: () => modelView.texturedMeshes() };
 
 (async () => {

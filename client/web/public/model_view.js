@@ -27,15 +27,26 @@ function distortionColours(d, spread) {
 
 // Frees what `object` holds on the GPU (geometries, materials, their
 // textures): three.js keeps a geometry's buffers until it is disposed, and
-// a control-point drag replaces the surface at every pointer move.
+// a control-point drag replaces the surface at every pointer move. The
+// view's own materials (keptMaterial) stay: disposing a material releases
+// its shader program, and the next object drawn with the same kind of
+// material compiled it again (SwiftShader: tens of ms a pointer move).
 function disposeObject(object) {
   object.traverse((o) => {
     if (o.geometry) o.geometry.dispose();
     for (const m of [o.material || []].flat()) {
+      if (m.userData.kept) continue;
       if (m.map) m.map.dispose();
       m.dispose();
     }
   });
+}
+
+// A material the view keeps for every object of one role (the surface, the
+// handles, the model's plain and distortion colours), never disposed.
+function keptMaterial(material) {
+  material.userData.kept = true;
+  return material;
 }
 
 // Whether WebGL here is drawn by the CPU (SwiftShader, llvmpipe).
@@ -76,6 +87,17 @@ export class ModelView {
     this.scene.add(sun);
     this.surface = null;
     this.model = null;
+    this.materials = {
+      surface: keptMaterial(new THREE.MeshStandardMaterial({
+        color: 0x88aacc, transparent: true, opacity: 0.35, side: THREE.DoubleSide,
+        depthWrite: false })),
+      handle: keptMaterial(new THREE.MeshStandardMaterial({ color: 0xff8822 })),
+      mark: keptMaterial(new THREE.LineBasicMaterial({ color: 0x00aa00, depthTest: false })),
+      model: keptMaterial(new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
+                                                          side: THREE.DoubleSide })),
+      distortion: keptMaterial(new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.6,
+                                                               side: THREE.DoubleSide })),
+    };
     this.marks = new THREE.Group();  // polylines on the surface
     this.scene.add(this.marks);
     this.handles = new THREE.Group();
@@ -155,10 +177,7 @@ export class ModelView {
     geometry.setAttribute('position', new THREE.Float32BufferAttribute(points.flat(), 3));
     geometry.setIndex(index);
     geometry.computeVertexNormals();
-    this.surface = new THREE.Mesh(geometry, new THREE.MeshStandardMaterial({
-      color: 0x88aacc, transparent: true, opacity: 0.35, side: THREE.DoubleSide,
-      depthWrite: false,
-    }));
+    this.surface = new THREE.Mesh(geometry, this.materials.surface);
     this.scene.add(this.surface);
     if (!this.framed) this.frame(this.surface);
   }
@@ -196,7 +215,7 @@ export class ModelView {
     if (!this.surface) return;
     const size = new THREE.Box3().setFromObject(this.surface).getSize(new THREE.Vector3()).length();
     const lift = 0.003 * size;
-    const material = new THREE.LineBasicMaterial({ color: 0x00aa00, depthTest: false });
+    const material = this.materials.mark;
     for (const line of polylines) {
       const xyz = line.flatMap((m) => m.point.map((x, i) => x + lift * m.normal[i]));
       const geometry = new THREE.BufferGeometry();
@@ -216,7 +235,7 @@ export class ModelView {
     const box = new THREE.Box3().setFromArray(points.flat());
     const r = 0.015 * box.getSize(new THREE.Vector3()).length();
     const geometry = new THREE.SphereGeometry(r, 12, 8);
-    const material = new THREE.MeshStandardMaterial({ color: 0xff8822 });
+    const material = this.materials.handle;
     points.forEach((p, k) => {
       const s = new THREE.Mesh(geometry, material);
       s.position.set(...p);
@@ -256,14 +275,12 @@ export class ModelView {
       if (!o.geometry.getAttribute('normal')) computeNormals(o.geometry);
       if (colour) {
         o.geometry.setAttribute('color', distortionColours(o.geometry.getAttribute('_distortion'), spread));
-        o.material = new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.6,
-                                                      side: THREE.DoubleSide });
+        o.material = this.materials.distortion;
       } else if (o.material && o.material.map) {  // textured: the model's own texture
         o.material = new THREE.MeshStandardMaterial({ map: o.material.map, roughness: 0.6,
                                                       side: THREE.DoubleSide });
       } else {
-        o.material = new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
-                                                      side: THREE.DoubleSide });
+        o.material = this.materials.model;
       }
     }
     this.distortionSpread = colour ? spread : null;
