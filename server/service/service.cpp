@@ -604,7 +604,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   SURFDEFORM_ASSIGN_OR_RETURN(entry, impl_->SurfaceOf(params, warm, work.clock(), &hit));
   const double flatten_ms = MsSince(t1);
   // An edit: the placement was given on the sheet it started from.
-  std::optional<SheetMotion> motion = MotionOf(warm, *entry);
+  const std::optional<SheetMotion> motion = MotionOf(warm, *entry);
   if (motion) MovePlacement(*motion, &params.placement);
 
   // The answer's key, before any work on the model.
@@ -628,7 +628,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   // made from another start): the warm start, and where the placement went.
   json stats = json::parse(reply->stats_json, nullptr, /*allow_exceptions=*/false);
   if (!stats.is_object()) return reply;
-  stats["warm_start"] = WarmStartJson(warm, *entry, hit);
+  stats["warm_start"] = WarmStartJson(warm, *entry, hit, motion);
   if (motion) {
     json& moved = stats["warm_start"]["placement"];
     moved["rotation_deg"] = params.placement.rotation_deg;

@@ -72,13 +72,14 @@ void MovePlacement(const SheetMotion& motion, PlacementSettings* placement) {
 // The reply's account of a warm start: used or not and why, and the
 // iterations it saved (estimated: those of the sheet it started from, which
 // a cold start of a nearby surface takes about as many of).
-json WarmStartJson(const WarmStart& w, const StoredSurface& made, bool hit) {
+json WarmStartJson(const WarmStart& w, const StoredSurface& made, bool hit,
+                   const std::optional<SheetMotion>& motion) {
   json j = {{"from", w.from}};
   const FlattenQuality& q = made.sheet.quality;
   // Where the surface it names (same shape and grid) lies on the new sheet,
   // used or not (a surface flattened already included): a client keeps its
   // placement on the surface by moving it so.
-  if (auto m = MotionOf(w, made)) {
+  if (const auto& m = motion) {
     j["motion"] = {{"rotation_deg", m->angle * 180.0 / std::numbers::pi},
                    {"translation", {m->translation.x(), m->translation.y()}},
                    {"rms", m->rms}};

@@ -47,7 +47,12 @@ std::optional<SheetMotion> MotionOf(const WarmStart& w, const StoredSurface& mad
 // its box is left as given.
 void MovePlacement(const SheetMotion& motion, PlacementSettings* placement);
 
-// The reply's "warm_start" for the surface `made` (hit: found flattened).
-nlohmann::json WarmStartJson(const WarmStart& w, const StoredSurface& made, bool hit);
+// The reply's "warm_start" for the surface `made` (hit: found flattened),
+// with `motion` (MotionOf(w, made), which a caller may have found already).
+nlohmann::json WarmStartJson(const WarmStart& w, const StoredSurface& made, bool hit,
+                             const std::optional<SheetMotion>& motion);
+inline nlohmann::json WarmStartJson(const WarmStart& w, const StoredSurface& made, bool hit) {
+  return WarmStartJson(w, made, hit, MotionOf(w, made));
+}
 
 }  // namespace surfdeform
