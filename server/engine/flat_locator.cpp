@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/clamped_floor.hpp"
+
 namespace surfdeform {
 
 FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv), flat_(sheet.flat) {
@@ -47,8 +49,8 @@ FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv),
   }
   // About four buckets per cell, buckets roughly square: few candidates each.
   const double per_side = 2.0 * std::sqrt(static_cast<double>(cells) * size.x() / size.y());
-  bx_ = std::clamp(static_cast<int>(std::ceil(per_side)), 1, 4096);
-  by_ = std::clamp(static_cast<int>(std::ceil(4.0 * cells / static_cast<double>(bx_))), 1, 4096);
+  bx_ = ClampedCeil(per_side, 1, 4096);
+  by_ = ClampedCeil(4.0 * cells / static_cast<double>(bx_), 1, 4096);
   bucket_size_ = Vec2(size.x() / bx_, size.y() / by_);
   Bucket(cell_boxes, &bucket_start_, &bucket_cells_);
   // The boundary's segments by bucket (each in the buckets its box meets).
@@ -62,10 +64,8 @@ FlatLocator::FlatLocator(const FlatSheet& sheet) : nu_(sheet.nu), nv_(sheet.nv),
 FlatLocator::BucketSpan FlatLocator::BucketsOf(const Eigen::AlignedBox2d& box) const {
   const Vec2 lo = (box.min() - bounds_.min()).cwiseQuotient(bucket_size_);
   const Vec2 hi = (box.max() - bounds_.min()).cwiseQuotient(bucket_size_);
-  auto column = [this](double r) {
-    return std::clamp(static_cast<int>(std::floor(r)), 0, bx_ - 1);
-  };
-  auto row = [this](double r) { return std::clamp(static_cast<int>(std::floor(r)), 0, by_ - 1); };
+  auto column = [this](double r) { return ClampedFloor(r, 0, bx_ - 1); };
+  auto row = [this](double r) { return ClampedFloor(r, 0, by_ - 1); };
   return {column(lo.x()), column(hi.x()), row(lo.y()), row(hi.y())};
 }
 
@@ -238,8 +238,9 @@ void FlatLocator::CellsAlongSegment(const Vec2& a, const Vec2& b, std::vector<in
   const Vec2 rb = (b - bounds_.min()).cwiseQuotient(bucket_size_);
   constexpr double kPad = 1e-7;
   const double y_lo = std::min(ra.y(), rb.y()) - kPad, y_hi = std::max(ra.y(), rb.y()) + kPad;
-  const int row0 = std::max(0, static_cast<int>(std::floor(y_lo)));
-  const int row1 = std::min(by_ - 1, static_cast<int>(std::floor(y_hi)));
+  // Rows past either end (by_, -1) leave the loop empty.
+  const int row0 = ClampedFloor(y_lo, 0, by_);
+  const int row1 = ClampedFloor(y_hi, -1, by_ - 1);
   for (int y = row0; y <= row1; ++y) {
     const double lo = std::max(y_lo, static_cast<double>(y));
     const double hi = std::min(y_hi, static_cast<double>(y + 1));
@@ -255,8 +256,8 @@ void FlatLocator::CellsAlongSegment(const Vec2& a, const Vec2& b, std::vector<in
       x_lo = std::min(x_at(lo), x_at(hi));
       x_hi = std::max(x_at(lo), x_at(hi));
     }
-    AppendBucketRow(y, std::max(0, static_cast<int>(std::floor(x_lo - kPad))),
-                    std::min(bx_ - 1, static_cast<int>(std::floor(x_hi + kPad))), cells);
+    AppendBucketRow(y, ClampedFloor(x_lo - kPad, 0, bx_), ClampedFloor(x_hi + kPad, -1, bx_ - 1),
+                    cells);
   }
   SortUnique(cells);
 }

@@ -7,6 +7,8 @@
 #include <sstream>
 #include <string>
 
+#include "engine/clamped_floor.hpp"
+
 namespace surfdeform {
 namespace {
 
@@ -189,7 +191,7 @@ bool OutlineInside(const SheetMap& map, const Outline& outline, const Placement&
   for (size_t k = 0; k < hull.size(); ++k) {
     const Vec2 a = base.target + s * (base.rotation * (hull[k] - base.centre));
     const Vec2 b = base.target + s * (base.rotation * (hull[(k + 1) % hull.size()] - base.centre));
-    const int steps = std::clamp(static_cast<int>(std::ceil((b - a).norm() / spacing)), 1, 4096);
+    const int steps = ClampedCeil((b - a).norm() / spacing, 1, 4096);
     for (int q = 0; q < steps; ++q) {
       const Vec2 placed = a + (b - a) * (static_cast<double>(q) / steps);
       SheetLocation l;

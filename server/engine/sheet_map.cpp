@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "engine/clamped_floor.hpp"
+
 namespace surfdeform {
 
 SheetMap::SheetMap(const Surface& surface, const FlatSheet& sheet, int seam_columns)
@@ -96,8 +98,8 @@ Vec2 SheetMap::SheetPoint(const Vec2& uv) const {
   const int nu = locator_.nu(), nv = locator_.nv();
   const double gu = uv.x() * (nu - 1), gv = uv.y() * (nv - 1);
   SheetLocation l;
-  l.i = std::clamp(static_cast<int>(std::floor(gu)), 0, nu - 2);
-  l.j = std::clamp(static_cast<int>(std::floor(gv)), 0, nv - 2);
+  l.i = ClampedFloor(gu, 0, nu - 2);
+  l.j = ClampedFloor(gv, 0, nv - 2);
   l.s = gu - l.i;
   l.t = gv - l.j;
   return locator_.FlatPoint(l);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/clamped_floor.hpp"
 #include "engine/geometry_types.hpp"
 
 namespace surfdeform {
@@ -20,16 +21,15 @@ class UniformBuckets {
   UniformBuckets(const Eigen::AlignedBox2d& bounds, double items) : bounds_(bounds) {
     const Vec2 size = bounds_.sizes().cwiseMax(1e-300);
     const double cell = std::sqrt(size.x() * size.y() / std::max(items, 1.0));
-    columns_ = std::clamp(static_cast<int>(std::ceil(size.x() / cell)), 1, 4096);
-    rows_ = std::clamp(static_cast<int>(std::ceil(size.y() / cell)), 1, 4096);
+    columns_ = ClampedCeil(size.x() / cell, 1, 4096);
+    rows_ = ClampedCeil(size.y() / cell, 1, 4096);
     cell_ = Vec2(size.x() / columns_, size.y() / rows_);
   }
 
   // The cell that holds p (clamped to the grid).
   Eigen::Vector2i CellOf(const Vec2& p) const {
     const Vec2 g = (p - bounds_.min()).cwiseQuotient(cell_);
-    return Eigen::Vector2i(std::clamp(static_cast<int>(std::floor(g.x())), 0, columns_ - 1),
-                           std::clamp(static_cast<int>(std::floor(g.y())), 0, rows_ - 1));
+    return Eigen::Vector2i(ClampedFloor(g.x(), 0, columns_ - 1), ClampedFloor(g.y(), 0, rows_ - 1));
   }
   int Bucket(const Eigen::Vector2i& c) const { return c.x() + columns_ * c.y(); }
   int bucket_count() const { return columns_ * rows_; }

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
+#include "engine/clamped_floor.hpp"
 #include "engine/surface_spec.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_surfaces.hpp"
@@ -87,6 +89,45 @@ TEST(FlatLocator, BoundaryWithinAgreesWithTheNearestBoundaryPoint) {
   }
   EXPECT_GT(near, 1000);  // both answers were exercised
   EXPECT_GT(far, 1000);
+}
+
+// Points and segments far off the sheet (a placement centred at 1e20, a NaN)
+// find no cells, or the border's, and never convert a coordinate past int's
+// range (undefined behaviour, which the sanitized build aborts on; the
+// estimate fuzzer found (0, 1e20) reaching the segment search).
+TEST(FlatLocator, FarAndNonFinitePointsFindTheBordersCellsOrNone) {
+  const FlatSheet sheet = Sheet(CylinderSpec{1.0, 1.0, 90.0, {}}, 8);
+  FlatLocator locator(sheet);
+  std::vector<int> cells;
+  locator.CellsAlongSegment(Vec2(0.0, 1e20), Vec2(0.1, 1e20), &cells);
+  EXPECT_TRUE(cells.empty());
+  locator.CellsAlongSegment(Vec2(0.0, -1e20), Vec2(0.1, -1e20), &cells);
+  EXPECT_TRUE(cells.empty());
+  locator.CellsAlongSegment(Vec2(-1e20, 0.5), Vec2(1e20, 0.5), &cells);  // across it all
+  EXPECT_GE(cells.size(), 7u);
+  locator.CellsAlongSegment(Vec2(0.0, 0.5), Vec2(0.0, 1e300), &cells);  // from inside, out
+  EXPECT_FALSE(cells.empty());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  locator.CellsAlongSegment(Vec2(nan, 0.5), Vec2(0.1, 0.5), &cells);
+  locator.CellsInBox(Eigen::AlignedBox2d(Vec2(-1e21, -1e21), Vec2(1e21, 1e21)), &cells);
+  EXPECT_EQ(cells.size(), 49u);  // every cell of the 8 x 8 grid
+  SheetLocation l;
+  EXPECT_FALSE(locator.Locate(Vec2(0.0, 1e20), &l));
+  EXPECT_FALSE(locator.Locate(Vec2(nan, nan), &l));
+}
+
+TEST(ClampedFloor, ClampsBeforeConverting) {
+  EXPECT_EQ(ClampedFloor(3.7, 0, 9), 3);
+  EXPECT_EQ(ClampedFloor(-0.5, 0, 9), 0);
+  EXPECT_EQ(ClampedFloor(-0.5, -1, 9), -1);
+  EXPECT_EQ(ClampedFloor(1.2e21, 0, 9), 9);
+  EXPECT_EQ(ClampedFloor(-1e300, 0, 9), 0);
+  EXPECT_EQ(ClampedFloor(std::numeric_limits<double>::quiet_NaN(), 2, 9), 2);
+  EXPECT_EQ(ClampedFloor(std::numeric_limits<double>::infinity(), 0, 9), 9);
+  EXPECT_EQ(ClampedCeil(3.2, 1, 4096), 4);
+  EXPECT_EQ(ClampedCeil(0.0, 1, 4096), 1);
+  EXPECT_EQ(ClampedCeil(1e30, 1, 4096), 4096);
+  EXPECT_EQ(ClampedCeil(std::numeric_limits<double>::quiet_NaN(), 1, 4096), 1);
 }
 
 }  // namespace

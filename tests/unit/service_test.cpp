@@ -5,6 +5,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -754,6 +756,42 @@ TEST(Service, ABudgetOfZeroKeepsNoAnswer) {
   const CacheStats s = service.answer_cache_stats();
   EXPECT_EQ(s.hits + s.misses + s.entries, 0u);
   EXPECT_EQ(s.capacity_bytes, 0u);
+}
+
+// Every committed seed of the request-cost fuzzer (tests/fuzz/seeds/estimate:
+// parameters on the first line, a small mesh after; extreme centres,
+// scales, tolerances) answered by a service set up as the fuzzer's, here in
+// the unit tests too: the sanitized build aborts on undefined behaviour
+// (issue 35's CI found a centre at (0, 1e20) converting 1.2e21 to an int).
+// Each is answered: a result, or an error that names its field.
+TEST(HostileInput, EveryEstimateSeedIsAnsweredWithoutUndefinedBehaviour) {
+  ServiceOptions o;
+  o.engine_threads = 1;
+  o.limits.max_body_bytes = 64 << 10;
+  o.limits.max_grid_side = 32;
+  o.limits.flatten_time_budget_ms = 1000;
+  o.limits.request_time_budget_ms = 1000;
+  o.limits.cache_bytes = 8u << 20;
+  Service service(o);
+  int seeds = 0;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::string(SURFDEFORM_FUZZ_SEEDS_DIR) + "/estimate")) {
+    std::ifstream in(entry.path(), std::ios::binary);
+    const std::string input((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t line = input.find('\n');
+    ASSERT_NE(line, std::string::npos) << entry.path();
+    DeformRequest request;
+    request.params = input.substr(0, line);
+    request.mesh = input.substr(line + 1);
+    auto reply = service.Deform(request);
+    if (!reply.ok()) {
+      EXPECT_FALSE(reply.status().message().empty()) << entry.path();
+    } else {
+      EXPECT_FALSE(reply->body.empty()) << entry.path();
+    }
+    ++seeds;
+  }
+  EXPECT_GE(seeds, 12);
 }
 
 }  // namespace

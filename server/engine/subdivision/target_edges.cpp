@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/clamped_floor.hpp"
+
 namespace surfdeform::subdivision {
 namespace {
 
@@ -106,10 +108,8 @@ void TargetEdges::ForBucketsAlong(const Vec2& a, const Vec2& b, Visit&& visit) c
   }
   const Vec2 from = (a + t0 * d - lo).cwiseQuotient(cell);
   const Vec2 to = (a + t1 * d - lo).cwiseQuotient(cell);
-  auto clamp_x = [&](double v) {
-    return std::clamp(static_cast<int>(std::floor(v)), 0, columns - 1);
-  };
-  auto clamp_y = [&](double v) { return std::clamp(static_cast<int>(std::floor(v)), 0, rows - 1); };
+  auto clamp_x = [&](double v) { return ClampedFloor(v, 0, columns - 1); };
+  auto clamp_y = [&](double v) { return ClampedFloor(v, 0, rows - 1); };
   int x = clamp_x(from.x()), y = clamp_y(from.y());
   const int x_end = clamp_x(to.x()), y_end = clamp_y(to.y());
   const Vec2 step_d = to - from;
