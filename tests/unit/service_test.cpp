@@ -780,9 +780,10 @@ TEST(HostileInput, EveryEstimateSeedIsAnsweredWithoutUndefinedBehaviour) {
     const std::string input((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     const size_t line = input.find('\n');
     ASSERT_NE(line, std::string::npos) << entry.path();
-    DeformRequest request;
-    request.params = input.substr(0, line);
-    request.mesh = input.substr(line + 1);
+    const std::string params = input.substr(0, line), mesh = input.substr(line + 1);
+    DeformRequest request;  // views of them
+    request.params = params;
+    request.mesh = mesh;
     auto reply = service.Deform(request);
     if (!reply.ok()) {
       EXPECT_FALSE(reply.status().message().empty()) << entry.path();
