@@ -6,7 +6,6 @@
 // bytes raw and after gzip (zlib level 6, what a server's Content-Encoding
 // would add; level 1 too), and the ratios to the Draco GLB measured in the
 // same run.
-#include <zlib.h>
 
 #include <CLI/CLI.hpp>
 #include <cmath>
@@ -21,6 +20,7 @@
 #include "harness.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
+#include "service/content_coding.hpp"
 #include "service/service_limits.hpp"
 #include "support/expect_ok.hpp"
 #include "support/surface_file.hpp"
@@ -29,16 +29,7 @@
 namespace surfdeform {
 namespace {
 
-size_t GzipBytes(const std::string& data, int level) {
-  uLongf size = compressBound(static_cast<uLong>(data.size()));
-  std::string out(size, '\0');
-  if (compress2(reinterpret_cast<Bytef*>(out.data()), &size,
-                reinterpret_cast<const Bytef*>(data.data()), static_cast<uLong>(data.size()),
-                level) != Z_OK) {
-    return 0;
-  }
-  return size + 18 - 6;  // gzip's header and trailer instead of zlib's
-}
+size_t GzipBytes(const std::string& data, int level) { return Gzip(data, level).size(); }
 
 // A relief like a scan: a grid over the unit square, (side + 1)^2 vertices,
 // with bumps, positions and normals only.

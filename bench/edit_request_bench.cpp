@@ -7,7 +7,6 @@
 // flattening alone (the engine's part) and with zlib's default-level gzip of
 // the same reply (what httplib would have spent on it).
 #include <httplib.h>
-#include <zlib.h>
 
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -19,6 +18,7 @@
 #include "harness.hpp"
 #include "loopback_server.hpp"
 #include "service/allocator_tuning.hpp"
+#include "service/content_coding.hpp"
 
 using Clock = std::chrono::steady_clock;
 using nlohmann::json;
@@ -30,16 +30,8 @@ namespace {
 // The time zlib's default level takes to gzip `bytes`, in ms.
 double DefaultGzipMs(const std::string& bytes) {
   const auto t0 = Clock::now();
-  z_stream z{};
-  deflateInit2(&z, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY);
-  std::string out(deflateBound(&z, static_cast<uLong>(bytes.size())), '\0');
-  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
-  z.avail_in = static_cast<uInt>(bytes.size());
-  z.next_out = reinterpret_cast<Bytef*>(out.data());
-  z.avail_out = static_cast<uInt>(out.size());
-  deflate(&z, Z_FINISH);
-  deflateEnd(&z);
-  return surfdeform::bench::MsSince(t0);
+  const std::string packed = surfdeform::Gzip(bytes, -1);
+  return packed.empty() ? 0.0 : surfdeform::bench::MsSince(t0);
 }
 
 }  // namespace

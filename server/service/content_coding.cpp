@@ -22,10 +22,10 @@ bool HttplibWouldGzip(std::string_view type) {
          type == "application/xhtml+xml";
 }
 
-std::string GzipFast(std::string_view bytes) {
+std::string Gzip(std::string_view bytes, int level) {
   z_stream z{};
   // 15 window bits + 16: a gzip header and trailer.
-  if (deflateInit2(&z, 1, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) return {};
+  if (deflateInit2(&z, level, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) return {};
   std::string out(deflateBound(&z, static_cast<uLong>(bytes.size())), '\0');
   z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
   z.avail_in = static_cast<uInt>(bytes.size());

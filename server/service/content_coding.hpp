@@ -19,7 +19,10 @@ bool AcceptsGzip(std::string_view accept_encoding);
 // (168 KB instead of 153). The HTTP layer gzips these at level 1 instead.
 bool HttplibWouldGzip(std::string_view content_type);
 
-// `bytes` as one gzip member at zlib level 1 (empty on failure).
-std::string GzipFast(std::string_view bytes);
+// `bytes` as one gzip member at zlib `level` (0-9, or -1 for zlib's
+// default; empty on failure).
+std::string Gzip(std::string_view bytes, int level);
+// At level 1, zlib's fastest.
+inline std::string GzipFast(std::string_view bytes) { return Gzip(bytes, 1); }
 
 }  // namespace surfdeform
