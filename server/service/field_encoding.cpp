@@ -4,6 +4,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "service/replies.hpp"
+
 namespace surfdeform {
 namespace {
 
@@ -99,12 +101,7 @@ Result<std::string> FieldJsonText(const SheetField& f, std::string_view path) {
   w.Vectors("positions", f.positions);
   out.push_back('}');
   if (!w.bad().empty()) {
-    const std::string at = path.empty() ? w.bad() : std::string(path) + "." + w.bad();
-    return Status(ErrorCode::kInvalidArgument,
-                  "the reply's " + at +
-                      " would not be a finite number: the request's coordinates or sizes are "
-                      "too large to compute with in double precision",
-                  at);
+    return NonFiniteNumber("reply", path.empty() ? w.bad() : std::string(path) + "." + w.bad());
   }
   return out;
 }

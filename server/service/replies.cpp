@@ -67,14 +67,18 @@ std::string FirstNonFiniteNumber(const json& j, const std::string& path) {
   return "";
 }
 
-Result<std::string> DumpFinite(const json& j, const char* what) {
-  const std::string at = FirstNonFiniteNumber(j, "");
-  if (at.empty()) return Dump(j);
+Status NonFiniteNumber(std::string_view what, const std::string& at) {
   return Status(ErrorCode::kInvalidArgument,
-                std::string("the ") + what + "'s " + at +
+                "the " + std::string(what) + "'s " + at +
                     " would not be a finite number: the request's coordinates or sizes are "
                     "too large to compute with in double precision",
                 at);
+}
+
+Result<std::string> DumpFinite(const json& j, std::string_view what) {
+  const std::string at = FirstNonFiniteNumber(j, "");
+  if (at.empty()) return Dump(j);
+  return NonFiniteNumber(what, at);
 }
 
 Result<std::string> StatsHeader(json stats) {

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "base/status.hpp"
@@ -33,7 +34,9 @@ std::string FirstNonFiniteNumber(const nlohmann::json& j, const std::string& pat
 
 // `j` as text, refused where a number in it is not finite; `what` names it
 // in the error ("reply", "statistics").
-Result<std::string> DumpFinite(const nlohmann::json& j, const char* what);
+Result<std::string> DumpFinite(const nlohmann::json& j, std::string_view what);
+// That error: the number at path `at` of `what` is not finite.
+Status NonFiniteNumber(std::string_view what, const std::string& at);
 
 // The X-Surfdeform-Stats header's text. Header lines have limits on the way:
 // cpp-httplib's clients (the CLI) read at most 8 KB a line, and nginx fails a
