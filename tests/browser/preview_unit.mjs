@@ -2,13 +2,15 @@
 // a browser: the surface point and the surface parameters at a sheet point,
 // interpolated over the field's lattice as the shader does. And the
 // placement's model frame (footprint.js), kept per model between moves, the
-// exact result's vertex normals (vertex_normals.js) against three.js's, and
-// the preview's triangles reordered for the vertex cache (vertex_cache.js).
+// exact result's vertex normals (vertex_normals.js) against three.js's, the
+// preview's triangles reordered for the vertex cache (vertex_cache.js) and
+// simplified (preview_lod.js).
 import assert from 'node:assert/strict';
 // The client's own three.js (the module its files import as 'three').
 import * as THREE from '../../client/web/node_modules/three/build/three.module.js';
 import { placementFrame } from '../../client/web/public/footprint.js';
 import { sampleField, sampleParams } from '../../client/web/public/preview.js';
+import { kPreviewError, kPreviewMinTriangles, simplifyForPreview } from '../../client/web/public/preview_lod.js';
 import { reorderForVertexCache } from '../../client/web/public/vertex_cache.js';
 import { computeNormals } from '../../client/web/public/vertex_normals.js';
 
@@ -167,4 +169,79 @@ assert.ok(missRatio(after) < 0.5 * missRatio(before),
 assert.equal(scanned.getAttribute('position').array.length, grid.length, 'the vertices stay');
 checks += 3;
 assert.equal(await reorderForVertexCache(new THREE.BufferGeometry()), false, 'no index: nothing to do');
+
+// The preview's triangles simplified: a waved relief, the cells of a 180 x
+// 180 grid within a disk (50,000 triangles or so), keeps a quarter of them,
+// on its own vertices, within the error asked; every vertex of its border
+// stays (the outline the sheet shows), and so its footprint (the area
+// projected on the plane); no triangle turns over (the signed and unsigned
+// projected areas agree).
+{
+  const side = 181, vertices = [], triangles = [];
+  for (let j = 0; j < side; ++j) {
+    for (let i = 0; i < side; ++i) {
+      const x = (10 * i) / (side - 1), y = (10 * j) / (side - 1);
+      vertices.push(x, y, 0.2 + 0.1 * Math.sin(2 * x) * Math.cos(3 * y));
+    }
+  }
+  const inDisk = (v) => (vertices[3 * v] - 5) ** 2 + (vertices[3 * v + 1] - 5) ** 2 <= 25;
+  for (let j = 0; j + 1 < side; ++j) {
+    for (let i = 0; i + 1 < side; ++i) {
+      const a = i + side * j;
+      if (![a, a + 1, a + side, a + side + 1].every(inDisk)) continue;
+      triangles.push(a, a + 1, a + side + 1, a, a + side + 1, a + side);
+    }
+  }
+  const relief = new THREE.BufferGeometry();
+  relief.setAttribute('position', new THREE.Float32BufferAttribute(vertices, 3));
+  relief.setIndex(triangles);
+  const projected = (idx) => {
+    let signed = 0, unsigned = 0;
+    for (let t = 0; t < idx.length; t += 3) {
+      const [p, q, r] = [idx[t], idx[t + 1], idx[t + 2]].map((v) => [vertices[3 * v], vertices[3 * v + 1]]);
+      const area = ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])) / 2;
+      signed += area;
+      unsigned += Math.abs(area);
+    }
+    return { signed, unsigned };
+  };
+  // The vertices on the border: those of edges with one triangle.
+  const borderOf = (idx) => {
+    const edges = new Map();
+    for (let t = 0; t < idx.length; t += 3) {
+      for (let k = 0; k < 3; ++k) {
+        const a = idx[t + k], b = idx[t + ((k + 1) % 3)];
+        const key = `${Math.min(a, b)},${Math.max(a, b)}`;
+        edges.set(key, (edges.get(key) || 0) + 1);
+      }
+    }
+    const out = new Set();
+    for (const [key, count] of edges) if (count === 1) for (const v of key.split(',')) out.add(Number(v));
+    return [...out].sort((a, b) => a - b);
+  };
+  const before = projected(triangles);
+  const lod = await simplifyForPreview(relief);
+  assert.ok(lod, `a relief of ${triangles.length / 3} triangles is simplified`);
+  const kept = Array.from(relief.index.array);
+  assert.deepEqual(lod.triangles, [triangles.length / 3, kept.length / 3], 'the counts reported');
+  assert.ok(kept.length / 3 <= 0.25 * (triangles.length / 3) + 1,
+            `a quarter of the triangles or fewer (${kept.length / 3} of ${triangles.length / 3})`);
+  assert.ok(lod.error <= kPreviewError, `within the error asked (${lod.error})`);
+  assert.ok(kept.every((v) => Number.isInteger(v) && v >= 0 && v < side * side), 'on the model\'s own vertices');
+  assert.equal(relief.getAttribute('position').array.length, vertices.length, 'the vertices stay');
+  const after = projected(kept);
+  assert.deepEqual(borderOf(kept), borderOf(triangles), 'every border vertex stays');
+  assert.ok(Math.abs(after.signed - before.signed) < 1e-9 * before.signed,
+            `the footprint stays (projected area ${after.signed} against ${before.signed})`);
+  assert.ok(Math.abs(after.unsigned - after.signed) < 1e-9 * after.signed,
+            `no triangle turns over (${after.unsigned} against ${after.signed})`);
+  checks += 8;
+  // A small model is drawn whole.
+  const small = new THREE.BufferGeometry();
+  small.setAttribute('position', new THREE.Float32BufferAttribute(vertices, 3));
+  small.setIndex(triangles.slice(0, 3 * (kPreviewMinTriangles - 1)));
+  assert.equal(await simplifyForPreview(small), null, 'fewer than 20,000 triangles: left whole');
+  assert.equal(small.index.count, 3 * (kPreviewMinTriangles - 1), 'its index as it was');
+  checks += 2;
+}
 console.log(`preview_unit: ${checks + 1} checks passed`);

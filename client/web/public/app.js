@@ -32,6 +32,7 @@ import { FieldPreview, nearestDistances, previewPositions, sampleParams } from '
 import { sampleModel, surfacePreset } from './samples.js';
 import { SheetView } from './sheet_view.js';
 import { reorderForVertexCache } from './vertex_cache.js';
+import { simplifyForPreview } from './preview_lod.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -511,6 +512,8 @@ async function runDeform(edit = null) {
       ['round trip', `${fmt(roundTrip, 3)} ms, ${bytes.byteLength} bytes`],
       ...(state.lastPreview ? [['preview vs exact', `${fmt(state.lastPreview.max, 2)} ` +
         `(${fmt(100 * state.lastPreview.relative, 2)}% of the sheet)`]] : []),
+      ...(state.model && state.model.lod ? [['preview triangles', `${state.model.lod.triangles[1]} of ` +
+        `${state.model.lod.triangles[0]} (simplified within ${fmt(100 * state.model.lod.error, 2)}% of the model's size)`]] : []),
       ...(state.live.gap ? [['moved field vs server', `${fmt(100 * state.live.gap, 2)}% of the sheet ` +
         `(largest over ${state.live.surfaces} live surfaces)`]] : []),
     ];
@@ -589,8 +592,9 @@ $('clear-marks').addEventListener('click', () => {
 
 async function useModel(name, bytes) {
   const read = await readModel(name, bytes);
+  const lod = await simplifyForPreview(read.geometry);
   await reorderForVertexCache(read.geometry);
-  state.model = { name, bytes, positions: read.positions };
+  state.model = { name, bytes, positions: read.positions, lod };
   preview.setGeometry(read.geometry);
   state.upResolved = null;
   $('model-name').textContent = `${name} (${bytes.byteLength} bytes)` +

@@ -10,31 +10,20 @@
 // (BENCHMARKS.md). Where meshoptimizer is not there (a viewer folder
 // installed before it), the order is left as it is.
 
-let encoder = null;
-async function meshoptEncoder() {
-  if (!encoder) {
-    encoder = import('meshoptimizer/encoder')
-      .then(async ({ MeshoptEncoder }) => {
-        await MeshoptEncoder.ready;
-        return MeshoptEncoder;
-      })
-      .catch(() => null);
-  }
-  return encoder;
-}
+import { meshopt } from './meshopt.js';
 
 // Reorders `geometry`'s triangles (an indexed triangle list) for the vertex
 // cache, in place; true when it did.
 export async function reorderForVertexCache(geometry) {
   const index = geometry && geometry.index;
   if (!index || index.count < 3 || index.count % 3 !== 0) return false;
-  const meshopt = await meshoptEncoder();
-  if (!meshopt) return false;
+  const encoder = await meshopt('encoder');
+  if (!encoder) return false;
   // reorderMesh also renumbers the vertices for fetch order (remap: old ->
   // new); the triangles are put back on the old numbers, so that no
   // attribute has to move.
   const indices = Uint32Array.from(index.array);
-  const [remap] = meshopt.reorderMesh(indices, true, false);
+  const [remap] = encoder.reorderMesh(indices, true, false);
   const old = new Uint32Array(remap.length);
   for (let v = 0; v < remap.length; ++v) if (remap[v] !== 0xffffffff) old[remap[v]] = v;
   for (let k = 0; k < indices.length; ++k) index.array[k] = old[indices[k]];
