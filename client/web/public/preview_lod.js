@@ -33,8 +33,7 @@ export async function simplifyForPreview(geometry) {
   const indices = Uint32Array.from(index.array);
   const positions = packedPositions(position);
   const target = 3 * Math.floor((kPreviewShare * indices.length) / 3);
-  const [kept, error] = simplifier.simplify(indices, positions, 3, target, kPreviewError,
-                                         ['LockBorder']);
+  const [kept, error] = simplifier.simplify(indices, positions, 3, target, kPreviewError, ['LockBorder']);
   // In the old index's type (Uint16 for models under 65,536 vertices).
   const array = index.array instanceof Uint16Array ? Uint16Array.from(kept) : kept;
   geometry.setIndex(new THREE.BufferAttribute(array, 1));
