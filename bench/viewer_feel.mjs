@@ -11,7 +11,7 @@
 // Ratios to the page's own orbiting frame rate in the same run are what hold
 // on a shared machine.
 // Usage: node bench/viewer_feel.mjs SERVER_BINARY [seconds per phase, default 4]
-//        [models, default bunny,relief-1m]
+//        [models, default bunny,relief-1m; relief-1m-stl: the relief as a binary STL]
 // (puppeteer-core comes from tests/browser/node_modules: scripts/setup.sh).
 import { mkdtempSync, writeFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
@@ -28,9 +28,10 @@ const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
 // A relief of about a million triangles (binary PLY): a 708 x 708 grid of
 // vertices, 0.4 high over 10 x 10, gently waved.
-const { gridPly } = await import(path.join(here, '../tests/browser/grid_ply.mjs'));
-function millionTriangles() {
-  return gridPly(708, 0, 0, 10, (x, y) => 0.2 + 0.1 * Math.sin(2 * x) * Math.cos(3 * y)).bytes;
+const { gridPly, gridStl } = await import(path.join(here, '../tests/browser/grid_ply.mjs'));
+const relief = (x, y) => 0.2 + 0.1 * Math.sin(2 * x) * Math.cos(3 * y);
+function millionTriangles(format) {
+  return (format === 'stl' ? gridStl : gridPly)(708, 0, 0, 10, relief).bytes;
 }
 
 const { startServer } = await import(path.join(here, '../tests/browser/start_server.mjs'));
@@ -129,13 +130,14 @@ try {
   await page.goto(`http://127.0.0.1:${port}/`);
   await ready('the page');
   const dir = mkdtempSync(path.join(os.tmpdir(), 'viewer-feel-'));
-  const big = path.join(dir, 'relief-1m.ply');
-  writeFileSync(big, millionTriangles());
+  const big = { ply: path.join(dir, 'relief-1m.ply'), stl: path.join(dir, 'relief-1m.stl') };
+  writeFileSync(big.ply, millionTriangles('ply'));
+  writeFileSync(big.stl, millionTriangles('stl'));
   for (const model of modelsArg.split(',')) {
     if (model === 'bunny') {
       await page.select('#sample', 'bunny');
     } else {
-      await (await page.$('#upload')).uploadFile(big);
+      await (await page.$('#upload')).uploadFile(model === 'relief-1m-stl' ? big.stl : big.ply);
     }
     await sleep(300);
     await ready(model);

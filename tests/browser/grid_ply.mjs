@@ -1,7 +1,8 @@
 // A height field as a binary PLY: an n x n grid of vertices over
 // [x0, x0 + size] x [y0, y0 + size] at height(x, y), two triangles a cell.
 // Shared by viewer_test.mjs (a Draco answer large enough to come in pieces)
-// and bench/viewer_feel.mjs (a relief of a million triangles).
+// and bench/viewer_feel.mjs (a relief of a million triangles). gridStl: the
+// same triangles as a binary STL (each with its own corners).
 export function gridPly(n, x0, y0, size, height) {
   const verts = n * n, tris = 2 * (n - 1) * (n - 1);
   const header = `ply\nformat binary_little_endian 1.0\nelement vertex ${verts}\n` +
@@ -31,4 +32,26 @@ export function gridPly(n, x0, y0, size, height) {
     }
   }
   return { bytes: Buffer.concat([Buffer.from(header), body]), vertices: verts, triangles: tris };
+}
+
+export function gridStl(n, x0, y0, size, height) {
+  const point = (i, j) => {
+    const x = x0 + (size * i) / (n - 1), y = y0 + (size * j) / (n - 1);
+    return [x, y, height(x, y)];
+  };
+  const tris = 2 * (n - 1) * (n - 1);
+  const body = Buffer.alloc(84 + 50 * tris);
+  body.writeUInt32LE(tris, 80);
+  let o = 84;
+  for (let j = 0; j + 1 < n; ++j) {
+    for (let i = 0; i + 1 < n; ++i) {
+      const a = point(i, j), b = point(i + 1, j), c = point(i + 1, j + 1), d = point(i, j + 1);
+      for (const corners of [[a, b, c], [a, c, d]]) {
+        o += 12;  // the facet normal: zero, readers compute it
+        for (const q of corners) for (const x of q) { body.writeFloatLE(x, o); o += 4; }
+        o += 2;
+      }
+    }
+  }
+  return { bytes: body, triangles: tris };
 }

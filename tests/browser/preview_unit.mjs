@@ -4,13 +4,13 @@
 // placement's model frame (footprint.js), kept per model between moves, the
 // exact result's vertex normals (vertex_normals.js) against three.js's, the
 // preview's triangles reordered for the vertex cache (vertex_cache.js) and
-// simplified (preview_lod.js).
+// welded and simplified (preview_mesh.js).
 import assert from 'node:assert/strict';
 // The client's own three.js (the module its files import as 'three').
 import * as THREE from '../../client/web/node_modules/three/build/three.module.js';
-import { placementFrame } from '../../client/web/public/footprint.js';
+import { placementFrame, readModel } from '../../client/web/public/footprint.js';
 import { sampleField, sampleParams } from '../../client/web/public/preview.js';
-import { kPreviewError, kPreviewMinTriangles, simplifyForPreview } from '../../client/web/public/preview_lod.js';
+import { kPreviewError, kPreviewMinTriangles, simplifyForPreview, weldForPreview } from '../../client/web/public/preview_mesh.js';
 import { reorderForVertexCache } from '../../client/web/public/vertex_cache.js';
 import { computeNormals } from '../../client/web/public/vertex_normals.js';
 
@@ -243,5 +243,35 @@ assert.equal(await reorderForVertexCache(new THREE.BufferGeometry()), false, 'no
   assert.equal(await simplifyForPreview(small), null, 'fewer than 20,000 triangles: left whole');
   assert.equal(small.index.count, 3 * (kPreviewMinTriangles - 1), 'its index as it was');
   checks += 2;
+}
+
+// Separate triangles welded: the label sample (OBJ, which three.js reads as
+// separate triangles) gets an index over its distinct positions, as many as
+// the file's vertices, every triangle's corners where they were (winding
+// kept), and unit normals; a geometry with an index is left as it is.
+{
+  const { readFileSync } = await import('node:fs');
+  const text = readFileSync(new URL('../../client/web/samples/label.obj', import.meta.url), 'utf8');
+  const fileVertices = text.split('\n').filter((l) => l.startsWith('v ')).length;
+  const read = await readModel('label.obj', new TextEncoder().encode(text).buffer);
+  assert.equal(read.geometry.index, null, 'three.js reads an OBJ as separate triangles');
+  const separate = read.geometry.getAttribute('position');
+  const welded = await weldForPreview(read.geometry);
+  const p = welded.getAttribute('position'), nrm = welded.getAttribute('normal'), idx = welded.index;
+  assert.ok(idx, 'welded: an index');
+  assert.equal(idx.count, separate.count, 'the same triangles');
+  assert.equal(p.count, fileVertices, `one vertex per distinct position (${p.count}, the file has ${fileVertices})`);
+  for (let k = 0; k < idx.count; ++k) {
+    const v = idx.getX(k);
+    if (p.getX(v) !== separate.getX(k) || p.getY(v) !== separate.getY(k) || p.getZ(v) !== separate.getZ(k)) {
+      assert.fail(`corner ${k} moved`);
+    }
+  }
+  for (let v = 0; v < nrm.count; ++v) {
+    const len = Math.hypot(nrm.getX(v), nrm.getY(v), nrm.getZ(v));
+    if (!(Math.abs(len - 1) < 1e-6)) assert.fail(`normal ${v} of length ${len}`);
+  }
+  assert.equal(await weldForPreview(welded), welded, 'an indexed geometry is left as it is');
+  checks += 6;
 }
 console.log(`preview_unit: ${checks + 1} checks passed`);

@@ -207,7 +207,7 @@ try {
       check(p && p.relative < 1e-3,
             `the preview was within 1e-3 of the sheet's diagonal of the exact result (${p && p.relative.toExponential(2)})`);
       check(/preview vs exact/.test(await text('#timings')), 'the page shows how far the preview was');
-      // The preview drew the bunny with a quarter of its triangles (preview_lod.js).
+      // The preview drew the bunny with a quarter of its triangles (preview_mesh.js).
       const lod = await viewer(() => window.surfdeformViewer.state.model.lod);
       check(lod && lod.triangles[1] <= 0.26 * lod.triangles[0] && lod.error <= 5e-4,
             `the preview draws the bunny simplified (${lod && lod.triangles[1]} of ${lod && lod.triangles[0]} triangles, ` +

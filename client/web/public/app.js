@@ -32,7 +32,7 @@ import { FieldPreview, nearestDistances, previewPositions, sampleParams } from '
 import { sampleModel, surfacePreset } from './samples.js';
 import { SheetView } from './sheet_view.js';
 import { reorderForVertexCache } from './vertex_cache.js';
-import { simplifyForPreview } from './preview_lod.js';
+import { simplifyForPreview, weldForPreview } from './preview_mesh.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -592,10 +592,11 @@ $('clear-marks').addEventListener('click', () => {
 
 async function useModel(name, bytes) {
   const read = await readModel(name, bytes);
-  const lod = await simplifyForPreview(read.geometry);
-  await reorderForVertexCache(read.geometry);
+  const geometry = await weldForPreview(read.geometry);
+  const lod = await simplifyForPreview(geometry);
+  await reorderForVertexCache(geometry);
   state.model = { name, bytes, positions: read.positions, lod };
-  preview.setGeometry(read.geometry);
+  preview.setGeometry(geometry);
   state.upResolved = null;
   $('model-name').textContent = `${name} (${bytes.byteLength} bytes)` +
       (state.model.positions ? '' : ' — the browser cannot outline it; the server reads it');

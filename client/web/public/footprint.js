@@ -45,7 +45,6 @@ function mergedGeometry(object) {
     g.setAttribute('position', o.geometry.getAttribute('position').clone());
     if (o.geometry.index) g.setIndex(o.geometry.index.clone());
     g.applyMatrix4(o.matrixWorld);
-    if (!g.index) g = g.toNonIndexed();
     g.computeVertexNormals();
     parts.push(g);
   });
