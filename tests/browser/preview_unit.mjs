@@ -2,16 +2,18 @@
 // a browser: the surface point and the surface parameters at a sheet point,
 // interpolated over the field's lattice as the shader does. And the
 // placement's model frame (footprint.js), kept per model between moves, the
-// exact result's vertex normals (vertex_normals.js) against three.js's, the
-// preview's triangles reordered for the vertex cache (vertex_cache.js) and
-// welded and simplified (preview_mesh.js).
+// exact result's vertex normals (vertex_normals.js) against three.js's, and
+// the preview's mesh (preview_mesh.js, meshoptimizer's JS build as the
+// worker runs it): reordered for the vertex cache, simplified, welded.
 import assert from 'node:assert/strict';
 // The client's own three.js (the module its files import as 'three').
 import * as THREE from '../../client/web/node_modules/three/build/three.module.js';
 import { placementFrame, readModel } from '../../client/web/public/footprint.js';
 import { sampleField, sampleParams } from '../../client/web/public/preview.js';
-import { kPreviewError, kPreviewMinTriangles, simplifyForPreview, weldForPreview } from '../../client/web/public/preview_mesh.js';
-import { reorderForVertexCache } from '../../client/web/public/vertex_cache.js';
+import { MeshoptEncoder } from '../../client/web/node_modules/meshoptimizer/meshopt_encoder.js';
+import { MeshoptSimplifier } from '../../client/web/node_modules/meshoptimizer/meshopt_simplifier.js';
+import { kPreviewError, kPreviewMinTriangles, orderForVertexCache, previewMesh, simplifyTriangles,
+         vertexNormals, weldTriangles } from '../../client/web/public/preview_mesh.js';
 import { computeNormals } from '../../client/web/public/vertex_normals.js';
 
 // A 3 x 3 lattice over [0, 2] x [0, 2] whose points are (a, b, a b) and whose
@@ -157,18 +159,18 @@ const canonical = (idx) => {
   }
   return tris.sort();
 };
-const scanned = new THREE.BufferGeometry();
-scanned.setAttribute('position', new THREE.Float32BufferAttribute(grid, 3));
-scanned.setIndex(shuffled.flat());
-const before = Array.from(scanned.index.array);
-assert.ok(await reorderForVertexCache(scanned), 'meshoptimizer reordered the triangles');
-const after = Array.from(scanned.index.array);
-assert.deepEqual(canonical(after), canonical(before), 'the same triangles, the same winding');
-assert.ok(missRatio(after) < 0.5 * missRatio(before),
-          `cache misses per triangle ${missRatio(before).toFixed(2)} -> ${missRatio(after).toFixed(2)}`);
-assert.equal(scanned.getAttribute('position').array.length, grid.length, 'the vertices stay');
-checks += 3;
-assert.equal(await reorderForVertexCache(new THREE.BufferGeometry()), false, 'no index: nothing to do');
+await Promise.all([MeshoptEncoder.ready, MeshoptSimplifier.ready]);
+const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
+{
+  const before = shuffled.flat();
+  const reordered = Uint32Array.from(before);
+  orderForVertexCache(MeshoptEncoder, reordered);
+  const after = Array.from(reordered);
+  assert.deepEqual(canonical(after), canonical(before), 'the same triangles, the same winding');
+  assert.ok(missRatio(after) < 0.5 * missRatio(before),
+            `cache misses per triangle ${missRatio(before).toFixed(2)} -> ${missRatio(after).toFixed(2)}`);
+  checks += 2;
+}
 
 // The preview's triangles simplified: a waved relief, the cells of a 180 x
 // 180 grid within a disk (50,000 triangles or so), keeps a quarter of them,
@@ -192,9 +194,7 @@ assert.equal(await reorderForVertexCache(new THREE.BufferGeometry()), false, 'no
       triangles.push(a, a + 1, a + side + 1, a, a + side + 1, a + side);
     }
   }
-  const relief = new THREE.BufferGeometry();
-  relief.setAttribute('position', new THREE.Float32BufferAttribute(vertices, 3));
-  relief.setIndex(triangles);
+  const positions = new Float32Array(vertices);
   const projected = (idx) => {
     let signed = 0, unsigned = 0;
     for (let t = 0; t < idx.length; t += 3) {
@@ -220,28 +220,33 @@ assert.equal(await reorderForVertexCache(new THREE.BufferGeometry()), false, 'no
     return [...out].sort((a, b) => a - b);
   };
   const before = projected(triangles);
-  const lod = await simplifyForPreview(relief);
+  const lod = simplifyTriangles(MeshoptSimplifier, Uint32Array.from(triangles), positions);
   assert.ok(lod, `a relief of ${triangles.length / 3} triangles is simplified`);
-  const kept = Array.from(relief.index.array);
-  assert.deepEqual(lod.triangles, [triangles.length / 3, kept.length / 3], 'the counts reported');
+  const kept = Array.from(lod.index);
   assert.ok(kept.length / 3 <= 0.25 * (triangles.length / 3) + 1,
             `a quarter of the triangles or fewer (${kept.length / 3} of ${triangles.length / 3})`);
   assert.ok(lod.error <= kPreviewError, `within the error asked (${lod.error})`);
   assert.ok(kept.every((v) => Number.isInteger(v) && v >= 0 && v < side * side), 'on the model\'s own vertices');
-  assert.equal(relief.getAttribute('position').array.length, vertices.length, 'the vertices stay');
   const after = projected(kept);
   assert.deepEqual(borderOf(kept), borderOf(triangles), 'every border vertex stays');
   assert.ok(Math.abs(after.signed - before.signed) < 1e-9 * before.signed,
             `the footprint stays (projected area ${after.signed} against ${before.signed})`);
   assert.ok(Math.abs(after.unsigned - after.signed) < 1e-9 * after.signed,
             `no triangle turns over (${after.unsigned} against ${after.signed})`);
-  checks += 8;
+  checks += 7;
+  // The whole mesh as the worker makes it: the same simplification, the
+  // vertices and their normals as they were (an index was given).
+  const mesh = previewMesh(meshopt, positions, Uint32Array.from(triangles));
+  assert.deepEqual(mesh.lod, { triangles: [triangles.length / 3, kept.length / 3], error: lod.error },
+                   'the counts and error reported');
+  assert.deepEqual(canonical(Array.from(mesh.index)), canonical(kept), 'its triangles, reordered');
+  assert.ok(mesh.positions === positions && mesh.normals === null, 'the vertices and normals kept');
+  checks += 3;
   // A small model is drawn whole.
-  const small = new THREE.BufferGeometry();
-  small.setAttribute('position', new THREE.Float32BufferAttribute(vertices, 3));
-  small.setIndex(triangles.slice(0, 3 * (kPreviewMinTriangles - 1)));
-  assert.equal(await simplifyForPreview(small), null, 'fewer than 20,000 triangles: left whole');
-  assert.equal(small.index.count, 3 * (kPreviewMinTriangles - 1), 'its index as it was');
+  const small = Uint32Array.from(triangles.slice(0, 3 * (kPreviewMinTriangles - 1)));
+  assert.equal(simplifyTriangles(MeshoptSimplifier, small, positions), null,
+               'fewer than 20,000 triangles: left whole');
+  assert.equal(previewMesh(meshopt, positions, small).index.length, small.length, 'every triangle drawn');
   checks += 2;
 }
 
@@ -255,23 +260,30 @@ assert.equal(await reorderForVertexCache(new THREE.BufferGeometry()), false, 'no
   const fileVertices = text.split('\n').filter((l) => l.startsWith('v ')).length;
   const read = await readModel('label.obj', new TextEncoder().encode(text).buffer);
   assert.equal(read.geometry.index, null, 'three.js reads an OBJ as separate triangles');
-  const separate = read.geometry.getAttribute('position');
-  const welded = await weldForPreview(read.geometry);
-  const p = welded.getAttribute('position'), nrm = welded.getAttribute('normal'), idx = welded.index;
-  assert.ok(idx, 'welded: an index');
-  assert.equal(idx.count, separate.count, 'the same triangles');
-  assert.equal(p.count, fileVertices, `one vertex per distinct position (${p.count}, the file has ${fileVertices})`);
-  for (let k = 0; k < idx.count; ++k) {
-    const v = idx.getX(k);
-    if (p.getX(v) !== separate.getX(k) || p.getY(v) !== separate.getY(k) || p.getZ(v) !== separate.getZ(k)) {
-      assert.fail(`corner ${k} moved`);
+  const separate = read.geometry.getAttribute('position').array;
+  const welded = weldTriangles(MeshoptSimplifier, separate);
+  assert.equal(welded.index.length, separate.length / 3, 'the same triangles');
+  assert.equal(welded.positions.length / 3, fileVertices,
+               `one vertex per distinct position (${welded.positions.length / 3}, the file has ${fileVertices})`);
+  for (let k = 0; k < welded.index.length; ++k) {
+    for (let c = 0; c < 3; ++c) {
+      if (welded.positions[3 * welded.index[k] + c] !== separate[3 * k + c]) assert.fail(`corner ${k} moved`);
     }
   }
-  for (let v = 0; v < nrm.count; ++v) {
-    const len = Math.hypot(nrm.getX(v), nrm.getY(v), nrm.getZ(v));
-    if (!(Math.abs(len - 1) < 1e-6)) assert.fail(`normal ${v} of length ${len}`);
-  }
-  assert.equal(await weldForPreview(welded), welded, 'an indexed geometry is left as it is');
+  // Normals as three.js computes them over the welded mesh.
+  const reference = new THREE.BufferGeometry();
+  reference.setAttribute('position', new THREE.BufferAttribute(welded.positions, 3));
+  reference.setIndex(new THREE.BufferAttribute(welded.index, 1));
+  reference.computeVertexNormals();
+  const normals = vertexNormals(welded.positions, welded.index);
+  const want = reference.getAttribute('normal').array;
+  let off = 0;
+  for (let k = 0; k < want.length; ++k) off = Math.max(off, Math.abs(normals[k] - want[k]));
+  assert.ok(off < 1e-6, `the welded normals are three.js's (off by ${off})`);
+  // The worker's mesh of separate triangles: welded, with those normals.
+  const mesh = previewMesh(meshopt, separate, null);
+  assert.equal(mesh.positions.length, welded.positions.length, 'the worker welds separate triangles');
+  assert.deepEqual(Array.from(mesh.normals), Array.from(normals), 'and gives their normals');
   checks += 6;
 }
 console.log(`preview_unit: ${checks + 1} checks passed`);

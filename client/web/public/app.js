@@ -31,8 +31,6 @@ import { fieldGap, movedField, moveSheetPoint } from './field_edit.js';
 import { FieldPreview, nearestDistances, previewPositions, sampleParams } from './preview.js';
 import { sampleModel, surfacePreset } from './samples.js';
 import { SheetView } from './sheet_view.js';
-import { reorderForVertexCache } from './vertex_cache.js';
-import { simplifyForPreview, weldForPreview } from './preview_mesh.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -592,11 +590,9 @@ $('clear-marks').addEventListener('click', () => {
 
 async function useModel(name, bytes) {
   const read = await readModel(name, bytes);
-  const geometry = await weldForPreview(read.geometry);
-  const lod = await simplifyForPreview(geometry);
-  await reorderForVertexCache(geometry);
-  state.model = { name, bytes, positions: read.positions, lod };
-  preview.setGeometry(geometry);
+  const model = { name, bytes, positions: read.positions, lod: null };
+  state.model = model;
+  preview.setModelGeometry(read.geometry, (lod) => { model.lod = lod; });
   state.upResolved = null;
   $('model-name').textContent = `${name} (${bytes.byteLength} bytes)` +
       (state.model.positions ? '' : ' — the browser cannot outline it; the server reads it');

@@ -212,6 +212,69 @@ vec3 objectNormal = normalize(sdNab.x * sdPa + sdNab.y * sdPb + sdNq.z * sdNrm);
 vec3 sdTransformed = sdP + sdH * sdNrm;
 `;
 
+// The worker that makes preview meshes (preview_mesh_worker.js), started
+// when first needed; false where it cannot run (then models are drawn as
+// read).
+let meshWorker = null;
+let meshAsks = 0;
+const meshReplies = new Map();
+function previewMeshWorker() {
+  if (meshWorker === null) {
+    try {
+      meshWorker = new Worker(new URL('./preview_mesh_worker.js', import.meta.url), { type: 'module' });
+      meshWorker.onmessage = ({ data }) => {
+        meshReplies.get(data.id)?.(data);
+        meshReplies.delete(data.id);
+      };
+      meshWorker.onerror = () => {
+        for (const reply of meshReplies.values()) reply({ error: 'the preview mesh worker failed' });
+        meshReplies.clear();
+        meshWorker.terminate();
+        meshWorker = false;
+      };
+    } catch {
+      meshWorker = false;
+    }
+  }
+  return meshWorker || null;
+}
+
+// x, y, z per vertex in a Float32Array of their own (a copy: an attribute
+// may be interleaved, or of another type).
+function packedPositions(position) {
+  const out = new Float32Array(3 * position.count);
+  for (let v = 0; v < position.count; ++v) {
+    out[3 * v] = position.getX(v);
+    out[3 * v + 1] = position.getY(v);
+    out[3 * v + 2] = position.getZ(v);
+  }
+  return out;
+}
+
+// {geometry, lod} for the preview of `geometry` (positions, normals, an
+// index or none), made by the worker; null where it was not made.
+async function previewMeshOf(geometry) {
+  const position = geometry && geometry.getAttribute('position');
+  if (!position || position.count < 3 || (!geometry.index && position.count % 3 !== 0)) return null;
+  const worker = previewMeshWorker();
+  if (!worker) return null;
+  const id = ++meshAsks;
+  const reply = await new Promise((resolve) => {
+    meshReplies.set(id, resolve);
+    worker.postMessage({ id, positions: packedPositions(position),
+                         index: geometry.index ? Uint32Array.from(geometry.index.array) : null });
+  });
+  if (reply.error) return null;
+  const mesh = new THREE.BufferGeometry();
+  // Welded: new vertices and normals; else the model's, a new index over them.
+  mesh.setAttribute('position', reply.normals ? new THREE.BufferAttribute(reply.positions, 3) : position);
+  mesh.setAttribute('normal', reply.normals ? new THREE.BufferAttribute(reply.normals, 3)
+                                            : geometry.getAttribute('normal'));
+  const vertices = reply.positions.length / 3;
+  mesh.setIndex(new THREE.BufferAttribute(vertices < 65536 ? Uint16Array.from(reply.index) : reply.index, 1));
+  return { geometry: mesh, lod: reply.lod };
+}
+
 function fieldTexture(data, n) {
   const t = new THREE.DataTexture(data, n, n, THREE.RGBAFormat, THREE.FloatType);
   t.minFilter = t.magFilter = THREE.NearestFilter;
@@ -318,6 +381,21 @@ export class FieldPreview {
   setGeometry(geometry) {
     this.mesh.geometry = geometry || new THREE.BufferGeometry();
     this.onChange();
+  }
+
+  // The model as the browser read it, drawn at once, and replaced by its
+  // preview mesh (welded, simplified, ordered: preview_mesh.js, in a
+  // worker) when that is ready; `onMesh(lod)` is then told what became of
+  // it (lod: {triangles: [before, after], error} or null: drawn whole). A
+  // newer model drops the older's mesh.
+  setModelGeometry(geometry, onMesh = () => {}) {
+    this.setGeometry(geometry);
+    const asked = (this.meshAsked = {});
+    previewMeshOf(geometry).then((mesh) => {
+      if (this.meshAsked !== asked || !mesh) return;
+      this.setGeometry(mesh.geometry);
+      onMesh(mesh.lod);
+    });
   }
 
   // placementFrame()'s result and the placement {center, rotation_deg, scale}.

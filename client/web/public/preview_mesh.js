@@ -1,91 +1,107 @@
-// The preview's own mesh, made cheap to bend on the GPU while a person drags.
+// The preview's own mesh, made cheap to bend on the GPU while a person
+// drags: welded, simplified and ordered for the vertex cache. Plain arrays
+// in and out, and no imports: preview_mesh_worker.js runs it off the page's
+// thread with meshoptimizer's JS build (npm), and the Node tests run it
+// with the same.
 //
 // Welded: a model read as separate triangles (STL, OBJ: three.js's loaders
 // give every triangle its own corners) gets an index over its distinct
-// positions, as the server welds it, so that the vertex cache shares the
-// corners (a third of the vertex work) and the normals are the exact
-// result's (smooth over the welded vertices, where they were flat per
-// triangle).
+// positions, as the server's readers weld it, so that the vertex cache
+// shares the corners and the normals are the exact result's (smooth over
+// the welded vertices, where they were flat per triangle).
 //
-// Fewer triangles: the preview draws the model with a quarter of its
-// triangles, simplified by meshoptimizer within 5e-4 of the model's size
-// (its error measure, relative to the model's extent; a scanned model may
-// stop short of the quarter there). The exact result replaces it on
-// release, with every triangle. The preview's vertex shader (the field's
-// fetches and the normal's turn) costs about twice the exact result's per
-// vertex, and with software WebGL a large model's frame is mostly that
-// stage (a million triangles: ~5.7 frames a second orbiting the exact
-// result, ~3.4 dragging the preview; BENCHMARKS.md). Simplification keeps
-// a subset of the vertices where they are, with their normals, so every
-// vertex drawn is still placed exactly; and it keeps open models' borders,
-// the outline the sheet shows. Models under 20,000 triangles are drawn
-// whole.
+// Fewer triangles: a model of 20,000 triangles or more is drawn with a
+// quarter of them, simplified by meshoptimizer within 5e-4 of the model's
+// size (its error measure, relative to the model's extent; a scanned model
+// may stop short of the quarter there), its borders locked (the outline
+// the sheet shows). The exact result replaces the preview on release, with
+// every triangle. The preview's vertex shader (the field's fetches and the
+// normal's turn) costs about twice the exact result's per vertex, and with
+// software WebGL a large model's frame is mostly that stage (a million
+// triangles: ~5.5 frames a second orbiting the exact result, ~3.5 dragging
+// the whole preview; BENCHMARKS.md). Simplification keeps a subset of the
+// vertices where they are, with their normals, so every vertex drawn is
+// still placed exactly.
 //
-// Where meshoptimizer is not there, the mesh is left as it is.
-import * as THREE from 'three';
-import { meshopt } from './meshopt.js';
+// Ordered: a model as read (a scanned PLY) lists its triangles in no useful
+// order, so a renderer shades most vertices twice or more; meshoptimizer's
+// vertex cache optimisation reorders the index (the vertices keep their
+// numbers). Measured in Chromium with software WebGL, the bunny at half its
+// fitted scale: average cache miss ratio 2.31 -> 0.68 (a 16-entry FIFO),
+// the whole preview's frame 76 -> 69 ms.
 
-export const kPreviewShare = 0.25;         // of the triangles
-export const kPreviewError = 5e-4;         // of the model's extent
+export const kPreviewShare = 0.25;          // of the triangles
+export const kPreviewError = 5e-4;          // of the model's extent
 export const kPreviewMinTriangles = 20000;  // below: drawn whole
 
-// `geometry` (positions, no index) welded: a new geometry whose index runs
-// over its distinct positions (meshoptimizer's position remap: bitwise
-// equal positions, as the server's readers weld), with normals computed
-// over them. The same geometry where it has an index already, or without
-// meshoptimizer.
-export async function weldForPreview(geometry) {
-  const position = geometry && geometry.getAttribute('position');
-  if (!position || geometry.index || position.count < 3 || position.count % 3 !== 0) return geometry;
-  const simplifier = await meshopt('simplifier');
-  if (!simplifier) return geometry;
-  const positions = packedPositions(position);
-  const indices = Uint32Array.from(simplifier.generatePositionRemap(positions, 3));
-  // Renumbered to the distinct positions used (remap: corner -> vertex).
-  const [remap, count] = simplifier.compactMesh(indices);
+// `positions` (x, y, z per corner, three corners a triangle) welded:
+// {positions, index} over the distinct positions (meshoptimizer's position
+// remap: bitwise-equal positions), in the order they are first used.
+export function weldTriangles(simplifier, positions) {
+  const index = Uint32Array.from(simplifier.generatePositionRemap(positions, 3));
+  const [remap, count] = simplifier.compactMesh(index);  // remap: corner -> vertex
   const kept = new Float32Array(3 * count);
   for (let v = 0; v < remap.length; ++v) {
     if (remap[v] !== 0xffffffff) kept.set(positions.subarray(3 * v, 3 * v + 3), 3 * remap[v]);
   }
-  const welded = new THREE.BufferGeometry();
-  welded.setAttribute('position', new THREE.BufferAttribute(kept, 3));
-  welded.setIndex(new THREE.BufferAttribute(count < 65536 ? Uint16Array.from(indices) : indices, 1));
-  welded.computeVertexNormals();
-  return welded;
+  return { positions: kept, index };
 }
 
-// Replaces `geometry`'s index (an indexed triangle list) by the simplified
-// one, in place: {triangles: [before, after], error (relative to the
-// extent)}, or null where it was left whole (no index, few triangles, no
-// meshoptimizer).
-export async function simplifyForPreview(geometry) {
-  const index = geometry && geometry.index;
-  const position = geometry && geometry.getAttribute('position');
-  if (!index || !position || index.count % 3 !== 0 || index.count / 3 < kPreviewMinTriangles) return null;
-  const simplifier = await meshopt('simplifier');
-  if (!simplifier) return null;
-  const indices = Uint32Array.from(index.array);
-  const positions = packedPositions(position);
-  const target = 3 * Math.floor((kPreviewShare * indices.length) / 3);
-  const [kept, error] = simplifier.simplify(indices, positions, 3, target, kPreviewError, ['LockBorder']);
-  // In the old index's type (Uint16 for models under 65,536 vertices).
-  const array = index.array instanceof Uint16Array ? Uint16Array.from(kept) : kept;
-  geometry.setIndex(new THREE.BufferAttribute(array, 1));
-  return { triangles: [indices.length / 3, kept.length / 3], error };
+// `index` (Uint32Array) simplified as described above: {index, error}, or
+// null for a model drawn whole.
+export function simplifyTriangles(simplifier, index, positions) {
+  if (index.length / 3 < kPreviewMinTriangles) return null;
+  const target = 3 * Math.floor((kPreviewShare * index.length) / 3);
+  const [kept, error] = simplifier.simplify(index, positions, 3, target, kPreviewError, ['LockBorder']);
+  return { index: kept, error };
 }
 
-// x, y, z per vertex in a Float32Array of their own (an attribute may be
-// interleaved, or of another type).
-function packedPositions(position) {
-  if (position.array instanceof Float32Array && !position.isInterleavedBufferAttribute &&
-      position.itemSize === 3) {
-    return position.array;
+// `index` reordered for the vertex cache, in place. reorderMesh also
+// renumbers the vertices for fetch order (remap: old -> new); the triangles
+// are put back on the old numbers, so that no attribute has to move.
+export function orderForVertexCache(encoder, index) {
+  const renumbered = Uint32Array.from(index);
+  const [remap] = encoder.reorderMesh(renumbered, true, false);
+  const old = new Uint32Array(remap.length);
+  for (let v = 0; v < remap.length; ++v) if (remap[v] !== 0xffffffff) old[remap[v]] = v;
+  for (let k = 0; k < index.length; ++k) index[k] = old[renumbered[k]];
+}
+
+// Unit vertex normals: each vertex's sum of its triangles' (c - b) x (a - b),
+// normalised (three.js's computeVertexNormals).
+export function vertexNormals(positions, index) {
+  const sum = new Float64Array(positions.length);
+  for (let t = 0; t + 2 < index.length; t += 3) {
+    const a = 3 * index[t], b = 3 * index[t + 1], c = 3 * index[t + 2];
+    const cbx = positions[c] - positions[b], cby = positions[c + 1] - positions[b + 1];
+    const cbz = positions[c + 2] - positions[b + 2];
+    const abx = positions[a] - positions[b], aby = positions[a + 1] - positions[b + 1];
+    const abz = positions[a + 2] - positions[b + 2];
+    const n = [cby * abz - cbz * aby, cbz * abx - cbx * abz, cbx * aby - cby * abx];
+    for (const v of [a, b, c]) for (let k = 0; k < 3; ++k) sum[v + k] += n[k];
   }
-  const out = new Float32Array(3 * position.count);
-  for (let v = 0; v < position.count; ++v) {
-    out[3 * v] = position.getX(v);
-    out[3 * v + 1] = position.getY(v);
-    out[3 * v + 2] = position.getZ(v);
+  const out = new Float32Array(positions.length);
+  for (let v = 0; v < positions.length; v += 3) {
+    const len = Math.hypot(sum[v], sum[v + 1], sum[v + 2]);
+    const k = len > 0 ? 1 / len : 0;
+    for (let c = 0; c < 3; ++c) out[v + c] = sum[v + c] * k;
   }
   return out;
+}
+
+// The preview's mesh from the model as read: `positions` and `index`
+// (null: separate triangles). {positions, index, normals (null: keep the
+// model's), lod: {triangles: [before, after], error} or null}.
+export function previewMesh({ simplifier, encoder }, positions, index) {
+  let normals = null;
+  if (!index) {
+    ({ positions, index } = weldTriangles(simplifier, positions));
+    normals = vertexNormals(positions, index);
+  }
+  const before = index.length / 3;
+  const simplified = simplifyTriangles(simplifier, index, positions);
+  if (simplified) index = simplified.index;
+  orderForVertexCache(encoder, index);
+  const lod = simplified ? { triangles: [before, index.length / 3], error: simplified.error } : null;
+  return { positions, index, normals, lod };
 }
