@@ -378,8 +378,12 @@ export class FieldPreview {
   }
 
   // The model as the browser read it (positions and normals, model space).
+  // The geometry it replaces is let go of on the GPU (a buffer it shares with
+  // the new one is uploaded again).
   setGeometry(geometry) {
+    const old = this.mesh.geometry;
     this.mesh.geometry = geometry || new THREE.BufferGeometry();
+    if (old && old !== this.mesh.geometry) old.dispose();
     this.onChange();
   }
 
