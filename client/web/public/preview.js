@@ -242,6 +242,10 @@ function previewMeshWorker() {
 // x, y, z per vertex in a Float32Array of their own (a copy: an attribute
 // may be interleaved, or of another type).
 function packedPositions(position) {
+  if (position.array instanceof Float32Array && !position.isInterleavedBufferAttribute &&
+      position.itemSize === 3) {
+    return position.array.slice(0, 3 * position.count);
+  }
   const out = new Float32Array(3 * position.count);
   for (let v = 0; v < position.count; ++v) {
     out[3 * v] = position.getX(v);
@@ -261,8 +265,10 @@ async function previewMeshOf(geometry) {
   const id = ++meshAsks;
   const reply = await new Promise((resolve) => {
     meshReplies.set(id, resolve);
-    worker.postMessage({ id, positions: packedPositions(position),
-                         index: geometry.index ? Uint32Array.from(geometry.index.array) : null });
+    // Copies, handed over (not copied again).
+    const positions = packedPositions(position);
+    const index = geometry.index ? Uint32Array.from(geometry.index.array) : null;
+    worker.postMessage({ id, positions, index }, index ? [positions.buffer, index.buffer] : [positions.buffer]);
   });
   if (reply.error) return null;
   const mesh = new THREE.BufferGeometry();
