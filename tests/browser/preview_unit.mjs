@@ -8,7 +8,7 @@
 import assert from 'node:assert/strict';
 // The client's own three.js (the module its files import as 'three').
 import * as THREE from '../../client/web/node_modules/three/build/three.module.js';
-import { placementFrame, readModel } from '../../client/web/public/footprint.js';
+import { footprint, placementFrame, readModel } from '../../client/web/public/footprint.js';
 import { sampleField, sampleParams } from '../../client/web/public/preview.js';
 import { MeshoptEncoder } from '../../client/web/node_modules/meshoptimizer/meshopt_encoder.js';
 import { MeshoptSimplifier } from '../../client/web/node_modules/meshoptimizer/meshopt_simplifier.js';
@@ -285,5 +285,48 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   assert.equal(mesh.positions.length, welded.positions.length, 'the worker welds separate triangles');
   assert.deepEqual(Array.from(mesh.normals), Array.from(normals), 'and gives their normals');
   checks += 6;
+}
+
+// The footprint's hull, points inside the extremes' polygon left out before
+// the sort, against the same monotone chain over every point: random points
+// in a disk, a grid (collinear points and ties), separate triangles' corners
+// (every point several times), a line, one point.
+{
+  const fullHull = (pairs) => {
+    const pts = [...pairs].sort((p, q) => p[0] - q[0] || p[1] - q[1]);
+    const cross = (o, a, b) => (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    const lower = [], upper = [];
+    for (const p of pts) {
+      while (lower.length >= 2 && cross(lower[lower.length - 2], lower[lower.length - 1], p) <= 0) lower.pop();
+      lower.push(p);
+    }
+    for (let k = pts.length - 1; k >= 0; --k) {
+      while (upper.length >= 2 && cross(upper[upper.length - 2], upper[upper.length - 1], pts[k]) <= 0) upper.pop();
+      upper.push(pts[k]);
+    }
+    return lower.slice(0, -1).concat(upper.slice(0, -1));
+  };
+  let seed = 7;
+  const random = () => (seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648;
+  const sets = {
+    disk: Array.from({ length: 5000 }, () => {
+      const r = 3 * Math.sqrt(random()), t = 2 * Math.PI * random();
+      return [1 + r * Math.cos(t), -2 + r * Math.sin(t), random()];
+    }),
+    grid: Array.from({ length: 41 * 41 }, (_, k) => [k % 41, Math.floor(k / 41), 0]),
+    corners: Array.from({ length: 3 * 600 }, (_, k) => {
+      const v = (k * 7) % 200;  // 200 vertices of a 20 x 10 grid, each several times
+      return [v % 20, Math.floor(v / 20) * 0.5, 1];
+    }),
+    line: Array.from({ length: 50 }, (_, k) => [k, 2 * k, 0]),
+    point: [[3, 4, 5], [3, 4, 5]],
+  };
+  for (const [name, points] of Object.entries(sets)) {
+    const got = footprint(points.flat(), '+z').hull;
+    assert.deepEqual(got, fullHull(points.map(([x, y]) => [x, y])), `the ${name}'s hull`);
+    ++checks;
+  }
+  assert.equal(footprint(sets.grid.flat(), '+z').hull.length, 4, 'a grid\'s hull is its four corners');
+  ++checks;
 }
 console.log(`preview_unit: ${checks + 1} checks passed`);
