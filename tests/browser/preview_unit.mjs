@@ -8,7 +8,7 @@
 import assert from 'node:assert/strict';
 // The client's own three.js (the module its files import as 'three').
 import * as THREE from '../../client/web/node_modules/three/build/three.module.js';
-import { footprint, placementFrame, readModel } from '../../client/web/public/footprint.js';
+import { footprint, placementFrame, positionsOf, readModel } from '../../client/web/public/footprint.js';
 import { sampleField, sampleParams } from '../../client/web/public/preview.js';
 import { MeshoptEncoder } from '../../client/web/node_modules/meshoptimizer/meshopt_encoder.js';
 import { MeshoptSimplifier } from '../../client/web/node_modules/meshoptimizer/meshopt_simplifier.js';
@@ -328,5 +328,35 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   }
   assert.equal(footprint(sets.grid.flat(), '+z').hull.length, 4, 'a grid\'s hull is its four corners');
   ++checks;
+}
+
+// A model's positions in world space: two meshes, one under a turned,
+// scaled and moved group, as three.js's applyMatrix4 puts them.
+{
+  const box = new THREE.Mesh(new THREE.BoxGeometry(1, 2, 3));
+  const ball = new THREE.Mesh(new THREE.SphereGeometry(0.5, 6, 4));
+  const group = new THREE.Group();
+  group.position.set(1, -2, 3);
+  group.rotation.set(0.3, -0.2, 0.9);
+  group.scale.set(2, 0.5, 1.5);
+  ball.position.set(0, 4, 0);
+  group.add(ball);
+  const scene = new THREE.Group();
+  scene.add(box, group);
+  const got = positionsOf(scene);
+  const want = [];
+  scene.updateMatrixWorld(true);
+  for (const mesh of [box, ball]) {
+    const p = mesh.geometry.getAttribute('position');
+    for (let k = 0; k < p.count; ++k) {
+      const v = new THREE.Vector3().fromBufferAttribute(p, k).applyMatrix4(mesh.matrixWorld);
+      want.push(v.x, v.y, v.z);
+    }
+  }
+  assert.equal(got.length, want.length, 'every vertex of both meshes');
+  let off = 0;
+  for (let k = 0; k < want.length; ++k) off = Math.max(off, Math.abs(got[k] - want[k]));
+  assert.ok(off < 1e-12, `positions in world space as three.js puts them (off by ${off})`);
+  checks += 2;
 }
 console.log(`preview_unit: ${checks + 1} checks passed`);

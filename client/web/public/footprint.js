@@ -9,6 +9,7 @@ import { OBJLoader } from 'three/addons/loaders/OBJLoader.js';
 import { PLYLoader } from 'three/addons/loaders/PLYLoader.js';
 import { STLLoader } from 'three/addons/loaders/STLLoader.js';
 import { mergeGeometries } from 'three/addons/utils/BufferGeometryUtils.js';
+import { computeNormals } from './vertex_normals.js';
 
 let draco = null;
 export function dracoLoader() {
@@ -19,36 +20,49 @@ export function dracoLoader() {
   return draco;
 }
 
-function positionsOf(object) {
+// Every mesh's positions in world space, x, y, z per vertex (a
+// Float64Array: a million-triangle STL has nine million numbers, which a
+// plain array grown by push took ~0.2 s to hold). World matrices are affine.
+export function positionsOf(object) {
   object.updateMatrixWorld(true);
-  const out = [];
-  const v = new THREE.Vector3();
+  const parts = [];
+  let total = 0;
   object.traverse((o) => {
     const p = o.geometry && o.geometry.getAttribute('position');
     if (!p) return;
-    for (let k = 0; k < p.count; ++k) {
-      v.fromBufferAttribute(p, k).applyMatrix4(o.matrixWorld);
-      out.push(v.x, v.y, v.z);
-    }
+    parts.push([p, o.matrixWorld.elements]);
+    total += p.count;
   });
+  const out = new Float64Array(3 * total);
+  let w = 0;
+  for (const [p, e] of parts) {
+    for (let k = 0; k < p.count; ++k, w += 3) {
+      const x = p.getX(k), y = p.getY(k), z = p.getZ(k);
+      out[w] = e[0] * x + e[4] * y + e[8] * z + e[12];
+      out[w + 1] = e[1] * x + e[5] * y + e[9] * z + e[13];
+      out[w + 2] = e[2] * x + e[6] * y + e[10] * z + e[14];
+    }
+  }
   return out;
 }
 
 // One geometry of every mesh in `object`, in world space, with positions
-// and normals only (what the preview bends), indexed; null for none.
+// and normals only (what the preview bends), indexed where the meshes are;
+// null for none.
 function mergedGeometry(object) {
   object.updateMatrixWorld(true);
   const parts = [];
   object.traverse((o) => {
     if (!o.isMesh || !o.geometry.getAttribute('position')) return;
-    let g = new THREE.BufferGeometry();
+    const g = new THREE.BufferGeometry();
     g.setAttribute('position', o.geometry.getAttribute('position').clone());
     if (o.geometry.index) g.setIndex(o.geometry.index.clone());
     g.applyMatrix4(o.matrixWorld);
-    g.computeVertexNormals();
+    computeNormals(g);
     parts.push(g);
   });
-  return parts.length ? mergeGeometries(parts) : null;
+  if (parts.length <= 1) return parts[0] || null;
+  return mergeGeometries(parts);
 }
 
 function offPositions(text) {
