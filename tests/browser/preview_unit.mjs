@@ -13,7 +13,7 @@ import { sampleField, sampleParams } from '../../client/web/public/preview.js';
 import { MeshoptEncoder } from '../../client/web/node_modules/meshoptimizer/meshopt_encoder.js';
 import { MeshoptSimplifier } from '../../client/web/node_modules/meshoptimizer/meshopt_simplifier.js';
 import { kPreviewError, kPreviewMinTriangles, orderForVertexCache, previewMesh, simplifyTriangles,
-         vertexNormals, weldTriangles } from '../../client/web/public/preview_mesh.js';
+         weldTriangles } from '../../client/web/public/preview_mesh.js';
 import { computeNormals } from '../../client/web/public/vertex_normals.js';
 
 // A 3 x 3 lattice over [0, 2] x [0, 2] whose points are (a, b, a b) and whose
@@ -240,7 +240,7 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   assert.deepEqual(mesh.lod, { triangles: [triangles.length / 3, kept.length / 3], error: lod.error },
                    'the counts and error reported');
   assert.deepEqual(canonical(Array.from(mesh.index)), canonical(kept), 'its triangles, reordered');
-  assert.ok(mesh.positions === positions && mesh.normals === null, 'the vertices and normals kept');
+  assert.ok(mesh.positions === positions && !mesh.welded, 'the vertices kept');
   checks += 3;
   // A small model is drawn whole.
   const small = Uint32Array.from(triangles.slice(0, 3 * (kPreviewMinTriangles - 1)));
@@ -253,7 +253,7 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
 // Separate triangles welded: the label sample (OBJ, which three.js reads as
 // separate triangles) gets an index over its distinct positions, as many as
 // the file's vertices, every triangle's corners where they were (winding
-// kept), and unit normals; a geometry with an index is left as it is.
+// kept).
 {
   const { readFileSync } = await import('node:fs');
   const text = readFileSync(new URL('../../client/web/samples/label.obj', import.meta.url), 'utf8');
@@ -270,20 +270,10 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
       if (welded.positions[3 * welded.index[k] + c] !== separate[3 * k + c]) assert.fail(`corner ${k} moved`);
     }
   }
-  // Normals as three.js computes them over the welded mesh.
-  const reference = new THREE.BufferGeometry();
-  reference.setAttribute('position', new THREE.BufferAttribute(welded.positions, 3));
-  reference.setIndex(new THREE.BufferAttribute(welded.index, 1));
-  reference.computeVertexNormals();
-  const normals = vertexNormals(welded.positions, welded.index);
-  const want = reference.getAttribute('normal').array;
-  let off = 0;
-  for (let k = 0; k < want.length; ++k) off = Math.max(off, Math.abs(normals[k] - want[k]));
-  assert.ok(off < 1e-6, `the welded normals are three.js's (off by ${off})`);
-  // The worker's mesh of separate triangles: welded, with those normals.
+  // The worker's mesh of separate triangles: welded.
   const mesh = previewMesh(meshopt, separate, null);
-  assert.equal(mesh.positions.length, welded.positions.length, 'the worker welds separate triangles');
-  assert.deepEqual(Array.from(mesh.normals), Array.from(normals), 'and gives their normals');
+  assert.ok(mesh.welded, 'the worker welds separate triangles');
+  assert.deepEqual(Array.from(mesh.positions), Array.from(welded.positions), 'to the same vertices');
   checks += 6;
 }
 

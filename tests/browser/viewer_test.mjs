@@ -119,6 +119,19 @@ try {
           `the page opens on a word in relief lying on the surface (${s && s.placement.up}, ` +
           `${s && s.placement.up_reason})`);
     check(await coverage() > 0.01, `the word is on the canvas (${(100 * await coverage()).toFixed(1)}%)`);
+    // three.js reads the OBJ as separate triangles; the preview's mesh is
+    // welded over its distinct positions (preview_mesh.js), with unit normals.
+    const mesh = await page.waitForFunction(() => {
+      const g = window.surfdeformViewer.preview.mesh.geometry;
+      const n = g.getAttribute('normal');
+      if (!g.index || !n) return null;
+      let unit = 0;
+      for (let k = 0; k < n.count; ++k) unit += Math.abs(Math.hypot(n.getX(k), n.getY(k), n.getZ(k)) - 1) < 1e-5;
+      return { vertices: g.getAttribute('position').count, triangles: g.index.count / 3, unit };
+    }, { timeout: 10000 }).then((h) => h.jsonValue()).catch(() => null);
+    check(mesh && mesh.vertices < mesh.triangles && mesh.unit === mesh.vertices,  // separate: 3 per triangle
+          `the word's preview is welded (${mesh && mesh.vertices} vertices for ${mesh && mesh.triangles} ` +
+          `triangles, ${mesh && mesh.unit} unit normals)`);
     const boxOf = (sel) => page.$eval(sel, (e) => {
       const r = e.getBoundingClientRect();
       return { x: r.x, y: r.y, w: r.width, h: r.height };

@@ -127,7 +127,7 @@ export function footprint(positions, up) {
   const m = kBasis[up] || kBasis['+z'];
   const count = positions.length / 3;
   const as = new Float64Array(count), bs = new Float64Array(count);
-  let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+  let loA = Infinity, loB = Infinity, hiA = -Infinity, hiB = -Infinity;
   // The directions counter-clockwise from -a; the first point furthest along each.
   const directions = [[-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0], [1, 1], [0, 1], [-1, 1]];
   const best = directions.map(() => -Infinity), extreme = directions.map(() => 0);
@@ -135,8 +135,10 @@ export function footprint(positions, up) {
     const x = positions[3 * v], y = positions[3 * v + 1], z = positions[3 * v + 2];
     const a = (as[v] = m[0][0] * x + m[0][1] * y + m[0][2] * z);
     const b = (bs[v] = m[1][0] * x + m[1][1] * y + m[1][2] * z);
-    lo = [Math.min(lo[0], a), Math.min(lo[1], b)];
-    hi = [Math.max(hi[0], a), Math.max(hi[1], b)];
+    loA = Math.min(loA, a);
+    loB = Math.min(loB, b);
+    hiA = Math.max(hiA, a);
+    hiB = Math.max(hiB, b);
     for (let k = 0; k < 8; ++k) {
       const t = directions[k][0] * a + directions[k][1] * b;
       if (t > best[k]) {
@@ -177,7 +179,7 @@ export function footprint(positions, up) {
     upper.push(p);
   }
   const hull = lower.slice(0, -1).concat(upper.slice(0, -1));
-  return { hull, centre: [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2] };
+  return { hull, centre: [(loA + hiA) / 2, (loB + hiB) / 2] };
 }
 
 // placementFrame's last result per positions array: a drag asks for it at

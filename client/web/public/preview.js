@@ -12,6 +12,7 @@
 // previewPositions() is the same computation on the CPU, for measuring the
 // preview against the exact result.
 import * as THREE from 'three';
+import { computeNormals } from './vertex_normals.js';
 
 // (a, b, h) of model point (x, y, z): `frame` from placementFrame(), and the
 // placement's centre (the sheet point the footprint's centre goes to),
@@ -272,12 +273,17 @@ async function previewMeshOf(geometry) {
   });
   if (reply.error) return null;
   const mesh = new THREE.BufferGeometry();
-  // Welded: new vertices and normals; else the model's, a new index over them.
-  mesh.setAttribute('position', reply.normals ? new THREE.BufferAttribute(reply.positions, 3) : position);
-  mesh.setAttribute('normal', reply.normals ? new THREE.BufferAttribute(reply.normals, 3)
-                                            : geometry.getAttribute('normal'));
+  // Welded: new vertices, their normals computed; else the model's
+  // vertices and normals, a new index over them.
   const vertices = reply.positions.length / 3;
   mesh.setIndex(new THREE.BufferAttribute(vertices < 65536 ? Uint16Array.from(reply.index) : reply.index, 1));
+  if (reply.welded) {
+    mesh.setAttribute('position', new THREE.BufferAttribute(reply.positions, 3));
+    computeNormals(mesh);
+  } else {
+    mesh.setAttribute('position', position);
+    mesh.setAttribute('normal', geometry.getAttribute('normal'));
+  }
   return { geometry: mesh, lod: reply.lod };
 }
 

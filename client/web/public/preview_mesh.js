@@ -7,8 +7,9 @@
 // Welded: a model read as separate triangles (STL, OBJ: three.js's loaders
 // give every triangle its own corners) gets an index over its distinct
 // positions, as the server's readers weld it, so that the vertex cache
-// shares the corners and the normals are the exact result's (smooth over
-// the welded vertices, where they were flat per triangle).
+// shares the corners and the normals (computed on the page, vertex_normals.js)
+// are the exact result's: smooth over the welded vertices, where they were
+// flat per triangle.
 //
 // Fewer triangles: a model of 20,000 triangles or more is drawn with a
 // quarter of them, simplified by meshoptimizer within 5e-4 of the model's
@@ -67,41 +68,17 @@ export function orderForVertexCache(encoder, index) {
   for (let k = 0; k < index.length; ++k) index[k] = old[renumbered[k]];
 }
 
-// Unit vertex normals: each vertex's sum of its triangles' (c - b) x (a - b),
-// normalised (three.js's computeVertexNormals).
-export function vertexNormals(positions, index) {
-  const sum = new Float64Array(positions.length);
-  for (let t = 0; t + 2 < index.length; t += 3) {
-    const a = 3 * index[t], b = 3 * index[t + 1], c = 3 * index[t + 2];
-    const cbx = positions[c] - positions[b], cby = positions[c + 1] - positions[b + 1];
-    const cbz = positions[c + 2] - positions[b + 2];
-    const abx = positions[a] - positions[b], aby = positions[a + 1] - positions[b + 1];
-    const abz = positions[a + 2] - positions[b + 2];
-    const n = [cby * abz - cbz * aby, cbz * abx - cbx * abz, cbx * aby - cby * abx];
-    for (const v of [a, b, c]) for (let k = 0; k < 3; ++k) sum[v + k] += n[k];
-  }
-  const out = new Float32Array(positions.length);
-  for (let v = 0; v < positions.length; v += 3) {
-    const len = Math.hypot(sum[v], sum[v + 1], sum[v + 2]);
-    const k = len > 0 ? 1 / len : 0;
-    for (let c = 0; c < 3; ++c) out[v + c] = sum[v + c] * k;
-  }
-  return out;
-}
-
 // The preview's mesh from the model as read: `positions` and `index`
-// (null: separate triangles). {positions, index, normals (null: keep the
-// model's), lod: {triangles: [before, after], error} or null}.
+// (null: separate triangles). {positions, index, welded (new vertices,
+// whose normals are to be computed; else the model's), lod: {triangles:
+// [before, after], error} or null}.
 export function previewMesh({ simplifier, encoder }, positions, index) {
-  let normals = null;
-  if (!index) {
-    ({ positions, index } = weldTriangles(simplifier, positions));
-    normals = vertexNormals(positions, index);
-  }
+  const welded = !index;
+  if (welded) ({ positions, index } = weldTriangles(simplifier, positions));
   const before = index.length / 3;
   const simplified = simplifyTriangles(simplifier, index, positions);
   if (simplified) index = simplified.index;
   orderForVertexCache(encoder, index);
   const lod = simplified ? { triangles: [before, index.length / 3], error: simplified.error } : null;
-  return { positions, index, normals, lod };
+  return { positions, index, welded, lod };
 }
