@@ -15,7 +15,7 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "service/service.hpp"
+#include "estimate_input.hpp"
 
 namespace {
 
@@ -25,30 +25,19 @@ constexpr double kBudgetMs = 1000;
 constexpr auto kBound = std::chrono::milliseconds(5000);
 
 surfdeform::Service& TheService() {
-  static surfdeform::Service* service = [] {
-    surfdeform::ServiceOptions o;
-    o.engine_threads = 1;
-    o.limits.max_body_bytes = 64 << 10;
-    o.limits.max_grid_side = 32;  // the estimates are about the mesh, not the grid
-    o.limits.flatten_time_budget_ms = kBudgetMs;
-    o.limits.request_time_budget_ms = kBudgetMs;
-    o.limits.max_in_flight = 1;
-    o.limits.max_queued = 0;
-    o.limits.cache_bytes = 8u << 20;
-    return new surfdeform::Service(o);
-  }();
+  static surfdeform::Service* service =
+      new surfdeform::Service(surfdeform::EstimateServiceOptions(kBudgetMs));
   return *service;
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const std::string_view input(reinterpret_cast<const char*>(data), size);
-  const size_t line = input.find('\n');
-  if (line == std::string_view::npos) return 0;
   surfdeform::DeformRequest request;
-  request.params = input.substr(0, line);
-  request.mesh = input.substr(line + 1);
+  if (!surfdeform::EstimateRequest(std::string_view(reinterpret_cast<const char*>(data), size),
+                                   &request)) {
+    return 0;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   (void)TheService().Deform(request);
   const auto spent = std::chrono::steady_clock::now() - t0;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "fuzz/estimate_input.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
 #include "service/answer_cache.hpp"
@@ -765,25 +766,14 @@ TEST(Service, ABudgetOfZeroKeepsNoAnswer) {
 // (issue 35's CI found a centre at (0, 1e20) converting 1.2e21 to an int).
 // Each is answered: a result, or an error that names its field.
 TEST(HostileInput, EveryEstimateSeedIsAnsweredWithoutUndefinedBehaviour) {
-  ServiceOptions o;
-  o.engine_threads = 1;
-  o.limits.max_body_bytes = 64 << 10;
-  o.limits.max_grid_side = 32;
-  o.limits.flatten_time_budget_ms = 1000;
-  o.limits.request_time_budget_ms = 1000;
-  o.limits.cache_bytes = 8u << 20;
-  Service service(o);
+  Service service(EstimateServiceOptions(1000));
   int seeds = 0;
   for (const auto& entry :
        std::filesystem::directory_iterator(std::string(SURFDEFORM_FUZZ_SEEDS_DIR) + "/estimate")) {
     std::ifstream in(entry.path(), std::ios::binary);
     const std::string input((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const size_t line = input.find('\n');
-    ASSERT_NE(line, std::string::npos) << entry.path();
-    const std::string params = input.substr(0, line), mesh = input.substr(line + 1);
-    DeformRequest request;  // views of them
-    request.params = params;
-    request.mesh = mesh;
+    DeformRequest request;  // views of `input`
+    ASSERT_TRUE(EstimateRequest(input, &request)) << entry.path();
     auto reply = service.Deform(request);
     if (!reply.ok()) {
       EXPECT_FALSE(reply.status().message().empty()) << entry.path();
