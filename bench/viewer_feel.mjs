@@ -26,8 +26,9 @@ const [serverBin, secondsArg = '4', modelsArg = 'bunny,relief-1m'] = process.arg
 const seconds = Number(secondsArg);
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
-// A relief of about a million triangles (binary PLY): a 708 x 708 grid of
-// vertices, 0.4 high over 10 x 10, gently waved.
+// A relief of about a million triangles (binary PLY, or binary STL with
+// every triangle's own corners): a 708 x 708 grid of vertices, 0.4 high
+// over 10 x 10, gently waved.
 const { gridPly, gridStl } = await import(path.join(here, '../tests/browser/grid_ply.mjs'));
 const relief = (x, y) => 0.2 + 0.1 * Math.sin(2 * x) * Math.cos(3 * y);
 function millionTriangles(format) {

@@ -3,7 +3,16 @@
 // Shared by viewer_test.mjs (a Draco answer large enough to come in pieces)
 // and bench/viewer_feel.mjs (a relief of a million triangles). gridStl: the
 // same triangles as a binary STL (each with its own corners).
+// Grid point (i, j): [x, y, height(x, y)].
+function gridPoint(n, x0, y0, size, height) {
+  return (i, j) => {
+    const x = x0 + (size * i) / (n - 1), y = y0 + (size * j) / (n - 1);
+    return [x, y, height(x, y)];
+  };
+}
+
 export function gridPly(n, x0, y0, size, height) {
+  const point = gridPoint(n, x0, y0, size, height);
   const verts = n * n, tris = 2 * (n - 1) * (n - 1);
   const header = `ply\nformat binary_little_endian 1.0\nelement vertex ${verts}\n` +
     'property float x\nproperty float y\nproperty float z\n' +
@@ -12,11 +21,10 @@ export function gridPly(n, x0, y0, size, height) {
   let o = 0;
   for (let j = 0; j < n; ++j) {
     for (let i = 0; i < n; ++i) {
-      const x = x0 + (size * i) / (n - 1), y = y0 + (size * j) / (n - 1);
-      body.writeFloatLE(x, o);
-      body.writeFloatLE(y, o + 4);
-      body.writeFloatLE(height(x, y), o + 8);
-      o += 12;
+      for (const x of point(i, j)) {
+        body.writeFloatLE(x, o);
+        o += 4;
+      }
     }
   }
   for (let j = 0; j + 1 < n; ++j) {
@@ -35,10 +43,7 @@ export function gridPly(n, x0, y0, size, height) {
 }
 
 export function gridStl(n, x0, y0, size, height) {
-  const point = (i, j) => {
-    const x = x0 + (size * i) / (n - 1), y = y0 + (size * j) / (n - 1);
-    return [x, y, height(x, y)];
-  };
+  const point = gridPoint(n, x0, y0, size, height);
   const tris = 2 * (n - 1) * (n - 1);
   const body = Buffer.alloc(84 + 50 * tris);
   body.writeUInt32LE(tris, 80);
