@@ -8,7 +8,8 @@
 import assert from 'node:assert/strict';
 // The client's own three.js (the module its files import as 'three').
 import * as THREE from '../../client/web/node_modules/three/build/three.module.js';
-import { footprint, placementFrame, positionsOf, readModel } from '../../client/web/public/footprint.js';
+import { footprint, mergedGeometry, placementFrame, positionsOf,
+         readModel } from '../../client/web/public/footprint.js';
 import { sampleField, sampleParams } from '../../client/web/public/preview.js';
 import { MeshoptEncoder } from '../../client/web/node_modules/meshoptimizer/meshopt_encoder.js';
 import { MeshoptSimplifier } from '../../client/web/node_modules/meshoptimizer/meshopt_simplifier.js';
@@ -348,5 +349,36 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   for (let k = 0; k < want.length; ++k) off = Math.max(off, Math.abs(got[k] - want[k]));
   assert.ok(off < 1e-12, `positions in world space as three.js puts them (off by ${off})`);
   checks += 2;
+}
+// A model whose meshes are some indexed and some not (a glTF may mix
+// them), with a point cloud and a line beside them (which the server
+// ignores): its footprint counts the triangle meshes' vertices only, and
+// its preview has every triangle, as separate triangles the worker welds.
+// Where every mesh is indexed, the merged geometry is too.
+{
+  const box = new THREE.Mesh(new THREE.BoxGeometry(1, 2, 3));
+  const ball = new THREE.Mesh(new THREE.SphereGeometry(0.5, 6, 4).toNonIndexed());
+  ball.position.set(0, 4, 0);
+  const cloud = new THREE.Points(new THREE.BufferGeometry().setAttribute(
+    'position', new THREE.Float32BufferAttribute([9, 9, 9, -9, -9, -9], 3)));
+  const line = new THREE.Line(new THREE.BufferGeometry().setAttribute(
+    'position', new THREE.Float32BufferAttribute([20, 0, 0, -20, 0, 0], 3)));
+  const scene = new THREE.Group();
+  scene.add(box, ball, cloud, line);
+  const boxCount = box.geometry.getAttribute('position').count;
+  const ballCount = ball.geometry.getAttribute('position').count;
+  assert.equal(positionsOf(scene).length, 3 * (boxCount + ballCount),
+               'the triangle meshes\' vertices, no points or lines');
+  const merged = mergedGeometry(scene);
+  assert.ok(merged, 'indexed and separate triangles merge');
+  assert.equal(merged.index, null, 'as separate triangles');
+  const triangles = box.geometry.index.count / 3 + ballCount / 3;
+  assert.equal(merged.getAttribute('position').count, 3 * triangles, 'every triangle of both');
+  const mesh = previewMesh(meshopt, merged.getAttribute('position').array, null);
+  assert.ok(mesh.welded && mesh.index.length === 3 * triangles, 'welded by the worker, every triangle kept');
+  const sphere = new THREE.Mesh(new THREE.SphereGeometry(0.5, 6, 4));
+  const both = mergedGeometry(new THREE.Group().add(new THREE.Mesh(box.geometry), sphere));
+  assert.ok(both.index, 'indexed meshes merge indexed');
+  checks += 5;
 }
 console.log(`preview_unit: ${checks + 1} checks passed`);

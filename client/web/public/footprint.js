@@ -20,6 +20,17 @@ export function dracoLoader() {
   return draco;
 }
 
+// The triangle meshes under `object`, each with positions: what the
+// server reads of a model (a glTF's point and line primitives, which
+// three.js reads as Points and Lines, it ignores).
+function meshesOf(object) {
+  const meshes = [];
+  object.traverse((o) => {
+    if (o.isMesh && o.geometry && o.geometry.getAttribute('position')) meshes.push(o);
+  });
+  return meshes;
+}
+
 // Every mesh's positions in world space, x, y, z per vertex (a
 // Float64Array: a million-triangle STL has nine million numbers, which a
 // plain array grown by push took ~0.2 s to hold). World matrices are affine.
@@ -27,12 +38,11 @@ export function positionsOf(object) {
   object.updateMatrixWorld(true);
   const parts = [];
   let total = 0;
-  object.traverse((o) => {
-    const p = o.geometry && o.geometry.getAttribute('position');
-    if (!p) return;
+  for (const o of meshesOf(object)) {
+    const p = o.geometry.getAttribute('position');
     parts.push([p, o.matrixWorld.elements]);
     total += p.count;
-  });
+  }
   const out = new Float64Array(3 * total);
   let w = 0;
   for (const [p, e] of parts) {
@@ -47,19 +57,22 @@ export function positionsOf(object) {
 }
 
 // One geometry of every mesh in `object`, in world space, with positions
-// and normals only (what the preview bends), indexed where the meshes are;
-// null for none.
-function mergedGeometry(object) {
+// and normals only (what the preview bends); null for none. Indexed where
+// every mesh is; where some are and some are not (a glTF may mix them),
+// separate triangles throughout, which the preview's worker welds as it
+// welds an STL's (mergeGeometries merges only alike geometries).
+export function mergedGeometry(object) {
   object.updateMatrixWorld(true);
-  const parts = [];
-  object.traverse((o) => {
-    if (!o.isMesh || !o.geometry.getAttribute('position')) return;
-    const g = new THREE.BufferGeometry();
+  const meshes = meshesOf(object);
+  const indexed = meshes.every((o) => o.geometry.index);
+  const parts = meshes.map((o) => {
+    let g = new THREE.BufferGeometry();
     g.setAttribute('position', o.geometry.getAttribute('position').clone());
     if (o.geometry.index) g.setIndex(o.geometry.index.clone());
+    if (!indexed && g.index) g = g.toNonIndexed();
     g.applyMatrix4(o.matrixWorld);
     computeNormals(g);
-    parts.push(g);
+    return g;
   });
   if (parts.length <= 1) return parts[0] || null;
   return mergeGeometries(parts);
