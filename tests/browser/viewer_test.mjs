@@ -232,6 +232,36 @@ try {
       await sleep(500);
       const f1 = await viewer(() => window.surfdeformViewer.framesDrawn());
       check(f0 > 0 && f1 === f0, `a settled page draws no frames (${f1 - f0} in 0.5 s, ${f0} before)`);
+      // Orbiting the exact bunny (and back to where the view was): with
+      // software WebGL its simplified preview stands in for it while the
+      // view moves, and the exact result is drawn again once the view
+      // stops; no request either way.
+      const view = await (await page.$('#view3d')).boundingBox();
+      const [ox, oy] = [view.x + 0.06 * view.width, view.y + 0.94 * view.height];
+      const software = await viewer(() => window.surfdeformViewer.software());
+      const asked = (await posts()).length;
+      await page.mouse.move(ox, oy);
+      await page.mouse.down();
+      for (let k = 1; k <= 5; ++k) {
+        await page.mouse.move(ox + 12 * k, oy);
+        await sleep(80);
+      }
+      await page.waitForFunction((f) => window.surfdeformViewer.framesDrawn() > f + 1, {}, f1);
+      const orbiting = await viewer(() => window.surfdeformViewer.standingIn());
+      for (let k = 4; k >= 0; --k) {
+        await page.mouse.move(ox + 12 * k, oy);
+        await sleep(80);
+      }
+      await page.mouse.up();
+      const f2 = await viewer(() => window.surfdeformViewer.framesDrawn());
+      await sleep(500);
+      const stopped = await viewer(() => window.surfdeformViewer.standingIn());
+      const f3 = await viewer(() => window.surfdeformViewer.framesDrawn());
+      check(orbiting === software, `while the view orbits, the preview stands in for the exact bunny ` +
+            `with software WebGL only (software: ${software}, stood in: ${orbiting})`);
+      check(!stopped && (!software || f3 > f2), `the exact bunny is drawn again once the view stops ` +
+            `(stood in: ${stopped}, ${f3 - f2} frames after the release)`);
+      check((await posts()).length === asked, 'orbiting sends no request');
     }
   }
   {

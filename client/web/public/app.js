@@ -147,8 +147,26 @@ function showLivePreview() {
   return true;
 }
 
-function useField(field, version, spec) {
+// What an exact result or a preview shows: its surface, placement and the
+// settings the preview follows ("rigid" parts it does not: none).
+function shownKey(surfaceId) {
+  return JSON.stringify([surfaceId, state.placement, $('up').value, $('anchor').value, $('rigid').value]);
+}
+
+// Whether the preview may stand in for the exact result while the view
+// moves (model_view.js): it shows the same surface and placement, and it
+// is simplified (a quarter of the triangles).
+modelView.standInAllowed = () => {
+  const m = state.model;
+  if (!m || !m.positions || !m.lod || !state.field || $('rigid').value !== 'none') return false;
+  if (state.exactShown !== shownKey(state.fieldSurface)) return false;
+  preview.setPlacement(placementFrame(m.positions, effectiveUp(), $('anchor').value), state.placement);
+  return preview.ready();
+};
+
+function useField(field, version, spec, surfaceId) {
   state.field = field;
+  state.fieldSurface = surfaceId;
   state.fieldSpec = spec;
   state.fieldVersion = version;
   preview.setField(field);
@@ -213,7 +231,7 @@ async function liveSurface() {
       if (moved && moved !== state.field) {
         state.live.gap = Math.max(state.live.gap, fieldGap(moved, summary.field, summary.warm_start?.motion));
       }
-      useField(summary.field, version, request.surface);
+      useField(summary.field, version, request.surface, summary.id);
       followSheet(summary);
       // Then moved on to where the control point is now.
       if (!showMovedField()) {
@@ -318,7 +336,7 @@ async function refreshSurface(known = null, deformed = false) {
     if (!known && state.placementSheet) request.warm_start = state.placementSheet;
     const summary = known ? known.summary : await createSurface(request, kFieldSide);
     if (run !== surfaceRun) return;  // a newer edit is on its way
-    useField(summary.field, version, known ? known.spec : request.surface);
+    useField(summary.field, version, known ? known.spec : request.surface, summary.id);
     if (!known) followSheet(summary);  // a live reply was followed when it came
     state.surfaceId = summary.id;
     state.surfacePending = false;
@@ -494,6 +512,7 @@ async function runDeform(edit = null) {
       showPlacement();
     }
     state.lastStats = stats;
+    state.exactShown = shownKey(stats.surface_id);
     if (stats.placement.up !== state.upResolved) {
       state.upResolved = stats.placement.up;
       if ($('up').value === 'auto') updateFootprint();
@@ -810,6 +829,8 @@ window.surfdeformViewer = { state, animation: animationPanel, preview, compareEn
                               scheduleDeform(0);
                             },
                             framesDrawn: () => modelView.drawn,
+                            software: () => modelView.software,
+                            standingIn: () => modelView.stoodIn,
                             modelCoverage: () => modelView.modelCoverage(),
                             modelMask: () => modelView.modelMask(),
                             handlePoint: (k) => modelView.handleClientPoint(k),

@@ -42,6 +42,12 @@ function disposeObject(object) {
   });
 }
 
+function meshesOf(object) {
+  const meshes = [];
+  object.traverse((o) => { if (o.isMesh) meshes.push(o); });
+  return meshes;
+}
+
 // A material the view keeps for every object of one role (the surface, the
 // handles, the model's plain and distortion colours), never disposed.
 function keptMaterial(material) {
@@ -71,7 +77,8 @@ export class ModelView {
     // Software WebGL draws without multisampling: it halves the frame's time
     // there (6.5 -> 14.4 fps for the bunny in Chromium's SwiftShader), and
     // every pointer move and reply waits for the frame.
-    this.renderer = new THREE.WebGLRenderer({ antialias: !softwareWebGl(),
+    this.software = softwareWebGl();
+    this.renderer = new THREE.WebGLRenderer({ antialias: !this.software,
                                               preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
     container.appendChild(this.renderer.domElement);
@@ -122,6 +129,34 @@ export class ModelView {
     // server's 14 ms took ~290 ms to reach the page).
     this.dirty = true;
     this.controls.addEventListener('change', () => this.invalidate());
+    // While the view is orbited, panned or zoomed with software WebGL, the
+    // live preview (simplified: preview_mesh.js) stands in for the exact
+    // model shown, in the plain colour (the preview has no distortion map
+    // and no texture), where the page says it may (`standInAllowed`: the
+    // preview is of the same surface and placement, and much lighter): a
+    // million-triangle exact result drew ~5 frames a second orbiting. The
+    // exact model is drawn again 150 ms after the view stops (the wheel's
+    // events each start and end).
+    this.standInAllowed = () => false;
+    this.standIn = false;       // decided as the view starts moving
+    this.navigating = false;    // the view is being moved
+    this.stoodIn = false;       // the last frame drawn showed the stand-in
+    this.controls.addEventListener('start', () => {
+      clearTimeout(this.navigationEnd);
+      if (!this.navigating) {
+        this.standIn = this.software && Boolean(this.model) && !this.distortionSpread &&
+                       meshesOf(this.model).every((o) => o.material === this.materials.model) &&
+                       this.standInAllowed();
+      }
+      this.navigating = true;
+    });
+    this.controls.addEventListener('end', () => {
+      clearTimeout(this.navigationEnd);
+      this.navigationEnd = setTimeout(() => {
+        this.navigating = false;
+        if (this.stoodIn) this.invalidate();
+      }, 150);
+    });
     this.renderer.setAnimationLoop(() => {
       const dt = this.clock.getDelta();
       if (this.mixer) {
@@ -131,7 +166,20 @@ export class ModelView {
       this.controls.update();
       if (!this.dirty) return;
       this.dirty = false;
+      // A control point's drag starts the controls too (they see the press
+      // first): not a navigation.
+      const standIn = this.standIn && this.navigating && !this.drag && this.model && this.model.visible &&
+                      this.preview && !this.preview.visible && !this.mixer;
+      if (standIn) {
+        this.model.visible = false;
+        this.preview.visible = true;
+      }
       this.renderer.render(this.scene, this.camera);
+      if (standIn) {
+        this.model.visible = true;
+        this.preview.visible = false;
+      }
+      this.stoodIn = Boolean(standIn);
       ++this.drawn;
       this.rendered.push(performance.now());
       if (this.rendered.length > 60) this.rendered.shift();
@@ -201,6 +249,7 @@ export class ModelView {
 
   showPreview(on) {
     this.invalidate();
+    if (on) this.standIn = false;  // a live edit: the exact model shown is stale
     if (!this.preview) return;
     this.preview.visible = on;
     if (this.model) this.model.visible = !on;
@@ -248,6 +297,7 @@ export class ModelView {
   // with distortion, coloured by its _DISTORTION attribute.
   setModel(object, { distortion = false, mixer = null } = {}) {
     this.invalidate();
+    this.standIn = false;  // a new exact model: asked again when the view next moves
     if (this.model && this.model !== object) {
       this.scene.remove(this.model);
       disposeObject(this.model);
@@ -257,8 +307,7 @@ export class ModelView {
     this.mixer = mixer;  // null stops an animation that was playing
     // The static surface does not move with an animation: hidden meanwhile.
     for (const o of [this.surface, this.handles, this.marks]) if (o) o.visible = !mixer;
-    const meshes = [];
-    object.traverse((o) => { if (o.isMesh) meshes.push(o); });
+    const meshes = meshesOf(object);
     const colour = distortion && meshes.every((o) => o.geometry.getAttribute('_distortion'));
     // One scale for the whole model: its largest |log s|, as the sheet's
     // colours span its largest |log area ratio|.
