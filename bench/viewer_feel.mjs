@@ -11,7 +11,8 @@
 // Ratios to the page's own orbiting frame rate in the same run are what hold
 // on a shared machine.
 // Usage: node bench/viewer_feel.mjs SERVER_BINARY [seconds per phase, default 4]
-//        [models, default bunny,relief-1m; relief-1m-stl: the relief as a binary STL]
+//        [models, default bunny,relief-1m; relief-1m-stl: the relief as a binary STL;
+//        word: the page's opening sample]
 // (puppeteer-core comes from tests/browser/node_modules: scripts/setup.sh).
 import { mkdtempSync, writeFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
@@ -47,12 +48,16 @@ const results = [];
 try {
   const page = await browser.newPage();
   await page.setViewport({ width: 1280, height: 800 });
-  // Every display frame: when, what the model showed (the preview's
+  // Every display frame, once its animation-frame callbacks (the view's
+  // drawing among them) have run: when, what the model showed (the preview's
   // uniforms and field, which model object) and how many frames the view had
-  // drawn; every pointer move: how long it waited.
+  // drawn; every pointer move: how long it waited. (Read at the start of the
+  // callbacks instead, before the view's own, a frame drawn for a pointer
+  // move that came just before it was counted as one that did not move the
+  // model: at ~40 frames a second, 10-20% of them.)
   await page.evaluateOnNewDocument(() => {
     window.feel = { frames: [], waits: [] };
-    const loop = () => {
+    const sample = () => {
       const v = window.surfdeformViewer;
       let shown = '';
       if (v) {
@@ -62,6 +67,9 @@ try {
                  v.state.lastExact && v.state.lastExact.done_at].join();
       }
       window.feel.frames.push([performance.now(), shown, v ? v.framesDrawn() : 0]);
+    };
+    const loop = () => {
+      setTimeout(sample, 0);
       requestAnimationFrame(loop);
     };
     requestAnimationFrame(loop);
@@ -111,7 +119,7 @@ try {
     await page.mouse.up();
     await ready('after the release');
     const exact = await page.evaluate(() => window.surfdeformViewer.state.lastExact);
-    // On screen: the first display frame after a frame was drawn with it.
+    // On screen: the end of the first frame the view drew with it.
     await page.waitForFunction((t) => {
       const f = window.feel.frames;
       return f.length > 1 && f[f.length - 1][0] > t && f[f.length - 1][2] > f.findLast((e) => e[0] <= t)[2];
@@ -135,8 +143,8 @@ try {
   writeFileSync(big.ply, millionTriangles('ply'));
   writeFileSync(big.stl, millionTriangles('stl'));
   for (const model of modelsArg.split(',')) {
-    if (model === 'bunny') {
-      await page.select('#sample', 'bunny');
+    if (model === 'bunny' || model === 'word') {  // samples
+      await page.select('#sample', model);
     } else {
       await (await page.$('#upload')).uploadFile(model === 'relief-1m-stl' ? big.stl : big.ply);
     }
