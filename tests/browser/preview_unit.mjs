@@ -242,7 +242,18 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
                    'the counts and error reported');
   assert.deepEqual(canonical(Array.from(mesh.index)), canonical(kept), 'its triangles, reordered');
   assert.ok(mesh.positions === positions && !mesh.welded, 'the vertices kept');
-  checks += 3;
+  // Their normals, made by the worker over every triangle (before the
+  // simplification), as three.js computes them.
+  const whole = new THREE.BufferGeometry();
+  whole.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+  whole.setIndex(triangles);
+  whole.computeVertexNormals();
+  const wholeNormals = whole.getAttribute('normal').array;
+  let off = 0;
+  for (let k = 0; k < wholeNormals.length; ++k) off = Math.max(off, Math.abs(mesh.normals[k] - wholeNormals[k]));
+  assert.ok(mesh.normals.length === wholeNormals.length && off < 1e-6,
+            `the worker's normals are the whole model's (off by ${off})`);
+  checks += 4;
   // A small model is drawn whole.
   const small = Uint32Array.from(triangles.slice(0, 3 * (kPreviewMinTriangles - 1)));
   assert.equal(simplifyTriangles(MeshoptSimplifier, small, positions), null,
@@ -271,11 +282,20 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
       if (welded.positions[3 * welded.index[k] + c] !== separate[3 * k + c]) assert.fail(`corner ${k} moved`);
     }
   }
-  // The worker's mesh of separate triangles: welded.
+  // The worker's mesh of separate triangles: welded, with smooth normals
+  // over the welded vertices (as three.js computes them for the welded mesh).
   const mesh = previewMesh(meshopt, separate, null);
   assert.ok(mesh.welded, 'the worker welds separate triangles');
   assert.deepEqual(Array.from(mesh.positions), Array.from(welded.positions), 'to the same vertices');
-  checks += 6;
+  const smooth = new THREE.BufferGeometry();
+  smooth.setAttribute('position', new THREE.BufferAttribute(welded.positions, 3));
+  smooth.setIndex(Array.from(welded.index));
+  smooth.computeVertexNormals();
+  const want = smooth.getAttribute('normal').array;
+  let off = 0;
+  for (let k = 0; k < want.length; ++k) off = Math.max(off, Math.abs(mesh.normals[k] - want[k]));
+  assert.ok(mesh.normals.length === want.length && off < 1e-6, `smooth normals over the welded vertices (off by ${off})`);
+  checks += 7;
 }
 
 // The footprint's hull, points inside the extremes' polygon left out before

@@ -128,8 +128,17 @@ function effectiveUp() {
   return $('up').value === 'auto' ? state.upResolved || '+z' : $('up').value;
 }
 
+// The model's outline for the up axis in use, kept per model and axis: a
+// million-triangle model's hull takes ~0.2-0.3 s on the page's thread, and
+// the first exact result's resolved axis ("auto") is most often the one
+// assumed before it came.
 function updateFootprint() {
-  sheetView.setFootprint(state.model ? footprint(state.model.positions, effectiveUp()) : null);
+  const m = state.model;
+  if (!m) return sheetView.setFootprint(null);
+  const up = effectiveUp();
+  m.outlines ||= new Map();
+  if (!m.outlines.has(up)) m.outlines.set(up, footprint(m.positions, up));
+  sheetView.setFootprint(m.outlines.get(up));
 }
 
 // --- live preview ---------------------------------------------------------
@@ -142,6 +151,7 @@ function showLivePreview() {
   if (!m || !m.positions || !state.field || typeof state.placement.scale !== 'number') return false;
   preview.setPlacement(placementFrame(m.positions, effectiveUp(), $('anchor').value), state.placement);
   if (!preview.ready()) return false;
+  preview.shown();
   modelView.showPreview(true);
   ++state.live.previews;
   return true;
@@ -161,7 +171,7 @@ modelView.standInAllowed = () => {
   if (!m || !m.positions || !m.lod || !state.field || $('rigid').value !== 'none') return false;
   if (state.exactShown !== shownKey(state.fieldSurface)) return false;
   preview.setPlacement(placementFrame(m.positions, effectiveUp(), $('anchor').value), state.placement);
-  return preview.ready();
+  return preview.ready();  // m.lod: the worker's mesh, with its normals
 };
 
 function useField(field, version, spec, surfaceId) {

@@ -273,17 +273,12 @@ async function previewMeshOf(geometry) {
   });
   if (reply.error) return null;
   const mesh = new THREE.BufferGeometry();
-  // Welded: new vertices, their normals computed; else the model's
-  // vertices and normals, a new index over them.
+  // Welded: new vertices; else the model's, a new index over them. Their
+  // normals, computed by the worker, either way.
   const vertices = reply.positions.length / 3;
   mesh.setIndex(new THREE.BufferAttribute(vertices < 65536 ? Uint16Array.from(reply.index) : reply.index, 1));
-  if (reply.welded) {
-    mesh.setAttribute('position', new THREE.BufferAttribute(reply.positions, 3));
-    computeNormals(mesh);
-  } else {
-    mesh.setAttribute('position', position);
-    mesh.setAttribute('normal', geometry.getAttribute('normal'));
-  }
+  mesh.setAttribute('position', reply.welded ? new THREE.BufferAttribute(reply.positions, 3) : position);
+  mesh.setAttribute('normal', new THREE.BufferAttribute(reply.normals, 3));
   return { geometry: mesh, lod: reply.lod };
 }
 
@@ -389,9 +384,10 @@ export class FieldPreview {
     this.onChange();
   }
 
-  // The model as the browser read it (positions and normals, model space).
-  // The geometry it replaces is let go of on the GPU (a buffer it shares with
-  // the new one is uploaded again).
+  // The model as the browser read it (positions, model space; normals are
+  // computed when it is first shown without them, see shown()), or the
+  // worker's mesh. The geometry it replaces is let go of on the GPU (a
+  // buffer it shares with the new one is uploaded again).
   setGeometry(geometry) {
     const old = this.mesh.geometry;
     this.mesh.geometry = geometry || new THREE.BufferGeometry();
@@ -427,6 +423,15 @@ export class FieldPreview {
     this.frame = frame;
     this.placement = { ...placement, center: [...placement.center] };
     this.onChange();
+  }
+
+  // To be called as the preview is shown: the model as read, shown before
+  // the worker's mesh (with its normals) came, gets its normals now. Not at
+  // load, where the page's thread would compute them for a mesh the worker's
+  // usually replaces before anyone drags.
+  shown() {
+    const g = this.mesh.geometry;
+    if (g.getAttribute('position') && !g.getAttribute('normal')) computeNormals(g);
   }
 
   // Whether there is everything a preview needs.
