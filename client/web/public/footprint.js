@@ -62,10 +62,10 @@ const kIdentity = new THREE.Matrix4();
 
 // One geometry of every mesh in `object`, in world space, with positions
 // only (what the preview bends; its worker computes the normals); null for
-// none. Indexed where
-// every mesh is; where some are and some are not (a glTF may mix them),
-// separate triangles throughout, which the preview's worker welds as it
-// welds an STL's (mergeGeometries merges only alike geometries).
+// none. Indexed where every mesh is; where some are and some are not (a
+// glTF may mix them), separate triangles throughout, which the preview's
+// worker welds as it welds an STL's (mergeGeometries merges only alike
+// geometries).
 export function mergedGeometry(object) {
   object.updateMatrixWorld(true);
   const meshes = meshesOf(object);
