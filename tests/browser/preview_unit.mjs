@@ -333,9 +333,11 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
     point: [[3, 4, 5], [3, 4, 5]],
   };
   for (const [name, points] of Object.entries(sets)) {
-    const got = footprint(points.flat(), '+z').hull;
-    assert.deepEqual(got, fullHull(points.map(([x, y]) => [x, y])), `the ${name}'s hull`);
-    ++checks;
+    const got = footprint(points.flat(), '+z');
+    assert.deepEqual(got.hull, fullHull(points.map(([x, y]) => [x, y])), `the ${name}'s hull`);
+    const mid = (c) => (Math.min(...points.map((p) => p[c])) + Math.max(...points.map((p) => p[c]))) / 2;
+    assert.deepEqual(got.centre, [mid(0), mid(1)], `the ${name}'s centre: its bounds' middle`);
+    checks += 2;
   }
   assert.equal(footprint(sets.grid.flat(), '+z').hull.length, 4, 'a grid\'s hull is its four corners');
   ++checks;

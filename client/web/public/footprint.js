@@ -144,26 +144,31 @@ export function footprint(positions, up) {
   const m = kBasis[up] || kBasis['+z'];
   const count = positions.length / 3;
   const as = new Float64Array(count), bs = new Float64Array(count);
-  let loA = Infinity, loB = Infinity, hiA = -Infinity, hiB = -Infinity;
-  // The directions counter-clockwise from -a; the first point furthest along each.
-  const directions = [[-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0], [1, 1], [0, 1], [-1, 1]];
-  const best = directions.map(() => -Infinity), extreme = directions.map(() => 0);
+  const [ra, rb] = m;
+  // The first point furthest along each of eight directions, counter-
+  // clockwise from -a: -a, -(a + b), -b, a - b, a, a + b, b, b - a (one
+  // comparison each, unrolled: the loop runs over every corner of the
+  // model, three million for a million-triangle STL).
+  let t0 = -Infinity, t1 = -Infinity, t2 = -Infinity, t3 = -Infinity;
+  let t4 = -Infinity, t5 = -Infinity, t6 = -Infinity, t7 = -Infinity;
+  let e0 = 0, e1 = 0, e2 = 0, e3 = 0, e4 = 0, e5 = 0, e6 = 0, e7 = 0;
   for (let v = 0; v < count; ++v) {
     const x = positions[3 * v], y = positions[3 * v + 1], z = positions[3 * v + 2];
-    const a = (as[v] = m[0][0] * x + m[0][1] * y + m[0][2] * z);
-    const b = (bs[v] = m[1][0] * x + m[1][1] * y + m[1][2] * z);
-    loA = Math.min(loA, a);
-    loB = Math.min(loB, b);
-    hiA = Math.max(hiA, a);
-    hiB = Math.max(hiB, b);
-    for (let k = 0; k < 8; ++k) {
-      const t = directions[k][0] * a + directions[k][1] * b;
-      if (t > best[k]) {
-        best[k] = t;
-        extreme[k] = v;
-      }
-    }
+    const a = (as[v] = ra[0] * x + ra[1] * y + ra[2] * z);
+    const b = (bs[v] = rb[0] * x + rb[1] * y + rb[2] * z);
+    const s = a + b, d = a - b;
+    if (-a > t0) { t0 = -a; e0 = v; }
+    if (-s > t1) { t1 = -s; e1 = v; }
+    if (-b > t2) { t2 = -b; e2 = v; }
+    if (d > t3) { t3 = d; e3 = v; }
+    if (a > t4) { t4 = a; e4 = v; }
+    if (s > t5) { t5 = s; e5 = v; }
+    if (b > t6) { t6 = b; e6 = v; }
+    if (-d > t7) { t7 = -d; e7 = v; }
   }
+  const extreme = [e0, e1, e2, e3, e4, e5, e6, e7];
+  // The bounds' centre, from the extremes along the axes.
+  const loA = as[e0], hiA = as[e4], loB = bs[e2], hiB = bs[e6];
   // Their polygon (counter-clockwise, repeats dropped) as edges: p is
   // strictly left of edge k where ea[k] a + eb[k] b + ec[k] > 0. A point
   // strictly left of every edge of any closed polygon of the points is
