@@ -143,14 +143,20 @@ function updateFootprint() {
 
 // --- live preview ---------------------------------------------------------
 
+// The preview placed where the model is now; whether it can be shown (not
+// without a field, a model the browser read or a fitted scale).
+function placePreview() {
+  const m = state.model;
+  if (!m || !m.positions || !state.field || typeof state.placement.scale !== 'number') return false;
+  preview.setPlacement(placementFrame(m.positions, effectiveUp(), $('anchor').value), state.placement);
+  return preview.ready();
+}
+
 // The preview at the current placement, in place of the exact model; false
 // when it cannot be shown (no field yet, a model the browser cannot read, a
 // scale still to be fitted).
 function showLivePreview() {
-  const m = state.model;
-  if (!m || !m.positions || !state.field || typeof state.placement.scale !== 'number') return false;
-  preview.setPlacement(placementFrame(m.positions, effectiveUp(), $('anchor').value), state.placement);
-  if (!preview.ready()) return false;
+  if (!placePreview()) return false;
   preview.shown();
   modelView.showPreview(true);
   ++state.live.previews;
@@ -166,13 +172,10 @@ function shownKey(surfaceId) {
 // Whether the preview may stand in for the exact result while the view
 // moves (model_view.js): it shows the same surface and placement, and it
 // is simplified (a quarter of the triangles).
-modelView.standInAllowed = () => {
-  const m = state.model;
-  if (!m || !m.positions || !m.lod || !state.field || $('rigid').value !== 'none') return false;
-  if (state.exactShown !== shownKey(state.fieldSurface)) return false;
-  preview.setPlacement(placementFrame(m.positions, effectiveUp(), $('anchor').value), state.placement);
-  return preview.ready();  // m.lod: the worker's mesh, with its normals
-};
+modelView.standInAllowed = () =>
+  // m.lod: the worker's mesh, with its normals.
+  Boolean(state.model?.lod) && $('rigid').value === 'none' &&
+  state.exactShown === shownKey(state.fieldSurface) && placePreview();
 
 function useField(field, version, spec, surfaceId) {
   state.field = field;
