@@ -21,8 +21,9 @@ export function dracoLoader() {
 
 // The triangle meshes under `object`, each with positions: what the
 // server reads of a model (a glTF's point and line primitives, which
-// three.js reads as Points and Lines, it ignores).
-function meshesOf(object) {
+// three.js reads as Points and Lines, it ignores), and what the 3D view
+// colours of the exact result.
+export function meshesOf(object) {
   const meshes = [];
   object.traverse((o) => {
     if (o.isMesh && o.geometry && o.geometry.getAttribute('position')) meshes.push(o);
@@ -141,10 +142,9 @@ export const kBasis = {
 // took ~0.9 s to sort here, on the page's thread.
 export function footprint(positions, up) {
   if (!positions || positions.length < 3) return null;
-  const m = kBasis[up] || kBasis['+z'];
+  const [ra, rb] = kBasis[up] || kBasis['+z'];
   const count = positions.length / 3;
   const as = new Float64Array(count), bs = new Float64Array(count);
-  const [ra, rb] = m;
   // The first point furthest along each of eight directions, counter-
   // clockwise from -a: -a, -(a + b), -b, a - b, a, a + b, b, b - a (one
   // comparison each, unrolled: the loop runs over every corner of the

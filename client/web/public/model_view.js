@@ -3,6 +3,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
+import { meshesOf } from './footprint.js';
 import { computeNormals } from './vertex_normals.js';
 
 // Per vertex, the sheet view's colour scale: white where lengths keep, towards
@@ -40,12 +41,6 @@ function disposeObject(object) {
       m.dispose();
     }
   });
-}
-
-function meshesOf(object) {
-  const meshes = [];
-  object.traverse((o) => { if (o.isMesh) meshes.push(o); });
-  return meshes;
 }
 
 // A material the view keeps for every object of one role (the surface, the
