@@ -254,7 +254,10 @@ try {
       }
       await page.mouse.up();
       const f2 = await viewer(() => window.surfdeformViewer.framesDrawn());
-      await sleep(500);
+      // 150 ms after the view stops, and then a frame (however busy the machine).
+      await page.waitForFunction((f, soft) => !window.surfdeformViewer.standingIn() &&
+                                 (!soft || window.surfdeformViewer.framesDrawn() > f),
+                                 { timeout: 20000 }, f2, software).catch(() => {});
       const stopped = await viewer(() => window.surfdeformViewer.standingIn());
       const f3 = await viewer(() => window.surfdeformViewer.framesDrawn());
       check(orbiting === software, `while the view orbits, the preview stands in for the exact bunny ` +
