@@ -23,6 +23,10 @@ std::string CleanName(std::string_view text, size_t max_bytes = 256);
 // kLimitExceeded when `actual` is over `limit`, naming what was counted.
 Status CheckLimit(const char* what, size_t actual, size_t limit);
 
+// The most corners a polygon (an OBJ or PLY face) may have: AppendPolygon's
+// callers keep its corners on the stack.
+inline constexpr size_t kMaxPolygon = 256;
+
 // Appends the triangulation of a polygon (indices already checked) whose
 // corners lie at `positions`: ear clipping in the polygon's best-fit plane,
 // so concave polygons come out right; a fan where ear clipping finds no ear

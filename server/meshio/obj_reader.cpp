@@ -9,8 +9,6 @@
 namespace surfdeform::meshio {
 namespace {
 
-constexpr size_t kMaxPolygon = 256;
-
 // What the file defines, read a line at a time: vertices, texture
 // coordinates and normals as given; faces as the output's triangles over
 // output vertices, one per distinct (v, vt, vn) corner; materials and groups

@@ -15,8 +15,6 @@
 namespace surfdeform::meshio {
 namespace {
 
-constexpr size_t kMaxPolygon = 256;
-
 enum class Type { kInt8, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kFloat32, kFloat64 };
 
 std::optional<Type> ParseType(std::string_view s) {
