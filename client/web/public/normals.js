@@ -29,13 +29,17 @@ export function vertexNormals(array, stride, offset, count, index) {
     sum[3 * ic + 1] += ny;
     sum[3 * ic + 2] += nz;
   }
+  // The root of the sum of squares, not Math.hypot (which guards against
+  // overflow at some 3x the cost here): the sums are doubles of float32 or
+  // integer data, whose squares stay far inside double range.
   const normals = new Float32Array(3 * count);
   for (let v = 0; v < 3 * count; v += 3) {
-    const len = Math.hypot(sum[v], sum[v + 1], sum[v + 2]);
+    const x = sum[v], y = sum[v + 1], z = sum[v + 2];
+    const len = Math.sqrt(x * x + y * y + z * z);
     const k = len > 0 ? 1 / len : 0;
-    normals[v] = sum[v] * k;
-    normals[v + 1] = sum[v + 1] * k;
-    normals[v + 2] = sum[v + 2] * k;
+    normals[v] = x * k;
+    normals[v + 1] = y * k;
+    normals[v + 2] = z * k;
   }
   return normals;
 }
