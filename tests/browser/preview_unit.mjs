@@ -4,7 +4,8 @@
 // placement's model frame (footprint.js), kept per model between moves, the
 // exact result's vertex normals (vertex_normals.js) against three.js's, and
 // the preview's mesh (preview_mesh.js, meshoptimizer's JS build as the
-// worker runs it): reordered for the vertex cache, simplified, welded.
+// worker runs it): reordered for the vertex cache, simplified, welded. And
+// the undo history's steps (edit_history.js).
 import assert from 'node:assert/strict';
 // The client's own three.js (the module its files import as 'three').
 import * as THREE from '../../client/web/node_modules/three/build/three.module.js';
@@ -16,6 +17,7 @@ import { MeshoptSimplifier } from '../../client/web/node_modules/meshoptimizer/m
 import { kPreviewError, kPreviewMinTriangles, orderForVertexCache, previewMesh, simplifyTriangles,
          weldTriangles } from '../../client/web/public/preview_mesh.js';
 import { computeNormals } from '../../client/web/public/vertex_normals.js';
+import { EditHistory } from '../../client/web/public/edit_history.js';
 
 // A 3 x 3 lattice over [0, 2] x [0, 2] whose points are (a, b, a b) and whose
 // parameters are (a / 2, b / 2 + a / 10): bilinear in each cell.
@@ -402,5 +404,39 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   const both = mergedGeometry(new THREE.Group().add(new THREE.Mesh(box.geometry), sphere));
   assert.ok(both.index, 'indexed meshes merge indexed');
   checks += 5;
+}
+{
+  // Undo and redo: steps of a spec and a placement; the sheet's id is
+  // derived (no step of its own), steps are copies, a new edit drops what
+  // was undone, and a reset forgets everything.
+  const h = new EditHistory({ limit: 3, derived: ['placementSheet'] });
+  const step = (x, sheet = 's0') => ({ spec: { p: [0, 0, x] }, placement: { center: [x, 0] }, placementSheet: sheet });
+  assert.equal(h.record(step(0)), false, 'the first state is the start, not a step');
+  assert.ok(!h.canUndo() && !h.canRedo(), 'nothing to undo at the start');
+  assert.equal(h.record(step(0, 's1')), false, 'the same state on another sheet id is no step');
+  assert.equal(h.currentStep().placementSheet, 's1', 'but takes the new id');
+  const given = step(1);
+  assert.equal(h.record(given), true, 'an edit is a step');
+  given.spec.p[2] = 99;
+  assert.equal(h.currentStep().spec.p[2], 1, 'a step is a copy of what was given');
+  h.record(step(2));
+  const back = h.undo();
+  assert.equal(back.placement.center[0], 1, 'undo gives the step before');
+  back.placement.center[0] = -5;
+  assert.equal(h.currentStep().placement.center[0], 1, 'and a copy of it');
+  assert.equal(h.undo().placement.center[0], 0, 'undo again: the start');
+  assert.equal(h.undo(), null, 'nothing before the start');
+  assert.equal(h.redo().placement.center[0], 1, 'redo');
+  assert.ok(h.canRedo(), 'one more to redo');
+  h.record(step(7));
+  assert.ok(!h.canRedo(), 'a new edit drops what was undone');
+  assert.equal(h.undo().placement.center[0], 1, 'and undoes to where it branched');
+  for (let x = 10; x < 16; ++x) h.record(step(x));
+  let undone = 0;
+  while (h.undo()) ++undone;
+  assert.equal(undone, 3, 'at most `limit` steps back');
+  h.reset(step(20));
+  assert.ok(!h.canUndo() && !h.canRedo() && h.currentStep().placement.center[0] === 20, 'reset: a new start');
+  checks += 20;
 }
 console.log(`preview_unit: ${checks + 1} checks passed`);
