@@ -167,6 +167,12 @@ try {
     return either ? both / either : 0;
   };
   const viewer = (f, ...args) => page.evaluate(f, ...args);
+  // What an undo restores: the surface's spec and id, and the placement.
+  const pose = () => viewer(() => {
+    const s = window.surfdeformViewer.state;
+    return { spec: JSON.stringify(s.spec), surface: s.surfaceId, center: s.placement.center };
+  });
+  let poseBeforeFootprint = null, poseAfterFootprint = null, poseAfterDrag = null, poseAfterQuick = null;
   // Half the fitted scale (room to move), subdivision off.
   await page.$eval('#scale', (e) => {
     e.value = String(window.surfdeformViewer.state.placement.scale / 2);
@@ -196,6 +202,7 @@ try {
     const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
     const m0 = await mask();
     const sent = (await posts()).length;
+    poseBeforeFootprint = await pose();
     await page.mouse.move(cx, cy);
     await page.mouse.down();
     for (let k = 1; k <= 6; ++k) {
@@ -210,6 +217,7 @@ try {
     await shot('live-footprint-drag');
     await page.mouse.up();
     if (await settled('ready', 'the exact result after the footprint drag')) {
+      poseAfterFootprint = await pose();
       const after = (await posts()).slice(sent);
       check(after.length === 1 && after[0].path === '/v1/deform',
             `the release sends exactly one exact request (${after.map((p) => p.path).join(', ')})`);
@@ -319,6 +327,7 @@ try {
     const before = (await posts()).length;
     await page.mouse.up();
     if (await settled('ready', 'the exact result after the control-point drag')) {
+      poseAfterDrag = await pose();
       const deforms = (await posts()).slice(before).filter((p) => p.path === '/v1/deform').length;
       check(deforms === 1, `the release sends one exact deformation (${deforms})`);
       // Each pointer move replaced the surface (and the release the model):
@@ -363,6 +372,7 @@ try {
     const quickSettled = await settled('ready', 'the exact result after a quick control-point drag');
     await page.evaluate(() => { window.holdSurfaces = 0; });
     if (quickSettled) {
+      poseAfterQuick = await pose();
       const after = (await posts()).slice(quick);
       const exact = after.filter((p) => p.path === '/v1/deform');
       check(exact.length === 1 && /"surface":\{/.test(exact[0].body) &&
@@ -377,6 +387,49 @@ try {
             `the page shows the surface the deformation made, the placement the server moved ` +
             `(${JSON.stringify(st.stats.warm_start)})`);
     }
+  }
+  if (poseBeforeFootprint && poseAfterFootprint && poseAfterDrag && poseAfterQuick) {
+    // Undo and redo, each as one exact deformation: back through the quick
+    // control-point drag, the drag before it (the surface changes) and the
+    // footprint drag (the placement only), by Ctrl+Z and the header's
+    // button; forward by Ctrl+Shift+Z, Ctrl+Y and the button. The quick
+    // drag is shown again at the end, for what follows.
+    const h0 = await viewer(() => window.surfdeformViewer.history());
+    check(h0.back >= 3 && h0.ahead === 0,
+          `every settled edit is a step to undo (${h0.back} back, ${h0.ahead} ahead)`);
+    check(!await page.$eval('#undo', (e) => e.disabled) && await page.$eval('#redo', (e) => e.disabled),
+          'Undo is enabled, Redo is not');
+    const keys = async (...combo) => {
+      for (const key of combo) await page.keyboard.down(key);
+      for (const key of [...combo].reverse()) await page.keyboard.up(key);
+    };
+    const same = (p, q) => p.spec === q.spec && p.surface === q.surface &&
+      Math.hypot(p.center[0] - q.center[0], p.center[1] - q.center[1]) < 1e-9;
+    const shows = async (want, how, what) => {
+      const sent = (await posts()).length;
+      await how();
+      await sleep(100);
+      if (!await settled('ready', what)) return;
+      const p = await pose();
+      const deforms = (await posts()).slice(sent).filter((x) => x.path === '/v1/deform').length;
+      const s = await stats();
+      check(same(p, want) && s.surface_id === want.surface && deforms === 1,
+            `${what}: the surface and placement it brings back, one exact deformation ` +
+            `(${deforms}) of that surface (${p.surface === want.surface}, ${s.surface_id === want.surface})`);
+    };
+    await toTop();
+    await shows(poseAfterDrag, () => keys('Control', 'z'), 'Ctrl+Z undoes the quick drag');
+    check(!await page.$eval('#redo', (e) => e.disabled), 'then Redo is enabled');
+    await shows(poseAfterQuick, () => keys('Control', 'Shift', 'z'), 'Ctrl+Shift+Z redoes it');
+    await shows(poseAfterDrag, () => page.click('#undo'), 'the Undo button undoes it');
+    await shows(poseAfterFootprint, () => page.click('#undo'), 'the Undo button undoes the first control-point drag');
+    await shows(poseBeforeFootprint, () => keys('Control', 'z'), 'Ctrl+Z undoes the footprint drag');
+    check(poseBeforeFootprint.spec === poseAfterFootprint.spec &&
+          poseBeforeFootprint.center[0] !== poseAfterFootprint.center[0], 'which moved the placement only');
+    await shows(poseAfterFootprint, () => keys('Control', 'y'), 'Ctrl+Y redoes the footprint drag');
+    await shows(poseAfterDrag, () => page.click('#redo'), 'the Redo button redoes the first control-point drag');
+    await shows(poseAfterQuick, () => page.click('#redo'), 'and the quick one');
+    check(await page.$eval('#redo', (e) => e.disabled), 'nothing left to redo: Redo is disabled');
   }
   {
     // Part of the footprint dragged off the sheet: tinted during the drag,

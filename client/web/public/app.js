@@ -25,6 +25,7 @@ import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 
 import { createSurface, deform, getSurface, mapOnSurface, uploadModel } from './api.js';
 import { AnimationPanel } from './animation_panel.js';
+import { EditHistory } from './edit_history.js';
 import { dracoLoader, footprint, placementFrame, readModel } from './footprint.js';
 import { ModelView } from './model_view.js';
 import { fieldGap, movedField, moveSheetPoint } from './field_edit.js';
@@ -65,12 +66,19 @@ const state = {
   live: { surfaces: 0, moved: 0, previews: 0, gap: 0 },
   lastPreview: null,     // how far the last preview was from the exact result
   sheetPending: false,   // a new surface's exact result is shown, its sheet not yet
+  edited: false,         // a control point or the placement changed since the last step
+  historyReset: true,    // a new model or surface: the next exact result starts the history
 };
+
+// Undo and redo (edit_history.js): a step is the surface's spec and the
+// placement (with the sheet it is on) of an exact result shown after an edit.
+const history = new EditHistory({ derived: ['placementSheet'] });
 
 const preview = new FieldPreview();
 
 const sheetView = new SheetView($('sheet'), (placement, final, how) => {
   state.placement = placement;
+  state.edited = true;
   showPlacement();
   if (final) return scheduleDeform(0);
   showLivePreview();
@@ -83,6 +91,7 @@ const modelView = new ModelView($('view3d'), (index, point, final) => {
   // A release where the last move left the point: the same surface.
   if (rounded.some((x, c) => x !== state.spec.control_points[index][c])) ++state.specVersion;
   state.spec.control_points[index] = rounded;
+  state.edited = true;
   if (final) return releaseControlPoint();
   showMovedField();
   liveSurface();
@@ -507,6 +516,7 @@ async function runDeform(edit = null) {
     const t0 = performance.now();
     const asked = state.fitNext ? null : { ...state.placement, center: [...state.placement.center] };
     const sent = JSON.stringify(state.placement);
+    const specSent = JSON.stringify(state.spec);
     const { bytes, stats, timing } = await deform(state.model.bytes, state.model.name,
                                                   deformParams('glb', 'meshopt', edit), 'model/gltf-binary');
     const t1 = performance.now();
@@ -526,6 +536,7 @@ async function runDeform(edit = null) {
     }
     state.lastStats = stats;
     state.exactShown = shownKey(stats.surface_id);
+    settleHistory(specSent);
     if (stats.placement.up !== state.upResolved) {
       state.upResolved = stats.placement.up;
       if ($('up').value === 'auto') updateFootprint();
@@ -618,12 +629,95 @@ $('clear-marks').addEventListener('click', () => {
   modelView.setMarks([]);
 });
 
+// --- undo and redo ---------------------------------------------------------
+// Ctrl+Z (Cmd+Z) undoes an edit of the surface's control points or of the
+// placement (moved, scaled, rotated, fitted), Ctrl+Shift+Z or Ctrl+Y redoes
+// it; so do the header's buttons. A step is an exact result shown after an
+// edit; choosing another model, preset or grid starts the history anew.
+
+function editStep() {
+  return { spec: state.spec, placement: state.placement, placementSheet: state.placementSheet };
+}
+
+// An exact result is on screen (runDeform; `specSent`: the spec it was asked
+// for, JSON): the history's new start, or its next step where something was
+// edited. Not while an edit goes on or a newer result is on its way: that
+// one settles it.
+function settleHistory(specSent) {
+  if (sheetView.drag || modelView.drag || pending || JSON.stringify(state.spec) !== specSent) return;
+  if (state.historyReset) {
+    history.reset(editStep());
+  } else if (state.edited) {
+    history.record(editStep());
+  }
+  state.historyReset = false;
+  state.edited = false;
+  showHistory();
+}
+
+function showHistory() {
+  $('undo').disabled = !history.canUndo();
+  $('redo').disabled = !history.canRedo();
+}
+
+// The page as `step` had it: the preview at once (the field moved to its
+// control points, as a drag does), then its surface and exact result.
+function restoreStep(step) {
+  const specChanged = JSON.stringify(step.spec) !== JSON.stringify(state.spec);
+  state.placement = step.placement;
+  state.placementSheet = step.placementSheet;
+  state.fitNext = false;
+  state.recentre = false;
+  state.edited = false;
+  showPlacement();
+  showHistory();
+  if (!specChanged) {
+    showLivePreview();
+    scheduleDeform(0);
+    return;
+  }
+  state.spec = step.spec;
+  ++state.specVersion;
+  modelView.setControlPoints(state.spec.kind === 'bezier' ? state.spec.control_points : []);
+  showMovedField();
+  refreshSurface(null);
+}
+
+function undoEdit() {
+  if (sheetView.drag || modelView.drag || state.historyReset) return;
+  // An edit not settled yet (a wheel's, within its 150 ms) goes back to the
+  // last step; else the step before it.
+  const step = state.edited ? history.currentStep() : history.undo();
+  if (step) restoreStep(step);
+}
+
+function redoEdit() {
+  if (sheetView.drag || modelView.drag || state.historyReset) return;
+  const step = history.redo();
+  if (step) restoreStep(step);
+}
+
+$('undo').addEventListener('click', undoEdit);
+$('redo').addEventListener('click', redoEdit);
+document.addEventListener('keydown', (e) => {
+  if (!(e.ctrlKey || e.metaKey) || e.altKey) return;
+  // Text and number fields keep their own undo.
+  const t = e.target;
+  if (t && (t.tagName === 'TEXTAREA' || (t.tagName === 'INPUT' && ['text', 'number', 'search'].includes(t.type)))) return;
+  const key = e.key.toLowerCase();
+  if (key === 'z' && !e.shiftKey) undoEdit();
+  else if ((key === 'z' && e.shiftKey) || key === 'y') redoEdit();
+  else return;
+  e.preventDefault();
+});
+
 // --- models --------------------------------------------------------------
 
 async function useModel(name, bytes) {
   const read = await readModel(name, bytes);
   const model = { name, bytes, positions: read.positions, lod: null };
   state.model = model;
+  state.historyReset = true;
   preview.setModelGeometry(read.geometry, (lod) => { model.lod = lod; });
   state.upResolved = null;
   $('model-name').textContent = `${name} (${bytes.byteLength} bytes)` +
@@ -643,6 +737,7 @@ async function useSurfaceMesh(name, bytes) {
   state.spec = { kind: 'mesh', model_id: model.id };
   state.surfaceMeshName = name;
   state.recentre = true;
+  state.historyReset = true;
   modelView.framed = false;
   scheduleSurface();
 }
@@ -666,6 +761,7 @@ $('preset').addEventListener('change', async () => {
   try {
     state.spec = await surfacePreset($('preset').value);
     state.recentre = true;
+    state.historyReset = true;
     modelView.framed = false;
     scheduleSurface();
   } catch (e) {
@@ -675,6 +771,7 @@ $('preset').addEventListener('change', async () => {
 $('grid').addEventListener('change', () => {
   state.grid = Math.max(4, Math.min(64, Number($('grid').value) || 16));
   state.recentre = true;
+  state.historyReset = true;
   scheduleSurface();
 });
 $('sample').addEventListener('change', async () => {
@@ -702,6 +799,7 @@ document.addEventListener('drop', (e) => {
 });
 $('rotation').addEventListener('input', () => {
   state.placement.rotation_deg = Number($('rotation').value);
+  state.edited = true;
   showPlacement();
   showLivePreview();
   holdDeform();
@@ -712,12 +810,14 @@ $('scale').addEventListener('change', () => {
   if (s > 0) {
     state.placement.scale = s;
     state.fitNext = false;
+    state.edited = true;
     showPlacement();
     scheduleDeform(0);
   }
 });
 $('fit').addEventListener('click', () => {
   state.fitNext = true;
+  state.edited = true;
   scheduleDeform(0);
 });
 for (const id of ['up', 'anchor', 'rigid', 'subdivision', 'distortion']) {
@@ -835,9 +935,11 @@ function placementParams() {
 // For tests and the curious: the state and the model's share of the 3D canvas.
 window.surfdeformViewer = { state, animation: animationPanel, preview, compareEncodings, decodeGlb,
                             movedFieldOnSurface, placementParams,
+                            history: () => ({ back: history.back.length, ahead: history.ahead.length }),
                             sheet: () => sheetView.sheet,
                             placeAt: (center) => {
                               state.placement.center = center;
+                              state.edited = true;
                               showPlacement();
                               scheduleDeform(0);
                             },
