@@ -17,7 +17,8 @@
 // Usage: node viewer_test.mjs SERVER_BINARY ARTIFACT_DIR [chromium|firefox]
 // Firefox needs a display for WebGL (headless Firefox has no GL driver here):
 // ctest runs it under xvfb-run.
-import { mkdirSync, writeFileSync } from 'node:fs';
+import { createHash } from 'node:crypto';
+import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import path from 'node:path';
 import puppeteer from 'puppeteer-core';
 
@@ -430,6 +431,35 @@ try {
     await shows(poseAfterDrag, () => page.click('#redo'), 'the Redo button redoes the first control-point drag');
     await shows(poseAfterQuick, () => page.click('#redo'), 'and the quick one');
     check(await page.$eval('#redo', (e) => e.disabled), 'nothing left to redo: Redo is disabled');
+  }
+  {
+    // "Save the request": the file the button saves, sent by curl's route
+    // (multipart, the model as read from disk), gives what the page shows:
+    // the same surface id, placement and mesh.
+    const saved = await viewer(async () => {
+      const click = HTMLAnchorElement.prototype.click;
+      let file = null;
+      HTMLAnchorElement.prototype.click = function () { file = { name: this.download, href: this.href }; };
+      try {
+        document.getElementById('save-request').click();
+      } finally {
+        HTMLAnchorElement.prototype.click = click;
+      }
+      return file && { name: file.name, text: await (await fetch(file.href)).text() };
+    });
+    // Sent as saved, and as the page sends it, both meshopt: the same bytes.
+    const request = JSON.parse(saved ? saved.text : '{}');
+    const form = new FormData();
+    form.append('mesh', new Blob([readFileSync(new URL('../../client/web/samples/bunny.ply', import.meta.url))]),
+                'bunny.ply');
+    form.append('params', JSON.stringify({ ...request, output: { ...request.output, compression: 'meshopt' } }));
+    const r = await fetch(`${base}/v1/deform`, { method: 'POST', body: form });
+    const digest = createHash('sha256').update(Buffer.from(await r.arrayBuffer())).digest('hex');
+    const shown = await viewer(() => window.surfdeformViewer.exactDigest());
+    check(saved && saved.name === 'bunny-request.json' && request.surface?.kind === 'bezier' &&
+          Array.isArray(request.placement?.center) && r.ok && digest === shown,
+          `the saved request (${saved && saved.name}), sent by curl's route with the model's file, gives ` +
+          `the page's exact result byte for byte (${r.status}, ${digest.slice(0, 12)} / ${shown.slice(0, 12)})`);
   }
   {
     // Part of the footprint dragged off the sheet: tinted during the drag,

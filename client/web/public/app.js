@@ -584,18 +584,43 @@ async function runDeform(edit = null) {
   }
 }
 
+// `blob` saved as the file `suffix` after the model's name.
+function saveBlob(blob, suffix) {
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(blob);
+  a.download = `${state.model.name.replace(/\.[^.]*$/, '')}-${suffix}`;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+}
+
 async function download(format) {
   try {
     const accept = format === 'glb' ? 'model/gltf-binary' : 'application/octet-stream';
     const { bytes } = await deform(state.model.bytes, state.model.name, deformParams(format), accept);
-    const a = document.createElement('a');
-    a.href = URL.createObjectURL(new Blob([bytes]));
-    a.download = `${state.model.name.replace(/\.[^.]*$/, '')}-deformed.${format}`;
-    a.click();
-    setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+    saveBlob(new Blob([bytes]), `deformed.${format}`);
   } catch (e) {
     showError(e);
   }
+}
+
+// What the page shows as one /v1/deform request, for batch jobs: the
+// surface inline (its spec and sampling; the same spec flattens to the same
+// id), the placement on its sheet, the subdivision, GLB out. With the model:
+//   curl -F mesh=@MODEL -F params=@REQUEST -o out.glb http://HOST/v1/deform
+//   surfdeform deform MODEL --params REQUEST -o out.glb
+function deformRequest() {
+  return deformParams('glb', null, { surface: state.spec, sampling: { nu: state.grid, nv: state.grid } });
+}
+
+// Indented JSON whose arrays of numbers stay on a line (a control point, a centre).
+function readableJson(value) {
+  return JSON.stringify(value, null, 2)
+    .replace(/\[\s+([^[\]{}]*?)\s+\]/g, (_, inner) => `[${inner.split(/,\s+/).join(', ')}]`);
+}
+
+function saveRequest() {
+  const text = `${readableJson(deformRequest())}\n`;
+  saveBlob(new Blob([text], { type: 'application/json' }), 'request.json');
 }
 
 // --- marks -----------------------------------------------------------------
@@ -831,6 +856,7 @@ for (const id of ['up', 'anchor', 'rigid', 'subdivision', 'distortion']) {
 }
 $('download-glb').addEventListener('click', () => download('glb'));
 $('download-drc').addEventListener('click', () => download('drc'));
+$('save-request').addEventListener('click', saveRequest);
 
 // The animation panel: the current model, placed as on the sheet (fitted to
 // every frame's sheet, rotated, with the chosen axes).
@@ -936,6 +962,14 @@ function placementParams() {
 window.surfdeformViewer = { state, animation: animationPanel, preview, compareEncodings, decodeGlb,
                             movedFieldOnSurface, placementParams,
                             history: () => ({ back: history.back.length, ahead: history.ahead.length }),
+                            deformRequest: () => readableJson(deformRequest()),
+                            // SHA-256 (hex) of the exact result of what the page shows, as it asks for it.
+                            exactDigest: async () => {
+                              const { bytes } = await deform(state.model.bytes, state.model.name,
+                                                             deformParams('glb', 'meshopt'), 'model/gltf-binary');
+                              const hash = new Uint8Array(await crypto.subtle.digest('SHA-256', bytes));
+                              return [...hash].map((b) => b.toString(16).padStart(2, '0')).join('');
+                            },
                             sheet: () => sheetView.sheet,
                             placeAt: (center) => {
                               state.placement.center = center;
