@@ -460,6 +460,42 @@ try {
           Array.isArray(request.placement?.center) && r.ok && digest === shown,
           `the saved request (${saved && saved.name}), sent by curl's route with the model's file, gives ` +
           `the page's exact result byte for byte (${r.status}, ${digest.slice(0, 12)} / ${shown.slice(0, 12)})`);
+    // Turned away, then the saved file opened: the page shows that request again.
+    await page.$eval('#rotation', (e) => {
+      e.value = String(Number(e.value) + 40);
+      e.dispatchEvent(new Event('input'));
+      e.dispatchEvent(new Event('change'));
+    });
+    await sleep(300);
+    await settled('ready', 'the model turned');
+    const turned = await viewer(() => window.surfdeformViewer.exactDigest());
+    const file = path.join(artifacts, 'bunny-request.json');
+    writeFileSync(file, saved ? saved.text : '{}');
+    await (await page.$('#open-request')).uploadFile(file);
+    await sleep(300);
+    if (await settled('ready', 'the saved request opened')) {
+      const opened = await viewer(() => window.surfdeformViewer.exactDigest());
+      check(turned !== digest && opened === digest,
+            `opening the saved request brings its result back, byte for byte (turned ${turned.slice(0, 12)}, ` +
+            `opened ${opened.slice(0, 12)}, saved ${digest.slice(0, 12)})`);
+    }
+    // Not a request: a clear error, nothing changed.
+    const bad = path.join(artifacts, 'not-a-request.json');
+    writeFileSync(bad, '{"placement": {}}');
+    await (await page.$('#open-request')).uploadFile(bad);
+    await sleep(300);
+    await page.waitForFunction(() => document.body.dataset.state !== 'loading', { timeout: 30000 });
+    check(/no "surface" object/.test(await text('#error')) &&
+          await viewer(() => window.surfdeformViewer.exactDigest()) === digest,
+          `a JSON file that is no request is refused, and the page stays (${await text('#error')})`);
+    // The request opened once more: the banner goes with the next result.
+    const again = path.join(artifacts, 'bunny-request-again.json');
+    writeFileSync(again, saved ? saved.text : '{}');
+    await (await page.$('#open-request')).uploadFile(again);
+    await sleep(300);
+    if (await settled('ready', 'the saved request opened again')) {
+      check(await page.$eval('#error', (e) => e.hidden), 'the next result clears the error');
+    }
   }
   {
     // Part of the footprint dragged off the sheet: tinted during the drag,

@@ -623,6 +623,47 @@ function saveRequest() {
   saveBlob(new Blob([text], { type: 'application/json' }), 'request.json');
 }
 
+// A saved request (saveRequest, or written by hand) opened: its surface,
+// grid, placement and settings, with the model already shown (a request
+// holds none). Its "flatten" and "output" are not the page's to set.
+async function openRequest(name, bytes) {
+  let r;
+  try {
+    r = JSON.parse(new TextDecoder().decode(bytes));
+  } catch (e) {
+    throw new Error(`${name} is not JSON: ${e.message}`);
+  }
+  if (!r || typeof r !== 'object' || !r.surface || typeof r.surface !== 'object') {
+    throw new Error(`${name} is not a deformation request: it has no "surface" object`);
+  }
+  const nu = r.sampling?.nu ?? 16, nv = r.sampling?.nv ?? nu;
+  if (nu !== nv || !(nu >= 4 && nu <= 64)) {
+    throw new Error(`the page samples square grids of 4 to 64 per side; ${name} asks for ${nu} x ${nv}`);
+  }
+  const p = r.placement || {};
+  const settings = [['up', p.up], ['anchor', p.anchor], ['rigid', p.rigid], ['subdivision', r.subdivision?.mode]];
+  for (const [id, value] of settings) {
+    if (value !== undefined && ![...$(id).options].some((o) => o.value === value)) {
+      throw new Error(`${name}: the page has no ${id} "${value}"`);
+    }
+  }
+  for (const [id, value] of settings) if (value !== undefined) $(id).value = value;
+  state.spec = r.surface;
+  state.grid = nu;
+  $('grid').value = nu;
+  state.placement = { center: Array.isArray(p.center) ? p.center : null,
+                      rotation_deg: Number(p.rotation_deg) || 0,
+                      scale: typeof p.scale === 'number' ? p.scale : 'fit' };
+  state.fitNext = typeof p.scale !== 'number';
+  state.recentre = !state.placement.center;
+  state.placementSheet = null;  // the placement lies on the sheet its spec flattens to
+  state.historyReset = true;
+  $('preset').selectedIndex = -1;  // none of the presets: the request's own surface
+  modelView.framed = false;
+  showPlacement();
+  scheduleSurface();
+}
+
 // --- marks -----------------------------------------------------------------
 // "Draw a mark": clicks on the sheet add points to a polyline, which the
 // server resamples onto the surface (POST /v1/surfaces/{id}/map) and the 3D
@@ -818,9 +859,12 @@ document.addEventListener('dragleave', () => document.body.classList.remove('dra
 document.addEventListener('drop', (e) => {
   e.preventDefault();
   document.body.classList.remove('dragover');
-  // On the flat sheet: the file is the surface (a mesh); anywhere else, the model.
+  // A .json file is a saved request; on the flat sheet, a mesh is the
+  // surface; anywhere else, the model.
+  const file = e.dataTransfer.files[0];
   const onSheet = e.target.closest && e.target.closest('#sheet');
-  useFile(e.dataTransfer.files[0], onSheet ? useSurfaceMesh : useModel);
+  const json = file && /\.json$/i.test(file.name);
+  useFile(file, json ? openRequest : onSheet ? useSurfaceMesh : useModel);
 });
 $('rotation').addEventListener('input', () => {
   state.placement.rotation_deg = Number($('rotation').value);
@@ -857,6 +901,7 @@ for (const id of ['up', 'anchor', 'rigid', 'subdivision', 'distortion']) {
 $('download-glb').addEventListener('click', () => download('glb'));
 $('download-drc').addEventListener('click', () => download('drc'));
 $('save-request').addEventListener('click', saveRequest);
+$('open-request').addEventListener('change', (e) => useFile(e.target.files[0], openRequest));
 
 // The animation panel: the current model, placed as on the sheet (fitted to
 // every frame's sheet, rotated, with the chosen axes).
