@@ -142,8 +142,11 @@ try {
           `the 3D view takes most of the window (${Math.round(view.w)} x ${Math.round(view.h)})`);
     check(sheet.x >= view.x + view.w && sheet.y < 800, 'the sheet stands beside the 3D view');
     const panels = await page.$eval('#controls', (e) => ({ bottom: e.getBoundingClientRect().bottom,
-                                                           scrolls: getComputedStyle(e).overflowY }));
+                                                           scrolls: getComputedStyle(e).overflowY,
+                                                           wide: e.scrollWidth, width: e.clientWidth }));
     check(panels.bottom <= 800 && panels.scrolls === 'auto', 'every panel is reachable (the panels scroll)');
+    // A fieldset as wide as a select's longest option was cut at the panel's edge.
+    check(panels.wide <= panels.width, `no panel is wider than the column (${panels.wide} <= ${panels.width} px)`);
     await shot('word-figure10');
   }
   await page.select('#sample', 'bunny');
