@@ -176,6 +176,10 @@ try {
     const s = window.surfdeformViewer.state;
     return { spec: JSON.stringify(s.spec), surface: s.surfaceId, center: s.placement.center };
   });
+  const keys = async (...combo) => {
+    for (const key of combo) await page.keyboard.down(key);
+    for (const key of [...combo].reverse()) await page.keyboard.up(key);
+  };
   let poseBeforeFootprint = null, poseAfterFootprint = null, poseAfterDrag = null, poseAfterQuick = null;
   // Half the fitted scale (room to move), subdivision off.
   await page.$eval('#scale', (e) => {
@@ -403,10 +407,6 @@ try {
           `every settled edit is a step to undo (${h0.back} back, ${h0.ahead} ahead)`);
     check(!await page.$eval('#undo', (e) => e.disabled) && await page.$eval('#redo', (e) => e.disabled),
           'Undo is enabled, Redo is not');
-    const keys = async (...combo) => {
-      for (const key of combo) await page.keyboard.down(key);
-      for (const key of [...combo].reverse()) await page.keyboard.up(key);
-    };
     const same = (p, q) => p.spec === q.spec && p.surface === q.surface &&
       Math.hypot(p.center[0] - q.center[0], p.center[1] - q.center[1]) < 1e-9;
     const shows = async (want, how, what) => {
@@ -498,6 +498,49 @@ try {
     await sleep(300);
     if (await settled('ready', 'the saved request opened again')) {
       check(await page.$eval('#error', (e) => e.hidden), 'the next result clears the error');
+    }
+  }
+  {
+    // A control point's numbers: pressed without a move, it is selected and
+    // nothing is sent; a z typed is one exact deformation of the edited
+    // patch, and Ctrl+Z puts the point back.
+    await toTop();
+    const k = 5;
+    const at = await viewer((i) => window.surfdeformViewer.handlePoint(i), k);
+    const sent = (await posts()).length;
+    await page.mouse.click(at[0], at[1]);
+    await sleep(300);
+    const point = () => viewer((i) => window.surfdeformViewer.state.spec.control_points[i], k);
+    const p0 = await point();
+    const shownNumbers = () => page.evaluate(() => ['x', 'y', 'z'].map((c) => Number(document.getElementById(`cp-${c}`).value)));
+    const visible = await page.$eval('#cp-edit', (e) => !e.hidden);
+    check(visible && JSON.stringify(await shownNumbers()) === JSON.stringify(p0) &&
+          (await posts()).length === sent && await page.evaluate(() => document.body.dataset.state) === 'ready',
+          `a control point pressed without a move shows its numbers and sends nothing (${await shownNumbers()})`);
+    await shot('control-point-numbers');
+    const z = Math.round((p0[2] + 0.5) * 1e6) / 1e6;
+    await page.focus('#cp-z');
+    await keys('Control', 'a');
+    await page.keyboard.type(String(z));
+    await page.keyboard.press('Tab');
+    await sleep(100);
+    if (await settled('ready', 'a typed control point')) {
+      const after = (await posts()).slice(sent);
+      const p1 = await point();
+      const st = await viewer(() => ({ shown: window.surfdeformViewer.state.surfaceId,
+                                       stats: window.surfdeformViewer.state.lastStats }));
+      check(p1[2] === z && p1[0] === p0[0] && p1[1] === p0[1] &&
+            after.filter((x) => x.path === '/v1/deform').length === 1 && st.stats.surface_id === st.shown,
+            `a typed z moves the point (${p0[2]} -> ${p1[2]}), as one exact deformation of the new patch ` +
+            `(${after.map((x) => x.path).join(', ')})`);
+    }
+    await page.evaluate(() => document.activeElement && document.activeElement.blur());
+    await keys('Control', 'z');
+    await sleep(100);
+    if (await settled('ready', 'the typed control point undone')) {
+      const p2 = await point();
+      check(JSON.stringify(p2) === JSON.stringify(p0) && (await shownNumbers())[2] === p0[2],
+            `Ctrl+Z puts the typed point back (${p2}), and its numbers (${await shownNumbers()})`);
     }
   }
   {

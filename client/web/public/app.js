@@ -86,13 +86,24 @@ const sheetView = new SheetView($('sheet'), (placement, final, how) => {
   if (how === 'wheel') scheduleDeform(150);
   else holdDeform();
 });
+let pointerMoved = false;  // the control point held has moved since it was pressed
 const modelView = new ModelView($('view3d'), (index, point, final) => {
   const rounded = point.map((x) => Math.round(x * 1e6) / 1e6);
   // A release where the last move left the point: the same surface.
-  if (rounded.some((x, c) => x !== state.spec.control_points[index][c])) ++state.specVersion;
+  const changed = rounded.some((x, c) => x !== state.spec.control_points[index][c]);
+  if (changed) ++state.specVersion;
   state.spec.control_points[index] = rounded;
+  showControlPoint();
+  if (final) {
+    // A press without a move selects the point (its numbers), nothing more.
+    const moved = pointerMoved || changed;
+    pointerMoved = false;
+    if (!moved) return;
+    state.edited = true;
+    return releaseControlPoint();
+  }
+  pointerMoved = true;
   state.edited = true;
-  if (final) return releaseControlPoint();
   showMovedField();
   liveSurface();
 });
@@ -392,6 +403,7 @@ async function refreshSurface(known = null, deformed = false) {
     }
     showMark(sheetView.mark);  // the mark stays where it was on the sheet
     modelView.setControlPoints(state.spec.kind === 'bezier' ? state.spec.control_points : []);
+    showControlPoint();
     if (!state.placement.center || state.recentre) {
       state.placement.center = sheetView.sheetCentre();
       state.fitNext = true;
@@ -695,6 +707,46 @@ $('clear-marks').addEventListener('click', () => {
   modelView.setMarks([]);
 });
 
+// --- a control point's numbers ----------------------------------------------
+// The control point last pressed in the 3D view: its x, y and z, to read and
+// to type. A typed value is an edit as a drag's release is (one exact
+// request, a step to undo), with the preview moved at once.
+
+function showControlPoint() {
+  const k = modelView.selected;
+  const spec = state.spec;
+  const points = spec && spec.kind === 'bezier' ? spec.control_points : null;
+  const shown = Boolean(points && k >= 0 && k < points.length);
+  $('cp-edit').hidden = !shown;
+  if (!shown) return;
+  const columns = spec.degree_u + 1;
+  $('cp-index').textContent = `${k} (row ${Math.floor(k / columns)}, column ${k % columns})`;
+  ['x', 'y', 'z'].forEach((c, i) => {
+    if (document.activeElement !== $(`cp-${c}`)) $(`cp-${c}`).value = points[k][i];
+  });
+}
+modelView.onSelect = showControlPoint;
+
+['x', 'y', 'z'].forEach((c, i) => {
+  $(`cp-${c}`).addEventListener('change', () => {
+    const k = modelView.selected;
+    const input = $(`cp-${c}`);
+    const value = Math.round(Number(input.value) * 1e6) / 1e6;
+    const points = state.spec && state.spec.kind === 'bezier' ? state.spec.control_points : null;
+    if (!points || !points[k] || input.value.trim() === '' || !Number.isFinite(value) ||
+        modelView.drag || value === points[k][i]) {
+      input.value = points && points[k] ? points[k][i] : '';
+      return;
+    }
+    points[k] = points[k].map((x, j) => (j === i ? value : x));
+    ++state.specVersion;
+    state.edited = true;
+    modelView.setControlPoints(points);
+    showMovedField();
+    releaseControlPoint();
+  });
+});
+
 // --- undo and redo ---------------------------------------------------------
 // Ctrl+Z (Cmd+Z) undoes an edit of the surface's control points or of the
 // placement (moved, scaled, rotated, fitted), Ctrl+Shift+Z or Ctrl+Y redoes
@@ -745,6 +797,7 @@ function restoreStep(step) {
   state.spec = step.spec;
   ++state.specVersion;
   modelView.setControlPoints(state.spec.kind === 'bezier' ? state.spec.control_points : []);
+  showControlPoint();
   showMovedField();
   refreshSurface(null);
 }

@@ -98,6 +98,7 @@ export class ModelView {
         color: 0x88aacc, transparent: true, opacity: 0.35, side: THREE.DoubleSide,
         depthWrite: false })),
       handle: keptMaterial(new THREE.MeshStandardMaterial({ color: 0xff8822 })),
+      selected: keptMaterial(new THREE.MeshStandardMaterial({ color: 0xcc2266 })),
       mark: keptMaterial(new THREE.LineBasicMaterial({ color: 0x00aa00, depthTest: false })),
       model: keptMaterial(new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
                                                           side: THREE.DoubleSide })),
@@ -108,6 +109,8 @@ export class ModelView {
     this.scene.add(this.marks);
     this.handles = new THREE.Group();
     this.scene.add(this.handles);
+    this.selected = -1;  // the control point last pressed (its numbers are shown), or -1
+    this.onSelect = () => {};
     this.framed = false;
     this.raycaster = new THREE.Raycaster();
     const el = this.renderer.domElement;
@@ -283,9 +286,9 @@ export class ModelView {
     const box = new THREE.Box3().setFromArray(points.flat());
     const r = 0.015 * box.getSize(new THREE.Vector3()).length();
     const geometry = new THREE.SphereGeometry(r, 12, 8);
-    const material = this.materials.handle;
+    if (this.selected >= points.length) this.selected = -1;
     points.forEach((p, k) => {
-      const s = new THREE.Mesh(geometry, material);
+      const s = new THREE.Mesh(geometry, k === this.selected ? this.materials.selected : this.materials.handle);
       s.position.set(...p);
       s.userData.index = k;
       this.handles.add(s);
@@ -398,6 +401,7 @@ export class ModelView {
     const hit = this.raycaster.intersectObjects(this.handles.children)[0];
     if (!hit) return;
     this.controls.enabled = false;
+    this.select(hit.object.userData.index);
     const size = new THREE.Box3().setFromObject(this.handles).getSize(new THREE.Vector3()).length();
     this.drag = { handle: hit.object, y: e.clientY, z: hit.object.position.z, size };
     this.renderer.domElement.setPointerCapture(e.pointerId);
@@ -416,6 +420,16 @@ export class ModelView {
     }
     this.invalidate();
     this.onControlPoint(h.userData.index, h.position.toArray(), false);
+  }
+
+  // Control point `k` shown as the selected one (-1: none), and onSelect told.
+  select(k) {
+    this.selected = k;
+    for (const h of this.handles.children) {
+      h.material = h.userData.index === k ? this.materials.selected : this.materials.handle;
+    }
+    this.invalidate();
+    this.onSelect(k);
   }
 
   up() {
