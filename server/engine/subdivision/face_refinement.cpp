@@ -164,9 +164,9 @@ FaceOutput RefineFace(const FaceStageInputs& in, FaceId fi, Budget* budget, int*
       KeepsItsShape(in, fi, edge_dev, edge_estimate, &out, hint)) {
     return out;
   }
-  std::optional<FaceWork> work = TriangulateFace(in, fi, hint);
+  std::optional<FaceWork> work = TriangulateFace(in, fi, hint, budget);
   if (!work) {
-    out.failed = true;
+    out.failed = !budget->OutOfTime();  // out of time: the request fails with that
     return out;
   }
   TriangleDeviation deviation(in.ctx, face.corner, *work, &out.tally);

@@ -5,12 +5,20 @@
 namespace surfdeform::subdivision {
 namespace {
 
+constexpr size_t kPointsPerTimeCheck = 32;
+
+// Whether the budget (if any) ran out, looked at every kPointsPerTimeCheck
+// points (`inserted`, counted here).
+bool OutOfTime(Budget* budget, size_t* inserted) {
+  return budget != nullptr && ++*inserted % kPointsPerTimeCheck == 0 && budget->OutOfTime();
+}
+
 // Splits the face's sides at their edges' final points, in the face's
 // direction; the ids of each side's points by the edge's own order. False
 // when the triangulation did not number them in order (cannot happen: sides
 // are only split here).
 bool SplitSides(const FaceStageInputs& in, const GraphFace& face, FaceWork* w,
-                std::array<std::vector<int>, 3>* side_ids) {
+                std::array<std::vector<int>, 3>* side_ids, Budget* budget, size_t* inserted) {
   const Vec2 corner_bary[3] = {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)};
   for (int k = 0; k < 3; ++k) {
     const RefinedEdge& e = in.edges[face.edge[k]];
@@ -19,6 +27,7 @@ bool SplitSides(const FaceStageInputs& in, const GraphFace& face, FaceWork* w,
     int prev = k;
     const int next = (k + 1) % 3;
     for (size_t q = 0; q < m; ++q) {
+      if (OutOfTime(budget, inserted)) return false;
       const size_t idx = face.reversed[k] ? m - 1 - q : q;
       const double t = face.reversed[k] ? 1.0 - e.kept_t[idx] : e.kept_t[idx];
       const Vec2 l = corner_bary[k] + t * (corner_bary[next] - corner_bary[k]);
@@ -33,11 +42,15 @@ bool SplitSides(const FaceStageInputs& in, const GraphFace& face, FaceWork* w,
 }
 
 // Inserts the kept face points; their triangulation ids (-1: not inserted).
-std::vector<int> InsertFacePoints(const FaceStageInputs& in, const GraphFace& face,
-                                  const FaceMarks& marks, FaceWork* w, int* hint) {
-  std::vector<int> point_ids(marks.points.size(), -1);
+// False when the budget ran out.
+bool InsertFacePoints(const FaceStageInputs& in, const GraphFace& face, const FaceMarks& marks,
+                      FaceWork* w, int* hint, Budget* budget, size_t* inserted,
+                      std::vector<int>* ids) {
+  std::vector<int>& point_ids = *ids;
+  point_ids.assign(marks.points.size(), -1);
   for (size_t q = 0; q < marks.points.size(); ++q) {
     if (!marks.points[q].kept) continue;
+    if (OutOfTime(budget, inserted)) return false;
     const GridNodeInside& node = marks.points[q].node;
     const int id = w->tri.Insert(w->frame * Vec2(node.l1, node.l2));
     if (id < 0) continue;
@@ -47,7 +60,7 @@ std::vector<int> InsertFacePoints(const FaceStageInputs& in, const GraphFace& fa
     }
     point_ids[q] = id;
   }
-  return point_ids;
+  return true;
 }
 
 // Constrains the kept chords between the points they pass through.
@@ -101,15 +114,20 @@ Eigen::Matrix2d FaceFrame(const Context& ctx, const std::array<VertexId, 3>& cor
   return frame;
 }
 
-std::optional<FaceWork> TriangulateFace(const FaceStageInputs& in, FaceId fi, int* hint) {
+std::optional<FaceWork> TriangulateFace(const FaceStageInputs& in, FaceId fi, int* hint,
+                                        Budget* budget) {
   const GraphFace& face = in.graph.faces[fi];
   const auto& d = in.located.deformed;
   FaceWork w(FaceFrame(in.ctx, face.corner), d[face.corner[0]], d[face.corner[1]],
              d[face.corner[2]]);
+  size_t inserted = 0;
   std::array<std::vector<int>, 3> side_ids;
-  if (!SplitSides(in, face, &w, &side_ids)) return std::nullopt;
+  if (!SplitSides(in, face, &w, &side_ids, budget, &inserted)) return std::nullopt;
   const FaceMarks& marks = in.marking.faces[fi];
-  const std::vector<int> point_ids = InsertFacePoints(in, face, marks, &w, hint);
+  std::vector<int> point_ids;
+  if (!InsertFacePoints(in, face, marks, &w, hint, budget, &inserted, &point_ids)) {
+    return std::nullopt;
+  }
   if (marks.large) ConstrainChords(in, fi, point_ids, side_ids, &w);
   return w;
 }

@@ -57,7 +57,12 @@ struct FaceWork {
 Eigen::Matrix2d FaceFrame(const Context& ctx, const std::array<VertexId, 3>& corners);
 
 // The face re-triangulated from its final side points, kept face points and
-// kept chords. Empty when an invariant of the triangulation broke (a bug).
-std::optional<FaceWork> TriangulateFace(const FaceStageInputs& in, FaceId f, int* hint);
+// kept chords. Empty when an invariant of the triangulation broke (a bug),
+// or when `budget` (if given) ran out of time: it is checked every
+// kPointsPerTimeCheck points inserted, since a long thin face with thousands
+// of points on its sides takes seconds (each side point inserted flips the
+// fan across to the other sides).
+std::optional<FaceWork> TriangulateFace(const FaceStageInputs& in, FaceId f, int* hint,
+                                        Budget* budget = nullptr);
 
 }  // namespace surfdeform::subdivision

@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "engine/subdivision/triangle_deviation.hpp"
 #include "meshio/mesh_import.hpp"
@@ -56,6 +58,42 @@ TEST(FaceRetriangulation, TheTrianglesTileTheFaceAndKeepItsOrientation) {
     retriangulated += w->tri.triangles().size() > 1;
   }
   EXPECT_GT(retriangulated, 6);
+}
+
+// A long thin face with thousands of points on its sides took seconds to
+// re-triangulate (each side point flips the fan across to the other sides),
+// past the request's time budget: the fuzzer's 310-byte request ran 11 s
+// under ASan against a 1 s budget. The triangulation now looks at the
+// budget as it inserts; one already spent stops it at its first look.
+TEST(FaceRetriangulation, StopsOnceTheTimeBudgetIsSpent) {
+  const Faces f = RunFaces(testing::Figure(10, 16), testing::ThinPlate(1.0, 1.0, 0.02),
+                           testing::Tolerance(1e-4));
+  // The face with the most points on its sides.
+  FaceId most(0u);
+  size_t most_points = 0;
+  for (size_t fi = 0; fi < f.s->graph.faces.size(); ++fi) {
+    size_t points = 0;
+    for (int k = 0; k < 3; ++k)
+      points += f.s->edges[f.s->graph.faces[FaceId(fi)].edge[k]].kept_t.size();
+    if (points > most_points) {
+      most_points = points;
+      most = FaceId(fi);
+    }
+  }
+  ASSERT_GE(most_points, 64u);
+  int hint = -1;
+  SubdivisionOptions o = f.in->ctx->options;
+  Budget ample(o, 0);  // no time budget
+  EXPECT_TRUE(TriangulateFace(f.Inputs(), most, &hint, nullptr).has_value());
+  EXPECT_TRUE(TriangulateFace(f.Inputs(), most, &hint, &ample).has_value());
+  o.time_budget_ms = 1e-6;
+  Budget spent(o, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  EXPECT_FALSE(TriangulateFace(f.Inputs(), most, &hint, &spent).has_value());
+  // A face refined with it is not a failure: the request fails with the time.
+  const FaceOutput out = RefineFace(f.Inputs(), most, &spent, &hint);
+  EXPECT_FALSE(out.failed);
+  EXPECT_TRUE(spent.OutOfTime());
 }
 
 TEST(TriangleDeviation, IsTheLargestOfItsSevenSamplesAgainstTheFlatTriangle) {
