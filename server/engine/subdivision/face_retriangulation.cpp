@@ -8,7 +8,7 @@ namespace {
 constexpr size_t kPointsPerTimeCheck = 32;
 
 // Whether the budget (if any) ran out, looked at every kPointsPerTimeCheck
-// points (`inserted`, counted here).
+// points inserted or chords constrained (`inserted`, counted here).
 bool OutOfTime(Budget* budget, size_t* inserted) {
   return budget != nullptr && ++*inserted % kPointsPerTimeCheck == 0 && budget->OutOfTime();
 }
@@ -63,9 +63,12 @@ bool InsertFacePoints(const FaceStageInputs& in, const GraphFace& face, const Fa
   return true;
 }
 
-// Constrains the kept chords between the points they pass through.
-void ConstrainChords(const FaceStageInputs& in, FaceId fi, const std::vector<int>& point_ids,
-                     const std::array<std::vector<int>, 3>& side_ids, FaceWork* w) {
+// Constrains the kept chords between the points they pass through. False
+// when the budget ran out (each constraint walks round a point's fan, which
+// on a long thin face holds thousands of triangles).
+bool ConstrainChords(const FaceStageInputs& in, FaceId fi, const std::vector<int>& point_ids,
+                     const std::array<std::vector<int>, 3>& side_ids, FaceWork* w, Budget* budget,
+                     size_t* inserted) {
   const GraphFace& face = in.graph.faces[fi];
   for (const Chord& chord : Chords(in.ctx, in.graph, in.marking, fi)) {
     if (!ChordKept(in.ctx, in.graph, in.marking, fi, chord)) continue;
@@ -82,11 +85,16 @@ void ConstrainChords(const FaceStageInputs& in, FaceId fi, const std::vector<int
         if (it != kept.end() && *it == t) id = side_ids[e.side][it - kept.begin()];
       }
       if (id < 0) continue;
-      if (prev >= 0) w->tri.Constrain(prev, id);
+      if (prev >= 0) {
+        if (OutOfTime(budget, inserted)) return false;
+        w->tri.Constrain(prev, id);
+      }
       prev = id;
     }
   }
+  if (budget != nullptr && budget->OutOfTime()) return false;
   w->tri.RestoreDelaunay();
+  return true;
 }
 
 }  // namespace
@@ -128,7 +136,9 @@ std::optional<FaceWork> TriangulateFace(const FaceStageInputs& in, FaceId fi, in
   if (!InsertFacePoints(in, face, marks, &w, hint, budget, &inserted, &point_ids)) {
     return std::nullopt;
   }
-  if (marks.large) ConstrainChords(in, fi, point_ids, side_ids, &w);
+  if (marks.large && !ConstrainChords(in, fi, point_ids, side_ids, &w, budget, &inserted)) {
+    return std::nullopt;
+  }
   return w;
 }
 

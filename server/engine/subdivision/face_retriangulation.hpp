@@ -58,10 +58,11 @@ Eigen::Matrix2d FaceFrame(const Context& ctx, const std::array<VertexId, 3>& cor
 
 // The face re-triangulated from its final side points, kept face points and
 // kept chords. Empty when an invariant of the triangulation broke (a bug),
-// or when `budget` (if given) ran out of time: it is checked every
-// kPointsPerTimeCheck points inserted, since a long thin face with thousands
-// of points on its sides takes seconds (each side point inserted flips the
-// fan across to the other sides).
+// or when `budget` (if given) ran out of time: it is looked at every 32
+// points inserted and chord pieces constrained, since a long thin face with
+// thousands of points on its sides takes seconds (each side point inserted
+// flips the fan across to the other sides; each constraint walks round a
+// point's fan).
 std::optional<FaceWork> TriangulateFace(const FaceStageInputs& in, FaceId f, int* hint,
                                         Budget* budget = nullptr);
 
