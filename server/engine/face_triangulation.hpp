@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -51,8 +52,14 @@ class FaceTriangulation {
 
   // Makes the segment a-b an edge of the triangulation and constrains it.
   // Points found on the segment split it. False when it crosses a constrained
-  // edge (then the triangulation is unchanged but for the flips made).
+  // edge (then the triangulation is unchanged but for the flips made), or
+  // when the stop test (SetStop) says so.
   bool Constrain(int a, int b);
+
+  // A test Constrain looks at every 1024 flips, giving up once it is true:
+  // on a long thin face, flipping one constraint in can take up to its
+  // guard's (number crossed)^2 steps, each a walk round a point's fan.
+  void SetStop(std::function<bool()> stop) { stop_ = std::move(stop); }
 
   // Delaunay flips over every unconstrained edge (after constraints, whose
   // insertion leaves other edges as they fell).
@@ -96,6 +103,7 @@ class FaceTriangulation {
   double eps_len_ = 0.0;   // coincidence distance
   uint32_t clock_ = 0;
   std::vector<int> touched_;
+  std::function<bool()> stop_;
 };
 
 }  // namespace surfdeform

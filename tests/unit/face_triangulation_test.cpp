@@ -5,6 +5,7 @@
 
 #include <map>
 #include <random>
+#include <tuple>
 
 namespace surfdeform {
 namespace {
@@ -80,6 +81,43 @@ TEST(FaceTriangulation, ConstraintsBecomeEdgesAndSurviveDelaunayFlips) {
   EXPECT_TRUE(tri.Constrain(0, row[4]));
   EXPECT_TRUE(HasEdge(tri, 0, row[4]) || HasEdge(tri, row[4], 0));
   ExpectValid(tri, 50.0);
+}
+
+// A constraint across a band of 2,000 edges between two rows of points: the
+// stop test (SetStop) is looked at as it flips, and a true one gives up
+// (the request's time budget, on a long thin face where this took minutes
+// under ASan); without one, or with a false one, the constraint is made.
+TEST(FaceTriangulation, AConstraintGivesUpWhenTheStopTestSaysSo) {
+  auto band = [] {
+    FaceTriangulation tri(Vec2(0, 0), Vec2(1, 0), Vec2(0, 1));
+    const int a = tri.Insert(Vec2(0.005, 0.4));
+    for (int q = 0; q < 1000; ++q) {
+      const double x = 0.01 + 0.0005 * q;
+      tri.Insert(Vec2(x, 0.38));
+      tri.Insert(Vec2(x + 0.00025, 0.42));
+    }
+    const int b = tri.Insert(Vec2(0.55, 0.4));
+    return std::make_tuple(std::move(tri), a, b);
+  };
+  {
+    auto [tri, a, b] = band();
+    EXPECT_TRUE(tri.Constrain(a, b));
+    EXPECT_TRUE(HasEdge(tri, a, b) || HasEdge(tri, b, a));
+    ExpectValid(tri, 0.5);
+  }
+  {
+    auto [tri, a, b] = band();
+    int asked = 0;
+    tri.SetStop([&] { return ++asked < 0; });  // never
+    EXPECT_TRUE(tri.Constrain(a, b));
+    EXPECT_GT(asked, 0);  // it was looked at
+  }
+  {
+    auto [tri, a, b] = band();
+    tri.SetStop([] { return true; });
+    EXPECT_FALSE(tri.Constrain(a, b));
+    ExpectValid(tri, 0.5);  // the flips made so far leave it valid
+  }
 }
 
 TEST(FaceTriangulation, InteriorEdgeSplitsKeepItValid) {

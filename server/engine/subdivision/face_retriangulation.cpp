@@ -128,6 +128,7 @@ std::optional<FaceWork> TriangulateFace(const FaceStageInputs& in, FaceId fi, in
   const auto& d = in.located.deformed;
   FaceWork w(FaceFrame(in.ctx, face.corner), d[face.corner[0]], d[face.corner[1]],
              d[face.corner[2]]);
+  if (budget != nullptr) w.tri.SetStop([budget] { return budget->OutOfTime(); });
   size_t inserted = 0;
   std::array<std::vector<int>, 3> side_ids;
   if (!SplitSides(in, face, &w, &side_ids, budget, &inserted)) return std::nullopt;
