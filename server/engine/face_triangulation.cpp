@@ -401,7 +401,7 @@ bool FaceTriangulation::Constrain(int a, int b) {
   const size_t limit = 16 * (crossing.size() + 1) * (crossing.size() + 1) + 1024;
   while (!crossing.empty()) {
     if (++guard > limit) return false;
-    if (guard % 1024 == 0 && stop_ && stop_()) return false;
+    if (guard % 64 == 0 && stop_ && stop_()) return false;
     const auto [x, y] = crossing.front();
     crossing.pop_front();
     int kk = -1;

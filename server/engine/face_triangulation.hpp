@@ -56,7 +56,7 @@ class FaceTriangulation {
   // when the stop test (SetStop) says so.
   bool Constrain(int a, int b);
 
-  // A test Constrain looks at every 1024 flips, giving up once it is true:
+  // A test Constrain looks at every 64 flips, giving up once it is true:
   // on a long thin face, flipping one constraint in can take up to its
   // guard's (number crossed)^2 steps, each a walk round a point's fan.
   void SetStop(std::function<bool()> stop) { stop_ = std::move(stop); }

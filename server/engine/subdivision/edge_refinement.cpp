@@ -50,8 +50,12 @@ void RefinePiece(const Context& ctx, const GraphEdge& edge, const EdgeMarks& mar
   const double length = (ctx.Placed(edge.v1) - ctx.Placed(edge.v0)).norm();
   stack->clear();
   stack->push_back({prev_t, next_t, prev_f, next_f, 0});
-  // Depth first, left half last pushed: points come out in order.
+  // Depth first, left half last pushed: points come out in order. One edge
+  // can take up to the output's limit of points (seconds): the time budget is
+  // looked at every 64 pieces, and the request fails with it when spent.
+  size_t pieces = 0;
   while (!stack->empty()) {
+    if (++pieces % 64 == 0 && budget->OutOfTime()) return;
     const Span s = stack->back();
     stack->pop_back();
     const Worst worst = WorstSample(ctx, edge, marks, s, &out->tally, hint);
