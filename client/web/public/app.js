@@ -72,7 +72,7 @@ const state = {
 
 // Undo and redo (edit_history.js): a step is the surface's spec and the
 // placement (with the sheet it is on) of an exact result shown after an edit.
-const history = new EditHistory({ derived: ['placementSheet'] });
+const editHistory = new EditHistory({ derived: ['placementSheet'] });
 
 const preview = new FieldPreview();
 
@@ -764,9 +764,9 @@ function editStep() {
 function settleHistory(specSent) {
   if (sheetView.drag || modelView.drag || pending || JSON.stringify(state.spec) !== specSent) return;
   if (state.historyReset) {
-    history.reset(editStep());
+    editHistory.reset(editStep());
   } else if (state.edited) {
-    history.record(editStep());
+    editHistory.record(editStep());
   }
   state.historyReset = false;
   state.edited = false;
@@ -774,8 +774,8 @@ function settleHistory(specSent) {
 }
 
 function showHistory() {
-  $('undo').disabled = !history.canUndo();
-  $('redo').disabled = !history.canRedo();
+  $('undo').disabled = !editHistory.canUndo();
+  $('redo').disabled = !editHistory.canRedo();
 }
 
 // The page as `step` had it: the preview at once (the field moved to its
@@ -806,13 +806,13 @@ function undoEdit() {
   if (sheetView.drag || modelView.drag || state.historyReset) return;
   // An edit not settled yet (a wheel's, within its 150 ms) goes back to the
   // last step; else the step before it.
-  const step = state.edited ? history.currentStep() : history.undo();
+  const step = state.edited ? editHistory.currentStep() : editHistory.undo();
   if (step) restoreStep(step);
 }
 
 function redoEdit() {
   if (sheetView.drag || modelView.drag || state.historyReset) return;
-  const step = history.redo();
+  const step = editHistory.redo();
   if (step) restoreStep(step);
 }
 
@@ -1059,7 +1059,7 @@ function placementParams() {
 // For tests and the curious: the state and the model's share of the 3D canvas.
 window.surfdeformViewer = { state, animation: animationPanel, preview, compareEncodings, decodeGlb,
                             movedFieldOnSurface, placementParams,
-                            history: () => ({ back: history.back.length, ahead: history.ahead.length }),
+                            history: () => ({ back: editHistory.back.length, ahead: editHistory.ahead.length }),
                             deformRequest: () => readableJson(deformRequest()),
                             // SHA-256 (hex) of the exact result of what the page shows, as it asks for it.
                             exactDigest: async () => {
