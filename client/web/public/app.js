@@ -86,13 +86,20 @@ const sheetView = new SheetView($('sheet'), (placement, final, how) => {
   if (how === 'wheel') scheduleDeform(150);
   else holdDeform();
 });
-let pointerMoved = false;  // the control point held has moved since it was pressed
-const modelView = new ModelView($('view3d'), (index, point, final) => {
+// Control point `index` of the spec moved to `point` (to 1e-6): a new
+// surface version when it changed. Whether it changed.
+function setControlPoint(index, point) {
   const rounded = point.map((x) => Math.round(x * 1e6) / 1e6);
-  // A release where the last move left the point: the same surface.
   const changed = rounded.some((x, c) => x !== state.spec.control_points[index][c]);
   if (changed) ++state.specVersion;
   state.spec.control_points[index] = rounded;
+  return changed;
+}
+
+let pointerMoved = false;  // the control point held has moved since it was pressed
+const modelView = new ModelView($('view3d'), (index, point, final) => {
+  // A release where the last move left the point: the same surface.
+  const changed = setControlPoint(index, point);
   showControlPoint();
   if (final) {
     // A press without a move selects the point (its numbers), nothing more.
@@ -731,15 +738,13 @@ modelView.onSelect = showControlPoint;
   $(`cp-${c}`).addEventListener('change', () => {
     const k = modelView.selected;
     const input = $(`cp-${c}`);
-    const value = Math.round(Number(input.value) * 1e6) / 1e6;
+    const value = Number(input.value);
     const points = state.spec && state.spec.kind === 'bezier' ? state.spec.control_points : null;
     if (!points || !points[k] || input.value.trim() === '' || !Number.isFinite(value) ||
-        modelView.drag || value === points[k][i]) {
+        modelView.drag || !setControlPoint(k, points[k].map((x, j) => (j === i ? value : x)))) {
       input.value = points && points[k] ? points[k][i] : '';
       return;
     }
-    points[k] = points[k].map((x, j) => (j === i ? value : x));
-    ++state.specVersion;
     state.edited = true;
     modelView.setControlPoints(points);
     showMovedField();

@@ -288,7 +288,7 @@ export class ModelView {
     const geometry = new THREE.SphereGeometry(r, 12, 8);
     if (this.selected >= points.length) this.selected = -1;
     points.forEach((p, k) => {
-      const s = new THREE.Mesh(geometry, k === this.selected ? this.materials.selected : this.materials.handle);
+      const s = new THREE.Mesh(geometry, this.handleMaterial(k));
       s.position.set(...p);
       s.userData.index = k;
       this.handles.add(s);
@@ -422,12 +422,14 @@ export class ModelView {
     this.onControlPoint(h.userData.index, h.position.toArray(), false);
   }
 
+  handleMaterial(k) {
+    return k === this.selected ? this.materials.selected : this.materials.handle;
+  }
+
   // Control point `k` shown as the selected one (-1: none), and onSelect told.
   select(k) {
     this.selected = k;
-    for (const h of this.handles.children) {
-      h.material = h.userData.index === k ? this.materials.selected : this.materials.handle;
-    }
+    for (const h of this.handles.children) h.material = this.handleMaterial(h.userData.index);
     this.invalidate();
     this.onSelect(k);
   }
