@@ -1,7 +1,5 @@
 #include "proto/json_object.hpp"
 
-#include "base/json_depth.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -47,67 +45,6 @@ std::string JoinPath(const std::string& parent, size_t index) {
 
 Status Malformed(std::string message, std::string field) {
   return Status(ErrorCode::kMalformed, std::move(message), std::move(field));
-}
-
-Result<nlohmann::json> ParseRequestJson(std::string_view text, int max_depth,
-                                        const std::string& what) {
-  const int depth = JsonNestingDepth(text);
-  if (depth > max_depth) {
-    // Malformed (400) rather than too large: no sensible request nests this deep.
-    return Malformed(what + " nests " + std::to_string(depth) + " levels deep; the limit is " +
-                         std::to_string(max_depth),
-                     what)
-        .WithLimit(max_depth, depth);
-  }
-  // A key given twice in one object is refused rather than resolved (the
-  // last one would win silently): the open objects' keys so far, and the
-  // path to the first duplicate.
-  struct Open {
-    std::set<std::string> keys;
-    std::string path;
-  };
-  std::vector<Open> open;
-  std::string last_key, duplicate;
-  using Event = nlohmann::json::parse_event_t;
-  auto callback = [&](int, Event event, nlohmann::json& parsed) {
-    if (!duplicate.empty()) return true;
-    switch (event) {
-      case Event::object_start:
-        open.push_back({{}, open.empty() ? std::string() : JoinPath(open.back().path, last_key)});
-        break;
-      case Event::object_end:
-        if (!open.empty()) open.pop_back();
-        break;
-      case Event::key:
-        last_key = parsed.get<std::string>();
-        if (!open.empty() && !open.back().keys.insert(last_key).second) {
-          duplicate = JoinPath(open.back().path, last_key);
-        }
-        break;
-      default:
-        break;
-    }
-    return true;
-  };
-  try {
-    nlohmann::json parsed = nlohmann::json::parse(text, callback);
-    if (!duplicate.empty()) {
-      return Malformed(
-          what + " gives the key \"" + duplicate.substr(0, 80) + "\" twice; give each key once",
-          JoinPath(what, duplicate));
-    }
-    return parsed;
-  } catch (const nlohmann::json::parse_error& e) {
-    return Malformed(
-        what + " is not valid JSON (syntax error at byte " + std::to_string(e.byte) + ")", what);
-  } catch (const nlohmann::json::out_of_range&) {
-    return InvalidArgument(what +
-                               " holds a number beyond the range of doubles (JSON has no "
-                               "infinity)",
-                           what);
-  } catch (const nlohmann::json::exception&) {
-    return Malformed(what + " is not valid JSON", what);
-  }
 }
 
 std::string JsonTypeName(const nlohmann::json& value) {

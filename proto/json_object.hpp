@@ -24,12 +24,6 @@ namespace surfdeform::proto {
 std::string JoinPath(const std::string& parent, std::string_view key);
 std::string JoinPath(const std::string& parent, size_t index);
 
-// Parses request JSON after checking its depth. kMalformed for a syntax error
-// (with the byte offset), kLimitExceeded for too deep a nesting. `what` names
-// the document in messages ("params").
-Result<nlohmann::json> ParseRequestJson(std::string_view text, int max_depth,
-                                        const std::string& what);
-
 // "a string", "an array", ...: for messages.
 std::string JsonTypeName(const nlohmann::json& value);
 

@@ -2,8 +2,10 @@
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <csignal>
 #include <iostream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -66,22 +68,47 @@ int main(int argc, char** argv) {
   // The signal thread drains and stops the server; it is joined before the
   // server and the service are destroyed (ThreadSanitizer caught a detached
   // one still inside Stop() while main destroyed the server).
+  //
+  // SIGTERM: not ready for --drain-seconds (load balancers stop sending),
+  // then no longer accepting, with the requests in flight given
+  // --stop-grace-seconds to finish; then their work is cancelled (each stops
+  // at its next checkpoint), and past --stop-timeout-seconds more the
+  // process exits whatever is left (docs/RELIABILITY.md, item 35).
   std::atomic<bool> stopped_by_signal{false};
   std::atomic<bool> run_ended{false};
+  std::mutex ended_mutex;
+  std::condition_variable ended;
+  auto wait_for_end = [&](double seconds) {
+    std::unique_lock lock(ended_mutex);
+    return ended.wait_for(lock, std::chrono::duration<double>(seconds),
+                          [&] { return run_ended.load(); });
+  };
   std::thread signal_thread([&] {
     int signal = 0;
     sigwait(&signals, &signal);
     if (run_ended) return;  // woken below: the server stopped by itself
     stopped_by_signal = true;
-    std::cout << "{\"event\":\"draining\",\"signal\":" << signal << "}" << std::endl;
+    server.Event("{\"event\":\"draining\",\"signal\":" + std::to_string(signal) + "}");
     server.Drain();
     std::this_thread::sleep_for(std::chrono::duration<double>(config.drain_seconds));
     server.Stop();
+    if (wait_for_end(config.stop_grace_seconds)) return;
+    server.Event("{\"event\":\"cancelling\",\"after_seconds\":" +
+                 std::to_string(config.stop_grace_seconds) + "}");
+    server.Cancel();
+    if (wait_for_end(config.stop_timeout_seconds)) return;
+    std::cerr << "surfdeform-server: requests still at work " << config.stop_timeout_seconds
+              << " s after they were cancelled; exiting\n";
+    std::_Exit(1);
   });
   server.Run();
-  run_ended = true;
+  {
+    std::lock_guard lock(ended_mutex);
+    run_ended = true;
+  }
+  ended.notify_all();
   if (!stopped_by_signal) pthread_kill(signal_thread.native_handle(), SIGTERM);
   signal_thread.join();
-  std::cout << "{\"event\":\"stopped\"}" << std::endl;
+  server.Event("{\"event\":\"stopped\"}");
   return stopped_by_signal ? 0 : 1;
 }

@@ -90,6 +90,13 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
        "(over it: 413 at once); it also caps the subdivision's output",
        16, 1 << 20);
   Flag(app, "--max-json-depth", l.max_json_depth, "Deepest request JSON nesting", 4, 256);
+  Flag(app, "--max-json-elements", l.max_json_elements,
+       "Most values (numbers, strings, arrays, objects) in one request's JSON", 1000, 100'000'000);
+  Flag(app, "--max-json-elements-in-flight", l.max_json_elements_in_flight,
+       "Most request JSON values held at once by all requests together (past it: 503)", 1000,
+       1'000'000'000);
+  Flag(app, "--max-json-string-bytes", l.max_json_string_bytes,
+       "Most bytes of keys and strings in one request's JSON", 1024, 1 << 30);
   Flag(app, "--max-in-flight", l.max_in_flight,
        "Flatten/deform requests running at once (0: one per core)", 0, 4096);
   Flag(app, "--max-queued", l.max_queued,
@@ -124,10 +131,29 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
        "Kernel send buffer of each connection, bytes (0: the kernel's autotuning); responses "
        "larger than it hold a worker until read or cut at the minimum rate",
        0, 1 << 30);
+  Flag(app, "--max-bodies-per-address", h.max_bodies_per_address,
+       "Request bodies the server reads at once from one client address (more: 503); bodies "
+       "are read before a worker takes the request",
+       1, 65536);
+  Flag(app, "--body-buffer-mib", c->body_buffer_mib,
+       "Declared bytes of the request bodies being read at once, in all, MiB (more: 503)", 1,
+       1 << 20);
+  Flag(app, "--max-body-seconds", h.max_body_seconds,
+       "The longest any request body may take to arrive, seconds (slower than the minimum "
+       "rate: cut sooner)",
+       1, 86400);
+  Flag(app, "--output-buffer-mib", c->output_buffer_mib,
+       "Response bytes kept for clients that read slowly, in all, MiB (past it a response "
+       "waits for its reader on a worker)",
+       0, 1 << 20);
   Flag(app, "--keep-alive-timeout", h.keep_alive_timeout_s,
        "Idle keep-alive connections are closed after this many seconds", 1, 600);
   Flag(app, "--drain-seconds", c->drain_seconds,
        "On SIGTERM: report not ready this long before no longer accepting", 0.0, 600.0);
+  Flag(app, "--stop-grace-seconds", c->stop_grace_seconds,
+       "Then: how long requests in flight may run on before their work is cancelled", 0.0, 3600.0);
+  Flag(app, "--stop-timeout-seconds", c->stop_timeout_seconds,
+       "Then: how long the server waits for cancelled work before it exits regardless", 0.1, 600.0);
   Flag(app, "--log-level", c->log_level, "Access and error log level")
       ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}));
   app.add_option("--redis", c->shared.url,
@@ -153,6 +179,8 @@ void ResolveServerConfig(ServerConfig* c) {
   l.footprint_memo_bytes = c->footprint_mib << 20;
   l.answer_cache_bytes = c->answer_cache_mib << 20;
   l.request_memory_bytes = c->request_memory_mib << 20;
+  c->http.max_body_buffer_bytes = c->body_buffer_mib << 20;
+  c->http.max_output_buffer_bytes = c->output_buffer_mib << 20;
   c->http.log_level = ParseLogLevel(c->log_level);
   c->shared.lock_ms = std::max(c->shared.wait_ms, l.flatten_time_budget_ms) + 1000;
 }

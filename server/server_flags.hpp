@@ -18,6 +18,11 @@ struct ServerConfig {
   SharedTierOptions shared;  // the Redis level; its url empty: none
   std::string log_level = "info";
   double drain_seconds = 0.0;  // on SIGTERM: not ready this long before stopping
+  // Then, once accepting has stopped: how long requests in flight may run
+  // on before their work is cancelled (each stops at its next checkpoint),
+  // and how long after that the process waits before it exits regardless.
+  double stop_grace_seconds = 30.0;
+  double stop_timeout_seconds = 10.0;
   // Byte limits as the flags give them, in MiB (ResolveServerConfig sets the
   // limits from them).
   size_t cache_mib = ServiceLimits{}.cache_bytes >> 20;
@@ -26,6 +31,8 @@ struct ServerConfig {
   size_t footprint_mib = ServiceLimits{}.footprint_memo_bytes >> 20;
   size_t answer_cache_mib = ServiceLimits{}.answer_cache_bytes >> 20;
   size_t request_memory_mib = ServiceLimits{}.request_memory_bytes >> 20;
+  size_t body_buffer_mib = http::HttpOptions{}.max_body_buffer_bytes >> 20;
+  size_t output_buffer_mib = http::HttpOptions{}.max_output_buffer_bytes >> 20;
 };
 
 // Adds every flag to `app`, bound to `config`'s fields.

@@ -1,8 +1,11 @@
 // Milliseconds since a point in time, on the steady clock: for time budgets
-// and reported timings.
+// and reported timings; and the deadline that work checks between its
+// steps, which a raised cancel flag ends early.
 #pragma once
 
 #include <chrono>
+
+#include "base/cancel_flag.hpp"
 
 namespace surfdeform {
 
@@ -10,14 +13,34 @@ inline double MsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The end of a time budget of `budget_ms` from `start`; none (the clock's
-// end) when the budget is 0.
-inline std::chrono::steady_clock::time_point DeadlineAfter(
-    std::chrono::steady_clock::time_point start, double budget_ms) {
+// When work must stop: the end of its time budget (none: the clock's end),
+// or earlier, once its cancel flag (may be null) is raised.
+class Deadline {
+ public:
   using Clock = std::chrono::steady_clock;
-  if (!(budget_ms > 0.0)) return Clock::time_point::max();
-  return start + std::chrono::duration_cast<Clock::duration>(
-                     std::chrono::duration<double, std::milli>(budget_ms));
+  Deadline() = default;  // never
+  explicit Deadline(Clock::time_point at, const CancelFlag* cancel = nullptr)
+      : at_(at), cancel_(cancel) {}
+
+  bool Passed() const {
+    return Cancelled(cancel_) || (at_ != Clock::time_point::max() && Clock::now() > at_);
+  }
+  const CancelFlag* cancel() const { return cancel_; }
+
+ private:
+  Clock::time_point at_ = Clock::time_point::max();
+  const CancelFlag* cancel_ = nullptr;
+};
+
+// The end of a time budget of `budget_ms` from `start`; none (the clock's
+// end) when the budget is 0; earlier when `cancel` is raised.
+inline Deadline DeadlineAfter(std::chrono::steady_clock::time_point start, double budget_ms,
+                              const CancelFlag* cancel = nullptr) {
+  using Clock = std::chrono::steady_clock;
+  if (!(budget_ms > 0.0)) return Deadline(Clock::time_point::max(), cancel);
+  return Deadline(start + std::chrono::duration_cast<Clock::duration>(
+                              std::chrono::duration<double, std::milli>(budget_ms)),
+                  cancel);
 }
 
 }  // namespace surfdeform

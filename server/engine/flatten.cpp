@@ -141,6 +141,7 @@ DistanceOptions DistanceOptionsFor(const FlattenOptions& o, Clock::time_point st
   d.relax_steps = o.relax_steps;
   d.threads = threads > 0 ? threads : o.threads;
   d.time_budget_ms = o.time_budget_ms;
+  d.cancel = o.cancel;
   d.started = started;
   return d;
 }
@@ -318,7 +319,7 @@ Result<FlatSheet> Flattener::Solve(const Surface& surface, SampledGrid grid,
                                    const FlatSheet* warm_start, const SheetTrend* warm_trend,
                                    SurfaceDistances dist, double distance_ms,
                                    std::chrono::steady_clock::time_point t0) {
-  const internal::Deadline deadline = DeadlineAfter(t0, options_.time_budget_ms);
+  const internal::Deadline deadline = DeadlineAfter(t0, options_.time_budget_ms, options_.cancel);
   const int nu = grid.nu, nv = grid.nv;
   const int n = nu * nv;
   FlatSheet sheet;

@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "base/cancel_flag.hpp"
 #include "base/enum_table.hpp"
 #include "base/status.hpp"
 #include "engine/flatten_settings.hpp"
@@ -51,6 +52,7 @@ namespace surfdeform {
 struct FlattenOptions : FlattenSettings {
   int threads = 0;              // worker threads; 0 = one per core. Results do not depend on it.
   double time_budget_ms = 0.0;  // the solver stops with kLimitExceeded past this; 0 = none
+  const CancelFlag* cancel = nullptr;  // raised: the solver stops as at its budget's end
   // A surface given as a mesh: the most vertex pairs within max(range, 3)
   // rings it may have (kLimitExceeded past it, found before they are all
   // listed); 0 = no limit. Set by the service, not by requests.

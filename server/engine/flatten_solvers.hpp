@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/elapsed.hpp"
 #include "engine/flatten.hpp"
 #include "engine/surface_distance.hpp"
 
@@ -19,8 +20,8 @@ struct SolveStats {
   bool out_of_time = false;  // stopped at the deadline
 };
 
-using Deadline = std::chrono::steady_clock::time_point;
-inline constexpr Deadline kNoDeadline = Deadline::max();
+using surfdeform::Deadline;
+inline const Deadline kNoDeadline{};
 
 // The stopping rule shared by the iterative solvers: C changed by at most
 // `tolerance` of itself in the last iteration, or reached zero (relative to

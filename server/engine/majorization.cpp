@@ -159,7 +159,7 @@ SolveStats IterateMajorization(const MajorizationMap& map, double total, double 
       break;
     }
     if (it == max_iterations) break;
-    if (std::chrono::steady_clock::now() > deadline) {
+    if (deadline.Passed()) {
       stats.out_of_time = true;
       break;
     }

@@ -298,31 +298,31 @@ class SegmentTracer {
 
 bool MeasureAlongChart(const DiskMesh& mesh, const MeshAdjacency& adjacency,
                        const std::vector<Vec2>& chart, int threads, std::vector<GridEdge>* pairs,
-                       std::chrono::steady_clock::time_point deadline) {
+                       Deadline deadline) {
   const SegmentTracer tracer(mesh, adjacency, chart);
   std::vector<GridEdge>& e = *pairs;
   const int count = static_cast<int>(e.size());
   std::atomic<bool> late{false};
-  ParallelChunks(
-      count, std::min(ResolveThreads(threads), count / 20000 + 1), [&](int, int begin, int end) {
-        for (int k = begin; k < end; ++k) {
-          if ((k - begin) % 4096 == 4095 && (late.load(std::memory_order_relaxed) ||
-                                             std::chrono::steady_clock::now() > deadline)) {
-            late.store(true, std::memory_order_relaxed);
-            return;
-          }
-          if (e[k].ring == 1) {
-            e[k].d = (mesh.positions[e[k].i] - mesh.positions[e[k].j]).norm();
-            continue;
-          }
-          const double d = tracer.Length(e[k].i, e[k].j);
-          if (d > 0.0) {
-            e[k].d = d;
-          } else if (!(e[k].d > 0.0)) {
-            e[k].d = -1.0;
-          }
-        }
-      });
+  ParallelChunks(count, std::min(ResolveThreads(threads), count / 20000 + 1),
+                 [&](int, int begin, int end) {
+                   for (int k = begin; k < end; ++k) {
+                     if ((k - begin) % 4096 == 4095 &&
+                         (late.load(std::memory_order_relaxed) || deadline.Passed())) {
+                       late.store(true, std::memory_order_relaxed);
+                       return;
+                     }
+                     if (e[k].ring == 1) {
+                       e[k].d = (mesh.positions[e[k].i] - mesh.positions[e[k].j]).norm();
+                       continue;
+                     }
+                     const double d = tracer.Length(e[k].i, e[k].j);
+                     if (d > 0.0) {
+                       e[k].d = d;
+                     } else if (!(e[k].d > 0.0)) {
+                       e[k].d = -1.0;
+                     }
+                   }
+                 });
   return !late.load();
 }
 

@@ -9,6 +9,7 @@
 
 #include "base/status.hpp"
 #include "engine/disk_mesh.hpp"
+#include "engine/elapsed.hpp"
 #include "engine/geometry_types.hpp"
 #include "engine/surface_distance.hpp"
 
@@ -43,9 +44,8 @@ std::optional<std::vector<GridEdge>> RingPairs(const MeshAdjacency& adjacency, i
 // d if it is positive and get d = -1 otherwise. Deterministic on any
 // number of threads. False when it stopped at `deadline` (the pairs then
 // half measured).
-bool MeasureAlongChart(
-    const DiskMesh& mesh, const MeshAdjacency& adjacency, const std::vector<Vec2>& chart,
-    int threads, std::vector<GridEdge>* pairs,
-    std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
+bool MeasureAlongChart(const DiskMesh& mesh, const MeshAdjacency& adjacency,
+                       const std::vector<Vec2>& chart, int threads, std::vector<GridEdge>* pairs,
+                       Deadline deadline = Deadline());
 
 }  // namespace surfdeform::internal

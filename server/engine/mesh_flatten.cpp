@@ -286,7 +286,7 @@ Result<FlatMesh> MeshFlattener::Flatten(DiskMesh mesh, const std::vector<Vec2>* 
     return InvalidArgument("a mesh surface is flattened by \"majorization\" only",
                            "flatten.method");
   }
-  const internal::Deadline deadline = DeadlineAfter(t0, options.time_budget_ms);
+  const internal::Deadline deadline = DeadlineAfter(t0, options.time_budget_ms, options.cancel);
   auto out_of_time = [&](const char* stage) {
     return Status::DeadlineExceeded(
         std::string("the mesh flattening ran out of its time budget of ") +
@@ -336,7 +336,7 @@ Result<FlatMesh> MeshFlattener::Flatten(DiskMesh mesh, const std::vector<Vec2>* 
   } else {
     SURFDEFORM_ASSIGN_OR_RETURN(x, internal::ConformalChart(mesh));
   }
-  if (Clock::now() > deadline) return out_of_time("the conformal start");
+  if (deadline.Passed()) return out_of_time("the conformal start");
   const auto t_distances = Clock::now();
   // Another mesh's distances are no fallback: where a pair's segment leaves
   // this one, it is left out (as measured afresh).
@@ -348,7 +348,7 @@ Result<FlatMesh> MeshFlattener::Flatten(DiskMesh mesh, const std::vector<Vec2>* 
     return out_of_time("the distances");
   }
   out.quality.distance_ms += MsSince(t_distances);
-  if (Clock::now() > deadline) return out_of_time("the distances");
+  if (deadline.Passed()) return out_of_time("the distances");
 
   const int max_it = options.max_iterations > 0 ? options.max_iterations : 3000;
   // The pairs the stress sums: within range, measured along the first chart

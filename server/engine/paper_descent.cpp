@@ -47,7 +47,7 @@ SolveStats SolvePaperDescent(const std::vector<GridEdge>& edges, double step, do
       break;
     }
     if (it == max_iterations || !std::isfinite(stress)) break;
-    if (std::chrono::steady_clock::now() > deadline) {
+    if (deadline.Passed()) {
       stats.out_of_time = true;
       break;
     }

@@ -67,6 +67,7 @@
 #include <span>
 #include <vector>
 
+#include "base/cancel_flag.hpp"
 #include "base/enum_table.hpp"
 #include "base/status.hpp"
 #include "engine/mesh.hpp"
@@ -91,7 +92,8 @@ struct SubdivisionOptions : SubdivisionSettings {
   // stops with kDeadlineExceeded (checked between its phases and per edge and
   // face while refining, so it stops within one face's work of the budget).
   double time_budget_ms = 0.0;
-  int threads = 0;  // 0 = one per core; results do not depend on it
+  const CancelFlag* cancel = nullptr;  // raised: the subdivision stops as at its budget's end
+  int threads = 0;                     // 0 = one per core; results do not depend on it
 };
 
 // The options with `mode`, everything else at its default.

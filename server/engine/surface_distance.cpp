@@ -520,7 +520,7 @@ template <typename Measure>
 Result<SurfaceDistances> MeasureAllPairs(int nu, int nv, int threads, const Lattice& lattice,
                                          const DistanceOptions& options, const Measure& measure) {
   const int r = options.range;
-  const auto deadline = DeadlineAfter(options.started, options.time_budget_ms);
+  const Deadline deadline = DeadlineAfter(options.started, options.time_budget_ms, options.cancel);
   SurfaceDistances out;
   out.nu = nu;
   out.nv = nv;
@@ -536,7 +536,7 @@ Result<SurfaceDistances> MeasureAllPairs(int nu, int nv, int threads, const Latt
   ParallelChunks(threads, threads, [&](int slot, int, int) {
     ChunkState& state = chunks[slot];
     for (int ri = slot; ri < row_count; ri += threads) {
-      if (std::chrono::steady_clock::now() > deadline) {
+      if (deadline.Passed()) {
         state.out_of_time = true;
         break;
       }
@@ -608,8 +608,7 @@ Status CheckGrid(int nu, int nv, const DistanceOptions& options) {
 }
 
 int LatticeFactor(int nu, int nv, const DistanceOptions& options) {
-  if (options.lattice_factor > 0) return options.lattice_factor;
-  return std::max(nu, nv) <= 64 ? 4 : 2;
+  return DistanceLatticeFactor(nu, nv, options.lattice_factor);
 }
 
 // Small grids are not worth a thread.
@@ -631,6 +630,16 @@ void StartPaths(int nu, int nv, int range, int f, DistancePaths* paths) {
 }
 
 }  // namespace
+
+int DistanceLatticeFactor(int nu, int nv, int given) {
+  if (given > 0) return given;
+  return std::max(nu, nv) <= 64 ? 4 : 2;
+}
+
+size_t DistanceLatticePoints(int nu, int nv, int given) {
+  const size_t f = static_cast<size_t>(DistanceLatticeFactor(nu, nv, given));
+  return (f * static_cast<size_t>(nu - 1) + 1) * (f * static_cast<size_t>(nv - 1) + 1);
+}
 
 bool DistancePaths::Followed(size_t edge) const { return !(turn[edge] < kDirectMaxTurn); }
 

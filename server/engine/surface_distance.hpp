@@ -34,6 +34,7 @@
 #include <span>
 #include <vector>
 
+#include "base/cancel_flag.hpp"
 #include "base/status.hpp"
 #include "engine/surface.hpp"
 
@@ -49,6 +50,7 @@ struct DistanceOptions {
   // spent since `started` attached.
   double time_budget_ms = 0.0;
   std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+  const CancelFlag* cancel = nullptr;  // raised: the work stops as at its budget's end
 };
 
 // One pair of samples (i < j in index order) with its surface distance.
@@ -93,6 +95,13 @@ struct DistancePaths {
     return sizeof(*this) + turn.size() * sizeof(double) + q.size() * sizeof(Vec2);
   }
 };
+
+// The lattice factor a measurement of an nu x nv grid uses for `given`
+// (DistanceOptions::lattice_factor; 0: automatic), and the points of its
+// lattice (each some 200 bytes while the distances are measured): for the
+// memory a flattening takes, before it runs.
+int DistanceLatticeFactor(int nu, int nv, int given);
+size_t DistanceLatticePoints(int nu, int nv, int given);
 
 // Measures the distances; fills `paths`, when given, with the paths followed.
 Result<SurfaceDistances> ComputeSurfaceDistances(const Surface& surface, int nu, int nv,

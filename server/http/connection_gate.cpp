@@ -46,6 +46,20 @@ std::string_view HeaderValue(std::string_view head, std::string_view name) {
   return {};
 }
 
+bool HasHeader(std::string_view head, std::string_view name) {
+  size_t line = head.find("\r\n");
+  while (line != std::string_view::npos && line + 2 < head.size()) {
+    const size_t start = line + 2;
+    const size_t end = head.find("\r\n", start);
+    if (end == std::string_view::npos || end == start) break;
+    const std::string_view text = head.substr(start, end - start);
+    const size_t colon = text.find(':');
+    if (colon == name.size() && EqualsIgnoringCase(text.substr(0, colon), name)) return true;
+    line = end;
+  }
+  return false;
+}
+
 // A plain decimal Content-Length, or -1 (absent, malformed: the framing
 // checks answer those).
 long long DeclaredLength(std::string_view head) {
@@ -59,6 +73,61 @@ long long DeclaredLength(std::string_view head) {
   return n;
 }
 
+// The head without its Expect field line (the gate answered it: httplib
+// must not send a second 100 Continue).
+std::string WithoutExpect(std::string_view head) {
+  std::string out;
+  size_t at = 0;
+  while (at < head.size()) {
+    const size_t end = head.find("\r\n", at);
+    const size_t next = end == std::string_view::npos ? head.size() : end + 2;
+    const std::string_view line = head.substr(at, next - at);
+    const size_t colon = line.find(':');
+    if (at == 0 || colon != 6 || !EqualsIgnoringCase(line.substr(0, 6), "Expect")) out += line;
+    at = next;
+  }
+  return out;
+}
+
+// The method and path of a request head's first line.
+void RequestLineOf(std::string_view head, std::string_view* method, std::string_view* path) {
+  const std::string_view line = head.substr(0, head.find("\r\n"));
+  const size_t sp1 = line.find(' ');
+  const size_t sp2 = sp1 == std::string_view::npos ? sp1 : line.find(' ', sp1 + 1);
+  *method = line.substr(0, sp1);
+  *path = sp2 == std::string_view::npos ? std::string_view() : line.substr(sp1 + 1, sp2 - sp1 - 1);
+  *path = path->substr(0, path->find('?'));
+}
+
+// The peer's address, for the bodies-per-address limit.
+std::string PeerAddress(int fd) {
+  sockaddr_storage addr{};
+  socklen_t len = sizeof addr;
+  if (getpeername(fd, reinterpret_cast<sockaddr*>(&addr), &len) != 0) return "?";
+  char host[NI_MAXHOST];
+  if (getnameinfo(reinterpret_cast<sockaddr*>(&addr), len, host, sizeof host, nullptr, 0,
+                  NI_NUMERICHOST) != 0) {
+    return "?";
+  }
+  return host;
+}
+
+// An abortive close (as nginx's reset_timedout_connection): what is still
+// queued for a slow reader is dropped with an RST and its kernel memory
+// freed, rather than trickled out to the client after the cut.
+void ResetAndClose(int fd) {
+  const linger abort{1, 0};
+  setsockopt(fd, SOL_SOCKET, SO_LINGER, &abort, sizeof abort);
+  close(fd);
+}
+
+Clock::time_point TransferDeadline(Clock::time_point now, size_t bytes, const GateOptions& options,
+                                   Clock::duration cap) {
+  const auto pace = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(static_cast<double>(bytes) / options.min_bytes_per_s));
+  return now + std::min<Clock::duration>(options.transfer_grace + pace, cap);
+}
+
 }  // namespace
 
 // A connection on a worker: its phase and when the phase began. The
@@ -66,6 +135,7 @@ long long DeclaredLength(std::string_view head) {
 // cannot be closed and its number reused while the watchdog holds it.
 struct ConnectionGate::Served {
   enum class Phase { kHead, kBody, kHandling, kResponding };
+  explicit Served(const CancelFlag* stopping) : cancel(stopping) {}
   std::mutex mutex;
   int fd = -1;
   Phase phase = Phase::kHead;
@@ -75,6 +145,7 @@ struct ConnectionGate::Served {
   bool progress_known = false;
   bool shut = false;
   bool close_after = false;  // the request could not be framed: end the connection
+  CancelFlag cancel;         // raised when the client hangs up while a request is handled
 };
 
 namespace {
@@ -96,101 +167,6 @@ void SetPhase(ConnectionGate::Served& s, ConnectionGate::Served::Phase phase, ui
   s.done = 0;
   s.progress_known = false;
 }
-
-// httplib's Stream over a socket, as its SocketStream (which 0.11.4 does not
-// export): reads buffered, each recv() and send() bounded by a timeout.
-class GateStream final : public httplib::Stream {
- public:
-  GateStream(int fd, std::chrono::seconds read_timeout, std::chrono::seconds write_timeout)
-      : fd_(fd),
-        read_ms_(static_cast<int>(read_timeout.count() * 1000)),
-        write_ms_(static_cast<int>(write_timeout.count() * 1000)) {}
-
-  bool is_readable() const override { return buffered() > 0 || Poll(POLLIN, read_ms_); }
-  bool is_writable() const override { return Poll(POLLOUT, write_ms_); }
-
-  // A body arrives in httplib's 4 KiB reads; they are served from a 64 KiB
-  // buffer, filled by a recv() that is tried before any poll(): a request
-  // with the 1.4 MB bunny took ~725 recv() and poll() calls before, ~37 now
-  // (strace -c; BENCHMARKS.md). A read of at least the buffer's size skips it.
-  ssize_t read(char* ptr, size_t size) override {
-    if (buffered() == 0) {
-      const bool direct = size >= kBufferBytes;
-      char* into = direct ? ptr : buffer_.get();
-      const size_t room = direct ? size : kBufferBytes;
-      ssize_t n = Recv(into, room, MSG_DONTWAIT);
-      if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-        if (!Poll(POLLIN, read_ms_)) return -1;
-        n = Recv(into, room, 0);
-      }
-      if (n <= 0 || direct) return n;
-      begin_ = 0;
-      end_ = static_cast<size_t>(n);
-    }
-    const size_t n = std::min(size, buffered());
-    std::memcpy(ptr, buffer_.get() + begin_, n);
-    begin_ += n;
-    return static_cast<ssize_t>(n);
-  }
-  ssize_t write(const char* ptr, size_t size) override {
-    if (!Poll(POLLOUT, write_ms_)) return -1;
-    ssize_t n;
-    do {
-      n = send(fd_, ptr, size, MSG_NOSIGNAL);
-    } while (n < 0 && errno == EINTR);
-    return n;
-  }
-  void get_remote_ip_and_port(std::string& ip, int& port) const override {
-    Address(getpeername, ip, port);
-  }
-  void get_local_ip_and_port(std::string& ip, int& port) const override {
-    Address(getsockname, ip, port);
-  }
-  socket_t socket() const override { return fd_; }
-
-  size_t buffered() const { return end_ - begin_; }
-
- private:
-  bool Poll(short events, int ms) const {
-    pollfd p{fd_, events, 0};
-    int r;
-    do {
-      r = poll(&p, 1, ms);
-    } while (r < 0 && errno == EINTR);
-    return r > 0 && (p.revents & (events | POLLHUP)) != 0 && (p.revents & POLLNVAL) == 0;
-  }
-  ssize_t Recv(char* out, size_t size, int flags) const {
-    ssize_t n;
-    do {
-      n = recv(fd_, out, size, flags);
-    } while (n < 0 && errno == EINTR);
-    return n;
-  }
-  template <typename F>
-  void Address(F get, std::string& ip, int& port) const {
-    sockaddr_storage addr{};
-    socklen_t len = sizeof addr;
-    ip.clear();
-    port = 0;
-    if (get(fd_, reinterpret_cast<sockaddr*>(&addr), &len) != 0) return;
-    char host[NI_MAXHOST];
-    char serv[NI_MAXSERV];
-    if (getnameinfo(reinterpret_cast<sockaddr*>(&addr), len, host, sizeof host, serv, sizeof serv,
-                    NI_NUMERICHOST | NI_NUMERICSERV) == 0) {
-      ip = host;
-      port = std::atoi(serv);
-    }
-  }
-
-  int fd_;
-  int read_ms_;
-  int write_ms_;
-  static constexpr size_t kBufferBytes = 64 * 1024;
-  // Not zeroed: a stream is made each time a connection comes to a worker.
-  std::unique_ptr<char[]> buffer_ = std::make_unique_for_overwrite<char[]>(kBufferBytes);
-  size_t begin_ = 0;
-  size_t end_ = 0;
-};
 
 }  // namespace
 
@@ -218,12 +194,16 @@ void Responding(size_t bytes) {
 void CloseAfterResponse() {
   UpdatePhase([](ConnectionGate::Served& s) { s.close_after = true; });
 }
+const CancelFlag* Cancel() { return t_served != nullptr ? &t_served->cancel : nullptr; }
 }  // namespace connection_phase
 
 ConnectionGate::ConnectionGate(GateOptions options, ServeRequest serve)
     : options_(options),
       serve_(std::move(serve)),
-      pool_(std::make_unique<httplib::ThreadPool>(static_cast<size_t>(options.workers))) {
+      pool_(std::make_unique<httplib::ThreadPool>(static_cast<size_t>(options.workers))),
+      probe_pool_(std::make_unique<httplib::ThreadPool>(
+          static_cast<size_t>(std::max(1, options.probe_workers)))),
+      output_budget_(options.max_output_buffer_bytes) {
   epoll_fd_ = epoll_create1(EPOLL_CLOEXEC);
   wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   epoll_event ev{};
@@ -245,11 +225,24 @@ void ConnectionGate::shutdown() {
   [[maybe_unused]] auto n = write(wake_fd_, &one, sizeof one);
   if (loop_.joinable()) loop_.join();
   pool_->shutdown();  // requests on workers finish; their connections close
+  probe_pool_->shutdown();
   std::lock_guard lock(mutex_);
   for (const auto& [fd, pending] : waiting_) close(fd);  // no request under way
   for (const auto& [fd, pending] : admitted_) close(fd);
+  for (const auto& [fd, reading] : reading_) close(fd);
+  for (const auto& [fd, flushing] : flushing_) {
+    output_budget_.Give(flushing.bytes.size());
+    close(fd);
+  }
+  for (const auto& [fd, flushing] : handed_over_) {
+    output_budget_.Give(flushing.bytes.size());
+    close(fd);
+  }
   waiting_.clear();
   admitted_.clear();
+  reading_.clear();
+  flushing_.clear();
+  handed_over_.clear();
 }
 
 void ConnectionGate::Admit(int fd) {
@@ -294,36 +287,75 @@ ConnectionStats ConnectionGate::stats() const {
   ConnectionStats s = stats_;
   s.waiting = waiting_.size() + admitted_.size();
   s.served = served_.size();
+  s.output_buffer_bytes = output_budget_.held();
   return s;
 }
 
-ConnectionGate::Verdict ConnectionGate::Inspect(int fd, size_t* seen,
-                                                std::optional<Rejection>* rejection) const {
+ConnectionGate::Inspection ConnectionGate::Inspect(int fd) const {
+  Inspection in;
   // The head and the body's first window, without taking them off the socket.
   thread_local std::vector<char> buffer;
   buffer.resize(options_.max_head_bytes + options_.body_window_bytes);
   const ssize_t n = recv(fd, buffer.data(), buffer.size(), MSG_PEEK | MSG_DONTWAIT);
-  if (n == 0) return Verdict::kClosed;
+  if (n == 0) {
+    in.verdict = Verdict::kClosed;
+    return in;
+  }
   if (n < 0) {
-    return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? Verdict::kWait
-                                                                     : Verdict::kClosed;
+    const bool again = errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;
+    in.verdict = again ? Verdict::kWait : Verdict::kClosed;
+    return in;
   }
   const std::string_view bytes(buffer.data(), static_cast<size_t>(n));
-  *seen = bytes.size();
+  in.seen = bytes.size();
   const size_t end = bytes.find("\r\n\r\n");
-  *rejection = CheckHead(bytes, end == std::string_view::npos ? kHeadIncomplete : end + 4);
-  if (*rejection) return Verdict::kMalformed;
+  in.rejection = CheckHead(bytes, end == std::string_view::npos ? kHeadIncomplete : end + 4);
+  if (in.rejection) {
+    in.verdict = Verdict::kMalformed;
+    return in;
+  }
   if (end == std::string_view::npos || end + 4 > options_.max_head_bytes) {
-    return bytes.size() >= options_.max_head_bytes ? Verdict::kTooLarge : Verdict::kWait;
+    in.verdict = bytes.size() >= options_.max_head_bytes ? Verdict::kTooLarge : Verdict::kWait;
+    return in;
   }
   const std::string_view head = bytes.substr(0, end + 4);
+  in.head_bytes = head.size();
+  std::string_view method, path;
+  RequestLineOf(head, &method, &path);
   const long long length = DeclaredLength(head);
-  if (length <= 0 || static_cast<unsigned long long>(length) > options_.max_body_bytes) {
-    return Verdict::kPass;
+  const bool declares_body = length > 0 || HasHeader(head, "Transfer-Encoding") ||
+                             (length < 0 && HasHeader(head, "Content-Length"));
+  if (declares_body &&
+      (method == "GET" || method == "HEAD" || method == "OPTIONS" || method == "TRACE")) {
+    // httplib 0.11.4 does not read a body on these methods: left on the
+    // connection, it would be read as the next request (request smuggling
+    // behind a proxy that keeps its upstream connections alive).
+    in.verdict = Verdict::kMalformed;
+    in.body_not_allowed = true;
+    in.rejection =
+        Rejection{400, Status(ErrorCode::kMalformed,
+                              std::string(method) +
+                                  " requests take no body; send it without Content-Length or "
+                                  "Transfer-Encoding",
+                              "Content-Length")};
+    return in;
   }
-  if (!HeaderValue(head, "Expect").empty()) return Verdict::kPass;  // waits for 100 Continue
-  const size_t want = std::min<size_t>(static_cast<size_t>(length), options_.body_window_bytes);
-  return bytes.size() - head.size() >= want ? Verdict::kPass : Verdict::kWait;
+  if (!declares_body && method == "GET" && (path == "/healthz" || path == "/readyz")) {
+    in.verdict = Verdict::kProbe;
+    return in;
+  }
+  if (length <= 0 || static_cast<unsigned long long>(length) > options_.max_body_bytes) {
+    in.verdict = Verdict::kPass;  // no body, or one the framing checks refuse
+    return in;
+  }
+  in.body_bytes = static_cast<size_t>(length);
+  in.expect_continue = !HeaderValue(head, "Expect").empty();
+  if (!in.expect_continue && in.body_bytes <= options_.body_window_bytes) {
+    in.verdict = bytes.size() - head.size() >= in.body_bytes ? Verdict::kPass : Verdict::kWait;
+    return in;
+  }
+  in.verdict = Verdict::kBody;
+  return in;
 }
 
 void ConnectionGate::Refuse(int fd, int http_status, const Status& status) {
@@ -341,8 +373,8 @@ void ConnectionGate::Refuse(int fd, int http_status, const Status& status) {
   close(fd);
 }
 
-void ConnectionGate::ServeOnWorker(int fd, int requests_left) {
-  auto served = std::make_shared<Served>();
+void ConnectionGate::ServeOnWorker(int fd, int requests_left, std::string preloaded, bool probe) {
+  auto served = std::make_shared<Served>(options_.stopping);
   served->fd = dup(fd);
   served->since = Clock::now();
   uint64_t id;
@@ -352,7 +384,11 @@ void ConnectionGate::ServeOnWorker(int fd, int requests_left) {
     served_.emplace(id, served);
   }
   t_served = served.get();
-  GateStream stream(fd, options_.read_timeout, options_.write_timeout);
+  GateStream stream(fd, options_.read_timeout, options_.write_timeout, std::move(preloaded),
+                    probe ? nullptr : &output_budget_);
+  // A probe's connection serves that request alone (the probe worker
+  // serves nothing else).
+  if (probe) requests_left = 1;
   bool keep = false;
   while (true) {
     {
@@ -369,22 +405,26 @@ void ConnectionGate::ServeOnWorker(int fd, int requests_left) {
       shut = served->shut || served->close_after;
     }
     if (!ok || connection_closed || close_connection || shut) break;
-    if (stream.buffered() == 0) {
-      // A client that sends its next request at once (a load generator, a
-      // browser's next fetch) keeps the worker if the whole head is in
-      // within a millisecond: handing it to the gate and back would cost
-      // a quarter of a small request's throughput. Anything less waits in
-      // the gate.
-      pollfd p{fd, POLLIN, 0};
-      size_t seen = 0;
-      std::optional<Rejection> rejection;
-      if (poll(&p, 1, kLingerMs) == 1 && (p.revents & POLLIN) != 0 &&
-          Inspect(fd, &seen, &rejection) == Verdict::kPass) {
-        continue;
-      }
-      keep = true;
-      break;
+    if (stream.buffered() > 0) {
+      // A pipelined request's bytes are in the stream: this worker serves
+      // it, once the response before it is out.
+      if (!stream.FlushDeferred()) break;
+      continue;
     }
+    keep = true;
+    // A client that reads slowly: the gate sends the rest of the response,
+    // then waits for its next request.
+    if (stream.has_deferred()) break;
+    // A client that sends its next request at once (a load generator, a
+    // browser's next fetch) keeps the worker if the whole head is in within
+    // a millisecond: handing it to the gate and back would cost a quarter
+    // of a small request's throughput. Anything less waits in the gate.
+    pollfd p{fd, POLLIN, 0};
+    if (poll(&p, 1, kLingerMs) == 1 && (p.revents & POLLIN) != 0 &&
+        Inspect(fd).verdict == Verdict::kPass) {
+      continue;
+    }
+    break;
   }
   t_served = nullptr;
   {
@@ -396,11 +436,180 @@ void ConnectionGate::ServeOnWorker(int fd, int requests_left) {
     if (served->fd >= 0) close(served->fd);
     served->fd = -1;
   }
+  std::string deferred = stream.TakeDeferred();
+  if (!deferred.empty()) {
+    // The response's rest goes out from the gate; then the connection ends,
+    // or waits there for its next request.
+    StartFlushing(fd, std::move(deferred), requests_left, !keep);
+    return;
+  }
   if (keep) {
     Wait(fd, requests_left, true);
   } else {
     ::shutdown(fd, SHUT_RDWR);
     close(fd);
+  }
+}
+
+void ConnectionGate::Watch(int fd, uint32_t events) {
+  epoll_event ev{};
+  ev.events = events | EPOLLRDHUP | EPOLLET;
+  ev.data.fd = fd;
+  if (epoll_ctl(epoll_fd_, EPOLL_CTL_MOD, fd, &ev) != 0) {
+    epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, fd, &ev);
+  }
+}
+
+void ConnectionGate::StartReading(int fd, const Inspection& in, int requests_left) {
+  std::string address = PeerAddress(fd);
+  int& from_address = readers_by_address_[address];
+  const bool over_address = from_address >= options_.max_bodies_per_address;
+  const bool over_total = reading_bytes_ + in.body_bytes > options_.max_body_buffer_bytes;
+  if (over_address || over_total) {
+    if (from_address == 0) readers_by_address_.erase(address);
+    {
+      std::lock_guard lock(mutex_);
+      ++stats_.bodies_refused;
+    }
+    epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, fd, nullptr);
+    Refuse(fd, 503,
+           over_address
+               ? Status(ErrorCode::kUnavailable,
+                        "this client address is sending " + std::to_string(from_address) +
+                            " request bodies at once, the most the server reads from one "
+                            "address; retry when one is done",
+                        "Content-Length")
+                     .WithLimit(options_.max_bodies_per_address, from_address + 1)
+               : Status(ErrorCode::kUnavailable,
+                        "the server is reading as many request bodies as it may hold; retry "
+                        "later",
+                        "Content-Length")
+                     .WithLimit(static_cast<double>(options_.max_body_buffer_bytes),
+                                static_cast<double>(reading_bytes_ + in.body_bytes)));
+    return;
+  }
+  // The head off the socket (it was only peeked), then the body as it comes.
+  Reading r;
+  r.bytes.resize(in.head_bytes);
+  size_t got = 0;
+  while (got < in.head_bytes) {
+    const ssize_t n = recv(fd, r.bytes.data() + got, in.head_bytes - got, MSG_DONTWAIT);
+    if (n <= 0) {
+      if (from_address == 0) readers_by_address_.erase(address);
+      epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, fd, nullptr);
+      close(fd);
+      return;
+    }
+    got += static_cast<size_t>(n);
+  }
+  if (in.expect_continue) {
+    // Answered here (the client waits for it before it sends the body);
+    // httplib must not answer it again.
+    r.bytes = WithoutExpect(r.bytes);
+    static constexpr std::string_view kContinue = "HTTP/1.1 100 Continue\r\n\r\n";
+    [[maybe_unused]] auto n =
+        send(fd, kContinue.data(), kContinue.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
+  }
+  r.head = r.bytes.size();
+  r.need = r.head + in.body_bytes;
+  r.bytes.reserve(r.need);
+  r.since = Clock::now();
+  r.address = std::move(address);
+  r.declared = in.body_bytes;
+  r.requests_left = requests_left;
+  ++from_address;
+  reading_bytes_ += in.body_bytes;
+  reading_.emplace(fd, std::move(r));
+  OnReading(fd);  // what is in already
+}
+
+void ConnectionGate::OnReading(int fd) {
+  auto it = reading_.find(fd);
+  if (it == reading_.end()) return;
+  Reading& r = it->second;
+  while (r.bytes.size() < r.need) {
+    const size_t old = r.bytes.size();
+    r.bytes.resize(r.need);
+    const ssize_t n = recv(fd, r.bytes.data() + old, r.need - old, MSG_DONTWAIT);
+    r.bytes.resize(old + static_cast<size_t>(std::max<ssize_t>(n, 0)));
+    if (n > 0) continue;
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return;
+    // The client left mid-body: nobody to answer.
+    epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, fd, nullptr);
+    close(fd);
+    EndReading(it);
+    return;
+  }
+  epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, fd, nullptr);
+  std::string bytes = std::move(r.bytes);
+  const int requests_left = r.requests_left;
+  EndReading(it);
+  {
+    std::lock_guard lock(mutex_);
+    ++stats_.bodies_read;
+    ++stats_.passed;
+  }
+  pool_->enqueue([this, fd, requests_left, b = std::move(bytes)]() mutable {
+    ServeOnWorker(fd, requests_left, std::move(b), false);
+  });
+}
+
+void ConnectionGate::EndReading(std::map<int, Reading>::iterator it) {
+  auto address = readers_by_address_.find(it->second.address);
+  if (address != readers_by_address_.end() && --address->second <= 0) {
+    readers_by_address_.erase(address);
+  }
+  reading_bytes_ -= it->second.declared;
+  reading_.erase(it);
+}
+
+void ConnectionGate::StartFlushing(int fd, std::string bytes, int requests_left, bool close_after) {
+  Flushing f;
+  f.bytes = std::move(bytes);
+  f.deadline = TransferDeadline(Clock::now(), f.bytes.size(), options_, Clock::duration::max());
+  f.requests_left = requests_left;
+  f.close_after = close_after;
+  {
+    std::lock_guard lock(mutex_);
+    ++stats_.responses_kept;
+    handed_over_.emplace_back(fd, std::move(f));
+  }
+  const uint64_t one = 1;
+  [[maybe_unused]] auto n = write(wake_fd_, &one, sizeof one);
+}
+
+void ConnectionGate::OnFlushing(int fd) {
+  auto it = flushing_.find(fd);
+  if (it == flushing_.end()) return;
+  Flushing& f = it->second;
+  while (f.sent < f.bytes.size()) {
+    const ssize_t n =
+        send(fd, f.bytes.data() + f.sent, f.bytes.size() - f.sent, MSG_DONTWAIT | MSG_NOSIGNAL);
+    if (n > 0) {
+      f.sent += static_cast<size_t>(n);
+      continue;
+    }
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return;
+    EndFlushing(fd, false);
+    return;
+  }
+  EndFlushing(fd, true);
+}
+
+void ConnectionGate::EndFlushing(int fd, bool ok) {
+  auto it = flushing_.find(fd);
+  if (it == flushing_.end()) return;
+  const Flushing f = std::move(it->second);
+  flushing_.erase(it);
+  output_budget_.Give(f.bytes.size());
+  epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, fd, nullptr);
+  if (!ok) {
+    ResetAndClose(fd);
+  } else if (f.close_after || f.requests_left <= 0) {
+    ::shutdown(fd, SHUT_RDWR);
+    close(fd);
+  } else {
+    Wait(fd, f.requests_left, true);
   }
 }
 
@@ -434,14 +643,68 @@ void ConnectionGate::CheckDeadlines(Clock::time_point now) {
     }
     const double ms = std::chrono::duration<double, std::milli>(options_.head_timeout).count();
     Refuse(fd, 408,
-           Status::DeadlineExceeded("the request head (through its blank line) and the start of "
-                                    "its body must arrive within the head timeout",
+           Status::DeadlineExceeded("the request head (through its blank line) must arrive "
+                                    "within the head timeout",
                                     "", ms, ms));
+  }
+  // Bodies read here that fall behind the minimum rate past the grace, or
+  // pass the longest time any body may take: 408. Responses sent from here
+  // past their time: reset.
+  for (auto it = reading_.begin(); it != reading_.end();) {
+    const Reading& r = it->second;
+    const double t = Seconds(now - r.since);
+    const double paced = options_.min_bytes_per_s * (t - Seconds(options_.transfer_grace));
+    if (paced <= static_cast<double>(r.bytes.size() - r.head) &&
+        t <= Seconds(options_.max_body_time)) {
+      ++it;
+      continue;
+    }
+    const int fd = it->first;
+    auto next = std::next(it);
+    EndReading(it);
+    it = next;
+    epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, fd, nullptr);
+    {
+      std::lock_guard lock(mutex_);
+      ++stats_.slow_body;
+    }
+    Refuse(fd, 408,
+           Status::DeadlineExceeded(
+               "the request body came slower than the server's minimum rate of " +
+                   std::to_string(static_cast<long long>(options_.min_bytes_per_s)) +
+                   " bytes/s (after a grace of " +
+                   std::to_string(static_cast<long long>(Seconds(options_.transfer_grace))) +
+                   " s, and at most " +
+                   std::to_string(static_cast<long long>(Seconds(options_.max_body_time))) +
+                   " s in all)",
+               "body", Seconds(options_.max_body_time) * 1000.0, t * 1000.0));
+  }
+  std::vector<int> late;
+  for (const auto& [fd, f] : flushing_) {
+    if (now >= f.deadline) late.push_back(fd);
+  }
+  for (int fd : late) {
+    {
+      std::lock_guard lock(mutex_);
+      ++stats_.slow_response;
+    }
+    EndFlushing(fd, false);
   }
   using Phase = Served::Phase;
   for (const auto& s : served) {
     std::lock_guard lock(s->mutex);
     if (s->shut || s->fd < 0) continue;
+    if (s->phase == Phase::kHandling && !s->cancel.raised()) {
+      // The client hung up (or half-closed, as nginx reads it) while its
+      // request is handled: nobody waits for the answer.
+      pollfd p{s->fd, POLLRDHUP, 0};
+      if (poll(&p, 1, 0) == 1 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0) {
+        s->cancel.Raise();
+        std::lock_guard stats_lock(mutex_);
+        ++stats_.cancelled;
+      }
+      continue;
+    }
     const double t = Seconds(now - s->since);
     const double paced = options_.min_bytes_per_s * (t - Seconds(options_.transfer_grace));
     uint64_t* counter = nullptr;
@@ -463,10 +726,6 @@ void ConnectionGate::CheckDeadlines(Clock::time_point now) {
         break;
     }
     if (counter == nullptr) continue;
-    // An abortive close once the worker lets go (as nginx's
-    // reset_timedout_connection): what is still queued for a slow reader is
-    // dropped with an RST and its kernel memory freed, rather than trickled
-    // out to the client after the cut.
     const linger abort{1, 0};
     setsockopt(s->fd, SOL_SOCKET, SO_LINGER, &abort, sizeof abort);
     ::shutdown(s->fd, SHUT_RDWR);  // the worker's blocked recv or send returns
@@ -513,6 +772,65 @@ void ConnectionGate::EvictLongestWaiting() {
   }
 }
 
+void ConnectionGate::OnWaiting(int fd) {
+  const Inspection in = Inspect(fd);
+  int requests_left = 0;
+  {
+    std::lock_guard lock(mutex_);
+    auto it = waiting_.find(fd);
+    if (it == waiting_.end()) return;  // timed out already
+    if (in.seen > 0) it->second.started = true;
+    if (in.verdict == Verdict::kWait) return;
+    requests_left = it->second.requests_left;
+    waiting_.erase(it);
+    switch (in.verdict) {
+      case Verdict::kTooLarge:
+        ++stats_.head_too_large;
+        break;
+      case Verdict::kMalformed:
+        ++(in.body_not_allowed ? stats_.body_not_allowed : stats_.malformed_head);
+        break;
+      case Verdict::kClosed:
+        ++stats_.closed_early;
+        break;
+      case Verdict::kPass:
+        ++stats_.passed;
+        break;
+      case Verdict::kProbe:
+        ++stats_.probes;
+        break;
+      default:
+        break;
+    }
+  }
+  if (in.verdict == Verdict::kBody) {
+    StartReading(fd, in, requests_left);  // stays in epoll, read from here
+    return;
+  }
+  epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, fd, nullptr);
+  switch (in.verdict) {
+    case Verdict::kPass:
+      pool_->enqueue(
+          [this, fd, requests_left] { ServeOnWorker(fd, requests_left, std::string(), false); });
+      break;
+    case Verdict::kProbe:
+      probe_pool_->enqueue([this, fd] { ServeOnWorker(fd, 1, std::string(), true); });
+      break;
+    case Verdict::kTooLarge:
+      Refuse(fd, 431,
+             Status::LimitExceeded("the request head is too large", "",
+                                   static_cast<double>(options_.max_head_bytes),
+                                   static_cast<double>(in.seen)));
+      break;
+    case Verdict::kMalformed:
+      Refuse(fd, in.rejection->http_status, in.rejection->status);
+      break;
+    default:
+      close(fd);
+      break;
+  }
+}
+
 void ConnectionGate::Loop() {
   constexpr int kMaxEvents = 64;
   epoll_event events[kMaxEvents];
@@ -520,9 +838,11 @@ void ConnectionGate::Loop() {
   while (!stopping_.load()) {
     const int n = epoll_wait(epoll_fd_, events, kMaxEvents, 100);
     std::vector<std::pair<int, Pending>> admitted;
+    std::vector<std::pair<int, Flushing>> handed;
     {
       std::lock_guard lock(mutex_);
       admitted.swap(admitted_);
+      handed.swap(handed_over_);
       for (const auto& [fd, pending] : admitted) waiting_.emplace(fd, pending);
     }
     EvictLongestWaiting();
@@ -532,6 +852,11 @@ void ConnectionGate::Loop() {
       ev.data.fd = fd;
       epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, fd, &ev);  // reports bytes already there
     }
+    for (auto& [fd, flushing] : handed) {
+      flushing_.emplace(fd, std::move(flushing));
+      Watch(fd, EPOLLOUT);
+      OnFlushing(fd);
+    }
     for (int k = 0; k < n; ++k) {
       const int fd = events[k].data.fd;
       if (fd == wake_fd_) {
@@ -539,46 +864,22 @@ void ConnectionGate::Loop() {
         [[maybe_unused]] auto r = read(wake_fd_, &count, sizeof count);
         continue;
       }
-      size_t seen = 0;
-      std::optional<Rejection> rejection;
-      const Verdict verdict = Inspect(fd, &seen, &rejection);
-      int requests_left = 0;
-      {
-        std::lock_guard lock(mutex_);
-        auto it = waiting_.find(fd);
-        if (it == waiting_.end()) continue;  // timed out already
-        if (seen > 0) it->second.started = true;
-        if (verdict == Verdict::kWait) continue;
-        requests_left = it->second.requests_left;
-        waiting_.erase(it);
-        if (verdict == Verdict::kTooLarge) ++stats_.head_too_large;
-        if (verdict == Verdict::kMalformed) ++stats_.malformed_head;
-        if (verdict == Verdict::kClosed) ++stats_.closed_early;
-        if (verdict == Verdict::kPass) ++stats_.passed;
-      }
-      epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, fd, nullptr);
-      switch (verdict) {
-        case Verdict::kPass:
-          pool_->enqueue([this, fd, requests_left] { ServeOnWorker(fd, requests_left); });
-          break;
-        case Verdict::kTooLarge:
-          Refuse(fd, 431,
-                 Status::LimitExceeded("the request head is too large", "",
-                                       static_cast<double>(options_.max_head_bytes),
-                                       static_cast<double>(seen)));
-          break;
-        case Verdict::kMalformed:
-          Refuse(fd, rejection->http_status, rejection->status);
-          break;
-        default:
-          close(fd);
-          break;
+      if (reading_.count(fd) != 0) {
+        OnReading(fd);
+      } else if (flushing_.count(fd) != 0) {
+        OnFlushing(fd);
+      } else {
+        OnWaiting(fd);
       }
     }
     const auto now = Clock::now();
     if (now >= next_check) {
       CheckDeadlines(now);
       next_check = now + std::chrono::milliseconds(100);
+      std::lock_guard lock(mutex_);
+      stats_.reading = reading_.size();
+      stats_.flushing = flushing_.size();
+      stats_.body_buffer_bytes = reading_bytes_;
     }
   }
 }

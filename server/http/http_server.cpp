@@ -34,6 +34,7 @@
 #include "http/deform_request.hpp"
 #include "http/embedded_files.hpp"
 #include "http/listener.hpp"
+#include "http/log_writer.hpp"
 #include "http/memory_stream.hpp"
 #include "http/problem.hpp"
 #include "http/request_basics.hpp"
@@ -56,7 +57,10 @@ struct HttpServer::Impl {
   Metrics metrics;
   RequestContexts contexts;
   std::atomic<bool> ready{true};
-  std::mutex log_mutex;
+  // Raised when the server stops with requests still at work: they stop at
+  // their next checkpoint. Each connection's cancel flag is under it.
+  CancelFlag stopping;
+  LogWriter log_writer;
   int bound_port = 0;
 
   // One row per route: the method, httplib's pattern (a regex where the path
@@ -223,6 +227,10 @@ struct HttpServer::Impl {
     ctx.cpu_start = ThreadCpuSeconds();
     const std::string given = req.get_header_value("X-Request-Id");
     ctx.id = IsSafeRequestId(given) ? given : NewRequestId();
+    // The connection's flag (raised when its client hangs up), or outside
+    // the gate (ServeBytes) the server's own.
+    const CancelFlag* connection = connection_phase::Cancel();
+    ctx.cancel = connection != nullptr ? connection : &stopping;
     metrics.RequestStarted();
     res.set_header("X-Request-Id", ctx.id);
     return ctx;
@@ -238,8 +246,9 @@ struct HttpServer::Impl {
     StripSchemeAndAuthority(const_cast<httplib::Request&>(req).path);
     // Content-Length is parsed once, by the framing checks; the watchdog and
     // the body readers use what they found.
-    const std::optional<Rejection> rejection =
+    std::optional<Rejection> rejection =
         CheckFraming(req, service.limits().max_body_bytes, &ctx.body_length);
+    if (!rejection) rejection = CheckPath(req.path);
     connection_phase::HeadIn(ctx.body_length);
     // The test build's fault points (base/fault_points.hpp); a no-op in production.
     faults::Disarm();
@@ -250,6 +259,7 @@ struct HttpServer::Impl {
     // Range requests are ignored (RFC 9110 allows it): httplib 0.11.4 would
     // multiply overlapping ranges into a huge response.
     const_cast<httplib::Request&>(req).ranges.clear();
+    const_cast<httplib::Request&>(req).headers.erase("Range");
     // Brotli is never offered: httplib 0.11.4 compresses at quality 11,
     // 0.7 s of a worker for a 0.5 MB JSON reply (gzip: 30 ms), and seconds
     // for a large sheet, which a short request could ask for again and
@@ -299,6 +309,9 @@ struct HttpServer::Impl {
   void PostRouting(const httplib::Request& req, httplib::Response& res) {
     const RequestContext& ctx = contexts.Of(req);
     connection_phase::Responding(res.body.size());
+    // Ranges are not served (PreRouting): httplib's file handler would
+    // still say 206 over the whole file, with no Content-Range.
+    if (res.status == 206 && !res.has_header("Content-Range")) res.status = 200;
     if (res.status == 200 && !res.body.empty() && !res.has_header("ETag")) {
       const std::string etag = "\"" + proto::Sha256Hex(res.body, 32) + "\"";
       res.set_header("ETag", etag);
@@ -392,11 +405,10 @@ struct HttpServer::Impl {
     Problem(ctx, req, res, 500, Status(ErrorCode::kInternal, "internal error"));
   }
 
+  // Never waits for the log's reader (log_writer.hpp).
   void Log(LogLevel level, const json& line) {
     if (level < options.log_level) return;
-    const std::string text = line.dump(-1, ' ', true, json::error_handler_t::replace);
-    std::lock_guard lock(log_mutex);
-    std::cout << text << '\n' << std::flush;
+    log_writer.Write(line.dump(-1, ' ', true, json::error_handler_t::replace));
   }
 
   void AccessLog(const httplib::Request& req, const httplib::Response& res) {
@@ -511,7 +523,7 @@ struct HttpServer::Impl {
     const Result<std::string_view> mesh = UploadedMesh(req, body);
     if (!mesh.ok()) return Fail(ctx, req, res, mesh.status());
     Created(ctx, req, res,
-            service.UploadModel(*mesh, req.get_header_value("X-Surfdeform-Model-Id")),
+            service.UploadModel(*mesh, req.get_header_value("X-Surfdeform-Model-Id"), ctx.cancel),
             "/v1/models/", &Reply::model_id);
   }
 
@@ -520,8 +532,9 @@ struct HttpServer::Impl {
   void Deform(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
               const DeformBody& body, ServiceCall call) {
     ThrowIfArmed();  // the body is in: the connection can go on
-    const Result<DeformRequest> d = DeformRequestOf(req, body);
+    Result<DeformRequest> d = DeformRequestOf(req, body);
     if (!d.ok()) return Fail(ctx, req, res, d.status());
+    d->cancel = ctx.cancel;
     Answer(ctx, req, res, (service.*call)(*d));
   }
 
@@ -615,6 +628,7 @@ struct HttpServer::Impl {
     stats.models = service.model_cache_stats();
     stats.answers = service.answer_cache_stats();
     stats.edit_paths = service.edit_paths_stats();
+    stats.log_lines_dropped = log_writer.dropped();
     res.set_content(metrics.Render(stats), "text/plain; version=0.0.4");
   }
   void OpenApi(RequestContext&, const httplib::Request&, httplib::Response& res) {
@@ -639,7 +653,8 @@ struct HttpServer::Impl {
                  "POST /v1/surfaces takes application/json, got \"" + type.substr(0, 64) + "\"",
                  "Content-Type"));
     }
-    Created(ctx, req, res, service.CreateSurface(req.body, req.get_param_value("field")),
+    Created(ctx, req, res,
+            service.CreateSurface(req.body, req.get_param_value("field"), ctx.cancel),
             "/v1/surfaces/", &Reply::surface_id);
   }
   void MapOnSurface(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
@@ -651,7 +666,7 @@ struct HttpServer::Impl {
                              type.substr(0, 64) + "\"",
                          "Content-Type"));
     }
-    Answer(ctx, req, res, service.MapOnSurface(req.matches[1].str(), req.body));
+    Answer(ctx, req, res, service.MapOnSurface(req.matches[1].str(), req.body, ctx.cancel));
   }
   void SurfaceSvg(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
     Answer(ctx, req, res, service.GetSurfaceSvg(req.matches[1].str()));
@@ -706,6 +721,11 @@ HttpServer::HttpServer(Service& service, HttpOptions options)
   gate.read_timeout = std::chrono::seconds(s->options.read_timeout_s);
   gate.write_timeout = std::chrono::seconds(s->options.write_timeout_s);
   gate.send_buffer_bytes = std::max(0, s->options.send_buffer_bytes);
+  gate.max_bodies_per_address = std::max(1, s->options.max_bodies_per_address);
+  gate.max_body_buffer_bytes = s->options.max_body_buffer_bytes;
+  gate.max_body_time = std::chrono::seconds(std::max(1, s->options.max_body_seconds));
+  gate.max_output_buffer_bytes = s->options.max_output_buffer_bytes;
+  gate.stopping = &s->stopping;
   s->server.UseGate(gate);
   server.set_payload_max_length(service.limits().max_body_bytes);
   // httplib's default sets SO_REUSEPORT on the listening socket: a second
@@ -768,6 +788,10 @@ void HttpServer::Run() { impl_->server.listen_after_bind(); }
 void HttpServer::Drain() { impl_->ready.store(false); }
 
 void HttpServer::Stop() { impl_->server.stop(); }
+
+void HttpServer::Cancel() { impl_->stopping.Raise(); }
+
+void HttpServer::Event(const std::string& json_line) { impl_->log_writer.Write(json_line); }
 
 std::string HttpServer::ServeBytes(std::string_view input) {
   MemoryStream stream(input);

@@ -39,6 +39,14 @@ struct HttpOptions {
   // once, however slowly the client reads; a larger one holds the worker
   // until it is read or cut at the minimum rate.
   int send_buffer_bytes = 0;
+  // Bodies the gate reads before a worker takes the request: at once from
+  // one client address, their declared bytes in all, and the longest any
+  // one may take (past the minimum rate's pace it is cut sooner).
+  int max_bodies_per_address = 8;
+  size_t max_body_buffer_bytes = 256u << 20;
+  int max_body_seconds = 300;
+  // Response bytes the gate keeps for clients that read slowly, in all.
+  size_t max_output_buffer_bytes = 256u << 20;
   LogLevel log_level = LogLevel::kInfo;
   // The web viewer's folder (client/web): public/ is served at /, samples/ at
   // /samples/ and node_modules/{three,meshoptimizer} at /vendor/. Empty or missing: / is
@@ -60,6 +68,11 @@ class HttpServer {
   void Drain();
   // Stops accepting; requests in flight finish, then Run() returns.
   void Stop();
+  // Cancels the work of the requests in flight (after Stop, when they have
+  // had their time): each stops at its next checkpoint with a 503.
+  void Cancel();
+  // A line for the server's log (JSON), through its queue: never blocks.
+  void Event(const std::string& json_line);
 
   // One connection's bytes in, what the server wrote back out, with no
   // socket: the requests in `input` are served in turn, as on a kept-alive

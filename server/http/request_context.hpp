@@ -9,6 +9,8 @@
 #include <string>
 #include <unordered_map>
 
+#include "base/cancel_flag.hpp"
+
 namespace surfdeform::http {
 
 // The server's own state of one request, from its head to its log line,
@@ -22,6 +24,9 @@ struct RequestContext {
   size_t bytes_in = 0;     // a body read by its handler (not into req.body)
   size_t body_length = 0;  // its Content-Length, as the framing checks parsed it
   double cpu_start = 0;    // the worker thread's CPU time when the head was in
+  // Raised when nobody waits for the answer any more: the service's work
+  // stops at its next checkpoint.
+  const CancelFlag* cancel = nullptr;
 };
 
 // The contexts of the requests being served, by httplib's Request: the one

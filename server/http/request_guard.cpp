@@ -148,6 +148,18 @@ std::optional<Rejection> CheckHead(std::string_view bytes, size_t head_end) {
   return std::nullopt;
 }
 
+std::optional<Rejection> CheckPath(const std::string& path) {
+  for (char c : path) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      return Reject(400, ErrorCode::kMalformed,
+                    "the request's path holds a control character (decoded from its %-escapes): "
+                    "no resource is named so",
+                    "path");
+    }
+  }
+  return std::nullopt;
+}
+
 std::optional<Rejection> CheckFraming(const httplib::Request& req, size_t max_body_bytes,
                                       size_t* body_length) {
   *body_length = 0;
@@ -191,6 +203,17 @@ std::optional<Rejection> CheckFraming(const httplib::Request& req, size_t max_bo
   }
   const unsigned long long length = std::stoull(text);
   *body_length = static_cast<size_t>(length);
+  const bool takes_no_body = req.method == "GET" || req.method == "HEAD" ||
+                             req.method == "OPTIONS" || req.method == "TRACE";
+  if (length > 0 && takes_no_body) {
+    // httplib 0.11.4 does not read a body on these methods: left on the
+    // connection, it would be read as the next request.
+    return Reject(400, ErrorCode::kMalformed,
+                  req.method +
+                      " requests take no body; send it without Content-Length or "
+                      "Transfer-Encoding",
+                  "Content-Length");
+  }
   if (length > max_body_bytes) {
     return Rejection{413,
                      Status::LimitExceeded("the request body is " + text + " bytes; the limit is " +

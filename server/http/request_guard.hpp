@@ -54,9 +54,14 @@ inline constexpr size_t kHeadIncomplete = static_cast<size_t>(-1);
 // Transfer-Encoding (411: send a Content-Length); any Content-Encoding other
 // than identity (415); several Content-Length headers, or one that is not a
 // plain decimal number (400); a POST, PUT or PATCH without Content-Length
-// (411); a Content-Length over `max_body_bytes` (413, with the limit and the
-// actual value). `body_length` receives the declared length (0 without one;
-// the declared value too when it is over the limit).
+// (411); a body declared on GET, HEAD, OPTIONS or TRACE (400: httplib
+// would read it as the next request); a Content-Length over
+// `max_body_bytes` (413, with the limit and the actual value). `body_length` receives the declared
+// length (0 without one; the declared value too when it is over the limit). Rejects a path that,
+// decoded, holds a control character (a NUL or any byte below 0x20, or DEL: 400):
+// "/index.html%00.js" would read one file and name another's type.
+std::optional<Rejection> CheckPath(const std::string& decoded_path);
+
 std::optional<Rejection> CheckFraming(const httplib::Request& request, size_t max_body_bytes,
                                       size_t* body_length);
 

@@ -11,7 +11,7 @@
 #include <unordered_set>
 
 #include "base/format.hpp"
-#include "base/json_depth.hpp"
+#include "json/bounded_json.hpp"
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
 #include "meshio/gltf_look.hpp"
@@ -468,24 +468,54 @@ Status AppendPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& 
   return Status::Ok();
 }
 
-// tinygltf 2.7.0 (built without its own Draco support, which would decode
-// before our limits are checked) rejects the indices accessor of a
-// KHR_draco_mesh_compression primitive, which has no buffer view by the
-// extension's rules. The Draco data carries the faces, so `indices` is
-// dropped from those primitives before tinygltf parses the JSON. On the same
-// parse, the schema's rules for accessors, views and buffers are checked
-// (gltf_schema.hpp). Returns the JSON text to parse (unchanged when there is
-// nothing to drop).
-Result<std::string> CheckedGltfJson(std::string_view json) {
-  nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
-  if (doc.is_discarded() || !doc.is_object()) {
-    return GltfError("not a valid glTF 2.0 JSON document");
+// The glTF JSON as tinygltf is to read it: read here first within the
+// limits (its depth, its values; linear in its bytes), with every "extras"
+// member and every extension this reader does not use left out as it is
+// read, so that neither this document nor tinygltf's model ever holds them.
+// The schema's rules for accessors, views and buffers are checked on it
+// (gltf_schema.hpp). tinygltf 2.7.0 (built without its own Draco support,
+// which would decode before our limits are checked) rejects the indices
+// accessor of a KHR_draco_mesh_compression primitive, which has no buffer
+// view by the extension's rules; the Draco data carries the faces, so
+// `indices` is dropped from those primitives. Returns the JSON text to parse
+// (unchanged when nothing was left out or dropped).
+// The values (numbers, strings, arrays, objects) a glTF's JSON may hold,
+// every "extras" and unused extension left out: some 20 a node, mesh or
+// accessor, so that a file at the published limits has room to spare.
+constexpr size_t kMaxGltfJsonValues = 4'000'000;
+
+// The extensions this reader (and the GLB writer, for materials) uses.
+bool UsedExtension(std::string_view name) {
+  return name == "KHR_draco_mesh_compression" || name == "KHR_mesh_quantization" ||
+         name.rfind("KHR_materials_", 0) == 0 || name == "KHR_texture_transform";
+}
+
+Result<std::string> CheckedGltfJson(std::string_view json, const ImportLimits& limits) {
+  JsonLimits json_limits;
+  json_limits.max_depth = limits.max_json_depth;
+  json_limits.max_elements = kMaxGltfJsonValues;
+  json_limits.max_string_bytes = limits.max_bytes;  // data: URIs
+  json_limits.skip_member = [](std::string_view parent, std::string_view key) {
+    return key == "extras" || (parent == "extensions" && !UsedExtension(key));
+  };
+  size_t skipped = 0;
+  auto parsed = ParseBoundedJson(json, json_limits, "the glTF JSON", {}, &skipped);
+  if (!parsed.ok()) {
+    // Its message, in a mesh's terms: the field is the mesh, a limit keeps
+    // its code and numbers, anything else is a malformed mesh.
+    const Status& s = parsed.status();
+    const ErrorCode code =
+        s.code() == ErrorCode::kLimitExceeded ? s.code() : ErrorCode::kInvalidArgument;
+    Status error(code, "glTF: " + s.message(), "mesh");
+    return s.has_limit() ? error.WithLimit(s.limit(), s.actual()) : error;
   }
+  nlohmann::json& doc = *parsed;
+  if (!doc.is_object()) return GltfError("not a valid glTF 2.0 JSON document");
   std::string field;  // named in the message: errors in a mesh are the field "mesh"
   if (std::string problem = FirstGltfSchemaProblem(doc, &field); !problem.empty()) {
     return GltfError(problem);
   }
-  bool changed = false;
+  bool changed = skipped > 0;
   if (doc.contains("meshes") && doc["meshes"].is_array()) {
     for (auto& mesh : doc["meshes"]) {
       if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array())
@@ -536,15 +566,7 @@ Result<ImportedMesh> ReadGltf(std::string_view bytes, bool binary, const ImportL
   ImportedMesh out;
   std::string_view json;
   SURFDEFORM_RETURN_IF_ERROR(JsonOf(bytes, binary, &json));
-  const int depth = JsonNestingDepth(json);
-  if (depth > limits.max_json_depth) {
-    return InvalidArgument("the glTF JSON nests " + std::to_string(depth) +
-                               " levels deep; the limit is " +
-                               std::to_string(limits.max_json_depth),
-                           "mesh")
-        .WithLimit(limits.max_json_depth, depth);
-  }
-  SURFDEFORM_ASSIGN_OR_RETURN(auto patched, CheckedGltfJson(json));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto patched, CheckedGltfJson(json, limits));
   std::string rebuilt;
   if (patched.size() != json.size() || patched != json) {
     rebuilt = binary ? RebuildGlb(bytes, json, std::move(patched)) : std::move(patched);

@@ -28,6 +28,9 @@ struct ImportLimits {
   size_t max_bytes = 256u << 20;    // input size
   size_t max_vertices = 4'000'000;  // after triangulation and welding
   size_t max_triangles = 8'000'000;
+  // Groups (runs of triangles of one material, OBJ g/o groups, glTF
+  // primitives): each becomes a primitive of a glTF answer.
+  size_t max_groups = 4096;
   int max_json_depth = 64;             // glTF JSON nesting
   size_t max_image_bytes = 64u << 20;  // glTF: embedded images, in all (kept, never decoded)
 };

@@ -23,13 +23,13 @@ class ObjParser {
     if (tok == "vt") return TexCoord(line, ln);
     if (tok == "vn") return Normal(line, ln);
     if (tok == "f") return Face(line, ln);
-    if (tok == "usemtl") {
-      UseMaterial(Trimmed(line));
-    } else if (tok == "g" || tok == "o") {
+    if (tok == "usemtl") return UseMaterial(Trimmed(line));
+    if (tok == "g" || tok == "o") {
       // A new group of the file: a new run (same material), its own part.
       ++current_part_;
-      StartGroup(current_material_, Trimmed(line));
-    } else if (tok == "l") {
+      return StartGroup(current_material_, Trimmed(line));
+    }
+    if (tok == "l") {
       ++ignored_lines_;
     } else if (tok == "p") {
       ++ignored_points_;
@@ -154,7 +154,7 @@ class ObjParser {
       poly[n++] = it->second;
     }
     if (n < 3) return LineError(ln, "a face needs at least 3 corners");
-    if (mesh.groups.empty()) StartGroup(current_material_, "");
+    if (mesh.groups.empty()) SURFDEFORM_RETURN_IF_ERROR(StartGroup(current_material_, ""));
     std::array<Vec3, kMaxPolygon> corner_positions;
     for (size_t k = 0; k < n; ++k) corner_positions[k] = v_[vertex_keys_[poly[k]].v];
     AppendPolygon(poly.data(), corner_positions.data(), n, &mesh);
@@ -163,20 +163,15 @@ class ObjParser {
     return CheckLimit("triangles", mesh.triangles.size(), limits_.max_triangles);
   }
 
-  void UseMaterial(const std::string& name) {
-    int index = -1;
-    for (size_t m = 0; m < out_.materials.size(); ++m) {
-      if (out_.materials[m] == name) index = static_cast<int>(m);
-    }
-    if (index < 0) {
-      index = static_cast<int>(out_.materials.size());
-      out_.materials.push_back(name);
-    }
-    current_material_ = index;
-    StartGroup(current_material_, name);
+  // A material by name (found in a hash map: a file may name very many).
+  Status UseMaterial(const std::string& name) {
+    auto [it, added] = material_index_.emplace(name, static_cast<int>(out_.materials.size()));
+    if (added) out_.materials.push_back(name);
+    current_material_ = it->second;
+    return StartGroup(current_material_, name);
   }
 
-  void StartGroup(int material, const std::string& name) {
+  Status StartGroup(int material, const std::string& name) {
     Mesh& mesh = out_.mesh;
     if (!mesh.groups.empty() && mesh.groups.back().triangle_count == 0) mesh.groups.pop_back();
     MeshGroup g;
@@ -185,6 +180,8 @@ class ObjParser {
     g.part = current_part_;
     g.first_triangle = static_cast<uint32_t>(mesh.triangles.size());
     mesh.groups.push_back(g);
+    return CheckLimit("groups (runs of one material or g/o group)", mesh.groups.size(),
+                      limits_.max_groups);
   }
 
   // When every corner uses the same index for v, vt and vn (or leaves them
@@ -255,6 +252,7 @@ class ObjParser {
   std::vector<Vec3> vn_;
   std::unordered_map<CornerKey, uint32_t, CornerHash> corners_;
   std::vector<CornerKey> vertex_keys_;  // output vertex -> its corner
+  std::unordered_map<std::string, int> material_index_;
   int current_material_ = -1;
   int current_part_ = -1;  // the g/o group (counted), for rigid parts
   size_t ignored_lines_ = 0, ignored_points_ = 0;

@@ -4,10 +4,12 @@
 
 namespace surfdeform {
 
-FlattenOptions FlattenFor(const FlattenSettings& given, int threads, double time_budget_ms) {
+FlattenOptions FlattenFor(const FlattenSettings& given, int threads, const RequestClock& clock,
+                          double cap_ms) {
   auto f = WithRunDefaults<FlattenOptions>(given);
   f.threads = threads;
-  f.time_budget_ms = time_budget_ms;
+  f.time_budget_ms = clock.BudgetFor(cap_ms);
+  f.cancel = clock.cancel();
   return f;
 }
 
@@ -26,6 +28,7 @@ SubdivisionOptions SubdivisionFor(const SubdivisionSettings& given, const Servic
   s.max_crossings = MaxSubdivisionCrossings(limits);
   s.max_triangles = limits.max_output_triangles;
   s.time_budget_ms = work.clock().BudgetFor(limits.request_time_budget_ms);
+  s.cancel = work.clock().cancel();
   return s;
 }
 

@@ -22,9 +22,10 @@ Options WithRunDefaults(const Settings& given) {
   return options;
 }
 
-// A flattening on `threads` (0: one per core) within `time_budget_ms` (0:
-// none).
-FlattenOptions FlattenFor(const FlattenSettings& given, int threads, double time_budget_ms);
+// A flattening on `threads` (0: one per core) within what is left of the
+// request's clock, at most `cap_ms`, stopped when the request is cancelled.
+FlattenOptions FlattenFor(const FlattenSettings& given, int threads, const RequestClock& clock,
+                          double cap_ms);
 
 // The placement on `threads`, up +Y for glTF input (its convention) when
 // the request says "auto".

@@ -6,11 +6,28 @@
 
 #include "base/format.hpp"
 #include "engine/subdivide.hpp"
+#include "engine/surface_distance.hpp"
 #include "service/memory_budget.hpp"
 
 namespace surfdeform {
 
-Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& s, int range) {
+double FlatteningBytes(const SamplingOptions& s, const FlattenSettings& f) {
+  const double samples = static_cast<double>(s.nu) * s.nv;
+  const double per_sample =
+      kSheetBytesPerSample + kSheetBytesPerExtraPair * ExtraPairsPerSample(f.range);
+  // The distance lattice, and the paths kept for the next edit, grow with
+  // the lattice factor's square and with it (up to 16): what they take past
+  // the automatic factor's, which the per-sample figure was measured at.
+  const double lattice = static_cast<double>(DistanceLatticePoints(s.nu, s.nv, f.lattice_factor)) -
+                         static_cast<double>(DistanceLatticePoints(s.nu, s.nv, 0));
+  const double pairs = samples * 2.0 * f.range * (f.range + 1.0);
+  const double path_points =
+      DistanceLatticeFactor(s.nu, s.nv, f.lattice_factor) - DistanceLatticeFactor(s.nu, s.nv, 0);
+  return per_sample * samples +
+         std::max(0.0, kLatticeBytesPerPoint * lattice + kPathBytesPerPoint * pairs * path_points);
+}
+
+Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& s, const FlattenSettings& f) {
   const int side = std::max(s.nu, s.nv);
   if (side > limits.max_grid_side) {
     return Status::LimitExceeded("the sampling grid is " + std::to_string(s.nu) + " x " +
@@ -19,12 +36,18 @@ Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& s, int rang
                                  s.nu >= s.nv ? "sampling.nu" : "sampling.nv", limits.max_grid_side,
                                  side);
   }
-  const double per_sample =
-      kSheetBytesPerSample + kSheetBytesPerExtraPair * ExtraPairsPerSample(range);
-  return CheckMemory(per_sample * s.nu * s.nv, limits.request_memory_bytes,
+  // The field to change: the sampling, unless a lattice factor asked for
+  // makes it too large.
+  const double bytes = FlatteningBytes(s, f);
+  FlattenSettings automatic = f;
+  automatic.lattice_factor = 0;
+  const bool lattice = f.lattice_factor > 0 && FlatteningBytes(s, automatic) <=
+                                                   static_cast<double>(limits.request_memory_bytes);
+  return CheckMemory(bytes, limits.request_memory_bytes,
                      "flattening a " + std::to_string(s.nu) + " x " + std::to_string(s.nv) +
-                         " grid at range " + std::to_string(range),
-                     "sampling");
+                         " grid at range " + std::to_string(f.range) + " with lattice factor " +
+                         std::to_string(DistanceLatticeFactor(s.nu, s.nv, f.lattice_factor)),
+                     lattice ? "flatten.lattice_factor" : "sampling");
 }
 
 namespace {
@@ -51,7 +74,7 @@ bool AtBudgetBound(const Status& error, size_t bound, size_t configured) {
 }  // namespace
 
 Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& request) {
-  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits, request.sampling, request.flatten.range));
+  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits, request.sampling, request.flatten));
   const int frames = request.animation.frames;
   const int limit = limits.max_animation_frames;
   if (frames > limit) {
@@ -65,7 +88,10 @@ Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& r
       (copies == 1 ? kAnimationBytesPerFrameSample
                    : kClosedAnimationBytesPerFrameSample * copies / 3) +
       kAnimationBytesPerFrameExtraPair * ExtraPairsPerSample(request.flatten.range);
-  return CheckMemory(per_frame_sample * frames * s.nu * s.nv, limits.request_memory_bytes,
+  // Frame after frame, one flattening's own memory (its lattice and paths)
+  // at a time, beside every frame's sheets and maps.
+  const double one = FlatteningBytes(s, request.flatten);
+  return CheckMemory(per_frame_sample * frames * s.nu * s.nv + one, limits.request_memory_bytes,
                      "flattening " + std::to_string(frames) + " frames of " + std::to_string(s.nu) +
                          " x " + std::to_string(s.nv),
                      "animation.frames");
@@ -102,6 +128,14 @@ Result<int> FieldSideOf(const ServiceLimits& limits, std::string_view text, cons
                                  field, limits.max_field_side, static_cast<double>(n));
   }
   return static_cast<int>(n);
+}
+
+JsonLimits JsonLimitsOf(const ServiceLimits& limits) {
+  JsonLimits l;
+  l.max_depth = limits.max_json_depth;
+  l.max_elements = limits.max_json_elements;
+  l.max_string_bytes = limits.max_json_string_bytes;
+  return l;
 }
 
 ImportLimits ImportLimitsOf(const ServiceLimits& limits) {

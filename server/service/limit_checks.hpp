@@ -7,6 +7,7 @@
 
 #include "base/status.hpp"
 #include "engine/sample_grid.hpp"
+#include "json/bounded_json.hpp"
 #include "meshio/mesh_import.hpp"
 #include "proto/api.hpp"
 #include "proto/map_api.hpp"
@@ -19,8 +20,15 @@ namespace surfdeform {
 inline constexpr proto::MapLimits kMapLimits;
 inline constexpr size_t kMaxMapOutputPoints = 1'000'000;
 
-// The sampling grid's side and the memory its flattening at `range` takes.
-Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& sampling, int range);
+// The memory a flattening of this sampling with these settings takes, at
+// most (its range's pairs, its lattice factor's lattice and paths).
+double FlatteningBytes(const SamplingOptions& sampling, const FlattenSettings& flatten);
+
+// The sampling grid's side and the memory its flattening takes
+// (FlatteningBytes): past the budget, 413 naming the sampling, or the
+// lattice factor where the automatic one would fit.
+Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& sampling,
+                 const FlattenSettings& flatten);
 
 // An animation's grid, its frame count, and the memory its sheets take.
 Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& request);
@@ -34,6 +42,9 @@ Status CheckFrameVertices(const ServiceLimits& limits, size_t frames, size_t ver
 // kLimitExceeded past limits.max_field_side (the engine refuses n < 2).
 Result<int> FieldSideOf(const ServiceLimits& limits, std::string_view text, const char* field,
                         int default_side);
+
+// What request JSON may hold.
+JsonLimits JsonLimitsOf(const ServiceLimits& limits);
 
 // What an import may read (a glTF's JSON nests deeper than a request's).
 ImportLimits ImportLimitsOf(const ServiceLimits& limits);

@@ -15,6 +15,11 @@ namespace surfdeform {
 // A sampled and flattened grid, per sample (measured 2.1 KB at 128^2 and
 // 256^2, range 3; ranges 1 and 2 take about as much).
 inline constexpr double kSheetBytesPerSample = 2560;
+// A point of the distance lattice while the distances are measured (the
+// position, derivatives and normal: sizeof(LatticePoint), 192 B), and a
+// point of a path kept for the next edit (a Vec2).
+inline constexpr double kLatticeBytesPerPoint = 208;
+inline constexpr double kPathBytesPerPoint = 16;
 // Each distance pair a sample has past range 3's 24 (2r(r + 1) within range
 // r): measured 79 B (256^2 at range 5 and 8: 5.25 and 11.9 KB a sample).
 inline constexpr double kSheetBytesPerExtraPair = 96;

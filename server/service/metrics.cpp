@@ -149,7 +149,25 @@ void ConnectionLines(Exposition& e, const ConnectionStats& c) {
               {"client_left", Count(c.closed_early)},
               {"slow_body", Count(c.slow_body)},
               {"slow_response", Count(c.slow_response)},
-              {"keep_alive_idle", Count(c.idle)}});
+              {"keep_alive_idle", Count(c.idle)},
+              {"body_not_allowed", Count(c.body_not_allowed)},
+              {"bodies_refused", Count(c.bodies_refused)},
+              {"cancelled", Count(c.cancelled)}});
+  e.One("surfdeform_connections_reading", "gauge",
+        "Request bodies being read by the connection gate, off the workers.", Count(c.reading));
+  e.One("surfdeform_connections_flushing", "gauge",
+        "Responses being sent by the connection gate to clients that read slowly.",
+        Count(c.flushing));
+  e.One("surfdeform_gate_body_buffer_bytes", "gauge",
+        "Declared bytes of the bodies the gate is reading.", Count(c.body_buffer_bytes));
+  e.One("surfdeform_gate_output_buffer_bytes", "gauge",
+        "Response bytes the gate keeps for clients that read slowly.",
+        Count(c.output_buffer_bytes));
+  e.Labelled("surfdeform_gate_handled_total", "counter",
+             "Connection work the gate did off the workers, by kind.", "kind",
+             {{"bodies_read", Count(c.bodies_read)},
+              {"responses_kept", Count(c.responses_kept)},
+              {"probes", Count(c.probes)}});
 }
 
 void PlacementMemoLines(Exposition& e, const PlacementMemoStats& p) {
@@ -262,6 +280,9 @@ std::string Metrics::Render(const ServerStats& stats) const {
   ConnectionLines(e, stats.connections);
   PlacementMemoLines(e, stats.placements);
   ProcessCpuLines(e);
+  e.One("surfdeform_log_lines_dropped_total", "counter",
+        "Log lines dropped because the log's reader stalled and its queue was full.",
+        Count(stats.log_lines_dropped));
   if (stats.shared.enabled) SecondLevelLines(e, stats.shared);
   return e.Take();
 }

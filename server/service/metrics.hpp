@@ -32,7 +32,17 @@ struct ConnectionStats {
   uint64_t closed_early = 0;    // the client left before its head was in
   uint64_t slow_body = 0;       // shut down on a worker, by phase
   uint64_t slow_response = 0;
-  uint64_t idle = 0;  // kept alive, no next request within the keep-alive timeout
+  uint64_t idle = 0;                 // kept alive, no next request within the keep-alive timeout
+  uint64_t body_not_allowed = 0;     // 400: a body on GET, HEAD, OPTIONS or TRACE
+  uint64_t bodies_refused = 0;       // 503: too many bodies from one address, or in all
+  uint64_t bodies_read = 0;          // bodies the gate read before a worker took the request
+  uint64_t responses_kept = 0;       // responses the gate sent for slow readers
+  uint64_t probes = 0;               // GET /healthz and /readyz on the probe worker
+  uint64_t cancelled = 0;            // the client hung up while its request was handled
+  uint64_t reading = 0;              // gauge: bodies being read by the gate
+  uint64_t flushing = 0;             // gauge: responses being sent by the gate
+  uint64_t body_buffer_bytes = 0;    // gauge: declared bytes of the bodies being read
+  uint64_t output_buffer_bytes = 0;  // gauge: response bytes kept for slow readers
 };
 
 // What the rest of the server reports at /metrics beside its requests: a
@@ -48,6 +58,7 @@ struct ServerStats {
   CacheStats models;
   CacheStats answers;
   CacheStats edit_paths;
+  uint64_t log_lines_dropped = 0;  // the log's reader stalled and its queue was full
 };
 
 class Metrics {

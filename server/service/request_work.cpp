@@ -2,15 +2,21 @@
 
 #include "base/fault_points.hpp"
 #include "engine/elapsed.hpp"
-#include "proto/json_object.hpp"
+#include "json/bounded_json.hpp"
 #include "service/limit_checks.hpp"
 
 namespace surfdeform {
 
-RequestWork::RequestWork(const ServiceLimits& limits)
+RequestWork::RequestWork(const ServiceLimits& limits, const CancelFlag* cancel,
+                         ParseMemory* parse_memory)
     : limits_(limits),
-      clock_(limits.request_time_budget_ms),
+      clock_(limits.request_time_budget_ms, cancel),
+      parse_memory_(parse_memory),
       parse_start_(std::chrono::steady_clock::now()) {}
+
+RequestWork::~RequestWork() {
+  if (parse_memory_ != nullptr) parse_memory_->Give(parse_values_held_);
+}
 
 Status RequestWork::Admit(Admission& admission, int engine_threads) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto ticket, admission.Enter(clock_.remaining_ms()));
@@ -20,8 +26,23 @@ Status RequestWork::Admit(Admission& admission, int engine_threads) {
   return Status::Ok();
 }
 
-Result<nlohmann::json> RequestWork::ParseJson(std::string_view text, const char* field) const {
-  return proto::ParseRequestJson(text, limits_.max_json_depth, field);
+Result<nlohmann::json> RequestWork::ParseJson(std::string_view text, const char* field) {
+  // Checked every few thousand values (kJsonCheckpointValues): the time
+  // budget, the cancellation, and the document's share of the total.
+  return ParseBoundedJson(text, JsonLimitsOf(limits_), field, [this, field]() -> Status {
+    SURFDEFORM_RETURN_IF_ERROR(clock_.Check("parsing"));
+    if (parse_memory_ == nullptr) return Status::Ok();
+    if (!parse_memory_->Take(kJsonCheckpointValues)) {
+      return Status(ErrorCode::kUnavailable,
+                    std::string("the server holds as many request JSON values as it may (") +
+                        std::to_string(parse_memory_->max()) + ") while reading this request's " +
+                        field + "; retry later, or send large point sets as a mesh file")
+          .WithLimit(static_cast<double>(parse_memory_->max()),
+                     static_cast<double>(parse_memory_->held() + kJsonCheckpointValues));
+    }
+    parse_values_held_ += kJsonCheckpointValues;
+    return Status::Ok();
+  });
 }
 
 Result<ImportedMesh> RequestWork::Import(std::string_view mesh) {

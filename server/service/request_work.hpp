@@ -4,6 +4,7 @@
 // imported; with the time these took (the "parse" timing).
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -17,9 +18,37 @@
 
 namespace surfdeform {
 
+// The values of the request JSON documents the requests in flight hold, in
+// all (ServiceLimits::max_json_elements_in_flight): each request takes its
+// share as its parse reads its document, and gives it back when it ends.
+class ParseMemory {
+ public:
+  explicit ParseMemory(size_t max_values) : max_(max_values) {}
+  // False, taking nothing, when `n` more would pass the limit.
+  bool Take(size_t n) {
+    size_t held = held_.load(std::memory_order_relaxed);
+    do {
+      if (held + n > max_) return false;
+    } while (!held_.compare_exchange_weak(held, held + n, std::memory_order_relaxed));
+    return true;
+  }
+  void Give(size_t n) { held_.fetch_sub(n, std::memory_order_relaxed); }
+  size_t held() const { return held_.load(std::memory_order_relaxed); }
+  size_t max() const { return max_; }
+
+ private:
+  const size_t max_;
+  std::atomic<size_t> held_{0};
+};
+
 class RequestWork {
  public:
-  explicit RequestWork(const ServiceLimits& limits);
+  // `cancel` (may be null) stops the request's work, its parse included;
+  // `parse_memory` (may be null: no total) bounds the JSON documents of
+  // all requests together.
+  explicit RequestWork(const ServiceLimits& limits, const CancelFlag* cancel = nullptr,
+                       ParseMemory* parse_memory = nullptr);
+  ~RequestWork();
   RequestWork(const RequestWork&) = delete;
   RequestWork& operator=(const RequestWork&) = delete;
 
@@ -29,8 +58,10 @@ class RequestWork {
   Status Admit(Admission& admission, int engine_threads);
 
   // The request's JSON (`field` names it in errors: "params", "body"),
-  // within the service's depth limit, duplicate keys refused.
-  Result<nlohmann::json> ParseJson(std::string_view text, const char* field) const;
+  // within the service's JSON limits, the request's time budget and the
+  // total of the documents in flight (kUnavailable past it), duplicate keys
+  // refused.
+  Result<nlohmann::json> ParseJson(std::string_view text, const char* field);
 
   // The mesh's bytes imported within the service's limits (kMalformed for
   // none), then EndParse().
@@ -46,6 +77,8 @@ class RequestWork {
  private:
   const ServiceLimits& limits_;
   RequestClock clock_;
+  ParseMemory* parse_memory_;
+  size_t parse_values_held_ = 0;  // taken from parse_memory_
   std::chrono::steady_clock::time_point parse_start_;
   std::optional<Admission::Ticket> ticket_;
   int threads_ = 0;

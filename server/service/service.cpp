@@ -108,7 +108,8 @@ struct Service::Impl {
         store(options.limits, options.engine_threads, options.shared_tier),
         models(options.limits, options.shared_tier),
         admission(AdmissionOptions{options.limits.max_in_flight, options.limits.max_queued,
-                                   options.limits.queue_timeout_ms, Cores()}) {
+                                   options.limits.queue_timeout_ms, Cores()}),
+        parse_memory(options.limits.max_json_elements_in_flight) {
     store.UseModels(&models);
   }
 
@@ -389,6 +390,7 @@ struct Service::Impl {
   SurfaceStore store;
   ModelStore models;
   Admission admission;
+  ParseMemory parse_memory;  // the request JSON documents in flight
   // Placements and footprints of models that come back, by surface, options
   // and positions.
   PlacementMemo placements{kPlacementMemoEntries, options.limits.footprint_memo_bytes};
@@ -411,10 +413,11 @@ int Service::RetryAfterSeconds() const { return impl_->admission.RetryAfterSecon
 SharedTierStats Service::shared_tier_stats() const { return impl_->store.shared_tier_stats(); }
 std::string Service::InfoJson() const { return surfdeform::InfoJson(impl_->options.limits); }
 
-Result<Reply> Service::CreateSurface(std::string_view body, std::string_view field_side) {
-  // No ticket up front: parsing is bounded by the body's size and depth, and
-  // only a flattening that this request must run itself is admitted.
-  RequestWork work(impl_->options.limits);
+Result<Reply> Service::CreateSurface(std::string_view body, std::string_view field_side,
+                                     const CancelFlag* cancel) {
+  // No ticket up front: parsing is bounded by the JSON limits, and only a
+  // flattening that this request must run itself is admitted.
+  RequestWork work(impl_->options.limits, cancel, &impl_->parse_memory);
   SURFDEFORM_ASSIGN_OR_RETURN(int side, FieldSideOf(impl_->options.limits, field_side, "field", 0));
   SURFDEFORM_ASSIGN_OR_RETURN(auto parsed, work.ParseJson(body, "body"));
   SURFDEFORM_ASSIGN_OR_RETURN(auto create, proto::ParseCreateSurfaceRequest(parsed));
@@ -493,8 +496,9 @@ Result<Reply> Service::GetSurfaceSvg(std::string_view id) {
   return reply;
 }
 
-Result<Reply> Service::UploadModel(std::string_view mesh, std::string_view routed_id) {
-  RequestWork work(impl_->options.limits);
+Result<Reply> Service::UploadModel(std::string_view mesh, std::string_view routed_id,
+                                   const CancelFlag* cancel) {
+  RequestWork work(impl_->options.limits, cancel, &impl_->parse_memory);
   if (mesh.empty()) return Status(ErrorCode::kMalformed, "the request carries no mesh", "mesh");
   const std::string id = proto::ModelId(mesh);
   if (!routed_id.empty() && routed_id != id) {
@@ -527,9 +531,10 @@ Result<Reply> Service::GetModel(std::string_view id) {
   return reply;
 }
 
-Result<Reply> Service::MapOnSurface(std::string_view id, std::string_view body) {
+Result<Reply> Service::MapOnSurface(std::string_view id, std::string_view body,
+                                    const CancelFlag* cancel) {
   const ServiceLimits& limits = impl_->options.limits;
-  RequestWork work(limits);
+  RequestWork work(limits, cancel, &impl_->parse_memory);
   SURFDEFORM_ASSIGN_OR_RETURN(auto parsed, work.ParseJson(body, "body"));
   SURFDEFORM_ASSIGN_OR_RETURN(auto request, proto::ParseMapRequest(parsed, kMapLimits));
   SURFDEFORM_ASSIGN_OR_RETURN(auto entry, impl_->store.Find(id));
@@ -563,7 +568,7 @@ Result<Reply> Service::MapOnSurface(std::string_view id, std::string_view body) 
 }
 
 Result<Reply> Service::Deform(const DeformRequest& request) {
-  RequestWork work(impl_->options.limits);
+  RequestWork work(impl_->options.limits, request.cancel, &impl_->parse_memory);
   SURFDEFORM_ASSIGN_OR_RETURN(auto parsed, work.ParseJson(request.params, "params"));
   RouteSurfaceId(request.routed_surface_id, &parsed);
   // Errors name their fields by JSON path in the parameters.
@@ -642,7 +647,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
 
 Result<Reply> Service::Animate(const DeformRequest& request) {
   const ServiceLimits& limits = impl_->options.limits;
-  RequestWork work(limits);
+  RequestWork work(limits, request.cancel, &impl_->parse_memory);
   SURFDEFORM_ASSIGN_OR_RETURN(auto parsed, work.ParseJson(request.params, "params"));
   SURFDEFORM_ASSIGN_OR_RETURN(auto params, proto::ParseAnimateParams(parsed));
   SURFDEFORM_RETURN_IF_ERROR(CheckFrames(limits, params.animation));

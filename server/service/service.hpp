@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "base/cancel_flag.hpp"
 #include "base/status.hpp"
 #include "service/admission.hpp"
 #include "service/placement_memo_stats.hpp"
@@ -43,6 +44,9 @@ struct DeformRequest {
   // The Accept-Encoding header: an answer that compresses is made gzipped
   // too when it accepts gzip (Reply::gzip_body).
   std::string accept_encoding{};
+  // Raised when nobody waits for the answer any more (the client left, the
+  // server stops): the work stops at its next checkpoint. May be null.
+  const CancelFlag* cancel = nullptr;
 };
 
 class Service {
@@ -54,7 +58,10 @@ class Service {
 
   // POST /v1/surfaces; with a `field_side` the reply carries the field of
   // that side too ("field", as GetSurfaceField's JSON): one round trip.
-  Result<Reply> CreateSurface(std::string_view body, std::string_view field_side = {});
+  // Each call that works takes the request's cancel flag (may be null; see
+  // DeformRequest::cancel).
+  Result<Reply> CreateSurface(std::string_view body, std::string_view field_side = {},
+                              const CancelFlag* cancel = nullptr);
   // GET /v1/surfaces/{id}/field?n=: JSON, or bytes for an Accept that prefers
   // application/octet-stream (replies.hpp has the layout).
   Result<Reply> GetSurfaceField(std::string_view id, std::string_view side,
@@ -64,12 +71,14 @@ class Service {
   // POST /v1/models: a mesh file's bytes. `routed_id` (the
   // X-Surfdeform-Model-Id header, which load balancers route by), when
   // given, must be the id the bytes have.
-  Result<Reply> UploadModel(std::string_view mesh, std::string_view routed_id);
+  Result<Reply> UploadModel(std::string_view mesh, std::string_view routed_id,
+                            const CancelFlag* cancel = nullptr);
   Result<Reply> GetModel(std::string_view id);          // GET /v1/models/{id}
   Result<Reply> Deform(const DeformRequest& request);   // POST /v1/deform
   Result<Reply> Animate(const DeformRequest& request);  // POST /v1/animate
   // POST /v1/surfaces/{id}/map (proto/map_api.hpp)
-  Result<Reply> MapOnSurface(std::string_view id, std::string_view body);
+  Result<Reply> MapOnSurface(std::string_view id, std::string_view body,
+                             const CancelFlag* cancel = nullptr);
 
   std::string InfoJson() const;  // GET /v1/info
   CacheStats cache_stats() const;

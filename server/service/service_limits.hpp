@@ -21,7 +21,16 @@ struct ServiceLimits {
   size_t max_surface_mesh_pairs = 8'000'000;
   size_t max_output_vertices = 4'000'000;  // the mesh after subdivision
   size_t max_output_triangles = 8'000'000;
-  int max_json_depth = 32;                // request JSON nesting (glTF JSON: twice this)
+  int max_json_depth = 32;  // request JSON nesting (glTF JSON: twice this)
+  // Request JSON's values of any kind, and the bytes of its keys and
+  // strings, checked as it is read (json/bounded_json.hpp): a document
+  // takes up to ~100 bytes a value (an empty object in an array), 200 MB at
+  // the limit; a 512 x 512 grid surface's points are 1.05M values.
+  size_t max_json_elements = 2'000'000;
+  size_t max_json_string_bytes = 16u << 20;
+  // The values of the JSON documents of all requests held at once: past
+  // it a request is refused (503) as its parse reaches it.
+  size_t max_json_elements_in_flight = 8'000'000;
   int max_in_flight = 0;                  // flatten/deform requests running at once; 0 = 1 per core
   int max_queued = -1;                    // more that wait for a slot; -1 = 4 per core
   double queue_timeout_ms = 5000;         // the longest wait for a slot (then 503)

@@ -16,6 +16,7 @@
 #include "engine/mesh_flatten.hpp"
 #include "engine/surface_fields.hpp"
 #include "engine/surface_spec.hpp"
+#include "json/bounded_json.hpp"
 #include "proto/content_hash.hpp"
 #include "proto/json_object.hpp"
 #include "service/digest_hex.hpp"
@@ -122,7 +123,7 @@ SharedTierStats SurfaceStore::shared_tier_stats() const {
 Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flattened(
     const proto::SurfaceRequest& request, const RequestClock& clock, bool* hit,
     Admission* admission, const EditStart& edit) {
-  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling, request.flatten.range));
+  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling, request.flatten));
   const std::string id = proto::SurfaceId(request);
   bool from_shared = false;  // computed here, but read from the second level
   auto result = surfaces_.GetOrCompute(
@@ -235,7 +236,7 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Flatten(
   const auto t0 = Clock::now();
   FlattenOptions flatten =
       FlattenFor(request.flatten, ticket ? ThreadsFor(*ticket, engine_threads_) : engine_threads_,
-                 clock.BudgetFor(limits_.flatten_time_budget_ms));
+                 clock, limits_.flatten_time_budget_ms);
   auto resolved = ResolveMesh(request.surface, flatten);
   if (!resolved.ok()) {
     const Status& s = resolved.status();
@@ -303,15 +304,14 @@ Result<std::shared_ptr<const StoredSurface>> SurfaceStore::Rebuild(const std::st
                                                                    std::string_view value) {
   SURFDEFORM_ASSIGN_OR_RETURN(
       auto decoded, DecodeSheet(value, limits_.max_grid_side, limits_.max_surface_mesh_vertices));
-  SURFDEFORM_ASSIGN_OR_RETURN(
-      auto parsed, proto::ParseRequestJson(decoded.parts.canonical_request, limits_.max_json_depth,
-                                           "shared_tier"));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto parsed, ParseBoundedJson(decoded.parts.canonical_request,
+                                                            JsonLimitsOf(limits_), "shared_tier"));
   SURFDEFORM_ASSIGN_OR_RETURN(auto request, proto::ParseSurfaceRequest(parsed));
   if (proto::SurfaceId(request) != id || request.sampling.nu != decoded.sheet.nu ||
       request.sampling.nv != decoded.sheet.nv) {
     return Status(ErrorCode::kMalformed, "the shared sheet answers another request", "shared_tier");
   }
-  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling, request.flatten.range));
+  SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits_, request.sampling, request.flatten));
   // A mesh surface: its mesh by its model id (either level of the models),
   // laid out as the value says.
   const bool mesh = std::holds_alternative<MeshSpec>(request.surface);
@@ -390,7 +390,7 @@ Result<std::shared_ptr<const StoredAnimation>> SurfaceStore::FlattenedAnimation(
       [&]() -> Result<std::shared_ptr<const StoredAnimation>> {
         const auto t0 = Clock::now();
         FlattenOptions flatten =
-            FlattenFor(request.flatten, threads, clock.BudgetFor(limits_.flatten_time_budget_ms));
+            FlattenFor(request.flatten, threads, clock, limits_.flatten_time_budget_ms);
         SURFDEFORM_ASSIGN_OR_RETURN(const AnimationSpec spec, ResolveMeshKeys(request.animation));
         size_t mesh_vertices = 0;
         if (const auto* m = std::get_if<MeshSpec>(&spec.keyframes[0].surface)) {

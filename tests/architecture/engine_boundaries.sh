@@ -5,6 +5,7 @@
 # - it raises only the geometry codes of base/status.hpp, never the codes of
 #   formats, requests or the service;
 # - base/ includes nothing but itself and the standard library;
+# - json/ (bounded JSON reading) includes nothing of the project but base/;
 # - no caller picks a behaviour from an error's message text;
 # - proto/ (the API's request types) includes from the engine and meshio
 #   only their plain vocabulary (the surface description and each option
@@ -25,6 +26,8 @@ hits=$(grep -rnE 'ErrorCode::k(UnsupportedFormat|Malformed|NotFound|NotAcceptabl
 [[ -z $hits ]] || report "the engine raises a code that belongs outside it" "$hits"
 hits=$(grep -rnE '#include "' "$root/server/base" | grep -vE '#include "base/' || true)
 [[ -z $hits ]] || report "base/ includes a project header outside it" "$hits"
+hits=$(grep -rnE '#include "' "$root/server/json" | grep -vE '#include "(json|base)/' || true)
+[[ -z $hits ]] || report "json/ includes a project header outside json/ and base/" "$hits"
 hits=$(grep -rnE '(message|error)\(\)\.(rfind|find|starts_with|compare)\(|field\(\) == "' \
          "$root/server" "$root/proto" "$root/client/cli" || true)
 [[ -z $hits ]] || report "a caller decides from an error's text" "$hits"

@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "engine/animation.hpp"
+#include "json/bounded_json.hpp"
 #include "proto/api.hpp"
 #include "proto/json_object.hpp"
 #include "proto/map_api.hpp"
@@ -30,7 +31,7 @@ void ExpectReadsBack(const Request& request, Parse parse) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  auto json = surfdeform::proto::ParseRequestJson(text, 32, "params");
+  auto json = surfdeform::ParseBoundedJson(text, surfdeform::JsonLimits{}, "params");
   if (!json.ok()) return 0;
   (void)surfdeform::proto::ParseSurfaceRequest(*json);
   if (auto create = surfdeform::proto::ParseCreateSurfaceRequest(*json); create.ok()) {

@@ -19,7 +19,9 @@ TEST(EngineOptions, FlatteningCarriesTheSettingsAndRunsAsTheServiceSays) {
   given.exact_developable = false;
   given.lattice_factor = 3;
   given.relax_steps = 1;
-  const FlattenOptions f = FlattenFor(given, 3, 250.0);
+  CancelFlag cancel;
+  const RequestClock clock(60000.0, &cancel);
+  const FlattenOptions f = FlattenFor(given, 3, clock, 250.0);
   EXPECT_EQ(f.method, FlattenMethod::kPaper);
   EXPECT_EQ(f.range, 2);
   EXPECT_EQ(f.tolerance, 1e-5);
@@ -30,6 +32,7 @@ TEST(EngineOptions, FlatteningCarriesTheSettingsAndRunsAsTheServiceSays) {
   EXPECT_EQ(f.relax_steps, 1);
   EXPECT_EQ(f.threads, 3);
   EXPECT_EQ(f.time_budget_ms, 250.0);
+  EXPECT_EQ(f.cancel, &cancel);     // the request's cancellation reaches the engine
   EXPECT_EQ(f.max_mesh_pairs, 0u);  // set where a mesh's size is known
   // A request's defaults are the engine's.
   const FlattenOptions defaults = WithRunDefaults<FlattenOptions>(FlattenSettings{});

@@ -92,6 +92,12 @@ TEST(LimitChecks, AnAnimationsModelIsBoundedByWhatItsFramesHold) {
   EXPECT_EQ(AnimationSubdivisionError(limits, 300, 2, late).code(), ErrorCode::kDeadlineExceeded);
 }
 
+FlattenSettings AtRange(int range) {
+  FlattenSettings f;
+  f.range = range;
+  return f;
+}
+
 TEST(LimitChecks, AGridsFlatteningIsEstimatedAtItsRange) {
   ServiceLimits limits;
   limits.request_memory_bytes = 512u << 20;
@@ -100,9 +106,9 @@ TEST(LimitChecks, AGridsFlatteningIsEstimatedAtItsRange) {
   // Range 3: 2.4 KB a sample measured (168 MB estimated); ranges 1 and 2
   // about the same. Range 8 has 144 pairs a sample to range 3's 24: 779 MB
   // measured, 923 MB estimated.
-  for (int range : {1, 2, 3}) EXPECT_TRUE(CheckGrid(limits, grid, range).ok()) << range;
-  EXPECT_TRUE(CheckGrid(limits, grid, 5).ok());  // 344 MB measured
-  const Status wide = CheckGrid(limits, grid, 8);
+  for (int range : {1, 2, 3}) EXPECT_TRUE(CheckGrid(limits, grid, AtRange(range)).ok()) << range;
+  EXPECT_TRUE(CheckGrid(limits, grid, AtRange(5)).ok());  // 344 MB measured
+  const Status wide = CheckGrid(limits, grid, AtRange(8));
   EXPECT_EQ(wide.code(), ErrorCode::kLimitExceeded) << wide.ToString();
   EXPECT_EQ(wide.field(), "sampling");
   EXPECT_GT(wide.actual(), 779e6);
@@ -113,6 +119,25 @@ TEST(LimitChecks, AGridsFlatteningIsEstimatedAtItsRange) {
   EXPECT_TRUE(CheckFrames(limits, frames).ok());  // 1.26 GB
   frames.flatten.range = 8;
   EXPECT_EQ(CheckFrames(limits, frames).code(), ErrorCode::kLimitExceeded);  // 2.14 GB
+}
+
+// The lattice factor scales the distance lattice (its square) and the kept
+// paths: 197 bytes asking for a 256 x 256 grid at range 8 and lattice
+// factor 16 peaked at 3.77 GB before it was estimated; now it is refused,
+// naming the lattice factor, which is what makes it too large.
+TEST(LimitChecks, TheLatticeFactorIsInTheFlatteningsEstimate) {
+  ServiceLimits limits;  // 1 GiB
+  SamplingOptions grid;
+  grid.nu = grid.nv = 256;
+  FlattenSettings f = AtRange(8);
+  EXPECT_TRUE(CheckGrid(limits, grid, f).ok());  // 779 MB measured at the automatic factor
+  f.lattice_factor = 16;
+  const Status fine = CheckGrid(limits, grid, f);
+  EXPECT_EQ(fine.code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(fine.field(), "flatten.lattice_factor");
+  EXPECT_GT(fine.actual(), 3.77e9);
+  f.lattice_factor = 1;  // coarser than the automatic 2: no more than it
+  EXPECT_EQ(FlatteningBytes(grid, f), FlatteningBytes(grid, AtRange(8)));
 }
 
 TEST(LimitChecks, AMeshSurfacesPairsFitBesideItsVertices) {

@@ -34,7 +34,7 @@ Budget::Budget(const SubdivisionOptions& o, size_t input_vertices)
       max_vertices_(o.max_vertices),
       max_crossings_(o.max_crossings),
       input_(input_vertices) {
-  deadline_ = DeadlineAfter(start_, o.time_budget_ms);
+  deadline_ = DeadlineAfter(start_, o.time_budget_ms, o.cancel);
 }
 
 Status Budget::TimeUp() const {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "base/status.hpp"
+#include "engine/elapsed.hpp"
 #include "engine/mesh.hpp"
 #include "engine/sheet_map.hpp"
 #include "engine/subdivide.hpp"
@@ -91,7 +92,7 @@ class Budget {
 
   bool OutOfTime() {
     if (out_of_time_.load(std::memory_order_relaxed)) return true;
-    if (std::chrono::steady_clock::now() <= deadline_) return false;
+    if (!deadline_.Passed()) return false;
     out_of_time_ = true;
     return true;
   }
@@ -124,7 +125,7 @@ class Budget {
 
  private:
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-  std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
+  Deadline deadline_;
   double budget_ms_ = 0.0;
   size_t max_vertices_;
   size_t max_crossings_;
