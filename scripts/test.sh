@@ -36,7 +36,7 @@ CC=clang-14 CXX=clang++-14 cmake -S . -B build-san -G Ninja "${san_flags[@]}" \
   -DSURFDEFORM_BUILD_TESTS=ON -DSURFDEFORM_BUILD_BENCH=OFF > /dev/null
 cmake --build build-san -j "$jobs" --target surfdeform_unit_tests surfdeform-server \
   surfdeform-server-faults surfdeform_integration_tests surfdeform no_orphans \
-  import_fuzzer params_fuzzer http_fuzzer estimate_fuzzer
+  import_fuzzer params_fuzzer http_fuzzer estimate_fuzzer memory_fuzzer
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
 stage "unit tests under sanitizers"
 ctest --test-dir build-san --output-on-failure -j "$jobs" -L unit

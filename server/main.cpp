@@ -12,6 +12,7 @@
 #include "http/http_server.hpp"
 #include "server_flags.hpp"
 #include "service/allocator_tuning.hpp"
+#include "service/disk_tier.hpp"
 #include "service/service.hpp"
 
 namespace {
@@ -19,7 +20,16 @@ namespace {
 // The shared tier, when --redis names one; its log is one line per change of
 // its state (the breaker opening or closing). Exit code 2 for a bad URL.
 int AttachSharedTier(surfdeform::ServerConfig* config) {
-  if (config->shared.url.empty()) return 0;
+  if (config->shared.url.empty()) {
+    if (!config->persist_uploads) return 0;
+    auto disk = surfdeform::CreateDiskTier({config->data_dir, config->data_dir_mib << 20});
+    if (!disk.ok()) {
+      std::cerr << "surfdeform-server: " << disk.status().message() << "\n";
+      return 2;
+    }
+    config->service.shared_tier = std::move(*disk);
+    return 0;
+  }
   auto tier = surfdeform::SharedTier::Create(
       config->shared, [](const std::string& state, const std::string& detail) {
         std::cout << "{\"event\":\"shared_tier\",\"state\":\"" << state << "\",\"detail\":"
@@ -55,6 +65,9 @@ int main(int argc, char** argv) {
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  // A log reader that goes away must not end the server: its write fails,
+  // and the log drops its lines (http/log_writer.hpp).
+  std::signal(SIGPIPE, SIG_IGN);
 
   if (const int failed = AttachSharedTier(&config); failed != 0) return failed;
   surfdeform::Service service(config.service);
@@ -62,8 +75,8 @@ int main(int argc, char** argv) {
   if (!server.Bind()) return 1;
   std::cout << "{\"event\":\"listening\",\"host\":\"" << http_options.host
             << "\",\"port\":" << server.port()
-            << ",\"shared_tier\":" << (config.shared.url.empty() ? "false" : "true") << "}"
-            << std::endl;
+            << ",\"shared_tier\":" << (config.shared.url.empty() ? "false" : "true")
+            << ",\"uploads_kept\":\"" << service.retention().where << "\"}" << std::endl;
 
   // The signal thread drains and stops the server; it is joined before the
   // server and the service are destroyed (ThreadSanitizer caught a detached

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 
 namespace surfdeform {
 namespace {
@@ -26,6 +27,20 @@ CLI::Option* Flag(CLI::App& app, const std::string& name, T& value, const std::s
                   R min, R max) {
   return Flag(app, name, value, meaning)->check(CLI::Range(min, max));
 }
+
+}  // namespace
+
+std::string DefaultDataDir() {
+  if (const char* xdg = std::getenv("XDG_DATA_HOME"); xdg != nullptr && xdg[0] == '/') {
+    return std::string(xdg) + "/surfdeform";
+  }
+  if (const char* home = std::getenv("HOME"); home != nullptr && home[0] == '/') {
+    return std::string(home) + "/.local/share/surfdeform";
+  }
+  return "surfdeform-data";
+}
+
+namespace {
 
 http::LogLevel ParseLogLevel(const std::string& name) {
   using http::LogLevel;
@@ -156,6 +171,13 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
        "Then: how long the server waits for cancelled work before it exits regardless", 0.1, 600.0);
   Flag(app, "--log-level", c->log_level, "Access and error log level")
       ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}));
+  Flag(app, "--persist-uploads", c->persist_uploads,
+       "Without --redis: keep uploaded models and flattened surfaces in --data-dir, so that "
+       "they outlive a restart (false: in memory only)");
+  Flag(app, "--data-dir", c->data_dir,
+       "Where uploads and flattened surfaces are kept without --redis (one server a directory)");
+  Flag(app, "--data-dir-mib", c->data_dir_mib,
+       "Byte budget of --data-dir, MiB: past it the least recently used are removed", 1, 1 << 24);
   app.add_option("--redis", c->shared.url,
                  "Share flattened surfaces with other replicas through Redis: "
                  "redis://[[user]:password@]host[:port][/db] or unix:///path (empty: "

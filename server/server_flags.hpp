@@ -12,10 +12,19 @@
 
 namespace surfdeform {
 
+// $XDG_DATA_HOME/surfdeform, else ~/.local/share/surfdeform, else
+// ./surfdeform-data: where a server without Redis keeps uploads.
+std::string DefaultDataDir();
+
 struct ServerConfig {
   ServiceOptions service;
   http::HttpOptions http;
   SharedTierOptions shared;  // the Redis level; its url empty: none
+  // Without Redis: uploads and flattened surfaces kept on disk, across
+  // restarts (disk_tier.hpp), unless persist_uploads is off.
+  bool persist_uploads = true;
+  std::string data_dir = DefaultDataDir();
+  size_t data_dir_mib = 1024;
   std::string log_level = "info";
   double drain_seconds = 0.0;  // on SIGTERM: not ready this long before stopping
   // Then, once accepting has stopped: how long requests in flight may run

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <functional>
 #include <iterator>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <variant>
@@ -395,11 +396,36 @@ Result<std::unique_ptr<Surface>> Build(const SphereSpec& s) {
   return MakeSphere(s, frame);
 }
 
+// A horn or spindle torus (minor_radius >= major_radius) reaches its axis
+// where R + r cos(v) = 0: there the surface pinches to a point (its normal
+// vanishes, and a spindle's tube passes through itself). Decided from the
+// radii and the v span, whatever the sampling: kDegenerate when the span
+// holds such a v.
+Status CheckTorusClearsItsAxis(const TorusSpec& s) {
+  if (s.minor_radius < s.major_radius) return Status::Ok();
+  const double pinch = std::acos(-s.major_radius / s.minor_radius) * 180.0 / std::numbers::pi;
+  for (double at : {pinch, -pinch}) {
+    // The first angle congruent to `at` at or past v_min_deg.
+    const double k = std::ceil((s.v_min_deg - at) / 360.0 - 1e-12);
+    const double v = at + 360.0 * k;
+    if (v <= s.v_max_deg + 1e-12) {
+      return Degenerate(
+          "the tube (minor_radius " + Num(s.minor_radius) + ") reaches the axis (major_radius " +
+              Num(s.major_radius) + ") at v = " + Num(v) +
+              " degrees, where the surface pinches to a point; use a minor_radius below the "
+              "major_radius, or a v span without it",
+          "minor_radius");
+    }
+  }
+  return Status::Ok();
+}
+
 Result<std::unique_ptr<Surface>> Build(const TorusSpec& s) {
   SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.major_radius, "major_radius"));
   SURFDEFORM_RETURN_IF_ERROR(CheckPositive(s.minor_radius, "minor_radius"));
   SURFDEFORM_RETURN_IF_ERROR(CheckAngleSpan(s.u_min_deg, s.u_max_deg, "u_min_deg", "u_max_deg"));
   SURFDEFORM_RETURN_IF_ERROR(CheckAngleSpan(s.v_min_deg, s.v_max_deg, "v_min_deg", "v_max_deg"));
+  SURFDEFORM_RETURN_IF_ERROR(CheckTorusClearsItsAxis(s));
   SURFDEFORM_ASSIGN_OR_RETURN(auto frame, BuildFrame(s.frame));
   return MakeTorus(s, frame);
 }

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "engine/clamped_floor.hpp"
+#include "engine/surface_spec.hpp"
 
 namespace surfdeform {
 namespace {
@@ -255,10 +256,16 @@ Vec2 TargetOn(const SheetMap& map, const PlacementOptions& o) {
   return sb.min() + o.center.cwiseProduct(sb.sizes());
 }
 
+// How far a numeric anchor may lie outside the model's heights, in model
+// sizes: further, the model floats off the surface by more than it is
+// worth bending (and its offset surface's refinement runs away).
+constexpr double kMaxAnchorOffsetInSizes = 10.0;
+
 // The placement on the map's given sheet before any fit (scale as given),
-// and the footprint (a, b) of every vertex when asked for.
-Placement Unfitted(const SheetMap& map, const std::vector<Vec3>& positions,
-                   const PlacementOptions& o, std::vector<Vec2>* footprint) {
+// and the footprint (a, b) of every vertex when asked for. kInvalidArgument
+// for a numeric anchor past kMaxAnchorOffsetInSizes.
+Result<Placement> Unfitted(const SheetMap& map, const std::vector<Vec3>& positions,
+                           const PlacementOptions& o, std::vector<Vec2>* footprint) {
   const size_t n = positions.size();
   Placement pl;
   pl.up = ResolveUpAxis(o.up, o.y_up_input, positions, &pl.up_reason);
@@ -282,9 +289,21 @@ Placement Unfitted(const SheetMap& map, const std::vector<Vec3>& positions,
     case AnchorMode::kTop:
       pl.h0 = box.max().z();
       break;
-    case AnchorMode::kValue:
+    case AnchorMode::kValue: {
       pl.h0 = o.anchor_value;
+      const double size = (box.max() - box.min()).maxCoeff();
+      const double off = std::max(box.min().z() - o.anchor_value, o.anchor_value - box.max().z());
+      if (size > 0.0 && off > kMaxAnchorOffsetInSizes * size) {
+        return InvalidArgument("lies " + Num(off) +
+                                   " model units outside the model's heights, over " +
+                                   Num(kMaxAnchorOffsetInSizes) + " times its size (" + Num(size) +
+                                   "): the model would float off the surface; give "
+                                   "a height within the model, or \"bottom\", \"center\" or "
+                                   "\"top\"",
+                               "placement.anchor");
+      }
       break;
+    }
   }
   const double angle = o.rotation_deg * std::numbers::pi / 180.0;
   pl.rotation << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
@@ -310,6 +329,16 @@ Status ValidatePlacementSettings(const PlacementSettings& o) {
     return InvalidArgument("must be a finite number", "placement.anchor");
   }
   if (!o.center.allFinite()) return InvalidArgument("must be finite", "placement.center");
+  if (o.center.cwiseAbs().maxCoeff() > kMaxSurfaceNumber) {
+    return InvalidArgument("must be within +-" + Num(kMaxSurfaceNumber) + ", got " +
+                               Num(o.center.cwiseAbs().maxCoeff()),
+                           "placement.center");
+  }
+  if (std::abs(o.anchor_value) > kMaxSurfaceNumber) {
+    return InvalidArgument(
+        "must be within +-" + Num(kMaxSurfaceNumber) + ", got " + Num(o.anchor_value),
+        "placement.anchor");
+  }
   if (!std::isfinite(o.rotation_deg)) {
     return InvalidArgument("must be a finite number", "placement.rotation_deg");
   }
@@ -356,7 +385,8 @@ UpAxis ResolveUpAxis(UpAxis up, bool y_up_input, const std::vector<Vec3>& positi
 Result<Placement> ComputePlacement(const SheetMap& map, const std::vector<Vec3>& positions,
                                    const PlacementOptions& o) {
   std::vector<Vec2> footprint;
-  Placement pl = Unfitted(map, positions, o, o.fit ? &footprint : nullptr);
+  SURFDEFORM_ASSIGN_OR_RETURN(Placement pl,
+                              Unfitted(map, positions, o, o.fit ? &footprint : nullptr));
   if (!o.fit) return pl;
   SURFDEFORM_ASSIGN_OR_RETURN(const Outline outline, OutlineOf(footprint, pl.centre));
   SURFDEFORM_ASSIGN_OR_RETURN(
@@ -385,7 +415,8 @@ Result<FramePlacements> ComputeFramePlacements(std::span<const SheetMap* const> 
   // What depends on the model (axes, footprint, anchor) once; the target on
   // every frame's sheet.
   std::vector<Vec2> footprint;
-  const Placement first = Unfitted(*maps.front(), positions, o, o.fit ? &footprint : nullptr);
+  SURFDEFORM_ASSIGN_OR_RETURN(const Placement first,
+                              Unfitted(*maps.front(), positions, o, o.fit ? &footprint : nullptr));
   out.each.assign(maps.size(), first);
   for (size_t k = 1; k < maps.size(); ++k) out.each[k].target = TargetOn(*maps[k], o);
   if (!o.fit) return out;

@@ -17,6 +17,7 @@
 
 #include "base/header_lists.hpp"
 #include "http/problem.hpp"
+#include "service/allocator_tuning.hpp"
 
 namespace surfdeform::http {
 namespace {
@@ -399,6 +400,13 @@ void ConnectionGate::ServeOnWorker(int fd, int requests_left, std::string preloa
     bool connection_closed = false;
     const bool ok = serve_(stream, close_connection, connection_closed);
     --requests_left;
+    // The request's buffers are gone: after a large one, its memory goes
+    // back to the kernel (allocator_tuning.hpp).
+    if (stream.bytes_in() >= kLargeRequestBytes || stream.bytes_out() >= kLargeRequestBytes) {
+      MarkLargeRequest();
+    }
+    stream.ResetCounts();
+    ReleaseAfterLargeRequest();
     bool shut;
     {
       std::lock_guard lock(served->mutex);

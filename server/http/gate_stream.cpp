@@ -54,6 +54,12 @@ bool GateStream::is_writable() const {
 // the 1.4 MB bunny took ~725 recv() and poll() calls before, ~37 now
 // (strace -c; BENCHMARKS.md). A read of at least the buffer's size skips it.
 ssize_t GateStream::read(char* ptr, size_t size) {
+  const ssize_t n = ReadSome(ptr, size);
+  if (n > 0) bytes_in_ += static_cast<size_t>(n);
+  return n;
+}
+
+ssize_t GateStream::ReadSome(char* ptr, size_t size) {
   if (preloaded_at_ < preloaded_.size()) {
     const size_t n = std::min(size, preloaded_.size() - preloaded_at_);
     std::memcpy(ptr, preloaded_.data() + preloaded_at_, n);
@@ -84,6 +90,7 @@ ssize_t GateStream::read(char* ptr, size_t size) {
 }
 
 ssize_t GateStream::write(const char* ptr, size_t size) {
+  bytes_out_ += size;
   size_t sent = 0;
   if (deferred_.empty()) {
     const ssize_t n = SendNow(ptr, size);

@@ -60,11 +60,16 @@ class GateStream final : public httplib::Stream {
   // budget they hold passes with them (OutputBudget::Give once sent).
   std::string TakeDeferred();
   bool has_deferred() const { return !deferred_.empty(); }
+  // Bytes read and written since the last ResetCounts().
+  size_t bytes_in() const { return bytes_in_; }
+  size_t bytes_out() const { return bytes_out_; }
+  void ResetCounts() { bytes_in_ = bytes_out_ = 0; }
   // Waits (within the write timeout per send) until every deferred byte is
   // out; false when the connection failed.
   bool FlushDeferred();
 
  private:
+  ssize_t ReadSome(char* ptr, size_t size);
   bool Poll(short events, int ms) const;
   ssize_t Recv(char* out, size_t size, int flags) const;
   // Sends what the socket takes now; the count sent, or -1 on an error.
@@ -83,6 +88,8 @@ class GateStream final : public httplib::Stream {
   std::unique_ptr<char[]> buffer_ = std::make_unique_for_overwrite<char[]>(kBufferBytes);
   size_t begin_ = 0;
   size_t end_ = 0;
+  size_t bytes_in_ = 0;
+  size_t bytes_out_ = 0;
 };
 
 }  // namespace surfdeform::http

@@ -27,4 +27,15 @@ namespace surfdeform {
 void TuneAllocatorForServing(size_t mmap_threshold = 32u << 20, size_t trim = 256u << 20,
                              int arenas = 0);
 
+// After a request that took far more than most (a large body, response or
+// JSON document: its many small blocks, freed, stay mapped in the arenas
+// below the trim threshold), the freed memory goes back to the kernel, so
+// that the server's resident size returns to its level before it.
+// MarkLargeRequest() says one ended (any thread); ReleaseAfterLargeRequest()
+// (the HTTP layer, once the request's own buffers are gone) trims the
+// arenas when one did, and says whether it did.
+inline constexpr size_t kLargeRequestBytes = 16u << 20;
+void MarkLargeRequest();
+bool ReleaseAfterLargeRequest();
+
 }  // namespace surfdeform

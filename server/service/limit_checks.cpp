@@ -73,6 +73,19 @@ bool AtBudgetBound(const Status& error, size_t bound, size_t configured) {
 
 }  // namespace
 
+double AnimationSheetsBytes(const proto::AnimationRequest& request) {
+  const SamplingOptions& s = request.sampling;
+  const int copies = SheetCopies(request);
+  const double per_frame_sample =
+      (copies == 1 ? kAnimationBytesPerFrameSample
+                   : kClosedAnimationBytesPerFrameSample * copies / 3) +
+      kAnimationBytesPerFrameExtraPair * ExtraPairsPerSample(request.flatten.range);
+  // Frame after frame, one flattening's own memory (its lattice and paths)
+  // at a time, beside every frame's sheets and maps.
+  return per_frame_sample * request.animation.frames * s.nu * s.nv +
+         FlatteningBytes(s, request.flatten);
+}
+
 Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& request) {
   SURFDEFORM_RETURN_IF_ERROR(CheckGrid(limits, request.sampling, request.flatten));
   const int frames = request.animation.frames;
@@ -83,15 +96,7 @@ Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& r
                                  "animation.frames", limit, frames);
   }
   const SamplingOptions& s = request.sampling;
-  const int copies = SheetCopies(request);
-  const double per_frame_sample =
-      (copies == 1 ? kAnimationBytesPerFrameSample
-                   : kClosedAnimationBytesPerFrameSample * copies / 3) +
-      kAnimationBytesPerFrameExtraPair * ExtraPairsPerSample(request.flatten.range);
-  // Frame after frame, one flattening's own memory (its lattice and paths)
-  // at a time, beside every frame's sheets and maps.
-  const double one = FlatteningBytes(s, request.flatten);
-  return CheckMemory(per_frame_sample * frames * s.nu * s.nv + one, limits.request_memory_bytes,
+  return CheckMemory(AnimationSheetsBytes(request), limits.request_memory_bytes,
                      "flattening " + std::to_string(frames) + " frames of " + std::to_string(s.nu) +
                          " x " + std::to_string(s.nv),
                      "animation.frames");

@@ -30,6 +30,10 @@ double FlatteningBytes(const SamplingOptions& sampling, const FlattenSettings& f
 Status CheckGrid(const ServiceLimits& limits, const SamplingOptions& sampling,
                  const FlattenSettings& flatten);
 
+// The memory an animation's sheets and maps take, at most: every frame's,
+// and one flattening's own at a time.
+double AnimationSheetsBytes(const proto::AnimationRequest& request);
+
 // An animation's grid, its frame count, and the memory its sheets take.
 Status CheckFrames(const ServiceLimits& limits, const proto::AnimationRequest& request);
 

@@ -329,6 +329,23 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   return reply;
 }
 
+json RetentionJson(const Retention& r) {
+  json j = {{"where", r.where}, {"survives_restart", r.survives_restart}};
+  j["ttl_s"] = r.ttl_s > 0 ? json(r.ttl_s) : json(nullptr);
+  if (r.budget_bytes > 0) j["budget_bytes"] = r.budget_bytes;
+  const std::string where = r.where;
+  j["description"] =
+      where == "disk"
+          ? "kept in this server's data directory across restarts, until its byte budget "
+            "evicts the least recently used"
+      : where == "redis"
+          ? "kept in Redis for ttl_s seconds (unless its maxmemory evicts it first), shared by "
+            "replicas; across Redis restarts only with its persistence on (appendonly yes)"
+          : "kept in this process's memory only, until its byte budget evicts the least "
+            "recently used: lost when the server restarts";
+  return j;
+}
+
 json ModelSummary(const StoredModel& m) {
   const ImportedMesh& in = m.imported;
   const Mesh& mesh = in.mesh;
@@ -355,7 +372,7 @@ json ModelSummary(const StoredModel& m) {
           {"warnings", in.warnings}};
 }
 
-std::string InfoJson(const ServiceLimits& l) {
+std::string InfoJson(const ServiceLimits& l, const Retention& kept) {
   json j = {{"name", "surfdeform"},
             {"version", SURFDEFORM_VERSION},
             {"limits",
@@ -389,6 +406,7 @@ std::string InfoJson(const ServiceLimits& l) {
               {"max_animation_frame_vertices", l.max_animation_frame_vertices},
               {"max_animation_bytes", l.max_animation_bytes},
               {"request_memory_bytes", l.request_memory_bytes}}},
+            {"uploads_kept", RetentionJson(kept)},
             {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
             {"output_formats", NamesOf<proto::OutputFormat>(proto::kOutputFormats)},
             {"surface_kinds", NamesOf<proto::SurfaceKind>(proto::kSurfaceKinds)},

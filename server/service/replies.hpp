@@ -65,6 +65,10 @@ nlohmann::json SheetJson(const StoredSurface& s);
 // "up": "auto" resolves to (placement.hpp's rule), with why.
 nlohmann::json ModelSummary(const StoredModel& m);
 
+// Where and how long uploads and flattened surfaces are kept (the second
+// level's Retention): for upload replies ("kept") and GET /v1/info.
+nlohmann::json RetentionJson(const Retention& kept);
+
 // The X-Surfdeform-Stats of a deformation.
 nlohmann::json DeformStatsHeader(const std::string& surface_id, const FlattenQuality& quality,
                                  bool hit, proto::OutputFormat format, const ImportedMesh& imported,
@@ -107,7 +111,8 @@ void MarkKept(Reply* reply);
 // 304 for an answer whose ETag the request's If-None-Match names.
 Reply NotModified(std::string etag);
 
-// GET /v1/info: the limits, the formats, every named choice of the request.
-std::string InfoJson(const ServiceLimits& limits);
+// GET /v1/info: the limits, where uploads are kept, the formats, every
+// named choice of the request.
+std::string InfoJson(const ServiceLimits& limits, const Retention& kept);
 
 }  // namespace surfdeform

@@ -3,6 +3,7 @@
 #include "base/fault_points.hpp"
 #include "engine/elapsed.hpp"
 #include "json/bounded_json.hpp"
+#include "service/allocator_tuning.hpp"
 #include "service/limit_checks.hpp"
 
 namespace surfdeform {
@@ -16,6 +17,9 @@ RequestWork::RequestWork(const ServiceLimits& limits, const CancelFlag* cancel,
 
 RequestWork::~RequestWork() {
   if (parse_memory_ != nullptr) parse_memory_->Give(parse_values_held_);
+  // Some 100 bytes a value at most: a document of this many took far more
+  // than a request's usual few megabytes.
+  if (parse_values_held_ * 100 >= kLargeRequestBytes) MarkLargeRequest();
 }
 
 Status RequestWork::Admit(Admission& admission, int engine_threads) {

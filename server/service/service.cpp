@@ -411,7 +411,13 @@ AdmissionStats Service::admission_stats() const { return impl_->admission.stats(
 bool Service::Saturated() const { return impl_->admission.Full(); }
 int Service::RetryAfterSeconds() const { return impl_->admission.RetryAfterSeconds(); }
 SharedTierStats Service::shared_tier_stats() const { return impl_->store.shared_tier_stats(); }
-std::string Service::InfoJson() const { return surfdeform::InfoJson(impl_->options.limits); }
+Retention Service::retention() const {
+  return impl_->options.shared_tier != nullptr ? impl_->options.shared_tier->retention()
+                                               : Retention{};
+}
+std::string Service::InfoJson() const {
+  return surfdeform::InfoJson(impl_->options.limits, retention());
+}
 
 Result<Reply> Service::CreateSurface(std::string_view body, std::string_view field_side,
                                      const CancelFlag* cancel) {
@@ -437,6 +443,7 @@ Result<Reply> Service::CreateSurface(std::string_view body, std::string_view fie
   if (!entry.ok()) return WithinBudget(clock, "flattening", entry.status());
   const double flatten_ms = MsSince(t1);
   json summary = SheetSummary(**entry, hit);
+  summary["kept"] = RetentionJson(retention());
   if (!warm.from.empty()) summary["warm_start"] = WarmStartJson(warm, **entry, hit);
   SURFDEFORM_ASSIGN_OR_RETURN(std::string text, DumpFinite(summary, "reply"));
   double field_ms = 0.0;
@@ -514,7 +521,9 @@ Result<Reply> Service::UploadModel(std::string_view mesh, std::string_view route
   bool known = false;
   SURFDEFORM_ASSIGN_OR_RETURN(auto model, impl_->models.Put(id, mesh, &known));
   SURFDEFORM_RETURN_IF_ERROR(work.EndParse());
-  SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(ModelSummary(*model)));
+  json summary = ModelSummary(*model);
+  summary["kept"] = RetentionJson(retention());
+  SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(summary));
   reply.cache_hit = known;
   reply.model_id = model->id;
   reply.timings = {{"parse", work.parse_ms()}};
@@ -525,7 +534,9 @@ Result<Reply> Service::GetModel(std::string_view id) {
   auto found = impl_->models.Find(id);
   if (!found.ok()) return Status(found.status().code(), found.status().message(), "id");
   const std::shared_ptr<const StoredModel>& model = *found;
-  SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(ModelSummary(*model)));
+  json summary = ModelSummary(*model);
+  summary["kept"] = RetentionJson(retention());
+  SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(summary));
   reply.cache_hit = true;
   reply.model_id = model->id;
   return reply;

@@ -81,6 +81,8 @@ class Service {
                              const CancelFlag* cancel = nullptr);
 
   std::string InfoJson() const;  // GET /v1/info
+  // Where uploads and flattened surfaces are kept, and for how long.
+  Retention retention() const;
   CacheStats cache_stats() const;
   CacheStats model_cache_stats() const;
   CacheStats answer_cache_stats() const;

@@ -114,7 +114,26 @@ constexpr const char* kUnlockScript =
 
 }  // namespace
 
-struct SharedTier::Impl {
+class RedisTier final : public SharedTier {
+ public:
+  struct Impl;
+  explicit RedisTier(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+  const SharedTierOptions& options() const override;
+  Retention retention() const override;
+  Lookup Get(const std::string& key, std::string* value) override;
+  void Put(const std::string& key, std::string_view value) override;
+  Lock TryLock(const std::string& key, std::string* token) override;
+  void Unlock(const std::string& key, const std::string& token) override;
+  bool Exists(const std::string& key) override;
+  void CountCorrupt() override;
+  void CountLockWait(bool ended_with_value) override;
+  SharedTierStats stats() const override;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+struct RedisTier::Impl {
   Impl(SharedTierOptions o, Endpoint e, Log l)
       : options(std::move(o)),
         endpoint(std::move(e)),
@@ -260,17 +279,20 @@ Result<std::unique_ptr<SharedTier>> SharedTier::Create(const SharedTierOptions& 
     return Status(ErrorCode::kInvalidArgument,
                   "the shared tier's TTL, timeout, lock and wait must be positive", "redis");
   }
-  auto impl = std::make_unique<Impl>(options, std::move(endpoint), std::move(log));
+  auto impl = std::make_unique<RedisTier::Impl>(options, std::move(endpoint), std::move(log));
   impl->stats.enabled = true;
-  return std::unique_ptr<SharedTier>(new SharedTier(std::move(impl)));
+  return std::unique_ptr<SharedTier>(new RedisTier(std::move(impl)));
 }
 
-SharedTier::SharedTier(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-SharedTier::~SharedTier() = default;
+const SharedTierOptions& RedisTier::options() const { return impl_->options; }
 
-const SharedTierOptions& SharedTier::options() const { return impl_->options; }
+Retention RedisTier::retention() const {
+  // Whether Redis keeps its values across its own restarts is its
+  // persistence's (docs: appendonly yes); this server's restarts lose none.
+  return Retention{"redis", true, impl_->options.ttl_s, 0};
+}
 
-SharedTier::Lookup SharedTier::Get(const std::string& key, std::string* value) {
+SharedTier::Lookup RedisTier::Get(const std::string& key, std::string* value) {
   // GETRANGE bounds what a foreign or hostile value can make us read.
   ReplyPtr r = impl_->Command({"GETRANGE", key, "0", std::to_string(kMaxValueBytes)});
   std::lock_guard lock(impl_->stats_mutex);
@@ -288,7 +310,7 @@ SharedTier::Lookup SharedTier::Get(const std::string& key, std::string* value) {
   return Lookup::kHit;
 }
 
-void SharedTier::Put(const std::string& key, std::string_view value) {
+void RedisTier::Put(const std::string& key, std::string_view value) {
   const long long ttl_ms = static_cast<long long>(impl_->options.ttl_s * 1000.0);
   ReplyPtr r = impl_->Command({"SET", key, std::string(value), "PX", std::to_string(ttl_ms)});
   if (r != nullptr && r->type != REDIS_REPLY_ERROR) {
@@ -297,7 +319,7 @@ void SharedTier::Put(const std::string& key, std::string_view value) {
   }
 }
 
-SharedTier::Lock SharedTier::TryLock(const std::string& key, std::string* token) {
+SharedTier::Lock RedisTier::TryLock(const std::string& key, std::string* token) {
   thread_local std::mt19937_64 rng(std::random_device{}());
   *token = std::to_string(rng()) + std::to_string(rng());
   const long long lock_ms = static_cast<long long>(impl_->options.lock_ms);
@@ -309,28 +331,28 @@ SharedTier::Lock SharedTier::TryLock(const std::string& key, std::string* token)
   return Lock::kAcquired;
 }
 
-void SharedTier::Unlock(const std::string& key, const std::string& token) {
+void RedisTier::Unlock(const std::string& key, const std::string& token) {
   impl_->Command({"EVAL", kUnlockScript, "1", key, token});
 }
 
-bool SharedTier::Exists(const std::string& key) {
+bool RedisTier::Exists(const std::string& key) {
   ReplyPtr r = impl_->Command({"EXISTS", key});
   return r != nullptr && r->type == REDIS_REPLY_INTEGER && r->integer > 0;
 }
 
-void SharedTier::CountCorrupt() {
+void RedisTier::CountCorrupt() {
   std::lock_guard lock(impl_->stats_mutex);
   ++impl_->stats.corrupt;
   if (impl_->stats.hits > 0) --impl_->stats.hits;  // it was counted as a hit
 }
 
-void SharedTier::CountLockWait(bool ended_with_value) {
+void RedisTier::CountLockWait(bool ended_with_value) {
   std::lock_guard lock(impl_->stats_mutex);
   ++impl_->stats.lock_waits;
   if (ended_with_value) ++impl_->stats.lock_wait_hits;
 }
 
-SharedTierStats SharedTier::stats() const {
+SharedTierStats RedisTier::stats() const {
   std::lock_guard lock(impl_->stats_mutex);
   return impl_->stats;
 }

@@ -1,10 +1,15 @@
-// The optional second level of the surface cache, shared by replicas: Redis,
-// through hiredis. Every call is bounded by a timeout and guarded by a
-// circuit breaker, and none can fail a request: an unreachable, slow or full
-// Redis reads as a miss, and the caller flattens locally.
+// The second level of the stores of surfaces and models, under the
+// in-process LRUs: Redis, shared by replicas (through hiredis; Create), or
+// a directory on this machine, which keeps uploads across restarts
+// (disk_tier.hpp). Either way none of its calls can fail a request: a
+// level that is unreachable, slow, full or corrupt reads as a miss.
+//
+// Redis: every call is bounded by a timeout and guarded by a circuit
+// breaker; an unreachable Redis reads as a miss, and the caller flattens
+// locally.
 //
 // Values are opaque bytes here; the service encodes and checks them
-// (sheet_codec.hpp). Keys are the service's.
+// (sheet_codec.hpp, model_codec.hpp). Keys are the service's.
 #pragma once
 
 #include <cstdint>
@@ -34,6 +39,7 @@ struct SharedTierOptions {
 // Counters for /metrics. Latency covers every command sent.
 struct SharedTierStats {
   bool enabled = false;
+  const char* kind = "redis";  // or "disk"
   uint64_t hits = 0;
   uint64_t misses = 0;
   uint64_t errors = 0;   // timeouts, refused connections, error replies (e.g. OOM)
@@ -48,6 +54,14 @@ struct SharedTierStats {
   bool breaker_open = false;
 };
 
+// How long the second level keeps a value, for replies and GET /v1/info.
+struct Retention {
+  const char* where = "memory";  // "memory" (no second level), "redis" or "disk"
+  bool survives_restart = false;
+  double ttl_s = 0;         // 0: until evicted by the byte budget
+  size_t budget_bytes = 0;  // the disk's; 0: Redis's own maxmemory, or none
+};
+
 class SharedTier {
  public:
   enum class Lookup { kHit, kMiss, kUnavailable };
@@ -55,30 +69,30 @@ class SharedTier {
   // state: "up" or "down" (the breaker closed or opened), detail: why.
   using Log = std::function<void(const std::string& state, const std::string& detail)>;
 
-  // Checks the URL only: a Redis that is down at start is not an error.
+  // Redis. Checks the URL only: a Redis that is down at start is not an error.
   static Result<std::unique_ptr<SharedTier>> Create(const SharedTierOptions& options, Log log);
-  ~SharedTier();
+  virtual ~SharedTier() = default;
   SharedTier(const SharedTier&) = delete;
   SharedTier& operator=(const SharedTier&) = delete;
 
-  const SharedTierOptions& options() const;
+  virtual const SharedTierOptions& options() const = 0;
+  virtual Retention retention() const = 0;
 
-  Lookup Get(const std::string& key, std::string* value);
-  void Put(const std::string& key, std::string_view value);  // with the TTL
-  // SET key token NX PX lock_ms: whether this caller now holds `key`.
-  Lock TryLock(const std::string& key, std::string* token);
-  void Unlock(const std::string& key, const std::string& token);  // only if still ours
+  virtual Lookup Get(const std::string& key, std::string* value) = 0;
+  virtual void Put(const std::string& key, std::string_view value) = 0;  // with the TTL
+  // SET key token NX PX lock_ms: whether this caller now holds `key` (a
+  // level of one process: always).
+  virtual Lock TryLock(const std::string& key, std::string* token) = 0;
+  virtual void Unlock(const std::string& key, const std::string& token) = 0;  // only if still ours
   // Whether `key` exists (false when unknown).
-  bool Exists(const std::string& key);
+  virtual bool Exists(const std::string& key) = 0;
 
-  void CountCorrupt();
-  void CountLockWait(bool ended_with_value);
-  SharedTierStats stats() const;
+  virtual void CountCorrupt() = 0;
+  virtual void CountLockWait(bool ended_with_value) = 0;
+  virtual SharedTierStats stats() const = 0;
 
- private:
-  struct Impl;
-  explicit SharedTier(std::unique_ptr<Impl> impl);
-  std::unique_ptr<Impl> impl_;
+ protected:
+  SharedTier() = default;
 };
 
 }  // namespace surfdeform

@@ -7,12 +7,15 @@
 #           and the connection gate's head checks
 #   estimate  small deformation requests with extreme numbers: each answered
 #           within a time bound (the target aborts past it) and -rss_limit_mb
+#   memory  parameter sets that scale memory (sampling, range, lattice factor,
+#           relax steps, tolerance, frames): the heap a request takes never
+#           passes the service's estimate for it
 # Each starts from its committed seeds (tests/fuzz/seeds/TARGET) and the
 # corpus it grew before, kept in BUILD/corpus/TARGET between runs.
 # Findings go to BUILD/crashes/TARGET-*; the run fails on one.
 #
 # Usage: tests/fuzz/run.sh [SECONDS] [TARGET...]
-#   SECONDS per target (default 60); targets default to all four.
+#   SECONDS per target (default 60); targets default to all five.
 #   FUZZ_RUNS=N instead runs N inputs per target from a fixed seed
 #   (deterministic on a fresh clone: what scripts/test.sh does).
 set -euo pipefail
@@ -23,7 +26,7 @@ if [[ ${1:-} =~ ^[0-9]+$ ]]; then
   shift
 fi
 targets=("$@")
-((${#targets[@]})) || targets=(import params http estimate)
+((${#targets[@]})) || targets=(import params http estimate memory)
 # FUZZ_BUILD_DIR=DIR uses a build already configured with SURFDEFORM_FUZZ
 # (scripts/test.sh's build-san, which also holds the sanitized tests); by
 # default the fuzzers get a build of their own, build-fuzz.
@@ -44,6 +47,10 @@ for t in "${targets[@]}"; do
     runs=$FUZZ_RUNS
     [[ $t == estimate ]] && runs=$((FUZZ_RUNS / 10))
     [[ $t == http ]] && runs=$((FUZZ_RUNS / 3))
+    # A memory input is a flattening or an animation (some 35 ms each under
+    # the sanitizers): a thirtieth. The release build's property test
+    # (MemoryEstimatesAreUpperBounds) runs 10,000 of the same cases.
+    [[ $t == memory ]] && runs=$((FUZZ_RUNS / 30))
     budget=(-runs="$runs" -seed=1)
   else
     budget=(-max_total_time="$seconds")

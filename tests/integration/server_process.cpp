@@ -52,7 +52,13 @@ ServerProcess::ServerProcess(const std::string& binary, const std::vector<std::s
   reader_ = std::thread([this] {
     char buf[4096];
     ssize_t n;
-    while ((n = read(out_fd_, buf, sizeof buf)) > 0) {
+    while (true) {
+      if (log_paused_) {  // Stop() resumes it before it waits for this thread
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        continue;
+      }
+      n = read(out_fd_, buf, sizeof buf);
+      if (n <= 0) break;
       std::lock_guard lock(mutex_);
       log_.append(buf, static_cast<size_t>(n));
     }
@@ -65,6 +71,7 @@ int ServerProcess::Stop(int signal) {
   int status = 0;
   waitpid(pid_, &status, 0);
   pid_ = -1;
+  log_paused_ = false;
   if (reader_.joinable()) reader_.join();
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   return 128 + WTERMSIG(status);
@@ -76,6 +83,7 @@ std::string ServerProcess::Log() {
 }
 
 ServerProcess::~ServerProcess() {
+  log_paused_ = false;
   if (pid_ > 0) Stop(SIGKILL);
   if (reader_.joinable()) reader_.join();
   if (out_fd_ >= 0) close(out_fd_);

@@ -4,6 +4,7 @@
 
 #include <sys/types.h>
 
+#include <atomic>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -26,6 +27,9 @@ class ServerProcess {
   // 128 + signal when killed by one).
   int Stop(int signal);
   std::string Log();  // what it printed so far
+  // Stops (or resumes) reading the server's standard output: with it
+  // paused, the pipe fills and the server's writes to it would block.
+  void PauseLog(bool paused) { log_paused_ = paused; }
 
  private:
   pid_t pid_ = -1;
@@ -34,6 +38,7 @@ class ServerProcess {
   std::thread reader_;
   std::mutex mutex_;
   std::string log_;
+  std::atomic<bool> log_paused_{false};
 };
 
 // A TCP connection to 127.0.0.1:port, or -1. A `receive_buffer` (bytes) is

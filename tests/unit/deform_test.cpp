@@ -151,6 +151,33 @@ TEST(Deform, OutsideTheSheetIsAnErrorThatSaysHowManyAndHowFar) {
   EXPECT_NE(r.status().message().find("0.214602"), std::string::npos) << r.status().message();
 }
 
+// Numbers past what the placement can mean are refused naming their field:
+// a centre past +-1e15 (the arithmetic would overflow), and a numeric
+// anchor further outside the model's heights than ten times its size (the
+// model would float off the surface, its offset refined without end).
+TEST(Deform, PlacementNumbersPastTheirMeaningNameTheirField) {
+  const Target t = Flattened(CylinderSpec{1.0, 1.0, 90.0, {}}, 8);
+  const Mesh m = testing::FlatGrid(-0.2, -0.2, 0.4, 0.4, 2, 2, 0.0);  // 0.4 across, flat
+  auto error = [&](const PlacementOptions& o) {
+    auto r = Deform(SheetMap(*t.surface, t.sheet), m, {.placement = o});
+    return r.ok() ? Status::Ok() : r.status();
+  };
+  PlacementOptions o;
+  o.center_mode = CenterMode::kSheetUnits;
+  o.center = Vec2(1e300, 0.0);
+  EXPECT_EQ(error(o).field(), "placement.center");
+  EXPECT_EQ(error(o).code(), ErrorCode::kInvalidArgument);
+  o = PlacementOptions{};
+  o.anchor = AnchorMode::kValue;
+  o.anchor_value = 1e30;
+  EXPECT_EQ(error(o).field(), "placement.anchor");
+  o.anchor_value = 4.1;  // 4.1 outside the heights, over 10 x 0.4
+  EXPECT_EQ(error(o).field(), "placement.anchor");
+  EXPECT_NE(error(o).message().find("float off the surface"), std::string::npos);
+  o.anchor_value = -3.9;  // within: the model floats 3.9 above the surface
+  EXPECT_TRUE(error(o).ok()) << error(o).ToString();
+}
+
 TEST(Deform, ClampPutsOutsideVerticesOnTheBorder) {
   const Target t = Flattened(CylinderSpec{1.0, 1.0, 90.0, {}}, 8);
   const Mesh m = testing::FlatGrid(-1.0, -0.25, 2.0, 0.5, 4, 1, 0.0);

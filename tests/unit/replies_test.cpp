@@ -93,7 +93,7 @@ TEST(Replies, InfoPublishesTheLimitsAsConfigured) {
   ServiceLimits limits;
   limits.max_grid_side = 77;
   limits.request_memory_bytes = 64u << 20;
-  const json info = json::parse(InfoJson(limits));
+  const json info = json::parse(InfoJson(limits, Retention{}));
   EXPECT_EQ(info["limits"]["max_grid_side"], 77);
   EXPECT_EQ(info["limits"]["request_memory_bytes"], 64u << 20);
   // The output limit shrinks to fit the memory budget: 64 MiB / 384 B.

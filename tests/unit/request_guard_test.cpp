@@ -111,5 +111,41 @@ TEST(RequestGuard, HeaderFieldsAreCountedAsTheClientSentThem) {
   EXPECT_EQ(r->status.limit(), kMaxHeaderCount);
 }
 
+// httplib 0.11.4 does not read a body on GET, HEAD, OPTIONS or TRACE: one
+// declared there is refused (and the connection ended), or it would be read
+// as the next request (CL.0 smuggling behind a proxy's keep-alive).
+TEST(RequestGuard, ABodyOnAMethodThatTakesNoneIs400) {
+  for (const char* method : {"GET", "HEAD", "OPTIONS", "TRACE"}) {
+    httplib::Request req;
+    req.method = method;
+    req.headers.emplace("Content-Length", "53");
+    size_t length = 0;
+    const auto r = CheckFraming(req, 1000, &length);
+    ASSERT_TRUE(r) << method;
+    EXPECT_EQ(r->http_status, 400) << method;
+    EXPECT_EQ(r->status.field(), "Content-Length");
+    req.headers.clear();
+    req.headers.emplace("Content-Length", "0");
+    EXPECT_FALSE(CheckFraming(req, 1000, &length)) << method;
+  }
+  httplib::Request post;
+  post.method = "POST";
+  post.headers.emplace("Content-Length", "53");
+  size_t length = 0;
+  EXPECT_FALSE(CheckFraming(post, 1000, &length));
+  EXPECT_EQ(length, 53u);
+}
+
+TEST(RequestGuard, AControlCharacterInTheDecodedPathIs400) {
+  EXPECT_FALSE(CheckPath("/index.html"));
+  EXPECT_FALSE(CheckPath("/samples/a b.json"));
+  const auto nul = CheckPath(std::string("/index.html\0.js", 15));
+  ASSERT_TRUE(nul);
+  EXPECT_EQ(nul->http_status, 400);
+  EXPECT_EQ(nul->status.field(), "path");
+  EXPECT_TRUE(CheckPath("/a\nb"));
+  EXPECT_TRUE(CheckPath("/a\x7f"));
+}
+
 }  // namespace
 }  // namespace surfdeform::http

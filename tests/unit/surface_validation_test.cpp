@@ -157,6 +157,15 @@ std::vector<BadSpec> Cases() {
     c.push_back(
         {"HugeControlPoint", b, ErrorCode::kInvalidArgument, "control_points[5][2]", "got -2e+15"});
   }
+  // A horn torus (tube radius = major radius) pinches at v = 180 degrees and
+  // a spindle torus (tube past it) where R + r cos v = 0: refused from the
+  // radii and the span, however the surface would be sampled.
+  c.push_back({"HornTorus", TorusSpec{1.0, 1.0, 0, 360, -180, 180, {}}, ErrorCode::kDegenerate,
+               "minor_radius", "reaches the axis"});
+  c.push_back({"SpindleTorusPinchInTheSpan", TorusSpec{1.0, 2.0, 0, 90, 100, 130, {}},
+               ErrorCode::kDegenerate, "minor_radius", "v = 120"});
+  c.push_back({"SpindleTorusPinchOneTurnOn", TorusSpec{1.0, 2.0, 0, 90, 200, 250, {}},
+               ErrorCode::kDegenerate, "minor_radius", "v = 240"});
   {
     Frame f;
     f.origin = Vec3(1e16, 0, 0);
@@ -182,6 +191,14 @@ TEST_P(BadSurface, IsRejectedWithFieldAndReason) {
 
 INSTANTIATE_TEST_SUITE_P(Specs, BadSurface, ::testing::ValuesIn(Cases()),
                          [](const auto& param_info) { return param_info.param.name; });
+
+// A fat torus whose v span keeps clear of the pinch is a surface like any
+// other, and so is a ring torus at any span.
+TEST(TorusAxis, ASpanClearOfThePinchIsAccepted) {
+  EXPECT_TRUE(MakeSurface(TorusSpec{1.0, 2.0, 0, 90, -90, 90, {}}).ok());       // pinch at +-120
+  EXPECT_TRUE(MakeSurface(TorusSpec{1.0, 0.999, 0, 360, -180, 180, {}}).ok());  // a ring torus
+  EXPECT_FALSE(MakeSurface(TorusSpec{1.0, 2.0, 0, 90, -90, 121, {}}).ok());
+}
 
 TEST(Status, FieldPrefixJoinsPaths) {
   const Status s = InvalidArgument("bad", "control_points[3]");
