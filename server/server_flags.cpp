@@ -169,6 +169,10 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
        "Then: how long requests in flight may run on before their work is cancelled", 0.0, 3600.0);
   Flag(app, "--stop-timeout-seconds", c->stop_timeout_seconds,
        "Then: how long the server waits for cancelled work before it exits regardless", 0.1, 600.0);
+  Flag(app, "--log-queue-lines", h.log_queue_lines,
+       "Log lines queued for standard output; past them (its reader stalled) lines are dropped "
+       "and counted",
+       1, 1 << 24);
   Flag(app, "--log-level", c->log_level, "Access and error log level")
       ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}));
   Flag(app, "--persist-uploads", c->persist_uploads,

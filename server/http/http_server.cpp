@@ -49,7 +49,10 @@ using Clock = std::chrono::steady_clock;
 using nlohmann::json;
 
 struct HttpServer::Impl {
-  Impl(Service& s, HttpOptions o) : service(s), options(std::move(o)) {}
+  Impl(Service& s, HttpOptions o)
+      : service(s),
+        options(std::move(o)),
+        log_writer(static_cast<size_t>(std::max(1, options.log_queue_lines))) {}
 
   Service& service;
   const HttpOptions options;
@@ -642,6 +645,11 @@ struct HttpServer::Impl {
     limits["max_header_line_bytes"] = kMaxHeaderLineBytes;
     limits["max_header_fields"] = kMaxHeaderCount;
     limits["max_head_bytes"] = GateOptions{}.max_head_bytes;
+    limits["max_bodies_per_address"] = options.max_bodies_per_address;
+    limits["max_body_buffer_bytes"] = options.max_body_buffer_bytes;
+    limits["max_body_seconds"] = options.max_body_seconds;
+    limits["max_output_buffer_bytes"] = options.max_output_buffer_bytes;
+    limits["min_transfer_bytes_per_s"] = options.min_transfer_bytes_per_s;
     res.set_content(info.dump(), "application/json");
   }
   void CreateSurface(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {

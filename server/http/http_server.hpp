@@ -48,6 +48,9 @@ struct HttpOptions {
   // Response bytes the gate keeps for clients that read slowly, in all.
   size_t max_output_buffer_bytes = 256u << 20;
   LogLevel log_level = LogLevel::kInfo;
+  // Log lines queued for standard output; past them (its reader stalled)
+  // lines are dropped and counted.
+  int log_queue_lines = 8192;
   // The web viewer's folder (client/web): public/ is served at /, samples/ at
   // /samples/ and node_modules/{three,meshoptimizer} at /vendor/. Empty or missing: / is
   // a small landing page built in.
