@@ -30,8 +30,9 @@ constexpr int kLingerMs = 1;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-// The value of header `name` (case-insensitive) in a request head, or empty.
-std::string_view HeaderValue(std::string_view head, std::string_view name) {
+// The value of header `name` (case-insensitive) in a request head, when
+// the head has it.
+std::optional<std::string_view> FindHeader(std::string_view head, std::string_view name) {
   size_t line = head.find("\r\n");
   while (line != std::string_view::npos && line + 2 < head.size()) {
     const size_t start = line + 2;
@@ -44,21 +45,16 @@ std::string_view HeaderValue(std::string_view head, std::string_view name) {
     }
     line = end;
   }
-  return {};
+  return std::nullopt;
+}
+
+// Its value, or empty.
+std::string_view HeaderValue(std::string_view head, std::string_view name) {
+  return FindHeader(head, name).value_or(std::string_view());
 }
 
 bool HasHeader(std::string_view head, std::string_view name) {
-  size_t line = head.find("\r\n");
-  while (line != std::string_view::npos && line + 2 < head.size()) {
-    const size_t start = line + 2;
-    const size_t end = head.find("\r\n", start);
-    if (end == std::string_view::npos || end == start) break;
-    const std::string_view text = head.substr(start, end - start);
-    const size_t colon = text.find(':');
-    if (colon == name.size() && EqualsIgnoringCase(text.substr(0, colon), name)) return true;
-    line = end;
-  }
-  return false;
+  return FindHeader(head, name).has_value();
 }
 
 // A plain decimal Content-Length, or -1 (absent, malformed: the framing

@@ -17,26 +17,12 @@
 #include <memory>
 #include <string>
 
+#include "base/shared_budget.hpp"
+
 namespace surfdeform::http {
 
 // Bytes of responses kept for slow readers, across connections.
-class OutputBudget {
- public:
-  explicit OutputBudget(size_t max_bytes) : max_(max_bytes) {}
-  bool Take(size_t n) {
-    size_t held = held_.load(std::memory_order_relaxed);
-    do {
-      if (held + n > max_) return false;
-    } while (!held_.compare_exchange_weak(held, held + n, std::memory_order_relaxed));
-    return true;
-  }
-  void Give(size_t n) { held_.fetch_sub(n, std::memory_order_relaxed); }
-  size_t held() const { return held_.load(std::memory_order_relaxed); }
-
- private:
-  const size_t max_;
-  std::atomic<size_t> held_{0};
-};
+using OutputBudget = SharedBudget;
 
 class GateStream final : public httplib::Stream {
  public:

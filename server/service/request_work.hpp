@@ -10,6 +10,7 @@
 #include <optional>
 #include <string_view>
 
+#include "base/shared_budget.hpp"
 #include "base/status.hpp"
 #include "meshio/mesh_import.hpp"
 #include "service/admission.hpp"
@@ -21,25 +22,7 @@ namespace surfdeform {
 // The values of the request JSON documents the requests in flight hold, in
 // all (ServiceLimits::max_json_elements_in_flight): each request takes its
 // share as its parse reads its document, and gives it back when it ends.
-class ParseMemory {
- public:
-  explicit ParseMemory(size_t max_values) : max_(max_values) {}
-  // False, taking nothing, when `n` more would pass the limit.
-  bool Take(size_t n) {
-    size_t held = held_.load(std::memory_order_relaxed);
-    do {
-      if (held + n > max_) return false;
-    } while (!held_.compare_exchange_weak(held, held + n, std::memory_order_relaxed));
-    return true;
-  }
-  void Give(size_t n) { held_.fetch_sub(n, std::memory_order_relaxed); }
-  size_t held() const { return held_.load(std::memory_order_relaxed); }
-  size_t max() const { return max_; }
-
- private:
-  const size_t max_;
-  std::atomic<size_t> held_{0};
-};
+using ParseMemory = SharedBudget;
 
 class RequestWork {
  public:

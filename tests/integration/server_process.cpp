@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 
@@ -27,6 +28,11 @@ ServerProcess::ServerProcess(const std::string& binary, const std::vector<std::s
   int pipe_fds[2];
   if (pipe(pipe_fds) != 0) return;
   std::vector<std::string> argv_strings = {binary, "--host", "127.0.0.1", "--port", "0"};
+  // Uploads in memory only, unless the test asks for the disk store: the
+  // user's data directory is not the tests' to fill.
+  if (std::find(args.begin(), args.end(), "--persist-uploads") == args.end()) {
+    argv_strings.insert(argv_strings.end(), {"--persist-uploads", "false"});
+  }
   argv_strings.insert(argv_strings.end(), args.begin(), args.end());
   pid_ = fork();
   if (pid_ == 0) {

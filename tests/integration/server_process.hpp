@@ -14,8 +14,9 @@ namespace surfdeform::testing {
 
 class ServerProcess {
  public:
-  // Starts the server with `--host 127.0.0.1 --port 0` plus `args`, and waits
-  // for its "listening" line. port() is 0 when it failed to start.
+  // Starts the server with `--host 127.0.0.1 --port 0` plus `args` (and
+  // `--persist-uploads false` unless they say otherwise), and waits for its
+  // "listening" line. port() is 0 when it failed to start.
   explicit ServerProcess(const std::vector<std::string>& args = {});
   // The same with another build of the server (e.g. the fault-point one).
   ServerProcess(const std::string& binary, const std::vector<std::string>& args);
