@@ -46,7 +46,7 @@
 #                         were refused, a refusal cost at most
 #                         LOADTEST_MAX_REFUSAL_COST (default 0.1) of a served
 #                         request's worker CPU, and at most
-#                         LOADTEST_MAX_REFUSAL_SHARE (default 0.05) of the
+#                         LOADTEST_MAX_REFUSAL_SHARE (default 0.08) of the
 #                         server's CPU went to anything but the served
 #                         requests (refusals, the gate, the kernel's part of
 #                         the connections); and, only where
@@ -100,7 +100,7 @@ seconds=${LOADTEST_SECONDS:-5}
 max_connections=${LOADTEST_MAX_CONNECTIONS:-64}
 min_overload=${LOADTEST_MIN_OVERLOAD:-}
 max_refusal_cost=${LOADTEST_MAX_REFUSAL_COST:-0.1}
-max_refusal_share=${LOADTEST_MAX_REFUSAL_SHARE:-0.05}
+max_refusal_share=${LOADTEST_MAX_REFUSAL_SHARE:-0.08}
 command -v wrk > /dev/null || { echo "loadtest: wrk is not installed (scripts/setup.sh installs it)" >&2; exit 2; }
 [[ -f $mesh ]] || { echo "loadtest: no mesh at $mesh (set LOADTEST_MESH)" >&2; exit 2; }
 [[ -f $root/tests/load/$script.lua ]] || { echo "loadtest: no script tests/load/$script.lua" >&2; exit 2; }

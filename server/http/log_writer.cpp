@@ -28,13 +28,16 @@ struct LogWriter::Queue {
   std::deque<std::string> lines;
   bool stopping = false;
   bool writing = false;
+  bool idle = false;  // the thread waits for lines: a new one must wake it
   std::atomic<uint64_t> dropped{0};
   std::atomic<uint64_t> written{0};
 
   void Run() {
     std::unique_lock lock(mutex);
     while (true) {
+      idle = true;
       ready.wait(lock, [this] { return stopping || !lines.empty(); });
+      idle = false;
       if (lines.empty()) {
         drained.notify_all();
         if (stopping) return;
@@ -89,6 +92,7 @@ LogWriter::~LogWriter() {
 }
 
 void LogWriter::Write(std::string line) {
+  bool wake = false;
   {
     std::lock_guard lock(queue_->mutex);
     if (queue_->lines.size() >= queue_->max_queued) {
@@ -97,8 +101,11 @@ void LogWriter::Write(std::string line) {
     }
     line.push_back('\n');
     queue_->lines.push_back(std::move(line));
+    // A thread at work takes this line with its next batch: only an idle
+    // one is woken (a wake-up costs both threads a system call).
+    wake = queue_->idle;
   }
-  queue_->ready.notify_one();
+  if (wake) queue_->ready.notify_one();
 }
 
 uint64_t LogWriter::dropped() const { return queue_->dropped.load(std::memory_order_relaxed); }
