@@ -5,6 +5,7 @@
 #include "proto/content_hash.hpp"
 #include "proto/json_object.hpp"
 #include "proto/surface_json.hpp"
+#include "proto/text_json.hpp"
 
 namespace surfdeform::proto {
 namespace {
@@ -317,6 +318,21 @@ Result<CreateSurfaceRequest> ParseCreateSurfaceRequest(const json& body) {
   return out;
 }
 
+// The model's source besides model_id and the body: a text. Sets the
+// placement's defaults for text (up +z, anchor bottom) before the
+// placement is read.
+Status ReadTextModel(JsonObject& o, std::optional<TextSettings>* text, const std::string& model_id,
+                     PlacementSettings* placement) {
+  SURFDEFORM_RETURN_IF_ERROR(ReadText(o, text));
+  if (!text->has_value()) return Status::Ok();
+  if (!model_id.empty()) {
+    return Malformed("give one model: \"text\" or \"model_id\", not both", "model_id");
+  }
+  placement->up = UpAxis::kPosZ;
+  placement->anchor = AnchorMode::kBottom;
+  return Status::Ok();
+}
+
 Result<DeformParams> ParseDeformParams(const json& body) {
   SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(body, ""));
   DeformParams params;
@@ -369,6 +385,7 @@ Result<DeformParams> ParseDeformParams(const json& body) {
         "warm_start");
   }
   params.placement.up = UpAxis::kAuto;  // the API's default
+  SURFDEFORM_RETURN_IF_ERROR(ReadTextModel(o, &params.text, params.model_id, &params.placement));
   SURFDEFORM_RETURN_IF_ERROR(ReadPlacement(o, &params.placement));
   SURFDEFORM_RETURN_IF_ERROR(ReadSubdivision(o, &params.subdivision));
   SURFDEFORM_RETURN_IF_ERROR(ReadOutput(o, &params.output));
@@ -391,6 +408,7 @@ Result<AnimateParams> ParseAnimateParams(const json& body) {
   }
   SURFDEFORM_RETURN_IF_ERROR(ReadAnimationParts(o, &params.animation));
   params.placement.up = UpAxis::kAuto;  // the API's default
+  SURFDEFORM_RETURN_IF_ERROR(ReadTextModel(o, &params.text, params.model_id, &params.placement));
   SURFDEFORM_RETURN_IF_ERROR(ReadPlacement(o, &params.placement));
   SURFDEFORM_RETURN_IF_ERROR(ReadSubdivision(o, &params.subdivision));
   SURFDEFORM_RETURN_IF_ERROR(ReadOutput(o, &params.output));
@@ -507,6 +525,7 @@ json OutputJson(const OutputOptions& o) {
 template <typename Params>
 void WriteMeshParts(const Params& p, json* j) {
   if (!p.model_id.empty()) (*j)["model_id"] = p.model_id;
+  if (p.text) (*j)["text"] = CanonicalJson(*p.text);
   (*j)["placement"] = CanonicalJson(p.placement);
   (*j)["subdivision"] = CanonicalJson(p.subdivision);
   (*j)["output"] = OutputJson(p.output);

@@ -23,6 +23,7 @@
 #include "engine/subdivision_settings.hpp"
 #include "engine/surface_spec.hpp"
 #include "meshio/draco_options.hpp"
+#include "text/text_settings.hpp"
 
 namespace surfdeform::proto {
 
@@ -87,8 +88,11 @@ struct AnimationRequest {
 // POST /v1/deform parameters: a surface inline (with its sampling and
 // flattening) or the id of a flattened one, and what to do with the mesh.
 struct DeformParams {
-  // The mesh: from POST /v1/models by its id, or (empty) the request's body.
+  // The mesh: from POST /v1/models by its id, or (empty) the request's body,
+  // or made from a text (then placement.up defaults to +z and the anchor to
+  // the letters' bottom: they stand on the surface).
   std::string model_id;
+  std::optional<TextSettings> text;
   std::optional<SurfaceRequest> surface;  // inline ...
   std::string surface_id;                 // ... or by id ...
   // With an inline surface: an edit of this flattened surface. Its sheet is
@@ -108,6 +112,7 @@ struct DeformParams {
 // (output: GLB only, with its compression).
 struct AnimateParams {
   std::string model_id;  // as in DeformParams
+  std::optional<TextSettings> text;
   AnimationRequest animation;
   PlacementSettings placement;
   SubdivisionSettings subdivision;

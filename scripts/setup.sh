@@ -11,7 +11,7 @@ packages=(
   libbenchmark-dev         # benchmark executables
   libcli11-dev             # command-line flags
   nlohmann-json3-dev       # surface files in tests and benchmarks
-  libcgal-dev libgmp-dev libmpfr-dev  # optional peer in benchmarks (ARAP, LSCM)
+  libcgal-dev libgmp-dev libmpfr-dev  # glyphs' constrained Delaunay triangulation; peers in benchmarks
   libdraco-dev draco       # Draco meshes: library, and draco_decoder for round-trip tests
   libtinygltf-dev          # glTF / GLB
   libmeshoptimizer-dev     # EXT_meshopt_compression of animations' morph targets (/v1/animate)
@@ -19,6 +19,11 @@ packages=(
   libssl-dev               # SHA-256 for surface ids and ETags (OpenSSL)
   libhiredis-dev           # the optional shared surface tier (--redis)
   libxxhash-dev            # XXH3 digests of models: the service's placement memo
+  libharfbuzz-dev libfreetype-dev  # text: HarfBuzz shapes, FreeType reads outlines (WOFF2 too)
+  # The built-in fonts (service/builtin_fonts.hpp): DejaVu (Latin, Greek,
+  # Cyrillic; sans, serif, mono), Amiri (Arabic), Ezra SIL (Hebrew), Lohit
+  # (Devanagari).
+  fonts-dejavu-core fonts-hosny-amiri fonts-sil-ezra fonts-lohit-deva
   curl python3 python3-yaml  # the README's curl examples and the contract check, run as a test
   assimp-testmodels        # real glTF, OBJ, PLY, STL, OFF files (and broken ones) for tests
   clang-14 libclang-rt-14-dev  # libFuzzer for the mesh import fuzzer (tests/fuzz)

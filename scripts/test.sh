@@ -36,7 +36,7 @@ CC=clang-14 CXX=clang++-14 cmake -S . -B build-san -G Ninja "${san_flags[@]}" \
   -DSURFDEFORM_BUILD_TESTS=ON -DSURFDEFORM_BUILD_BENCH=OFF > /dev/null
 cmake --build build-san -j "$jobs" --target surfdeform_unit_tests surfdeform-server \
   surfdeform-server-faults surfdeform_integration_tests surfdeform no_orphans \
-  import_fuzzer params_fuzzer http_fuzzer estimate_fuzzer memory_fuzzer
+  import_fuzzer params_fuzzer http_fuzzer estimate_fuzzer memory_fuzzer font_fuzzer
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
 stage "unit tests under sanitizers"
 ctest --test-dir build-san --output-on-failure -j "$jobs" -L unit
@@ -52,7 +52,7 @@ SURFDEFORM_QUEUE_TIMEOUT_MS=60000 ctest --test-dir build-san --output-on-failure
   -R ReplicaFailover
 unset ASAN_OPTIONS UBSAN_OPTIONS
 
-stage "fuzzers (libFuzzer, fixed seed: mesh import, request JSON, HTTP connections, request cost)"
+stage "fuzzers (libFuzzer, fixed seed: mesh import, request JSON, HTTP connections, request cost, fonts)"
 FUZZ_BUILD_DIR=build-san FUZZ_RUNS=${FUZZ_RUNS:-30000} tests/fuzz/run.sh > build-fuzz.log 2>&1 || {
   tail -40 build-fuzz.log
   exit 1

@@ -69,6 +69,13 @@ void AddServerFlags(CLI::App& app, ServerConfig* c) {
        1 << 20);
   Flag(app, "--model-cache-mib", c->model_cache_mib,
        "Byte budget of the uploaded-model cache (POST /v1/models), MiB", 1, 1 << 20);
+  Flag(app, "--font-dir", l.font_dir,
+       "Where the built-in fonts' files are (Debian's font packages install them under "
+       "/usr/share/fonts; GET /v1/fonts lists those found)");
+  Flag(app, "--font-cache-mib", c->font_cache_mib,
+       "Byte budget of the uploaded-font cache (POST /v1/fonts), MiB", 1, 1 << 20);
+  Flag(app, "--max-font-mib", c->max_font_mib, "Largest font file POST /v1/fonts takes, MiB", 1,
+       256);
   Flag(app, "--answer-cache-mib", c->answer_cache_mib,
        "Byte budget of the encoded answers of POST /v1/deform kept by their key (a repeated "
        "request is answered without work), MiB; 0: none kept (load tests of the work itself)",
@@ -201,6 +208,8 @@ void ResolveServerConfig(ServerConfig* c) {
   ServiceLimits& l = c->service.limits;
   l.cache_bytes = c->cache_mib << 20;
   l.model_cache_bytes = c->model_cache_mib << 20;
+  l.font_cache_bytes = c->font_cache_mib << 20;
+  l.font.max_font_bytes = c->max_font_mib << 20;
   l.max_body_bytes = c->body_mib << 20;
   l.footprint_memo_bytes = c->footprint_mib << 20;
   l.answer_cache_bytes = c->answer_cache_mib << 20;

@@ -36,6 +36,8 @@ struct ServerConfig {
   // limits from them).
   size_t cache_mib = ServiceLimits{}.cache_bytes >> 20;
   size_t model_cache_mib = ServiceLimits{}.model_cache_bytes >> 20;
+  size_t font_cache_mib = ServiceLimits{}.font_cache_bytes >> 20;
+  size_t max_font_mib = ServiceLimits{}.font.max_font_bytes >> 20;
   size_t body_mib = ServiceLimits{}.max_body_bytes >> 20;
   size_t footprint_mib = ServiceLimits{}.footprint_memo_bytes >> 20;
   size_t answer_cache_mib = ServiceLimits{}.answer_cache_bytes >> 20;

@@ -122,6 +122,19 @@ bool ReadCompression(const std::string& name, const char* choices, proto::GlbCom
 template <typename Params>
 bool ApplyFlags(const DeformOptions& o, OutputKind kind, Params* p, bool* decode, CliError* error) {
   if (!o.model_id.empty()) p->model_id = o.model_id;
+  if (!o.text.empty()) {
+    TextSettings t;
+    if (p->text) t = *p->text;
+    t.string = o.text;
+    if (!o.font.empty()) t.font = o.font;
+    if (o.size_mm > 0.0) t.size_mm = o.size_mm;
+    if (o.depth_mm >= 0.0) t.depth_mm = o.depth_mm;
+    if (!p->text) {  // the parameters' placement defaults, as the server reads a text's
+      if (p->placement.up == UpAxis::kAuto) p->placement.up = UpAxis::kPosZ;
+      if (p->placement.anchor == AnchorMode::kCenter) p->placement.anchor = AnchorMode::kBottom;
+    }
+    p->text = std::move(t);
+  }
   if (!o.subdivision.empty()) {
     const auto mode = ValueOf<SubdivisionMode>(kSubdivisionModes, o.subdivision);
     if (!mode) {
@@ -560,7 +573,9 @@ int RunDeform(const Connection& c, const DeformOptions& o, const std::string& me
   ApiClient client(c.server, c.retry, c.timeout_s);
   ConfigureRetries(c, &client);
   std::string message;
-  const std::string what = mesh_path.empty() ? "model " + o.model_id : mesh_path;
+  const std::string what = !mesh_path.empty() ? mesh_path
+                           : !o.text.empty()  ? "text \"" + o.text + "\""
+                                              : "model " + o.model_id;
   const int code = DeformFile(client, request, mesh_path, out_path, &message);
   if (code != kExitOk) {
     std::fprintf(stderr, "surfdeform: %s: %s\n", what.c_str(), message.c_str());

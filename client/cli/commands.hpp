@@ -56,6 +56,12 @@ struct Connection {
 // parameters (a JSON object, inline or a file), with a few overrides.
 struct DeformOptions {
   std::string model_id;  // a model uploaded before, instead of a mesh file
+  // Or a text as the model ("text" of the parameters): the string, and the
+  // font, size and depth when given (> 0 / >= 0; else the server's defaults).
+  std::string text;
+  std::string font;
+  double size_mm = 0.0;
+  double depth_mm = -1.0;
   std::string surface_file;
   std::string surface_id;
   std::string params;       // JSON text, or a file name

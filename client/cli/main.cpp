@@ -132,8 +132,26 @@ CLI::App* AddDeform(CLI::App& app, Arguments& x) {
   auto* mesh = deform->add_option(
       "mesh", x.mesh_path,
       "Mesh file (glTF/GLB, Draco, OBJ, PLY, STL, OFF); sent once per server (by id after)");
-  deform->add_option("--model-id", x.deform.model_id, "A model already uploaded (see upload)")
-      ->excludes(mesh);
+  auto* model_id =
+      deform->add_option("--model-id", x.deform.model_id, "A model already uploaded (see upload)")
+          ->excludes(mesh);
+  auto* text = deform
+                   ->add_option("--text", x.deform.text,
+                                "A text as the model (\"\\n\" starts a line): shaped and "
+                                "meshed by the server, in mm")
+                   ->excludes(mesh)
+                   ->excludes(model_id);
+  deform
+      ->add_option("--font", x.deform.font,
+                   "The text's font: GET /v1/fonts lists them (or an "
+                   "uploaded font's id)")
+      ->needs(text);
+  deform->add_option("--size-mm", x.deform.size_mm, "The text's em, mm")
+      ->needs(text)
+      ->check(CLI::PositiveNumber);
+  deform->add_option("--depth-mm", x.deform.depth_mm, "The letters' depth, mm (0: flat)")
+      ->needs(text)
+      ->check(CLI::NonNegativeNumber);
   deform->add_option("-o,--output", x.out_path, "Output file")->required();
   AddDeformOptions(deform, x.deform);
   return deform;
@@ -199,8 +217,9 @@ int Run(const CLI::App& app, const Subcommands& s, const Arguments& x) {
   if (s.flatten->parsed()) return RunFlatten(c, x.surface_file, x.svg_path, x.json_output);
   if (s.map->parsed()) return RunMap(c, x.map_id, x.map_request, x.map_out);
   if (s.deform->parsed()) {
-    if (x.mesh_path.empty() == x.deform.model_id.empty()) {
-      std::fprintf(stderr, "surfdeform deform: give a mesh file or --model-id ID\n");
+    const int models = !x.mesh_path.empty() + !x.deform.model_id.empty() + !x.deform.text.empty();
+    if (models != 1) {
+      std::fprintf(stderr, "surfdeform deform: give a mesh file, --model-id ID or --text TEXT\n");
       return kExitUsage;
     }
     return RunDeform(c, x.deform, x.mesh_path, x.out_path);

@@ -31,4 +31,8 @@ __attribute__((format(printf, 1, 2))) inline std::string Format(const char* form
   return out;
 }
 
+// A number as people write it, to `digits` significant digits ("0.01",
+// "1e+15"): what `std::ostream << x` writes at that precision.
+inline std::string Num(double x, int digits = 6) { return Format("%.*g", digits, x); }
+
 }  // namespace surfdeform

@@ -1,5 +1,7 @@
 #include "engine/disk_mesh.hpp"
 
+#include "base/format.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -9,13 +11,6 @@
 
 namespace surfdeform {
 namespace {
-
-std::string Num(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
-}
 
 Status Refuse(const std::string& message) {
   return Status(ErrorCode::kDegenerate, message, "model_id");

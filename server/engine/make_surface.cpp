@@ -24,28 +24,23 @@ constexpr int kMaxBSplineDegree = 7;
 constexpr int kMaxGridSide = 1024;
 constexpr size_t kMaxControlPoints = 1u << 20;
 
-std::string Num(double x) {
-  std::ostringstream os;
-  os.precision(17);
-  os << x;
-  return os.str();
-}
-
 Status CheckFinite(double x, const std::string& field) {
-  if (!std::isfinite(x)) return InvalidArgument("must be a finite number, got " + Num(x), field);
+  if (!std::isfinite(x))
+    return InvalidArgument("must be a finite number, got " + Num(x, 17), field);
   return Status::Ok();
 }
 
 Status CheckPositive(double x, const std::string& field) {
   SURFDEFORM_RETURN_IF_ERROR(CheckFinite(x, field));
-  if (!(x > 0.0)) return InvalidArgument("must be greater than 0, got " + Num(x), field);
+  if (!(x > 0.0)) return InvalidArgument("must be greater than 0, got " + Num(x, 17), field);
   return Status::Ok();
 }
 
 Status CheckRange(double x, double lo, double hi, const std::string& field) {
   SURFDEFORM_RETURN_IF_ERROR(CheckFinite(x, field));
   if (x < lo || x > hi) {
-    return InvalidArgument("must be in [" + Num(lo) + ", " + Num(hi) + "], got " + Num(x), field);
+    return InvalidArgument(
+        "must be in [" + Num(lo, 17) + ", " + Num(hi, 17) + "], got " + Num(x, 17), field);
   }
   return Status::Ok();
 }
@@ -111,9 +106,9 @@ Status CheckKnots(const std::vector<double>& knots, int count, int degree, const
   for (size_t i = 0; i < knots.size(); ++i) {
     SURFDEFORM_RETURN_IF_ERROR(CheckFinite(knots[i], field + "[" + std::to_string(i) + "]"));
     if (i > 0 && knots[i] < knots[i - 1]) {
-      return InvalidArgument(
-          "knots must be non-decreasing: " + Num(knots[i]) + " follows " + Num(knots[i - 1]),
-          field + "[" + std::to_string(i) + "]");
+      return InvalidArgument("knots must be non-decreasing: " + Num(knots[i], 17) + " follows " +
+                                 Num(knots[i - 1], 17),
+                             field + "[" + std::to_string(i) + "]");
     }
   }
   for (int i = 1; i <= degree && !periodic; ++i) {
@@ -132,7 +127,7 @@ Status CheckKnots(const std::vector<double>& knots, int count, int degree, const
     int j = i;
     while (j < count && knots[j] == knots[i]) ++j;
     if (j - i > degree) {
-      return InvalidArgument("interior knot " + Num(knots[i]) + " repeats " +
+      return InvalidArgument("interior knot " + Num(knots[i], 17) + " repeats " +
                                  std::to_string(j - i) + " times; at most the degree (" +
                                  std::to_string(degree) + ") keeps the surface continuous",
                              field + "[" + std::to_string(i) + "]");
@@ -156,8 +151,8 @@ Status CheckSeamCloses(const std::vector<Vec3>& points, bool in_v,
   if (!(gap <= 1e-9 * size)) {
     std::string message = "the surface does not close in ";
     message += in_v ? "v: its seam (v = 0 against v = 1)" : "u: its seam (u = 0 against u = 1)";
-    message += " fails to meet by " + Num(gap) + (in_v ? " at u = " : " at v = ") + Num(at);
-    message += " (" + Num(gap / size) + " of its size; at most 1e-9). Make the last ";
+    message += " fails to meet by " + Num(gap, 17) + (in_v ? " at u = " : " at v = ") + Num(at, 17);
+    message += " (" + Num(gap / size, 17) + " of its size; at most 1e-9). Make the last ";
     message += in_v ? "row of points repeat the first, or leave periodic_v false"
                     : "column of points repeat the first, or leave periodic_u false";
     return InvalidArgument(message, in_v ? "periodic_v" : "periodic_u");
@@ -349,11 +344,12 @@ Status CheckAngleSpan(double lo, double hi, const std::string& lo_field,
   SURFDEFORM_RETURN_IF_ERROR(CheckFinite(hi, hi_field));
   if (!(hi > lo)) {
     return InvalidArgument(
-        "must be greater than " + lo_field + " (" + Num(lo) + "), got " + Num(hi), hi_field);
+        "must be greater than " + lo_field + " (" + Num(lo, 17) + "), got " + Num(hi, 17),
+        hi_field);
   }
   if (hi - lo > 360.0) {
     return InvalidArgument(
-        "the span " + hi_field + " - " + lo_field + " must be at most 360, got " + Num(hi - lo),
+        "the span " + hi_field + " - " + lo_field + " must be at most 360, got " + Num(hi - lo, 17),
         hi_field);
   }
   return Status::Ok();
@@ -410,8 +406,9 @@ Status CheckTorusClearsItsAxis(const TorusSpec& s) {
     const double v = at + 360.0 * k;
     if (v <= s.v_max_deg + 1e-12) {
       return Degenerate(
-          "the tube (minor_radius " + Num(s.minor_radius) + ") reaches the axis (major_radius " +
-              Num(s.major_radius) + ") at v = " + Num(v) +
+          "the tube (minor_radius " + Num(s.minor_radius, 17) +
+              ") reaches the axis (major_radius " + Num(s.major_radius, 17) +
+              ") at v = " + Num(v, 17) +
               " degrees, where the surface pinches to a point; use a minor_radius below the "
               "major_radius, or a v span without it",
           "minor_radius");

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 
+#include "base/format.hpp"
 #include "engine/clamped_floor.hpp"
 #include "engine/surface_spec.hpp"
 
@@ -126,13 +127,6 @@ std::vector<Vec2> ConvexHull(const std::vector<Vec2>& points) {
   }
   h.resize(k - 1);
   return h;
-}
-
-std::string Num(double x) {
-  std::ostringstream os;
-  os.precision(6);
-  os << x;
-  return os.str();
 }
 
 // The grid columns (i + s) and rows (j + t) that located points of a sheet
@@ -278,7 +272,8 @@ Result<Placement> Unfitted(const SheetMap& map, const std::vector<Vec3>& positio
     if (footprint != nullptr) (*footprint)[k] = q.head<2>();
   }
   if (n == 0) box.extend(Vec3::Zero());
-  pl.centre = 0.5 * (box.min().head<2>() + box.max().head<2>());
+  pl.centre = o.centre_at_origin ? Vec2::Zero().eval()
+                                 : Vec2(0.5 * (box.min().head<2>() + box.max().head<2>()));
   switch (o.anchor) {
     case AnchorMode::kBottom:
       pl.h0 = box.min().z();

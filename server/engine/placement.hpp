@@ -29,7 +29,10 @@ namespace surfdeform {
 // service knows of the input (its format's convention) and how it runs.
 struct PlacementOptions : PlacementSettings {
   bool y_up_input = false;  // kAuto: the input's format is Y-up by convention (glTF)
-  int threads = 0;          // 0 = one per core
+  // The footprint's centre is the model's origin, not its bounding box's
+  // centre: a text's baseline centre goes to the placement's centre.
+  bool centre_at_origin = false;
+  int threads = 0;  // 0 = one per core
 };
 
 Status ValidatePlacement(const PlacementOptions& options);  // the settings, then threads

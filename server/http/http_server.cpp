@@ -464,6 +464,15 @@ struct HttpServer::Impl {
     WithBody(ctx, req, res, reader,
              [&](const DeformBody& b) { Deform(ctx, req, res, b, &Service::Animate); });
   }
+  void UploadFontRoute(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
+                       const httplib::ContentReader& reader) {
+    WithBody(ctx, req, res, reader, [&](const DeformBody& b) {
+      ThrowIfArmed();
+      const Result<std::string_view> font = UploadedMesh(req, b);  // the raw body or one part
+      if (!font.ok()) return Fail(ctx, req, res, font.status());
+      Created(ctx, req, res, service.UploadFont(*font, ctx.cancel), "/v1/fonts/", &Reply::model_id);
+    });
+  }
   void UploadModelRoute(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
                         const httplib::ContentReader& reader) {
     WithBody(ctx, req, res, reader, [&](const DeformBody& b) { UploadModel(ctx, req, res, b); });
@@ -684,6 +693,12 @@ struct HttpServer::Impl {
            service.GetSurfaceField(req.matches[1].str(), req.get_param_value("n"),
                                    req.get_header_value("Accept")));
   }
+  void Fonts(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
+    Answer(ctx, req, res, service.ListFonts());
+  }
+  void FontSummary(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
+    Answer(ctx, req, res, service.GetFont(req.matches[1].str()));
+  }
   void ModelSummary(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
     Answer(ctx, req, res, service.GetModel(req.matches[1].str()));
   }
@@ -710,6 +725,9 @@ const HttpServer::Impl::Route HttpServer::Impl::kRoutes[] = {
     {"POST", "/v1/animate", "/v1/animate", nullptr, &Impl::AnimateRoute},
     {"POST", "/v1/models", "/v1/models", nullptr, &Impl::UploadModelRoute},
     {"GET", R"(/v1/models/([^/]+))", "/v1/models/{id}", &Impl::ModelSummary, nullptr},
+    {"GET", "/v1/fonts", "/v1/fonts", &Impl::Fonts, nullptr},
+    {"POST", "/v1/fonts", "/v1/fonts", nullptr, &Impl::UploadFontRoute},
+    {"GET", R"(/v1/fonts/([^/]+))", "/v1/fonts/{id}", &Impl::FontSummary, nullptr},
 };
 const size_t HttpServer::Impl::kRouteCount = std::size(HttpServer::Impl::kRoutes);
 

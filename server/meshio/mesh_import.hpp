@@ -46,6 +46,11 @@ struct ImportedMesh {
   std::vector<std::string> warnings;   // what was ignored (points, lines, skins, ...)
   // glTF input: its materials, textures and images, for glTF output; else null.
   std::shared_ptr<const meshio::GltfLook> look;
+  // Made from a text (not imported): its origin is the footprint's centre,
+  // and its account (glyphs, lines, runs) is this JSON object, for the
+  // reply's statistics.
+  bool centre_at_origin = false;
+  std::string text_stats_json;
 };
 
 // Errors: kUnsupportedFormat (no format recognised), kLimitExceeded (with the

@@ -17,6 +17,7 @@ PlacementOptions PlacementFor(const PlacementSettings& given, const ImportedMesh
   auto p = WithRunDefaults<PlacementOptions>(given);
   p.threads = threads;
   p.y_up_input = m.format == MeshFormat::kGlb || m.format == MeshFormat::kGltf;
+  p.centre_at_origin = m.centre_at_origin;
   return p;
 }
 

@@ -221,6 +221,9 @@ json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, boo
             {"placement", DeformStatsJson(st)},
             {"quality", QualityJson(quality)},
             {"warnings", Warnings(imported, st)}};
+  if (!imported.text_stats_json.empty()) {
+    j["text"] = json::parse(imported.text_stats_json, nullptr, /*allow_exceptions=*/false);
+  }
   j["placement"]["reused"] = placement_reused;  // from the memo: the same model came before
   // Not run: it added nothing to the same model with the same options before.
   j["subdivision"]["reused"] = subdivision_reused;
@@ -372,6 +375,15 @@ json ModelSummary(const StoredModel& m) {
           {"warnings", in.warnings}};
 }
 
+json FontLimitsJson(const FontLimits& f) {
+  return {{"max_font_bytes", f.max_font_bytes},
+          {"max_font_memory", f.max_font_memory},
+          {"max_glyphs", f.max_glyphs},
+          {"max_glyph_points", f.max_glyph_points},
+          {"max_text_code_points", f.max_text_code_points},
+          {"max_text_cost", f.max_text_cost}};
+}
+
 std::string InfoJson(const ServiceLimits& l, const Retention& kept) {
   json j = {{"name", "surfdeform"},
             {"version", SURFDEFORM_VERSION},
@@ -406,6 +418,7 @@ std::string InfoJson(const ServiceLimits& l, const Retention& kept) {
               {"max_animation_frame_vertices", l.max_animation_frame_vertices},
               {"max_animation_bytes", l.max_animation_bytes},
               {"request_memory_bytes", l.request_memory_bytes}}},
+            {"font_limits", FontLimitsJson(l.font)},
             {"uploads_kept", RetentionJson(kept)},
             {"input_formats", {"glb", "gltf", "drc", "obj", "ply", "stl", "off"}},
             {"output_formats", NamesOf<proto::OutputFormat>(proto::kOutputFormats)},

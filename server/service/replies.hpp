@@ -114,5 +114,7 @@ Reply NotModified(std::string etag);
 // GET /v1/info: the limits, where uploads are kept, the formats, every
 // named choice of the request.
 std::string InfoJson(const ServiceLimits& limits, const Retention& kept);
+// The limits on fonts and texts (GET /v1/info's "font_limits", GET /v1/fonts).
+nlohmann::json FontLimitsJson(const FontLimits& limits);
 
 }  // namespace surfdeform

@@ -23,6 +23,7 @@
 #include "service/engine_options.hpp"
 #include "service/field_encoding.hpp"
 #include "service/flat_sheet_svg.hpp"
+#include "service/font_store.hpp"
 #include "service/limit_checks.hpp"
 #include "service/meshopt_orders.hpp"
 #include "service/model_store.hpp"
@@ -31,6 +32,7 @@
 #include "service/replies.hpp"
 #include "service/request_work.hpp"
 #include "service/surface_store.hpp"
+#include "service/text_models.hpp"
 #include "service/warm_start.hpp"
 
 namespace surfdeform {
@@ -107,6 +109,7 @@ struct Service::Impl {
       : options(Normalised(std::move(o))),
         store(options.limits, options.engine_threads, options.shared_tier),
         models(options.limits, options.shared_tier),
+        fonts(options.limits, options.shared_tier),
         admission(AdmissionOptions{options.limits.max_in_flight, options.limits.max_queued,
                                    options.limits.queue_timeout_ms, Cores()}),
         parse_memory(options.limits.max_json_elements_in_flight) {
@@ -145,6 +148,19 @@ struct Service::Impl {
 
   // The request's mesh: the uploaded model it names (a copy: the work
   // consumes it), or its body imported. Ends the parse phase.
+  template <typename Params>
+  Result<ImportedMesh> MeshOf(const Params& params, std::string_view body, RequestWork& work) {
+    if (params.text) {
+      SURFDEFORM_RETURN_IF_ERROR(CheckTextAlone(params.text, body));
+      SURFDEFORM_ASSIGN_OR_RETURN(auto font, fonts.Find(params.text->font, "text.font"));
+      SURFDEFORM_ASSIGN_OR_RETURN(
+          ImportedMesh made,
+          MakeTextMesh(*params.text, *font, fonts, options.limits.font, work.clock().cancel()));
+      SURFDEFORM_RETURN_IF_ERROR(work.EndParse());
+      return made;
+    }
+    return MeshOf(params.model_id, body, work);
+  }
   Result<ImportedMesh> MeshOf(const std::string& model_id, std::string_view body,
                               RequestWork& work) {
     if (model_id.empty()) return work.Import(body);
@@ -153,6 +169,17 @@ struct Service::Impl {
     ImportedMesh copy = model->imported;
     SURFDEFORM_RETURN_IF_ERROR(work.EndParse());
     return copy;
+  }
+
+  // The model's part of an answer's key: an upload's id, the body's, or a
+  // text's (its settings and its font's content).
+  template <typename Params>
+  Result<std::string> ModelKeyOf(const Params& params, std::string_view body) {
+    if (params.text) {
+      SURFDEFORM_ASSIGN_OR_RETURN(auto font, fonts.Find(params.text->font, "text.font"));
+      return TextModelKey(*params.text, font->id);
+    }
+    return params.model_id.empty() ? proto::ModelId(body) : params.model_id;
   }
 
   // The field of a stored surface, with a slot from admission (up to
@@ -311,7 +338,7 @@ struct Service::Impl {
   Result<Reply> AnimateModel(const proto::AnimateParams& params, std::string_view mesh,
                              RequestWork& work, std::string etag) {
     const ServiceLimits& limits = options.limits;
-    SURFDEFORM_ASSIGN_OR_RETURN(auto imported, MeshOf(params.model_id, mesh, work));
+    SURFDEFORM_ASSIGN_OR_RETURN(auto imported, MeshOf(params, mesh, work));
     DeformOptions deform;
     deform.placement = PlacementFor(params.placement, imported, work.threads());
     deform.subdivision = WithRunDefaults<SubdivisionOptions>(params.subdivision);
@@ -389,6 +416,7 @@ struct Service::Impl {
   const ServiceOptions options;
   SurfaceStore store;
   ModelStore models;
+  FontStore fonts;
   Admission admission;
   ParseMemory parse_memory;  // the request JSON documents in flight
   // Placements and footprints of models that come back, by surface, options
@@ -530,6 +558,36 @@ Result<Reply> Service::UploadModel(std::string_view mesh, std::string_view route
   return reply;
 }
 
+Result<Reply> Service::UploadFont(std::string_view bytes, const CancelFlag* cancel) {
+  RequestWork work(impl_->options.limits, cancel, &impl_->parse_memory);
+  if (bytes.empty()) return Status(ErrorCode::kMalformed, "the request carries no font", "font");
+  SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+  bool known = false;
+  SURFDEFORM_ASSIGN_OR_RETURN(auto font, impl_->fonts.Put(bytes, &known));
+  SURFDEFORM_RETURN_IF_ERROR(work.EndParse());
+  json summary = FontJson(*font);
+  summary["kept"] = RetentionJson(retention());
+  SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(summary));
+  reply.cache_hit = known;
+  reply.model_id = font->id;
+  reply.timings = {{"parse", work.parse_ms()}};
+  return reply;
+}
+
+Result<Reply> Service::GetFont(std::string_view id) {
+  SURFDEFORM_ASSIGN_OR_RETURN(auto font, impl_->fonts.Find(id, "id"));
+  json summary = FontJson(*font);
+  summary["kept"] = RetentionJson(retention());
+  return JsonReply(summary);
+}
+
+Result<Reply> Service::ListFonts() {
+  json list = FontListJson(impl_->fonts);
+  list["uploaded"] = {{"kept", RetentionJson(retention())},
+                      {"limits", FontLimitsJson(impl_->options.limits.font)}};
+  return JsonReply(list);
+}
+
 Result<Reply> Service::GetModel(std::string_view id) {
   auto found = impl_->models.Find(id);
   if (!found.ok()) return Status(found.status().code(), found.status().message(), "id");
@@ -589,8 +647,9 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
                               ChooseOutputFormat(params.output.format, request.accept));
   SURFDEFORM_RETURN_IF_ERROR(CheckDistortionFormat(params.output, format));
   SURFDEFORM_RETURN_IF_ERROR(CheckOneMesh(params.model_id, request.mesh));
-  const std::string model =
-      params.model_id.empty() ? proto::ModelId(request.mesh) : params.model_id;
+  SURFDEFORM_RETURN_IF_ERROR(CheckTextAlone(params.text, request.mesh));
+  SURFDEFORM_RETURN_IF_ERROR(PlaceTextOnItsPath(params.text, &params.placement));
+  SURFDEFORM_ASSIGN_OR_RETURN(const std::string model, impl_->ModelKeyOf(params, request.mesh));
   if (params.animation) {  // one frame, kept by the animation's content id and the frame
     const std::string frame = "animation/" + proto::AnimationId(*params.animation) + "/frame/" +
                               std::to_string(params.frame);
@@ -600,8 +659,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
                           format, impl_->options.limits.glb_split_vertices}),
         Compresses(params.output, format), [&](std::string etag) -> Result<Reply> {
           SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
-          SURFDEFORM_ASSIGN_OR_RETURN(auto imported,
-                                      impl_->MeshOf(params.model_id, request.mesh, work));
+          SURFDEFORM_ASSIGN_OR_RETURN(auto imported, impl_->MeshOf(params, request.mesh, work));
           return impl_->DeformFrame(params, std::move(imported), format, work, std::move(etag));
         });
   }
@@ -633,8 +691,7 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
         if (work.threads() == 0) {
           SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
         }
-        SURFDEFORM_ASSIGN_OR_RETURN(auto imported,
-                                    impl_->MeshOf(params.model_id, request.mesh, work));
+        SURFDEFORM_ASSIGN_OR_RETURN(auto imported, impl_->MeshOf(params, request.mesh, work));
         SURFDEFORM_RETURN_IF_ERROR(work.clock().Check("flattening"));
         return impl_->DeformOnSheet(params, *entry, hit, format, std::move(imported), work,
                                     flatten_ms, std::move(etag));
@@ -664,11 +721,12 @@ Result<Reply> Service::Animate(const DeformRequest& request) {
   SURFDEFORM_RETURN_IF_ERROR(CheckFrames(limits, params.animation));
   SURFDEFORM_RETURN_IF_ERROR(AcceptGlbOnly(request.accept));
   SURFDEFORM_RETURN_IF_ERROR(CheckOneMesh(params.model_id, request.mesh));
+  SURFDEFORM_RETURN_IF_ERROR(CheckTextAlone(params.text, request.mesh));
+  SURFDEFORM_RETURN_IF_ERROR(PlaceTextOnItsPath(params.text, &params.placement));
   // The answer's key and ETag, before any work: the model's id and the
   // animation's content id (its keys, frames, fps, sampling, flattening)
   // name every sheet; the placement, subdivision and compression the rest.
-  const std::string model =
-      params.model_id.empty() ? proto::ModelId(request.mesh) : params.model_id;
+  SURFDEFORM_ASSIGN_OR_RETURN(const std::string model, impl_->ModelKeyOf(params, request.mesh));
   const std::string sheets = "animation/" + proto::AnimationId(params.animation);
   const std::string key = proto::AnswerKey({model, sheets, &params.placement, &params.subdivision,
                                             &params.output, proto::OutputFormat::kGlb, 0});

@@ -71,6 +71,13 @@ class Service {
   // POST /v1/models: a mesh file's bytes. `routed_id` (the
   // X-Surfdeform-Model-Id header, which load balancers route by), when
   // given, must be the id the bytes have.
+  // POST /v1/fonts: a TTF, OTF, WOFF or WOFF2 file's bytes, read behind the
+  // font limits and kept by content id (like models).
+  Result<Reply> UploadFont(std::string_view bytes, const CancelFlag* cancel = nullptr);
+  // GET /v1/fonts: the built-in fonts, the scripts each covers, and the
+  // limits on uploaded ones.
+  Result<Reply> ListFonts();
+  Result<Reply> GetFont(std::string_view name_or_id);  // GET /v1/fonts/{id}
   Result<Reply> UploadModel(std::string_view mesh, std::string_view routed_id,
                             const CancelFlag* cancel = nullptr);
   Result<Reply> GetModel(std::string_view id);          // GET /v1/models/{id}

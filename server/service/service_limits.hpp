@@ -3,6 +3,11 @@
 // command line (server/main.cpp).
 #pragma once
 
+#include <string>
+
+#include "service/builtin_fonts.hpp"
+#include "text/font_face.hpp"
+
 #include <cstddef>
 
 namespace surfdeform {
@@ -45,6 +50,11 @@ struct ServiceLimits {
   // Uploaded models (POST /v1/models), imported: ~60 bytes a vertex for a
   // plain mesh, plus the file's size; 2.4 MB for the bunny.
   size_t model_cache_bytes = 256u << 20;
+  // Fonts: what one may cost (text/font_face.hpp), where the built-in ones
+  // are, and how many bytes of uploaded fonts the first level keeps.
+  FontLimits font;
+  std::string font_dir = kDefaultFontDir;
+  size_t font_cache_bytes = 64u << 20;
   // Where the vertices of models that come back lie on their sheets
   // (service/placement_memo.hpp): 24 bytes a vertex, 0.9 MB for the bunny.
   size_t footprint_memo_bytes = 64u << 20;

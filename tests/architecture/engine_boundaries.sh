@@ -28,16 +28,23 @@ hits=$(grep -rnE '#include "' "$root/server/base" | grep -vE '#include "base/' |
 [[ -z $hits ]] || report "base/ includes a project header outside it" "$hits"
 hits=$(grep -rnE '#include "' "$root/server/json" | grep -vE '#include "(json|base)/' || true)
 [[ -z $hits ]] || report "json/ includes a project header outside json/ and base/" "$hits"
+# text/ (the typesetter) builds on the engine's types and base/ only: no
+# I/O, JSON or HTTP (font bytes come from the service).
+hits=$(grep -rnE '#include "' "$root/server/text" | grep -vE '#include "(text|engine|base)/' || true)
+[[ -z $hits ]] || report "text/ includes a project header outside text/, engine/ and base/" "$hits"
+hits=$(grep -rnE '#include <(httplib|nlohmann|draco|tiny_gltf|CLI|openssl|fstream|iostream)' \
+         "$root/server/text" || true)
+[[ -z $hits ]] || report "text/ includes an I/O, JSON or HTTP library" "$hits"
 hits=$(grep -rnE '(message|error)\(\)\.(rfind|find|starts_with|compare)\(|field\(\) == "' \
          "$root/server" "$root/proto" "$root/client/cli" || true)
 [[ -z $hits ]] || report "a caller decides from an error's text" "$hits"
 hits=$(grep -rnE 'error\.rfind\("|message\.rfind\("' "$root/server" "$root/proto" "$root/client/cli" || true)
 [[ -z $hits ]] || report "a caller decides from an error's text" "$hits"
-vocabulary='(engine/(surface_spec|surface_fields|surface|animation_spec|flatten_settings|placement_settings|sampling_options|subdivision_settings|subdivision_mode|sheet_mark|geometry_types)|meshio/draco_options)\.hpp'
-hits=$(grep -rnE '#include "(engine|meshio)/' "$root/proto" | grep -vE "#include \"$vocabulary\"" || true)
+vocabulary='(engine/(surface_spec|surface_fields|surface|animation_spec|flatten_settings|placement_settings|sampling_options|subdivision_settings|subdivision_mode|sheet_mark|geometry_types)|meshio/draco_options|text/text_settings)\.hpp'
+hits=$(grep -rnE '#include "(engine|meshio|text)/' "$root/proto" | grep -vE "#include \"$vocabulary\"" || true)
 [[ -z $hits ]] || report "proto includes an engine or meshio header that is not vocabulary" "$hits"
 for header in $(grep -ohE "$vocabulary" -r "$root/proto" | sort -u); do
-  hits=$(grep -nE '#include "(engine|meshio)/' "$root/server/$header" |
+  hits=$(grep -nE '#include "(engine|meshio|text)/' "$root/server/$header" |
            grep -vE "#include \"$vocabulary\"" || true)
   [[ -z $hits ]] || report "the vocabulary header $header includes more than vocabulary" "$hits"
 done

@@ -10,12 +10,14 @@
 #   memory  parameter sets that scale memory (sampling, range, lattice factor,
 #           relax steps, tolerance, frames): the heap a request takes never
 #           passes the service's estimate for it
+#   font    font files (whole, or real fonts with bytes overwritten) through
+#           FreeType, HarfBuzz and the glyph mesher, behind the font limits
 # Each starts from its committed seeds (tests/fuzz/seeds/TARGET) and the
 # corpus it grew before, kept in BUILD/corpus/TARGET between runs.
 # Findings go to BUILD/crashes/TARGET-*; the run fails on one.
 #
 # Usage: tests/fuzz/run.sh [SECONDS] [TARGET...]
-#   SECONDS per target (default 60); targets default to all five.
+#   SECONDS per target (default 60); targets default to all six.
 #   FUZZ_RUNS=N instead runs N inputs per target from a fixed seed
 #   (deterministic on a fresh clone: what scripts/test.sh does).
 set -euo pipefail
@@ -26,7 +28,7 @@ if [[ ${1:-} =~ ^[0-9]+$ ]]; then
   shift
 fi
 targets=("$@")
-((${#targets[@]})) || targets=(import params http estimate memory)
+((${#targets[@]})) || targets=(import params http estimate memory font)
 # FUZZ_BUILD_DIR=DIR uses a build already configured with SURFDEFORM_FUZZ
 # (scripts/test.sh's build-san, which also holds the sanitized tests); by
 # default the fuzzers get a build of their own, build-fuzz.
@@ -51,6 +53,9 @@ for t in "${targets[@]}"; do
     # the sanitizers): a thirtieth. The release build's property test
     # (MemoryEstimatesAreUpperBounds) runs 10,000 of the same cases.
     [[ $t == memory ]] && runs=$((FUZZ_RUNS / 30))
+    # A font input opens a whole font and shapes and meshes a line of four
+    # scripts (a few ms under the sanitizers): a tenth.
+    [[ $t == font ]] && runs=$((FUZZ_RUNS / 10))
     budget=(-runs="$runs" -seed=1)
   else
     budget=(-max_total_time="$seconds")

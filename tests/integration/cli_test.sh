@@ -103,6 +103,14 @@ EOF
 expect 0 deform "$samples/bunny.ply" --surface-id "$id" --scale fit -o "$out/bunny.ply"
 head -c 3 "$out/bunny.ply" | grep -q ply || fail ".ply header"
 
+# A text as the model: shaped and meshed by the server; one group per glyph.
+expect 0 deform --text "Ada" --font DejaVuSerif --size-mm 0.5 --depth-mm 0.05 --surface-id "$id" \
+  --subdivision off -o "$out/ada.obj"
+grep -q "^f " "$out/ada.obj" || fail "the text's OBJ has no faces"
+expect 1 deform --text "Ada" "$samples/bunny.ply" --surface-id "$id" -o "$out/x.obj"
+expect 2 deform --text "Ada" --font NoSuchFont --surface-id "$id" -o "$out/x.obj"
+grep -q "text.font" "$out/e" || fail "an unknown font's refusal names text.font: $(cat "$out/e")"
+
 # Models by id: every deform above sent the bunny by its id, uploading it
 # once (on the first 404 unknown_model); `upload` prints that id (the first 32
 # hex digits of the file's SHA-256), and `deform --model-id` gives the same
