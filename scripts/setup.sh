@@ -87,4 +87,5 @@ if [[ $build_only != 1 ]]; then
   npm_ci tests/gltf gltf-validator
   npm_ci tests/browser puppeteer-core
   npm_ci tests/k8s kubernetes-models
+  npm_ci bench/text_peer opentype.js  # the text benchmark's peer (opentype.js + earcut)
 fi
