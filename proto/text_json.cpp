@@ -76,6 +76,25 @@ Status ReadText(JsonObject& parent, std::optional<TextSettings>* out) {
   return Status::Ok();
 }
 
+Result<TextRequest> ParseTextRequest(const json& body) {
+  SURFDEFORM_ASSIGN_OR_RETURN(JsonObject o, JsonObject::Open(body, ""));
+  std::optional<TextSettings> text;
+  SURFDEFORM_RETURN_IF_ERROR(ReadText(o, &text));
+  if (!text) return Malformed("is required", "text");
+  TextRequest out{std::move(*text), std::nullopt};
+  if (const json* v = o.Find("output"); v != nullptr) {
+    SURFDEFORM_ASSIGN_OR_RETURN(JsonObject out_o, JsonObject::Open(*v, o.PathOf("output")));
+    std::string format;
+    if (out_o.Find("format") != nullptr) {
+      SURFDEFORM_RETURN_IF_ERROR(out_o.String("format", &format));
+      out.format = format;
+    }
+    SURFDEFORM_RETURN_IF_ERROR(out_o.Finish());
+  }
+  SURFDEFORM_RETURN_IF_ERROR(o.Finish());
+  return out;
+}
+
 json CanonicalJson(const TextSettings& t) {
   json j = {{"string", t.string},
             {"font", t.font},

@@ -16,6 +16,14 @@ namespace surfdeform::proto {
 // JSON path ("text.size_mm").
 Status ReadText(JsonObject& parent, std::optional<TextSettings>* out);
 
+// POST /v1/text's body: the text, and the output format of its mesh
+// (unset: from the Accept header).
+struct TextRequest {
+  TextSettings text;
+  std::optional<std::string> format;  // an output format's name, checked by the caller
+};
+Result<TextRequest> ParseTextRequest(const nlohmann::json& body);
+
 // Every field, with its default when not given, sorted keys: equal texts,
 // equal JSON. ReadText reads it back into the same settings.
 nlohmann::json CanonicalJson(const TextSettings& text);

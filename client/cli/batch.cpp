@@ -8,12 +8,15 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
 #include <thread>
 
 #include "cli/commands.hpp"
@@ -25,8 +28,9 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 struct Job {
-  std::string input;
+  std::string input;  // a mesh file, or how a text is named in messages
   std::string output;
+  std::string text;  // batch --texts: the text (then no mesh file)
 };
 
 // The progress bar (terminal) or plain lines, from any worker.
@@ -101,53 +105,134 @@ bool CollectInputs(const std::vector<std::string>& inputs, std::vector<std::stri
   return true;
 }
 
-}  // namespace
+// Jobs whose output exists are skipped unless `force`; two jobs that would
+// write the same file are a usage error, not a silent overwrite.
+bool ClaimOutputs(std::vector<Job> all, bool force, std::vector<Job>* work, size_t* skipped) {
+  std::map<std::string, std::string> claimed;
+  std::error_code ec;
+  for (Job& job : all) {
+    if (auto [it, fresh] = claimed.emplace(job.output, job.input); !fresh) {
+      std::fprintf(stderr, "surfdeform: %s and %s would both write %s\n", it->second.c_str(),
+                   job.input.c_str(), job.output.c_str());
+      return false;
+    }
+    if (!force && fs::exists(job.output, ec)) {
+      ++*skipped;
+      continue;
+    }
+    work->push_back(std::move(job));
+  }
+  return true;
+}
 
-int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std::string>& inputs,
-             const std::string& out_dir, const std::string& extension, int jobs, bool force) {
+bool MakeOutputDir(const std::string& out_dir) {
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) {
+    std::fprintf(stderr, "surfdeform: cannot create %s: %s\n", out_dir.c_str(),
+                 ec.message().c_str());
+    return false;
+  }
+  return true;
+}
+
+// A text as a file name: letters and digits kept (any script), the rest
+// one "-", at most 48 bytes, after its line number.
+std::string TextFileName(size_t line, const std::string& text) {
+  char number[16];
+  std::snprintf(number, sizeof number, "%03zu-", line);
+  std::string name = number;
+  bool dash = false;
+  for (unsigned char ch : text) {
+    const bool keep = ch >= 0x80 || std::isalnum(ch) != 0;
+    if (keep) {
+      name += static_cast<char>(ch);
+      dash = false;
+    } else if (!dash) {
+      name += '-';
+      dash = true;
+    }
+    if (name.size() >= 52) break;
+  }
+  while (!name.empty() &&
+         (name.back() == '-' || (static_cast<unsigned char>(name.back()) & 0xC0) == 0xC0)) {
+    name.pop_back();  // no trailing dash, nor a cut UTF-8 sequence's lead byte
+  }
+  return name;
+}
+
+int RunJobs(const Connection& c, const DeformOptions& o, OutputKind kind, std::vector<Job> work,
+            size_t skipped, int jobs);
+
+// --ext's output kind; a message for one that is none.
+std::optional<OutputKind> BatchKind(const std::string& extension) {
   const auto kind = OutputKindOf("x" + extension);
   if (!kind) {
     std::fprintf(stderr, "surfdeform: --ext: .drc, .glb, .obj or .ply, got %s\n",
                  extension.c_str());
-    return kExitUsage;
   }
+  return kind;
+}
+
+}  // namespace
+
+int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std::string>& inputs,
+             const std::string& out_dir, const std::string& extension, int jobs, bool force) {
+  const auto kind = BatchKind(extension);
+  if (!kind) return kExitUsage;
   std::vector<std::string> files;
   std::string error;
   if (!CollectInputs(inputs, &files, &error)) {
     std::fprintf(stderr, "surfdeform: %s\n", error.c_str());
     return kExitLocalFile;
   }
-  std::error_code ec;
-  fs::create_directories(out_dir, ec);
-  if (ec) {
-    std::fprintf(stderr, "surfdeform: cannot create %s: %s\n", out_dir.c_str(),
-                 ec.message().c_str());
+  if (!MakeOutputDir(out_dir)) return kExitLocalFile;
+  // Outputs: the input's name with the output's extension.
+  std::vector<Job> all;
+  for (const std::string& in : files) {
+    all.push_back({in, (fs::path(out_dir) / fs::path(in).stem()).string() + extension, ""});
+  }
+  std::vector<Job> work;
+  size_t skipped = 0;
+  if (!ClaimOutputs(std::move(all), force, &work, &skipped)) return kExitUsage;
+  return RunJobs(c, o, *kind, std::move(work), skipped, jobs);
+}
+
+int RunTextBatch(const Connection& c, const DeformOptions& o, const std::string& texts_path,
+                 const std::string& out_dir, const std::string& extension, int jobs, bool force) {
+  const auto kind = BatchKind(extension);
+  if (!kind) return kExitUsage;
+  std::string bytes, message;
+  if (!ReadFileBytes(texts_path, &bytes, &message)) {
+    std::fprintf(stderr, "surfdeform: %s: %s\n", texts_path.c_str(), message.c_str());
     return kExitLocalFile;
   }
-  // Outputs: the input's name with the output's extension; two inputs that
-  // would write the same file are a usage error, not a silent overwrite.
-  std::vector<Job> work;
-  std::map<std::string, std::string> claimed;
-  size_t skipped = 0;
-  for (const std::string& in : files) {
-    const std::string out = (fs::path(out_dir) / fs::path(in).stem()).string() + extension;
-    if (auto [it, fresh] = claimed.emplace(out, in); !fresh) {
-      std::fprintf(stderr, "surfdeform: %s and %s would both write %s\n", it->second.c_str(),
-                   in.c_str(), out.c_str());
-      return kExitUsage;
-    }
-    if (!force && fs::exists(out, ec)) {
-      ++skipped;
-      continue;
-    }
-    work.push_back({in, out});
+  if (!MakeOutputDir(out_dir)) return kExitLocalFile;
+  std::vector<Job> all;
+  std::istringstream lines(bytes);
+  size_t number = 0;
+  for (std::string line; std::getline(lines, line);) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos) continue;
+    all.push_back({"line " + std::to_string(number) + " \"" + line + "\"",
+                   (fs::path(out_dir) / TextFileName(number, line)).string() + extension, line});
   }
+  std::vector<Job> work;
+  size_t skipped = 0;
+  if (!ClaimOutputs(std::move(all), force, &work, &skipped)) return kExitUsage;
+  return RunJobs(c, o, *kind, std::move(work), skipped, jobs);
+}
 
+namespace {
+
+int RunJobs(const Connection& c, const DeformOptions& o, OutputKind kind, std::vector<Job> work,
+            size_t skipped, int jobs) {
   // The surface, flattened once, then named by id in every request.
   DeformOptions by_id = o;
   if (!o.surface_file.empty() && !work.empty()) {
     DeformRequest probe;
-    if (CliError e; !BuildDeformRequest(o, *kind, &probe, &e)) {
+    if (CliError e; !BuildDeformRequest(o, kind, &probe, &e)) {
       std::fprintf(stderr, "surfdeform: %s\n", e.message.c_str());
       return e.exit_code();
     }
@@ -164,7 +249,7 @@ int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std:
     by_id.surface_id = nlohmann::json::parse(r.body).value("id", "");
   }
   DeformRequest request;
-  if (CliError e; !BuildDeformRequest(by_id, *kind, &request, &e)) {
+  if (CliError e; !BuildDeformRequest(by_id, kind, &request, &e)) {
     std::fprintf(stderr, "surfdeform: %s\n", e.message.c_str());
     return e.exit_code();
   }
@@ -192,7 +277,18 @@ int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std:
       for (size_t k = next++; k < work.size(); k = next++) {
         const auto t0 = Clock::now();
         std::string message;
-        const int code = DeformFile(client, request, work[k].input, work[k].output, &message);
+        int code = kExitOk;
+        if (work[k].text.empty()) {
+          code = DeformFile(client, request, work[k].input, work[k].output, &message);
+        } else {  // a text: its own parameters, no mesh file
+          DeformOptions one = by_id;
+          one.text = work[k].text;
+          DeformRequest with_text;
+          CliError e;
+          code = BuildDeformRequest(one, kind, &with_text, &e)
+                     ? DeformFile(client, with_text, "", work[k].output, &message)
+                     : (message = e.message, e.exit_code());
+        }
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
         if (code == kExitOk) {
           if (!terminal) {
@@ -215,4 +311,5 @@ int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std:
   return failed.load() == 0 ? kExitOk : kExitPartial;
 }
 
+}  // namespace
 }  // namespace surfdeform::cli

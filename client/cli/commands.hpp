@@ -97,6 +97,10 @@ struct AnimateOptions {
 };
 int RunAnimate(const Connection& c, const DeformOptions& d, const AnimateOptions& a,
                const std::string& mesh_path, const std::string& out_path);
+// batch --texts: each non-empty line of `texts_path` deformed as a text
+// ("text" of the parameters) into out_dir/NNN-the-text.EXT, as RunBatch.
+int RunTextBatch(const Connection& c, const DeformOptions& o, const std::string& texts_path,
+                 const std::string& out_dir, const std::string& extension, int jobs, bool force);
 int RunBatch(const Connection& c, const DeformOptions& o, const std::vector<std::string>& inputs,
              const std::string& out_dir, const std::string& extension, int jobs, bool force);
 

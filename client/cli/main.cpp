@@ -35,6 +35,7 @@ struct Arguments {
   std::string upload_path;                   // upload
   bool upload_json = false;
   std::vector<std::string> inputs;  // batch
+  std::string texts_path;           // batch --texts
   std::string out_dir, extension = ".glb";
   int jobs = static_cast<int>(std::max(2u, std::thread::hardware_concurrency()));
   bool force = false;
@@ -104,6 +105,12 @@ void AddSubdivisionOptions(CLI::App* sub, DeformOptions& d) {
 
 // The options deform and batch share.
 void AddDeformOptions(CLI::App* sub, DeformOptions& d) {
+  sub->add_option("--font", d.font,
+                  "A text's font (--text, --texts): GET /v1/fonts lists them (or an uploaded "
+                  "font's id)");
+  sub->add_option("--size-mm", d.size_mm, "A text's em, mm")->check(CLI::PositiveNumber);
+  sub->add_option("--depth-mm", d.depth_mm, "A text's depth, mm (0: flat letters)")
+      ->check(CLI::NonNegativeNumber);
   sub->add_option("--surface", d.surface_file,
                   "JSON file: a surface request {surface, sampling, flatten} or a bare surface; "
                   "or a mesh file: a surface given as a mesh (a disk), uploaded first");
@@ -135,23 +142,12 @@ CLI::App* AddDeform(CLI::App& app, Arguments& x) {
   auto* model_id =
       deform->add_option("--model-id", x.deform.model_id, "A model already uploaded (see upload)")
           ->excludes(mesh);
-  auto* text = deform
-                   ->add_option("--text", x.deform.text,
-                                "A text as the model (\"\\n\" starts a line): shaped and "
-                                "meshed by the server, in mm")
-                   ->excludes(mesh)
-                   ->excludes(model_id);
   deform
-      ->add_option("--font", x.deform.font,
-                   "The text's font: GET /v1/fonts lists them (or an "
-                   "uploaded font's id)")
-      ->needs(text);
-  deform->add_option("--size-mm", x.deform.size_mm, "The text's em, mm")
-      ->needs(text)
-      ->check(CLI::PositiveNumber);
-  deform->add_option("--depth-mm", x.deform.depth_mm, "The letters' depth, mm (0: flat)")
-      ->needs(text)
-      ->check(CLI::NonNegativeNumber);
+      ->add_option("--text", x.deform.text,
+                   "A text as the model (\"\\n\" starts a line): shaped and meshed by the "
+                   "server, in mm (--font, --size-mm, --depth-mm)")
+      ->excludes(mesh)
+      ->excludes(model_id);
   deform->add_option("-o,--output", x.out_path, "Output file")->required();
   AddDeformOptions(deform, x.deform);
   return deform;
@@ -169,7 +165,12 @@ CLI::App* AddUpload(CLI::App& app, Arguments& x) {
 CLI::App* AddBatch(CLI::App& app, Arguments& x) {
   auto* batch = app.add_subcommand(
       "batch", "Deform many meshes with one set of parameters into a folder (resumable)");
-  batch->add_option("inputs", x.inputs, "Mesh files and folders (their mesh files)")->required();
+  auto* inputs = batch->add_option("inputs", x.inputs, "Mesh files and folders (their mesh files)");
+  batch
+      ->add_option("--texts", x.texts_path,
+                   "A text file: each non-empty line a text to deform (a name per part), "
+                   "written as NNN-the-text.EXT")
+      ->excludes(inputs);
   batch->add_option("-o,--output-dir", x.out_dir, "Output folder (created)")->required();
   batch->add_option("--ext", x.extension, "Output format: .drc .glb .obj .ply")
       ->capture_default_str();
@@ -229,6 +230,13 @@ int Run(const CLI::App& app, const Subcommands& s, const Arguments& x) {
     return RunAnimate(c, x.deform, x.animate, x.animate_mesh, x.animate_out);
   }
   if (s.batch->parsed()) {
+    if (x.inputs.empty() == x.texts_path.empty()) {
+      std::fprintf(stderr, "surfdeform batch: give mesh files or folders, or --texts FILE\n");
+      return kExitUsage;
+    }
+    if (!x.texts_path.empty()) {
+      return RunTextBatch(c, x.deform, x.texts_path, x.out_dir, x.extension, x.jobs, x.force);
+    }
     return RunBatch(c, x.deform, x.inputs, x.out_dir, x.extension, x.jobs, x.force);
   }
   return kExitUsage;

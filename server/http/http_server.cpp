@@ -674,6 +674,16 @@ struct HttpServer::Impl {
             service.CreateSurface(req.body, req.get_param_value("field"), ctx.cancel),
             "/v1/surfaces/", &Reply::surface_id);
   }
+  void MakeText(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
+    const std::string type = req.get_header_value("Content-Type");
+    if (type.rfind("application/json", 0) != 0) {
+      return Fail(ctx, req, res,
+                  Status(ErrorCode::kUnsupportedFormat,
+                         "POST /v1/text takes application/json, got \"" + type.substr(0, 64) + "\"",
+                         "Content-Type"));
+    }
+    Answer(ctx, req, res, service.MakeText(req.body, req.get_header_value("Accept"), ctx.cancel));
+  }
   void MapOnSurface(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
     const std::string type = req.get_header_value("Content-Type");
     if (type.rfind("application/json", 0) != 0) {
@@ -726,6 +736,7 @@ const HttpServer::Impl::Route HttpServer::Impl::kRoutes[] = {
     {"POST", "/v1/models", "/v1/models", nullptr, &Impl::UploadModelRoute},
     {"GET", R"(/v1/models/([^/]+))", "/v1/models/{id}", &Impl::ModelSummary, nullptr},
     {"GET", "/v1/fonts", "/v1/fonts", &Impl::Fonts, nullptr},
+    {"POST", "/v1/text", "/v1/text", &Impl::MakeText, nullptr},
     {"POST", "/v1/fonts", "/v1/fonts", nullptr, &Impl::UploadFontRoute},
     {"GET", R"(/v1/fonts/([^/]+))", "/v1/fonts/{id}", &Impl::FontSummary, nullptr},
 };

@@ -286,6 +286,9 @@ json AnimationStatsHeader(const StoredAnimation& animation, bool hit, double fps
          std::max(0LL, cold * static_cast<long long>(frames - 1) - warm_iterations)},
         {"each", std::move(per_frame)}}},
       {"warnings", Warnings(imported, first_frame)}};
+  if (!imported.text_stats_json.empty()) {
+    stats["text"] = json::parse(imported.text_stats_json, nullptr, /*allow_exceptions=*/false);
+  }
   return stats;
 }
 

@@ -18,6 +18,7 @@
 #include "proto/answer_key.hpp"
 #include "proto/api.hpp"
 #include "proto/map_api.hpp"
+#include "proto/text_json.hpp"
 #include "service/answer_cache.hpp"
 #include "service/content_coding.hpp"
 #include "service/engine_options.hpp"
@@ -579,6 +580,38 @@ Result<Reply> Service::GetFont(std::string_view id) {
   json summary = FontJson(*font);
   summary["kept"] = RetentionJson(retention());
   return JsonReply(summary);
+}
+
+Result<Reply> Service::MakeText(std::string_view body, std::string_view accept,
+                                const CancelFlag* cancel) {
+  RequestWork work(impl_->options.limits, cancel, &impl_->parse_memory);
+  SURFDEFORM_ASSIGN_OR_RETURN(auto parsed, work.ParseJson(body, "body"));
+  SURFDEFORM_ASSIGN_OR_RETURN(proto::TextRequest request, proto::ParseTextRequest(parsed));
+  std::optional<proto::OutputFormat> asked;
+  if (request.format) {
+    asked = ValueOf<proto::OutputFormat>(proto::kOutputFormats, *request.format);
+    if (!asked) {
+      return Status(ErrorCode::kInvalidArgument,
+                    "must be one of drc, glb, glb_plain, obj, ply, got \"" + *request.format + "\"",
+                    "output.format");
+    }
+  }
+  SURFDEFORM_ASSIGN_OR_RETURN(auto format, ChooseOutputFormat(asked, accept));
+  SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+  SURFDEFORM_ASSIGN_OR_RETURN(auto font, impl_->fonts.Find(request.text.font, "text.font"));
+  const auto t1 = Clock::now();
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      ImportedMesh made, MakeTextMesh(request.text, *font, impl_->fonts, impl_->options.limits.font,
+                                      work.clock().cancel()));
+  const double text_ms = MsSince(t1);
+  json stats = {{"vertices", made.mesh.positions.size()},
+                {"triangles", made.mesh.triangles.size()},
+                {"format", proto::OutputFormatName(format)},
+                {"text", json::parse(made.text_stats_json)}};
+  proto::OutputOptions output;
+  output.format = format;
+  return MeshReply(made.mesh, output, format, made, false,
+                   {{"parse", work.parse_ms()}, {"text", text_ms}}, std::move(stats));
 }
 
 Result<Reply> Service::ListFonts() {

@@ -78,6 +78,11 @@ class Service {
   // limits on uploaded ones.
   Result<Reply> ListFonts();
   Result<Reply> GetFont(std::string_view name_or_id);  // GET /v1/fonts/{id}
+  // POST /v1/text: the text's mesh alone, flat, in mm (what a deformation
+  // with this text lays on the sheet), as OBJ, PLY, GLB or Draco: for
+  // previews, and for a mesh of the words.
+  Result<Reply> MakeText(std::string_view body, std::string_view accept,
+                         const CancelFlag* cancel = nullptr);
   Result<Reply> UploadModel(std::string_view mesh, std::string_view routed_id,
                             const CancelFlag* cancel = nullptr);
   Result<Reply> GetModel(std::string_view id);          // GET /v1/models/{id}

@@ -110,16 +110,17 @@ try {
   const coverage = () => page.evaluate(() => window.surfdeformViewer.modelCoverage());
 
   await page.goto(base + '/');
-  // The first thing a visitor sees: a word in relief lying on the surface
-  // (its thinnest axis up), in a 3D view that takes most of the window, the
-  // sheet beside it, every panel reachable.
-  if (await settled('ready', 'the word on Figure 10')) {
+  // The first thing a visitor sees: a name standing on the surface (a text
+  // the server shapes, each letter rigid), in a 3D view that takes most of
+  // the window, the sheet beside it, every panel reachable.
+  if (await settled('ready', 'the name on Figure 10')) {
     await sleep(300);
     const s = await stats();
-    check(s && s.input_format === 'obj' && s.placement.up === '+z' && s.placement.up_reason === 'thinnest',
-          `the page opens on a word in relief lying on the surface (${s && s.placement.up}, ` +
-          `${s && s.placement.up_reason})`);
-    check(await coverage() > 0.01, `the word is on the canvas (${(100 * await coverage()).toFixed(1)}%)`);
+    check(s && s.text && s.text.glyphs === 12 && s.text.solids === 11 && s.placement.up === '+z' &&
+          s.rigid && s.rigid.parts === 11,
+          `the page opens on a name standing on the surface (${s && JSON.stringify(s.text && s.text.runs)}, ` +
+          `${s && s.text && s.text.glyphs} glyphs, ${s && s.rigid && s.rigid.parts} rigid parts)`);
+    check(await coverage() > 0.002, `the name is on the canvas (${(100 * await coverage()).toFixed(2)}%)`);
     // three.js reads the OBJ as separate triangles; the preview's mesh is
     // welded over its distinct positions (preview_mesh.js), with unit normals.
     const mesh = await page.waitForFunction(() => {
@@ -131,7 +132,7 @@ try {
       return { vertices: g.getAttribute('position').count, triangles: g.index.count / 3, unit };
     }, { timeout: 10000 }).then((h) => h.jsonValue()).catch(() => null);
     check(mesh && mesh.vertices < mesh.triangles && mesh.unit === mesh.vertices,  // separate: 3 per triangle
-          `the word's preview is welded (${mesh && mesh.vertices} vertices for ${mesh && mesh.triangles} ` +
+          `the name's preview is welded (${mesh && mesh.vertices} vertices for ${mesh && mesh.triangles} ` +
           `triangles, ${mesh && mesh.unit} unit normals)`);
     const boxOf = (sel) => page.$eval(sel, (e) => {
       const r = e.getBoundingClientRect();
@@ -147,7 +148,31 @@ try {
     check(panels.bottom <= 800 && panels.scrolls === 'auto', 'every panel is reachable (the panels scroll)');
     // A fieldset as wide as a select's longest option was cut at the panel's edge.
     check(panels.wide <= panels.width, `no panel is wider than the column (${panels.wide} <= ${panels.width} px)`);
-    await shot('word-figure10');
+    await shot('name-figure10');
+    // Typing: the new letter is on the preview (bent on the GPU) before the
+    // exact result is asked for, which waits for the typing to pause.
+    const before = await page.evaluate(() => window.surfdeformViewer.state.model.positions.length);
+    await page.evaluate(() => performance.clearMarks());
+    await page.focus('#text');
+    await page.keyboard.press('End');
+    await page.keyboard.type('!');
+    const typed = await page.waitForFunction(() => {
+      const m = window.surfdeformViewer.state.model;
+      const previewed = performance.getEntriesByName('surfdeform:text-preview');
+      return m && m.text && m.text.string === 'Ada Lovelace!' && previewed.length > 0 &&
+        { vertices: m.positions.length,
+          preview: previewed[0].startTime - performance.getEntriesByName('surfdeform:text-typed')[0].startTime,
+          exactAsked: performance.getEntriesByName('surfdeform:run-deform').map((e) => e.startTime),
+          previewAt: previewed[0].startTime };
+    }, { timeout: 10000 }).then((h) => h.jsonValue()).catch(() => null);
+    check(typed && typed.vertices > before,
+          `a typed letter is on the preview (${before / 3} -> ${typed && typed.vertices / 3} vertices, ` +
+          `${typed && typed.preview.toFixed(1)} ms from the keystroke)`);
+    check(typed && typed.exactAsked.every((t) => t > typed.previewAt),
+          'the preview came before the exact result was asked for');
+    await settled('ready', 'the typed name');
+    const t = await stats();
+    check(t && t.text && t.text.glyphs === 13, `the exact result has the new letter (${t && t.text && t.text.glyphs} glyphs)`);
   }
   await page.select('#sample', 'bunny');
   await sleep(300);
@@ -643,17 +668,18 @@ try {
     await shot('plate-moved');
   }
 
-  // Models travel once: the word, the bunny and the plate were each uploaded
+  // Models travel once: the bunny and the plate were each uploaded
   // once (POST /v1/models), and every deformation since names its model by
   // id in a small JSON body.
   {
     const all = await posts();
     const uploads = all.filter((p) => p.path === '/v1/models').length;
     const deforms = all.filter((p) => p.path === '/v1/deform');
-    check(uploads === 3, `each model uploaded once (${uploads} uploads for the word, the bunny and the plate)`);
+    check(uploads === 2, `each model uploaded once (${uploads} uploads for the bunny and the plate; ` +
+                         'the text is shaped by the server)');
     check(deforms.length >= 4 && deforms.every((p) => p.type.startsWith('application/json') &&
-                                                     /"model_id":"[0-9a-f]{32}"/.test(p.body)),
-          `every deformation names its model by id (${deforms.length} deformations, ` +
+                                                     /"model_id":"[0-9a-f]{32}"|"text":\{/.test(p.body)),
+          `every deformation names its model by id or is a text (${deforms.length} deformations, ` +
           `types ${[...new Set(deforms.map((p) => p.type))].join(', ')})`);
   }
 

@@ -110,6 +110,17 @@ grep -q "^f " "$out/ada.obj" || fail "the text's OBJ has no faces"
 expect 1 deform --text "Ada" "$samples/bunny.ply" --surface-id "$id" -o "$out/x.obj"
 expect 2 deform --text "Ada" --font NoSuchFont --surface-id "$id" -o "$out/x.obj"
 grep -q "text.font" "$out/e" || fail "an unknown font's refusal names text.font: $(cat "$out/e")"
+# A batch of texts (a name per part): one output per non-empty line, named by
+# its line and text; a second run skips them.
+printf 'Ada Lovelace\n\nCharles Babbage\r\nΚαλημέρα\n' > "$out/names.txt"
+expect 0 batch --texts "$out/names.txt" --surface-id "$id" --size-mm 0.4 --depth-mm 0.03 \
+  --subdivision off --ext .obj -o "$out/names"
+for f in 001-Ada-Lovelace 003-Charles-Babbage 004-Καλημέρα; do
+  grep -q "^f " "$out/names/$f.obj" || fail "batch --texts wrote no $f.obj: $(ls "$out/names")"
+done
+[[ $(ls "$out/names" | wc -l) == 3 ]] || fail "batch --texts wrote $(ls "$out/names")"
+expect 0 batch --texts "$out/names.txt" --surface-id "$id" --size-mm 0.4 --ext .obj -o "$out/names"
+grep -q "3 skipped" "$out/e" || fail "a second batch --texts skips the written parts: $(cat "$out/e")"
 
 # Models by id: every deform above sent the bunny by its id, uploading it
 # once (on the first 404 unknown_model); `upload` prints that id (the first 32

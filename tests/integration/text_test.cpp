@@ -122,6 +122,43 @@ TEST_F(ServerText, ANameRoundTheBottleWithRigidGlyphs) {
   EXPECT_NE(other->get_header_value("ETag"), r->get_header_value("ETag"));
 }
 
+TEST_F(ServerText, ANameSwimsWithTheWave) {
+  json params = json::parse(ReadFile(SURFDEFORM_SOURCE_DIR "/client/web/samples/swim.json"));
+  params["animation"]["frames"] = 4;
+  params["text"] = {{"string", "Ada"}, {"size_mm", 0.4}, {"depth_mm", 0.03}};
+  auto c = Client();
+  auto r = c.Post("/v1/animate", params.dump(), "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_EQ(r->body.substr(0, 4), "glTF");
+  const json stats = json::parse(r->get_header_value("X-Surfdeform-Stats"));
+  EXPECT_EQ(stats["frames"], 4) << stats.dump();
+  EXPECT_EQ(stats["text"]["solids"], 3);
+  // The flat mesh alone: POST /v1/text, in mm, the baseline's centre at the
+  // origin; one OBJ material per glyph.
+  auto flat = c.Post("/v1/text",
+                     json{{"text", {{"string", "Ada"}}}, {"output", {{"format", "obj"}}}}.dump(),
+                     "application/json");
+  ASSERT_TRUE(flat);
+  ASSERT_EQ(flat->status, 200) << flat->body;
+  size_t groups = 0;
+  double lo = 1e9, hi = -1e9;
+  std::istringstream obj(flat->body);
+  for (std::string line; std::getline(obj, line);) {
+    groups += line.rfind("usemtl ", 0) == 0;  // one material per glyph, named by it
+    if (line.rfind("v ", 0) == 0) {
+      std::istringstream v(line.substr(2));
+      double x = 0;
+      v >> x;
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+  }
+  EXPECT_EQ(groups, 3u);
+  EXPECT_NEAR(lo + hi, 0.0, 0.5);  // centred on the origin, within the side bearings
+  EXPECT_GT(hi - lo, 4.0);         // "Ada" at a 4 mm em: some 7 mm long
+}
+
 TEST_F(ServerText, AnUploadedFontIsUsedByItsId) {
   const std::string amiri = ReadFile("/usr/share/fonts/opentype/fonts-hosny-amiri/Amiri-Bold.ttf");
   ASSERT_FALSE(amiri.empty());

@@ -31,6 +31,7 @@ import { ModelView } from './model_view.js';
 import { fieldGap, movedField, moveSheetPoint } from './field_edit.js';
 import { FieldPreview, nearestDistances, previewPositions, sampleParams } from './preview.js';
 import { sampleModel, surfacePreset } from './samples.js';
+import { fonts, textMesh } from './api.js';
 import { SheetView } from './sheet_view.js';
 
 const $ = (id) => document.getElementById(id);
@@ -347,8 +348,11 @@ function followEdit(stats, sent) {
   state.surfacePending = false;
   const changed = JSON.stringify(state.placement) !== sent;
   if (w.placement && !changed) {
-    if (w.placement.center) state.placement.center = w.placement.center;
     state.placement.rotation_deg = w.placement.rotation_deg;
+    if (w.placement.center) {
+      state.placement.center = state.model && state.model.text
+        ? offsetCenter(w.placement.center, state.placement, 1) : w.placement.center;
+    }
     state.placementSheet = stats.surface_id;
     showPlacement();
   } else {
@@ -413,7 +417,7 @@ async function refreshSurface(known = null, deformed = false) {
     showControlPoint();
     if (!state.placement.center || state.recentre) {
       state.placement.center = sheetView.sheetCentre();
-      state.fitNext = true;
+      state.fitNext = !(state.model && state.model.text);  // a text keeps its millimetres
       state.recentre = false;
     }
     showPlacement();
@@ -448,13 +452,15 @@ function scheduleSurface() {
 // placement with its sheet); else the current surface by id.
 function deformParams(format, compression, edit = null) {
   const p = state.placement;
+  const text = state.model && state.model.text;
   return {
     ...(edit || { surface_id: state.surfaceId }),
+    ...(text ? { text } : {}),
     placement: {
       up: $('up').value,
       anchor: $('anchor').value,
       rigid: $('rigid').value,
-      center: p.center,
+      center: text ? offsetCenter(p.center, p, -1) : p.center,
       rotation_deg: p.rotation_deg,
       scale: state.fitNext ? 'fit' : p.scale,
     },
@@ -835,10 +841,106 @@ document.addEventListener('keydown', (e) => {
   e.preventDefault();
 });
 
+// --- text ----------------------------------------------------------------
+
+// A text's origin (its baseline's centre) is where the server puts the
+// placement's centre; the page places the footprint's centre. `center` moved
+// between the two: sign -1 from the page's to the server's, +1 back.
+function offsetCenter(center, p, sign) {
+  const m = state.model;
+  if (!center || !m || !m.positions || typeof p.scale !== 'number') return center;
+  const f = placementFrame(m.positions, effectiveUp(), $('anchor').value);
+  const [bx, by] = f.centre;
+  const a = (p.rotation_deg * Math.PI) / 180, s = p.scale;
+  return [center[0] + sign * s * (Math.cos(a) * bx - Math.sin(a) * by),
+          center[1] + sign * s * (Math.sin(a) * bx + Math.cos(a) * by)];
+}
+
+function textSettings() {
+  const size = Math.max(0.05, Number($('text-size').value) || 0.6);
+  return { string: $('text').value, font: $('font').value, size_mm: size,
+           depth_mm: Math.max(0, Number($('text-depth').value) || 0), tolerance_mm: size / 100 };
+}
+
+// The typed text on the surface: its flat mesh from POST /v1/text (the
+// newest keystroke's: an older request in flight is aborted), bent by the
+// preview at once; the exact result `delay` ms after the typing pauses.
+let textInFlight = null;
+async function useText(delay = 0) {
+  const text = textSettings();
+  if (!text.string.trim()) return;
+  if (textInFlight) textInFlight.abort();
+  const controller = new AbortController();
+  textInFlight = controller;
+  performance.mark('surfdeform:text-typed');
+  let made;
+  try {
+    made = await textMesh(text, controller.signal);
+  } catch (e) {
+    if (e.name !== 'AbortError' && textInFlight === controller) showError(e);
+    return;
+  }
+  if (textInFlight !== controller) return;  // a newer keystroke's is coming
+  textInFlight = null;
+  performance.mark('surfdeform:text-received');
+  const read = await readModel('text.ply', made.bytes);
+  performance.mark('surfdeform:text-read');
+  const first = !state.model || !state.model.text;
+  const model = { name: 'text.ply', bytes: made.bytes, positions: read.positions, lod: null, text };
+  state.model = model;
+  preview.setModelGeometry(read.geometry, (lod) => { model.lod = lod; });
+  $('model-name').textContent = `"${text.string}": ${made.stats.text.glyphs} glyphs in ` +
+    `${made.stats.text.family} ${made.stats.text.style}, ${fmt(made.stats.text.width_mm, 3)} mm long`;
+  if (first) {
+    // Letters stand on the surface, each rigid, at their size in mm.
+    $('up').value = '+z';
+    $('anchor').value = 'bottom';
+    $('rigid').value = 'components';
+    state.upResolved = null;
+    state.historyReset = true;
+    state.fitNext = false;
+    state.placement.scale = 1;
+    state.placement.rotation_deg = 0;
+    if (sheetView.sheet) state.placement.center = sheetView.sheetCentre();
+  }
+  updateFootprint();
+  showPlacement();
+  showError(null);
+  if (showLivePreview()) {
+    performance.mark('surfdeform:text-preview');
+    // The frame that draws it (bench/text_keystroke.mjs reads both).
+    requestAnimationFrame(() => performance.mark('surfdeform:text-drawn'));
+  }
+  if (delay > 0) holdDeform();
+  scheduleDeform(delay);
+}
+
+function showTextControls() {
+  $('text-controls').hidden = $('sample').value !== 'text';
+}
+
+// The built-in fonts, each with the scripts it covers.
+async function listFonts() {
+  const list = await fonts();
+  const select = $('font');
+  select.replaceChildren(...list.fonts.map((f) => {
+    const o = document.createElement('option');
+    o.value = f.name;
+    o.textContent = `${f.name} (${f.scripts.join(', ')})`;
+    return o;
+  }));
+  select.value = list.default;
+}
+
 // --- models --------------------------------------------------------------
 
 async function useModel(name, bytes) {
   const read = await readModel(name, bytes);
+  if (state.model && state.model.text) {  // a text's settings go with it
+    $('up').value = 'auto';
+    $('anchor').value = 'center';
+    $('rigid').value = 'none';
+  }
   const model = { name, bytes, positions: read.positions, lod: null };
   state.model = model;
   state.historyReset = true;
@@ -898,8 +1000,12 @@ $('grid').addEventListener('change', () => {
   state.historyReset = true;
   scheduleSurface();
 });
+$('text').addEventListener('input', () => useText(250));
+for (const id of ['font', 'text-size', 'text-depth']) $(id).addEventListener('change', () => useText(0));
 $('sample').addEventListener('change', async () => {
   setState('loading');
+  showTextControls();
+  if ($('sample').value === 'text') return useText(0);
   try {
     const m = await sampleModel($('sample').value);
     await useModel(m.name, m.bytes);
@@ -1097,8 +1203,14 @@ window.surfdeformViewer = { state, animation: animationPanel, preview, compareEn
   try {
     state.spec = await surfacePreset($('preset').value);
     state.surfacePending = true;
-    const m = await sampleModel($('sample').value);
-    await useModel(m.name, m.bytes);
+    showTextControls();
+    if ($('sample').value === 'text') {
+      await listFonts();
+      await useText(0);
+    } else {
+      const m = await sampleModel($('sample').value);
+      await useModel(m.name, m.bytes);
+    }
     await refreshSurface();
   } catch (e) {
     showError(e);

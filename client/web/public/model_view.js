@@ -377,12 +377,28 @@ export class ModelView {
     return out;
   }
 
+  // The camera on `object` with the rest of the scene: the surface and the
+  // model together (a name a few mm long on a large surface shows the
+  // surface round it), from the default side, or, for a model well off the
+  // surface's middle (a name round a bottle), from the model's own side, not
+  // through the surface from the far one.
   frame(object) {
     this.invalidate();
-    const sphere = new THREE.Box3().setFromObject(object).getBoundingSphere(new THREE.Sphere());
+    const box = new THREE.Box3().setFromObject(object);
+    for (const o of [this.surface, this.model]) {
+      if (o && o !== object && o.parent) box.union(new THREE.Box3().setFromObject(o));
+    }
+    const sphere = box.getBoundingSphere(new THREE.Sphere());
     if (!isFinite(sphere.radius) || sphere.radius === 0) return;
     this.controls.target.copy(sphere.center);
-    const dir = new THREE.Vector3(0.5, -0.8, 0.6).normalize();
+    let dir = new THREE.Vector3(0.5, -0.8, 0.6).normalize();
+    if (this.model && this.surface && this.model.parent && this.surface.parent) {
+      const surface = new THREE.Box3().setFromObject(this.surface);
+      const model = new THREE.Box3().setFromObject(this.model);
+      const away = model.getCenter(new THREE.Vector3()).sub(surface.getCenter(new THREE.Vector3()));
+      const size = surface.getBoundingSphere(new THREE.Sphere()).radius;
+      if (away.length() > 0.25 * size) dir = away.normalize().multiplyScalar(2).add(dir).normalize();
+    }
     this.camera.position.copy(sphere.center).addScaledVector(dir, sphere.radius * 2.6);
     this.camera.near = sphere.radius / 100;
     this.camera.far = sphere.radius * 100;

@@ -182,7 +182,7 @@ export class SheetView {
 
   placed() {  // the footprint's hull on the sheet
     const f = this.footprint, p = this.placement;
-    if (!f || !p || typeof p.scale !== 'number') return null;
+    if (!f || !p || !p.center || typeof p.scale !== 'number') return null;
     const a = (p.rotation_deg * Math.PI) / 180, c = Math.cos(a), s = Math.sin(a);
     return f.hull.map(([x, y]) => {
       const dx = x - f.centre[0], dy = y - f.centre[1];
