@@ -21,9 +21,9 @@ packages=(
   libxxhash-dev            # XXH3 digests of models: the service's placement memo
   libharfbuzz-dev libfreetype-dev  # text: HarfBuzz shapes, FreeType reads outlines (WOFF2 too)
   # The built-in fonts (service/builtin_fonts.hpp): DejaVu (Latin, Greek,
-  # Cyrillic; sans, serif, mono), Amiri (Arabic), Ezra SIL (Hebrew), Lohit
-  # (Devanagari).
-  fonts-dejavu-core fonts-hosny-amiri fonts-sil-ezra fonts-lohit-deva
+  # Cyrillic; sans, serif, mono), Cantarell (OpenType CFF: cubic outlines),
+  # Amiri (Arabic), Ezra SIL (Hebrew), Lohit (Devanagari).
+  fonts-dejavu-core fonts-cantarell fonts-hosny-amiri fonts-sil-ezra fonts-lohit-deva
   curl python3 python3-yaml  # the README's curl examples and the contract check, run as a test
   assimp-testmodels        # real glTF, OBJ, PLY, STL, OFF files (and broken ones) for tests
   clang-14 libclang-rt-14-dev  # libFuzzer for the mesh import fuzzer (tests/fuzz)
@@ -87,5 +87,6 @@ if [[ $build_only != 1 ]]; then
   npm_ci tests/gltf gltf-validator
   npm_ci tests/browser puppeteer-core
   npm_ci tests/k8s kubernetes-models
+  npm_ci tests/fonts wawoff2  # WOFF2 files for the font upload test (Google's encoder)
   npm_ci bench/text_peer opentype.js  # the text benchmark's peer (opentype.js + earcut)
 fi

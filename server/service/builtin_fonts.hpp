@@ -18,6 +18,8 @@ inline constexpr BuiltinFont kBuiltinFonts[] = {
     {"DejaVuSans-Bold", "truetype/dejavu/DejaVuSans-Bold.ttf", "fonts-dejavu-core"},
     {"DejaVuSerif", "truetype/dejavu/DejaVuSerif.ttf", "fonts-dejavu-core"},
     {"DejaVuSansMono", "truetype/dejavu/DejaVuSansMono.ttf", "fonts-dejavu-core"},
+    // OpenType with CFF outlines (cubic curves).
+    {"Cantarell", "opentype/cantarell/Cantarell-Regular.otf", "fonts-cantarell"},
     {"Amiri", "opentype/fonts-hosny-amiri/Amiri-Regular.ttf", "fonts-hosny-amiri"},
     {"EzraSIL", "truetype/ezra/SILEOT.ttf", "fonts-sil-ezra"},
     {"LohitDevanagari", "truetype/lohit-devanagari/Lohit-Devanagari.ttf", "fonts-lohit-deva"},

@@ -3,8 +3,9 @@
 // font file (mode byte 0), or patches to a real built-in font (mode 1..7:
 // which font; then 5-byte records of a 32-bit offset and a byte to write),
 // so that the fuzzer corrupts real tables rather than guessing their
-// layout. The text shaped is fixed, in four scripts, plus the input's last
-// 16 bytes as code points.
+// layout. The text shaped is a line in four scripts, plus the input's last
+// 16 bytes as code points: those of them the font has (a missing one would
+// end the work before shaping).
 #include <cstddef>
 #include <cstdint>
 #include <fstream>
@@ -14,6 +15,7 @@
 
 #include "service/builtin_fonts.hpp"
 #include "text/text_model.hpp"
+#include "text/text_shaping.hpp"
 
 namespace {
 
@@ -55,16 +57,24 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   limits.max_text_cost = 200000;
   auto face = FontFace::Open(font, limits);
   if (!face.ok()) return 0;
-  TextSettings t;
-  t.string =
+  // The sample's code points the font has (a missing one ends the work
+  // before shaping), then the input's last bytes as more of them.
+  std::string sample =
       "Ada fi AV 8 \u0633\u0644\u0627\u0645 \u05e9\u05dc\u05d5\u05dd "
       "\u0928\u092e\u0938\u094d\u0924\u0947\n";
   for (size_t k = size > 16 ? size - 16 : 0; k < size; ++k) {
-    if (data[k] >= 0x20) t.string += static_cast<char>(data[k] & 0x7F);
+    if (data[k] >= 0x20) sample += static_cast<char>(data[k] & 0x7F);
   }
+  TextSettings t;
+  auto cps = DecodeUtf8(sample);
+  if (!cps.ok()) return 0;
+  for (char32_t c : *cps) {
+    if (c == U'\n' || (**face).HasCodePoint(c)) t.string += EncodeUtf8(c);
+  }
+  if (t.string.find_first_not_of(" \n") == std::string::npos) return 0;
   t.size_mm = 4;
   t.tolerance_mm = 0.05;
-  (void)MakeTextModel(**face, t);  // a missing glyph is a refusal: still read, shaped, checked
+  (void)MakeTextModel(**face, t);
   t.direction = TextDirection::kRtl;
   t.depth_mm = 0;
   (void)MakeTextModel(**face, t);

@@ -23,6 +23,7 @@
 #include "support/test_surfaces.hpp"
 #include "text/font_face_impl.hpp"
 #include "text/glyph_mesh.hpp"
+#include "text/glyph_outline.hpp"
 #include "text/text_shaping.hpp"
 
 namespace surfdeform {
@@ -259,36 +260,106 @@ double Volume(const Mesh& m, const MeshGroup& g) {
   return v;
 }
 
+// DejaVuSans (TrueType: quadratic pieces) and Cantarell (CFF: cubic ones).
 TEST(TextModel, GlyphsAreClosedSolidsWithTheOutlinesVolume) {
-  const FontFace& sans = *FontNamed("DejaVuSans").face;
-  FT_Face face = sans.impl().face;
-  const double upem = sans.info().units_per_em;
-  for (const double tolerance : {0.01, 1e-6}) {
-    TextSettings t = Text("Ada Lovelace OB8");
-    t.tolerance_mm = tolerance;
-    auto model = MakeTextModel(sans, t);
-    ASSERT_TRUE(model.ok()) << model.status().ToString();
-    const Mesh& m = model->mesh;
-    EXPECT_EQ(CheckMesh(m), "");
-    ASSERT_EQ(m.groups.size(), 14u);  // the letters; the spaces have none
-    double worst = 0;
-    for (const TextGlyph& g : model->glyphs) {
-      if (g.group == static_cast<size_t>(-1)) continue;
-      const MeshGroup& group = m.groups[g.group];
-      EXPECT_EQ(group.name, g.cluster);
-      ExpectClosedOriented(m, group);
-      const double scale = t.size_mm / upem;
-      const double area = ExactOutlineArea(face, g.glyph) * scale * scale;
-      const double volume = Volume(m, group);
-      EXPECT_GT(volume, 0) << g.cluster << ": inward";
-      const double rel = std::abs(volume / t.depth_mm - area) / area;
-      worst = std::max(worst, rel);
-      // Chords stay within the tolerance of the curves: the area within
-      // tolerance x perimeter (the perimeter under 4 ems).
-      EXPECT_LT(std::abs(volume / t.depth_mm - area), tolerance * 4 * t.size_mm) << g.cluster;
+  for (const char* font : {"DejaVuSans", "Cantarell"}) {
+    const FontFace& sans = *FontNamed(font).face;
+    FT_Face face = sans.impl().face;
+    const double upem = sans.info().units_per_em;
+    for (const double tolerance : {0.01, 1e-6}) {
+      TextSettings t = Text("Ada Lovelace OB8", font);
+      t.tolerance_mm = tolerance;
+      auto model = MakeTextModel(sans, t);
+      ASSERT_TRUE(model.ok()) << model.status().ToString();
+      const Mesh& m = model->mesh;
+      EXPECT_EQ(CheckMesh(m), "");
+      ASSERT_EQ(m.groups.size(), 14u);  // the letters; the spaces have none
+      double worst = 0;
+      for (const TextGlyph& g : model->glyphs) {
+        if (g.group == static_cast<size_t>(-1)) continue;
+        const MeshGroup& group = m.groups[g.group];
+        EXPECT_EQ(group.name, g.cluster);
+        ExpectClosedOriented(m, group);
+        const double scale = t.size_mm / upem;
+        const double area = ExactOutlineArea(face, g.glyph) * scale * scale;
+        const double volume = Volume(m, group);
+        EXPECT_GT(volume, 0) << g.cluster << ": inward";
+        const double rel = std::abs(volume / t.depth_mm - area) / area;
+        worst = std::max(worst, rel);
+        // Chords stay within the tolerance of the curves: the area within
+        // tolerance x perimeter (the perimeter under 4 ems).
+        EXPECT_LT(std::abs(volume / t.depth_mm - area), tolerance * 4 * t.size_mm) << g.cluster;
+      }
+      if (tolerance < 1e-5) {
+        EXPECT_LT(worst, 1e-6) << font;
+      }
     }
-    if (tolerance < 1e-5) {
-      EXPECT_LT(worst, 1e-6);
+  }
+}
+
+// The filled area of a glyph by FreeType's own rasterizer (its fill rule,
+// independent of the triangulation): 1-bit pixels at 2048 per em, in font
+// units squared.
+double RasterArea(const std::string& bytes, uint32_t glyph) {
+  FT_Library lib = nullptr;
+  FT_Face face = nullptr;
+  EXPECT_EQ(FT_Init_FreeType(&lib), 0);
+  EXPECT_EQ(FT_New_Memory_Face(lib, reinterpret_cast<const FT_Byte*>(bytes.data()),
+                               static_cast<FT_Long>(bytes.size()), 0, &face),
+            0);
+  constexpr int kPixelsPerEm = 2048;
+  EXPECT_EQ(FT_Set_Pixel_Sizes(face, 0, kPixelsPerEm), 0);
+  EXPECT_EQ(FT_Load_Glyph(face, glyph, FT_LOAD_NO_HINTING | FT_LOAD_RENDER | FT_LOAD_TARGET_MONO),
+            0);
+  const FT_Bitmap& b = face->glyph->bitmap;
+  size_t set = 0;
+  for (unsigned row = 0; row < b.rows; ++row) {
+    for (unsigned col = 0; col < b.width; ++col) {
+      set += (b.buffer[row * static_cast<unsigned>(b.pitch) + col / 8] >> (7 - col % 8)) & 1;
+    }
+  }
+  const double unit = static_cast<double>(face->units_per_EM) / kPixelsPerEm;
+  FT_Done_Face(face);
+  FT_Done_FreeType(lib);
+  return static_cast<double>(set) * unit * unit;
+}
+
+// Glyphs whose contours overlap (Lohit's "ø": the slash across the o;
+// Amiri's "Ç": the cedilla into the C) are filled once: the area is what
+// FreeType's rasterizer fills, well under the contours' areas summed.
+TEST(TextModel, OverlappingContoursFillOnce) {
+  for (const auto& [font, letter] : std::vector<std::pair<std::string, std::string>>{
+           {"LohitDevanagari", "ø"}, {"Amiri", "Ç"}, {"DejaVuSans", "B"}}) {
+    const Font& f = FontNamed(font);
+    const FontFace& face = *f.face;
+    auto cps = DecodeUtf8(letter);
+    ASSERT_TRUE(cps.ok());
+    const uint32_t glyph = FT_Get_Char_Index(face.impl().face, (*cps)[0]);
+    ASSERT_NE(glyph, 0u) << font << " " << letter;
+    auto outline = LoadGlyphOutline(face, glyph, 0.05, 1u << 20);
+    ASSERT_TRUE(outline.ok());
+    double summed = 0;
+    for (const auto& c : outline->contours) {
+      double a = 0;
+      for (size_t i = 0; i < c.size(); ++i) {
+        const Vec2 &p = c[i], &q = c[(i + 1) % c.size()];
+        a += 0.5 * (p.x() * q.y() - q.x() * p.y());
+      }
+      summed += std::abs(a);
+    }
+    auto solid = MeshGlyph(outline->contours, outline->even_odd, 1.0, 1.0);
+    ASSERT_TRUE(solid.ok());
+    const double raster = RasterArea(f.bytes, glyph);
+    EXPECT_NEAR(solid->area, raster, 5e-3 * raster) << font << " " << letter;
+    Mesh m;
+    m.positions = solid->positions;
+    m.triangles = solid->triangles;
+    ExpectClosedOriented(m, MeshGroup{letter, -1, 0, static_cast<uint32_t>(m.triangles.size())});
+    if (letter == "ø") {
+      EXPECT_GT(summed, 1.03 * solid->area) << "the slash overlaps the o: counted once";
+    }
+    if (letter == "Ç") {
+      EXPECT_GT(summed, 1.0005 * solid->area) << "the cedilla overlaps the C";
     }
   }
 }
