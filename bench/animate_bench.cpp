@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/animation.hpp"
-#include "engine/deform.hpp"
-#include "engine/flatten.hpp"
+#include "engine/animation/animation.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/flatten/flatten.hpp"
 #include "harness.hpp"
 #include "meshio/animation_glb.hpp"
 #include "meshio/mesh_export.hpp"

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/surface.hpp"
+#include "engine/surface/surface.hpp"
 
 namespace surfdeform::bench {
 

@@ -12,8 +12,8 @@
 #include <numbers>
 #include <sstream>
 
-#include "engine/deform.hpp"
-#include "engine/sheet_map.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/sheet/sheet_map.hpp"
 #include "harness.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"

@@ -14,9 +14,9 @@
 #include <thread>
 #include <vector>
 
-#include "engine/deform.hpp"
-#include "engine/flatten.hpp"
-#include "engine/surface.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/flatten/flatten.hpp"
+#include "engine/surface/surface.hpp"
 #include "harness.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"

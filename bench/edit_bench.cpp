@@ -12,8 +12,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "engine/flatten.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/flatten/flatten.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "harness.hpp"
 #include "support/surface_file.hpp"
 

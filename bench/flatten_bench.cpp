@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/flatten.hpp"
-#include "engine/surface_distance.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/distance/surface_distance.hpp"
+#include "engine/flatten/flatten.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/surface_file.hpp"
 #ifdef SURFDEFORM_HAVE_CGAL
 #include "cgal_peer.hpp"

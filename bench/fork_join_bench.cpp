@@ -12,8 +12,8 @@
 #include <thread>
 #include <vector>
 
-#include "engine/elapsed.hpp"
-#include "engine/parallel.hpp"
+#include "engine/common/elapsed.hpp"
+#include "engine/common/parallel.hpp"
 
 using Clock = std::chrono::steady_clock;
 using surfdeform::MsSince;

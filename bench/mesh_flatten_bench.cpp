@@ -20,10 +20,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/animation.hpp"
-#include "engine/disk_mesh.hpp"
-#include "engine/mesh_flatten.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/animation/animation.hpp"
+#include "engine/common/disk_mesh.hpp"
+#include "engine/flatten/mesh_flatten.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "harness.hpp"
 #include "support/sheet_compare.hpp"
 #include "support/surface_file.hpp"

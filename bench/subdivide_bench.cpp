@@ -15,7 +15,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "engine/deform.hpp"
+#include "engine/deform/deform.hpp"
 #include "harness.hpp"
 #include "meshio/mesh_import.hpp"
 #include "support/subdivision_check.hpp"

@@ -6,7 +6,7 @@
 #include <memory>
 #include <vector>
 
-#include "engine/surface_spec.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_surfaces.hpp"
 

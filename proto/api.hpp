@@ -16,12 +16,12 @@
 #include <string>
 
 #include "base/status.hpp"
-#include "engine/animation_spec.hpp"
-#include "engine/flatten_settings.hpp"
-#include "engine/placement_settings.hpp"
-#include "engine/sampling_options.hpp"
-#include "engine/subdivision_settings.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/animation/animation_spec.hpp"
+#include "engine/common/placement_settings.hpp"
+#include "engine/flatten/flatten_settings.hpp"
+#include "engine/subdivision/subdivision_settings.hpp"
+#include "engine/surface/sampling_options.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "meshio/draco_options.hpp"
 #include "text/text_settings.hpp"
 

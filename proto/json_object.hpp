@@ -16,7 +16,7 @@
 
 #include "base/enum_table.hpp"
 #include "base/status.hpp"
-#include "engine/geometry_types.hpp"
+#include "engine/common/geometry_types.hpp"
 
 namespace surfdeform::proto {
 

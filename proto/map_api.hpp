@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "base/status.hpp"
-#include "engine/sheet_mark.hpp"
+#include "engine/sheet/sheet_mark.hpp"
 
 namespace surfdeform::proto {
 

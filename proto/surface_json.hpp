@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "base/status.hpp"
-#include "engine/surface_fields.hpp"
+#include "engine/surface/surface_fields.hpp"
 #include "proto/json_object.hpp"
 
 namespace surfdeform::proto {

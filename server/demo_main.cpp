@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <string>
 
-#include "engine/flatten.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/flatten/flatten.hpp"
+#include "engine/surface/surface_spec.hpp"
 
 namespace {
 

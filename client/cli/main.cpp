@@ -5,7 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/usage_errors.hpp"
-#include "engine/subdivision_mode.hpp"
+#include "engine/subdivision/subdivision_mode.hpp"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <cstring>
 #include <limits>
 
-#include "engine/parallel.hpp"
+#include "engine/common/parallel.hpp"
 #include "meshio/gltf_model.hpp"
 #include "meshio/meshopt_views.hpp"
 

@@ -30,7 +30,7 @@
 
 #include "base/enum_table.hpp"
 #include "base/status.hpp"
-#include "engine/mesh.hpp"
+#include "engine/common/mesh.hpp"
 #include "meshio/mesh_export.hpp"
 
 namespace surfdeform {

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <thread>
 
-#include "engine/parallel.hpp"
+#include "engine/common/parallel.hpp"
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
 #include "meshio/gltf_look.hpp"

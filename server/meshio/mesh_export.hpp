@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "base/status.hpp"
-#include "engine/mesh.hpp"
+#include "engine/common/mesh.hpp"
 #include "meshio/draco_options.hpp"
 #include "meshio/mesh_format.hpp"
 

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "base/status.hpp"
-#include "engine/mesh.hpp"
+#include "engine/common/mesh.hpp"
 #include "meshio/mesh_format.hpp"
 
 namespace surfdeform {

@@ -5,7 +5,7 @@
 #include <cstring>
 #include <sstream>
 
-#include "engine/parallel.hpp"
+#include "engine/common/parallel.hpp"
 
 namespace surfdeform::meshio {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "engine/elapsed.hpp"
+#include "engine/common/elapsed.hpp"
 
 namespace surfdeform {
 

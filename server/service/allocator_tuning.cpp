@@ -4,7 +4,7 @@
 
 #include <atomic>
 
-#include "engine/parallel.hpp"
+#include "engine/common/parallel.hpp"
 
 namespace surfdeform {
 

@@ -4,9 +4,9 @@
 // axis convention. The one place the service adds them.
 #pragma once
 
-#include "engine/flatten.hpp"
-#include "engine/placement.hpp"
-#include "engine/subdivide.hpp"
+#include "engine/flatten/flatten.hpp"
+#include "engine/placement/placement.hpp"
+#include "engine/subdivision/subdivide.hpp"
 #include "meshio/mesh_import.hpp"
 #include "service/request_work.hpp"
 #include "service/service_limits.hpp"

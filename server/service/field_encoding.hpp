@@ -10,7 +10,7 @@
 #include <string_view>
 
 #include "base/status.hpp"
-#include "engine/sheet_field.hpp"
+#include "engine/sheet/sheet_field.hpp"
 
 namespace surfdeform {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/mesh_flatten.hpp"
+#include "engine/flatten/mesh_flatten.hpp"
 
 namespace surfdeform {
 namespace {

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "engine/flatten.hpp"
+#include "engine/flatten/flatten.hpp"
 
 namespace surfdeform {
 

@@ -5,8 +5,8 @@
 #include <variant>
 
 #include "base/format.hpp"
-#include "engine/subdivide.hpp"
-#include "engine/surface_distance.hpp"
+#include "engine/distance/surface_distance.hpp"
+#include "engine/subdivision/subdivide.hpp"
 #include "service/memory_budget.hpp"
 
 namespace surfdeform {

@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "base/status.hpp"
-#include "engine/sample_grid.hpp"
+#include "engine/surface/sample_grid.hpp"
 #include "json/bounded_json.hpp"
 #include "meshio/mesh_import.hpp"
 #include "proto/api.hpp"

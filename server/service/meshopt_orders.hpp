@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "base/status.hpp"
-#include "engine/mesh.hpp"
+#include "engine/common/mesh.hpp"
 #include "meshio/mesh_export.hpp"
 #include "service/single_flight_cache.hpp"
 

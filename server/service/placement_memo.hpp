@@ -27,11 +27,11 @@
 #include <utility>
 #include <vector>
 
-#include "engine/deform.hpp"
-#include "engine/geometry_types.hpp"
-#include "engine/placement.hpp"
-#include "engine/sheet_footprint.hpp"
-#include "engine/subdivide.hpp"
+#include "engine/common/geometry_types.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/placement/placement.hpp"
+#include "engine/sheet/sheet_footprint.hpp"
+#include "engine/subdivision/subdivide.hpp"
 #include "service/placement_memo_stats.hpp"
 
 namespace surfdeform {

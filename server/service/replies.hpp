@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "base/status.hpp"
-#include "engine/deform.hpp"
-#include "engine/sheet_field.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/sheet/sheet_field.hpp"
 #include "meshio/animation_glb.hpp"
 #include "meshio/mesh_import.hpp"
 #include "proto/api.hpp"

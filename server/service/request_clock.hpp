@@ -10,7 +10,7 @@
 
 #include "base/cancel_flag.hpp"
 #include "base/status.hpp"
-#include "engine/elapsed.hpp"
+#include "engine/common/elapsed.hpp"
 
 namespace surfdeform {
 

@@ -1,7 +1,7 @@
 #include "service/request_work.hpp"
 
 #include "base/fault_points.hpp"
-#include "engine/elapsed.hpp"
+#include "engine/common/elapsed.hpp"
 #include "json/bounded_json.hpp"
 #include "service/allocator_tuning.hpp"
 #include "service/limit_checks.hpp"

@@ -6,13 +6,13 @@
 #include <chrono>
 #include <functional>
 
-#include "engine/animation.hpp"
-#include "engine/deform.hpp"
-#include "engine/elapsed.hpp"
-#include "engine/parallel.hpp"
-#include "engine/seam_extension.hpp"
-#include "engine/sheet_field.hpp"
-#include "engine/sheet_marks.hpp"
+#include "engine/animation/animation.hpp"
+#include "engine/common/elapsed.hpp"
+#include "engine/common/parallel.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/flatten/seam_extension.hpp"
+#include "engine/sheet/sheet_field.hpp"
+#include "engine/sheet/sheet_marks.hpp"
 #include "meshio/animation_glb.hpp"
 #include "meshio/mesh_import.hpp"
 #include "proto/answer_key.hpp"

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "engine/elapsed.hpp"
+#include "engine/common/elapsed.hpp"
 #include "service/circuit_breaker.hpp"
 
 namespace surfdeform {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "base/status.hpp"
-#include "engine/flatten.hpp"
+#include "engine/flatten/flatten.hpp"
 
 namespace surfdeform {
 

@@ -5,9 +5,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/deform.hpp"
-#include "engine/flatten.hpp"
-#include "engine/subdivide.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/flatten/flatten.hpp"
+#include "engine/subdivision/subdivide.hpp"
 
 namespace surfdeform {
 

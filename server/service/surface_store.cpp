@@ -11,11 +11,11 @@
 #include <type_traits>
 #include <variant>
 
-#include "engine/disk_mesh.hpp"
-#include "engine/elapsed.hpp"
-#include "engine/mesh_flatten.hpp"
-#include "engine/surface_fields.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/common/disk_mesh.hpp"
+#include "engine/common/elapsed.hpp"
+#include "engine/flatten/mesh_flatten.hpp"
+#include "engine/surface/surface_fields.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "json/bounded_json.hpp"
 #include "proto/content_hash.hpp"
 #include "proto/json_object.hpp"

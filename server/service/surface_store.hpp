@@ -17,10 +17,10 @@
 #include <string_view>
 
 #include "base/status.hpp"
-#include "engine/animation.hpp"
-#include "engine/flatten.hpp"
-#include "engine/sheet_map.hpp"
-#include "engine/surface.hpp"
+#include "engine/animation/animation.hpp"
+#include "engine/flatten/flatten.hpp"
+#include "engine/sheet/sheet_map.hpp"
+#include "engine/surface/surface.hpp"
 #include "proto/api.hpp"
 #include "service/admission.hpp"
 #include "service/model_store.hpp"

@@ -10,7 +10,7 @@
 
 #include "base/cancel_flag.hpp"
 #include "base/status.hpp"
-#include "engine/placement_settings.hpp"
+#include "engine/common/placement_settings.hpp"
 #include "meshio/mesh_import.hpp"
 #include "service/font_store.hpp"
 #include "text/text_settings.hpp"

@@ -4,7 +4,7 @@
 #include <numbers>
 #include <variant>
 
-#include "engine/sheet_motion.hpp"
+#include "engine/flatten/sheet_motion.hpp"
 
 namespace surfdeform {
 

@@ -10,9 +10,9 @@
 #include <string>
 #include <string_view>
 
-#include "engine/placement_settings.hpp"
-#include "engine/sheet_motion.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/common/placement_settings.hpp"
+#include "engine/flatten/sheet_motion.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "proto/api.hpp"
 #include "service/surface_store.hpp"
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "base/status.hpp"
-#include "engine/geometry_types.hpp"
+#include "engine/common/geometry_types.hpp"
 #include "text/glyph_outline.hpp"
 
 namespace surfdeform {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "base/status.hpp"
-#include "engine/geometry_types.hpp"
+#include "engine/common/geometry_types.hpp"
 #include "text/font_face.hpp"
 
 namespace surfdeform {

@@ -12,7 +12,7 @@
 
 #include "base/cancel_flag.hpp"
 #include "base/status.hpp"
-#include "engine/mesh.hpp"
+#include "engine/common/mesh.hpp"
 #include "text/font_face.hpp"
 #include "text/text_settings.hpp"
 

@@ -2,6 +2,8 @@
 # The layering of docs/ARCHITECTURE.md, checked on the sources:
 # - the geometry engine (server/engine) includes only itself, server/base,
 #   Eigen and the standard library: no I/O library, JSON or HTTP;
+# - its folders are the pipeline's stages, each including only itself and
+#   the stages before it;
 # - it raises only the geometry codes of base/status.hpp, never the codes of
 #   formats, requests or the service;
 # - base/ includes nothing but itself and the standard library;
@@ -18,6 +20,23 @@ report() { echo "FAIL: $1"; printf '%s\n' "$2" | sed 's/^/  /'; fail=1; }
 
 hits=$(grep -rnE '#include "' "$root/server/engine" | grep -vE '#include "(engine|base)/' || true)
 [[ -z $hits ]] || report "the engine includes a project header outside engine/ and base/" "$hits"
+# The engine's folders are its pipeline's stages, in order; a file includes
+# only its own stage and the stages before it (never a later one), and every
+# source file lives in a stage folder.
+stages=(common surface distance flatten sheet placement subdivision deform animation)
+hits=$(find "$root/server/engine" -maxdepth 1 -type f \( -name '*.cpp' -o -name '*.hpp' \) || true)
+[[ -z $hits ]] || report "an engine source file outside the stage folders" "$hits"
+for dir in "$root"/server/engine/*/; do
+  name=$(basename "$dir")
+  [[ " ${stages[*]} " == *" $name "* ]] || report "server/engine/$name is not a stage" "add it to stages in $0"
+done
+for ((i = 0; i < ${#stages[@]}; ++i)); do
+  later=("${stages[@]:i+1}")
+  ((${#later[@]})) || continue
+  pattern="#include \"engine/($(IFS='|'; echo "${later[*]}"))/"
+  hits=$(grep -rnE "$pattern" "$root/server/engine/${stages[i]}" || true)
+  [[ -z $hits ]] || report "engine/${stages[i]}/ includes a later stage" "$hits"
+done
 hits=$(grep -rnE '#include <(httplib|nlohmann|draco|tiny_gltf|CLI|openssl|fstream|iostream)' \
          "$root/server/engine" || true)
 [[ -z $hits ]] || report "the engine includes an I/O, JSON or HTTP library" "$hits"
@@ -40,7 +59,7 @@ hits=$(grep -rnE '(message|error)\(\)\.(rfind|find|starts_with|compare)\(|field\
 [[ -z $hits ]] || report "a caller decides from an error's text" "$hits"
 hits=$(grep -rnE 'error\.rfind\("|message\.rfind\("' "$root/server" "$root/proto" "$root/client/cli" || true)
 [[ -z $hits ]] || report "a caller decides from an error's text" "$hits"
-vocabulary='(engine/(surface_spec|surface_fields|surface|animation_spec|flatten_settings|placement_settings|sampling_options|subdivision_settings|subdivision_mode|sheet_mark|geometry_types)|meshio/draco_options|text/text_settings)\.hpp'
+vocabulary='(engine/(surface/(surface_spec|surface_fields|surface|sampling_options)|animation/animation_spec|flatten/flatten_settings|common/(placement_settings|geometry_types)|subdivision/(subdivision_settings|subdivision_mode)|sheet/sheet_mark)|meshio/draco_options|text/text_settings)\.hpp'
 hits=$(grep -rnE '#include "(engine|meshio|text)/' "$root/proto" | grep -vE "#include \"$vocabulary\"" || true)
 [[ -z $hits ]] || report "proto includes an engine or meshio header that is not vocabulary" "$hits"
 for header in $(grep -ohE "$vocabulary" -r "$root/proto" | sort -u); do

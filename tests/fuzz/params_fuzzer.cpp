@@ -11,7 +11,7 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "engine/animation.hpp"
+#include "engine/animation/animation.hpp"
 #include "json/bounded_json.hpp"
 #include "proto/api.hpp"
 #include "proto/json_object.hpp"

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "engine/deform.hpp"
+#include "engine/deform/deform.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
 #include "support/surface_file.hpp"

@@ -5,7 +5,7 @@
 #include <memory>
 #include <optional>
 
-#include "engine/deform.hpp"
+#include "engine/deform/deform.hpp"
 
 namespace surfdeform::testing {
 

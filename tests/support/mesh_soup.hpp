@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "engine/geometry_types.hpp"
+#include "engine/common/geometry_types.hpp"
 
 namespace surfdeform::testing {
 

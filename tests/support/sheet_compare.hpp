@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "engine/geometry_types.hpp"
+#include "engine/common/geometry_types.hpp"
 
 namespace surfdeform::testing {
 

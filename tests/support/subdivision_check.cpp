@@ -2,7 +2,7 @@
 
 #include "support/expect_ok.hpp"
 
-#include "engine/sheet_map.hpp"
+#include "engine/sheet/sheet_map.hpp"
 
 namespace surfdeform::testing {
 

@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "engine/placement.hpp"
-#include "engine/subdivide.hpp"
+#include "engine/placement/placement.hpp"
+#include "engine/subdivision/subdivide.hpp"
 #include "support/test_surfaces.hpp"
 
 namespace surfdeform::testing {

@@ -5,8 +5,8 @@
 #include <memory>
 #include <optional>
 
-#include "engine/placement.hpp"
-#include "engine/sheet_map.hpp"
+#include "engine/placement/placement.hpp"
+#include "engine/sheet/sheet_map.hpp"
 #include "engine/subdivision/assembly.hpp"
 #include "engine/subdivision/screen.hpp"
 #include "support/test_surfaces.hpp"

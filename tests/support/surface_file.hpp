@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "engine/surface_spec.hpp"
+#include "engine/surface/surface_spec.hpp"
 
 namespace surfdeform::testing {
 

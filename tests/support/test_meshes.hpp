@@ -3,8 +3,8 @@
 
 #include <string>
 
-#include "engine/mesh.hpp"
-#include "engine/placement.hpp"
+#include "engine/common/mesh.hpp"
+#include "engine/placement/placement.hpp"
 
 namespace surfdeform::testing {
 

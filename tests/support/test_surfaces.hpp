@@ -4,8 +4,8 @@
 #include <memory>
 #include <vector>
 
-#include "engine/flatten.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/flatten/flatten.hpp"
+#include "engine/surface/surface_spec.hpp"
 
 namespace surfdeform::testing {
 

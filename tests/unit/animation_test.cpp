@@ -1,13 +1,13 @@
 // Animated surfaces: keyframe validation and interpolation, the warm-started
 // sequence of sheets, and a model deformed through every frame.
-#include "engine/animation.hpp"
+#include "engine/animation/animation.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "engine/deform.hpp"
+#include "engine/deform/deform.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"
 #include "support/test_surfaces.hpp"

@@ -1,4 +1,4 @@
-#include "engine/bspline_basis.hpp"
+#include "engine/surface/bspline_basis.hpp"
 
 #include <gtest/gtest.h>
 

@@ -8,11 +8,11 @@
 
 #include <Eigen/Geometry>
 
-#include "engine/animation.hpp"
-#include "engine/deform.hpp"
-#include "engine/seam_extension.hpp"
-#include "engine/sheet_map.hpp"
-#include "engine/sheet_marks.hpp"
+#include "engine/animation/animation.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/flatten/seam_extension.hpp"
+#include "engine/sheet/sheet_map.hpp"
+#include "engine/sheet/sheet_marks.hpp"
 #include "support/test_meshes.hpp"
 #include "support/test_surfaces.hpp"
 

@@ -1,12 +1,12 @@
 // Deformation onto surfaces: analytic cases, invariants, options.
-#include "engine/deform.hpp"
+#include "engine/deform/deform.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "engine/surface_spec.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"
 #include "support/test_surfaces.hpp"

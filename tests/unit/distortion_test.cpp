@@ -1,7 +1,7 @@
 // The distortion map of a deformation: analytic cases (a cylinder unrolls
 // isometrically; off the mid surface lengths across it scale as the radius),
 // finite differences of the map on a Bezier patch, and its statistics.
-#include "engine/distortion.hpp"
+#include "engine/deform/distortion.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "engine/deform.hpp"
-#include "engine/sheet_map.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/sheet/sheet_map.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"
 #include "support/test_surfaces.hpp"

@@ -4,9 +4,9 @@
 
 #include <set>
 
-#include "engine/flatten.hpp"
-#include "engine/placement.hpp"
-#include "engine/subdivide.hpp"
+#include "engine/flatten/flatten.hpp"
+#include "engine/placement/placement.hpp"
+#include "engine/subdivision/subdivide.hpp"
 #include "proto/api.hpp"
 #include "proto/json_object.hpp"
 

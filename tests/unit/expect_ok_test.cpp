@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "base/status.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/test_surfaces.hpp"
 
 namespace surfdeform {

@@ -1,5 +1,5 @@
 // The constrained Delaunay triangulation of one face.
-#include "engine/face_triangulation.hpp"
+#include "engine/subdivision/face_triangulation.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "engine/flat_locator.hpp"
+#include "engine/sheet/flat_locator.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <numbers>
 #include <random>
 
-#include "engine/clamped_floor.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/common/clamped_floor.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_surfaces.hpp"
 

@@ -1,7 +1,7 @@
 // Quality measures and the canonical frame, on hand-made layouts.
 #include <gtest/gtest.h>
 
-#include "engine/flatten_solvers.hpp"
+#include "engine/flatten/flatten_solvers.hpp"
 
 namespace surfdeform::internal {
 namespace {

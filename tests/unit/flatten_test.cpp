@@ -1,5 +1,5 @@
 // Flattening: isometry on developable surfaces, the paper's baseline, reuse.
-#include "engine/flatten.hpp"
+#include "engine/flatten/flatten.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "engine/surface_spec.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/sheet_compare.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_surfaces.hpp"

@@ -4,8 +4,8 @@
 
 #include <limits>
 
-#include "engine/deform.hpp"
-#include "engine/mesh.hpp"
+#include "engine/common/mesh.hpp"
+#include "engine/deform/deform.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
 #include "support/test_meshes.hpp"

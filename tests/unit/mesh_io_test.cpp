@@ -12,8 +12,8 @@
 
 #include <unistd.h>
 
-#include "engine/deform.hpp"
-#include "engine/rigid_parts.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/deform/rigid_parts.hpp"
 #include "meshio/mesh_export.hpp"
 #include "meshio/mesh_import.hpp"
 #include "support/surface_file.hpp"

@@ -7,14 +7,14 @@
 #include <numbers>
 #include <random>
 
-#include "engine/animation.hpp"
-#include "engine/deform.hpp"
-#include "engine/disk_mesh.hpp"
-#include "engine/mesh_flatten.hpp"
-#include "engine/mesh_surface.hpp"
-#include "engine/sheet_map.hpp"
-#include "engine/sheet_motion.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/animation/animation.hpp"
+#include "engine/common/disk_mesh.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/flatten/mesh_flatten.hpp"
+#include "engine/flatten/sheet_motion.hpp"
+#include "engine/sheet/sheet_map.hpp"
+#include "engine/surface/mesh_surface.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/mesh_soup.hpp"
 #include "support/sheet_compare.hpp"
 #include "support/surface_file.hpp"

@@ -1,13 +1,13 @@
 // Rigid parts: a word of box glyphs on a cylinder keeps each glyph's shape
 // while the glyphs follow the wrap; components and groups; the corners' lift.
-#include "engine/rigid_parts.hpp"
+#include "engine/deform/rigid_parts.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "engine/deform.hpp"
+#include "engine/deform/deform.hpp"
 #include "support/test_meshes.hpp"
 #include "support/test_surfaces.hpp"
 

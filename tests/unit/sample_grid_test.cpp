@@ -1,8 +1,8 @@
-#include "engine/sample_grid.hpp"
+#include "engine/surface/sample_grid.hpp"
 
 #include <gtest/gtest.h>
 
-#include "engine/surface_spec.hpp"
+#include "engine/surface/surface_spec.hpp"
 
 namespace surfdeform {
 namespace {

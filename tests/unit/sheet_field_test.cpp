@@ -3,7 +3,7 @@
 // radial normals, lattice points on the sheet carry exactly SheetMap's
 // values, points off a cone's curved sheet are flagged and continue the map
 // smoothly, and the result does not depend on the threads.
-#include "engine/sheet_field.hpp"
+#include "engine/sheet/sheet_field.hpp"
 
 #include <gtest/gtest.h>
 

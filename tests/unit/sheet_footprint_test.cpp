@@ -1,13 +1,13 @@
 // A model's footprint on a sheet, recorded by one deformation and given to
 // the next: the same result, bit for bit, in every mode of the map.
-#include "engine/sheet_footprint.hpp"
+#include "engine/sheet/sheet_footprint.hpp"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "engine/deform.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/given_memo.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"

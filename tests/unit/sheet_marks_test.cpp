@@ -1,7 +1,7 @@
 // Marks between sheet and surface: analytic cases (a plane maps to itself, a
 // cylinder as its closed form), sheet -> surface -> sheet round trips to
 // 1e-9, and polylines resampled to the tolerance.
-#include "engine/sheet_marks.hpp"
+#include "engine/sheet/sheet_marks.hpp"
 
 #include <gtest/gtest.h>
 

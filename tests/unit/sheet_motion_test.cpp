@@ -1,13 +1,13 @@
 // The rigid motion between two flat sheets (engine/sheet_motion.hpp).
-#include "engine/sheet_motion.hpp"
+#include "engine/flatten/sheet_motion.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "engine/flatten.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/flatten/flatten.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_surfaces.hpp"
 

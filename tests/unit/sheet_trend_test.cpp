@@ -1,14 +1,14 @@
 // A live edit's solve started ahead along the edit before it
 // (engine/sheet_trend.hpp).
-#include "engine/sheet_trend.hpp"
+#include "engine/flatten/sheet_trend.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "engine/flatten.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/flatten/flatten.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_surfaces.hpp"
 

@@ -1,5 +1,5 @@
 // Subdivision: the paper's edge and face points, the tolerance, conformity.
-#include "engine/subdivide.hpp"
+#include "engine/subdivision/subdivide.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,10 +8,10 @@
 #include <numbers>
 #include <random>
 
-#include "engine/deform.hpp"
-#include "engine/placement.hpp"
-#include "engine/sheet_map.hpp"
-#include "engine/surface_spec.hpp"
+#include "engine/deform/deform.hpp"
+#include "engine/placement/placement.hpp"
+#include "engine/sheet/sheet_map.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/subdivision_check.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"

@@ -1,11 +1,11 @@
 // Surface distances d_ij against closed forms.
-#include "engine/surface_distance.hpp"
+#include "engine/distance/surface_distance.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "engine/surface_spec.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/test_surfaces.hpp"
 
 namespace surfdeform {

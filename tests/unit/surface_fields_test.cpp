@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/surface_fields.hpp"
+#include "engine/surface/surface_fields.hpp"
 #include "proto/api.hpp"
 #include "proto/json_object.hpp"
 #include "proto/surface_json.hpp"

@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-#include "engine/mesh_flatten.hpp"
+#include "engine/flatten/mesh_flatten.hpp"
 #include "proto/api.hpp"
 #include "service/sheet_codec.hpp"
 #include "support/redis_process.hpp"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/surface_spec.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_surfaces.hpp"
 

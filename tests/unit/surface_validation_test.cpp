@@ -5,7 +5,7 @@
 #include <ostream>
 #include <string>
 
-#include "engine/surface_spec.hpp"
+#include "engine/surface/surface_spec.hpp"
 
 namespace surfdeform {
 namespace {

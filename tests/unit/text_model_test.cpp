@@ -17,7 +17,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "engine/deform.hpp"
+#include "engine/deform/deform.hpp"
 #include "service/builtin_fonts.hpp"
 #include "support/test_meshes.hpp"
 #include "support/test_surfaces.hpp"

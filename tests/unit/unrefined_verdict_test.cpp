@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "engine/deform.hpp"
+#include "engine/deform/deform.hpp"
 #include "support/given_memo.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"

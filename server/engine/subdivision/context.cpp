@@ -4,8 +4,8 @@
 #include <string>
 
 #include "base/format.hpp"
-#include "engine/elapsed.hpp"
-#include "engine/parallel.hpp"
+#include "engine/common/elapsed.hpp"
+#include "engine/common/parallel.hpp"
 #include "engine/subdivision/work_estimate.hpp"
 
 namespace surfdeform::subdivision {

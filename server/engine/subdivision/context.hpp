@@ -13,11 +13,11 @@
 #include <vector>
 
 #include "base/status.hpp"
-#include "engine/elapsed.hpp"
-#include "engine/mesh.hpp"
-#include "engine/sheet_map.hpp"
-#include "engine/subdivide.hpp"
+#include "engine/common/elapsed.hpp"
+#include "engine/common/mesh.hpp"
+#include "engine/sheet/sheet_map.hpp"
 #include "engine/subdivision/ids.hpp"
+#include "engine/subdivision/subdivide.hpp"
 
 namespace surfdeform::subdivision {
 

@@ -11,7 +11,7 @@
 #include <array>
 #include <vector>
 
-#include "engine/mesh.hpp"
+#include "engine/common/mesh.hpp"
 #include "engine/subdivision/ids.hpp"
 
 namespace surfdeform::subdivision {

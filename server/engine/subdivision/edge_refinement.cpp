@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "engine/parallel.hpp"
+#include "engine/common/parallel.hpp"
 
 namespace surfdeform::subdivision {
 namespace {

@@ -5,7 +5,7 @@
 #include <queue>
 #include <tuple>
 
-#include "engine/parallel.hpp"
+#include "engine/common/parallel.hpp"
 #include "engine/subdivision/triangle_deviation.hpp"
 
 namespace surfdeform::subdivision {

@@ -11,9 +11,9 @@
 
 #include <optional>
 
-#include "engine/face_triangulation.hpp"
 #include "engine/subdivision/cell_estimates.hpp"
 #include "engine/subdivision/edge_refinement.hpp"
+#include "engine/subdivision/face_triangulation.hpp"
 #include "engine/subdivision/grid_marking.hpp"
 
 namespace surfdeform::subdivision {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/parallel.hpp"
+#include "engine/common/parallel.hpp"
 #include "engine/subdivision/target_edges.hpp"
 
 namespace surfdeform::subdivision {

@@ -24,10 +24,10 @@
 
 #include <vector>
 
-#include "engine/grid_points.hpp"
 #include "engine/subdivision/cell_estimates.hpp"
 #include "engine/subdivision/context.hpp"
 #include "engine/subdivision/edge_graph.hpp"
+#include "engine/subdivision/grid_points.hpp"
 
 namespace surfdeform::subdivision {
 

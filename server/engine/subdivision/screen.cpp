@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "engine/grid_points.hpp"
-#include "engine/parallel.hpp"
+#include "engine/common/parallel.hpp"
+#include "engine/subdivision/grid_points.hpp"
 
 namespace surfdeform::subdivision {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/clamped_floor.hpp"
+#include "engine/common/clamped_floor.hpp"
 
 namespace surfdeform::subdivision {
 namespace {

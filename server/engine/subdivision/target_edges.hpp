@@ -19,10 +19,10 @@
 #include <span>
 #include <vector>
 
-#include "engine/geometry_types.hpp"
-#include "engine/grid_points.hpp"
-#include "engine/mesh_flatten.hpp"
-#include "engine/uniform_buckets.hpp"
+#include "engine/common/geometry_types.hpp"
+#include "engine/common/uniform_buckets.hpp"
+#include "engine/flatten/mesh_flatten.hpp"
+#include "engine/subdivision/grid_points.hpp"
 
 namespace surfdeform::subdivision {
 

@@ -1,7 +1,7 @@
 #include "engine/subdivision/vertex_location.hpp"
 
-#include "engine/parallel.hpp"
-#include "engine/surface_batch.hpp"
+#include "engine/common/parallel.hpp"
+#include "engine/surface/surface_batch.hpp"
 
 namespace surfdeform::subdivision {
 namespace {

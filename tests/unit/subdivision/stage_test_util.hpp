@@ -1,7 +1,7 @@
 // Small helpers shared by the subdivision's stage tests.
 #pragma once
 
-#include "engine/surface_spec.hpp"
+#include "engine/surface/surface_spec.hpp"
 #include "support/subdivision_stages.hpp"
 #include "support/surface_file.hpp"
 #include "support/test_meshes.hpp"

@@ -10,8 +10,8 @@
 #include <numbers>
 #include <random>
 
-#include "engine/disk_mesh.hpp"
-#include "engine/mesh_surface.hpp"
+#include "engine/common/disk_mesh.hpp"
+#include "engine/surface/mesh_surface.hpp"
 #include "support/mesh_soup.hpp"
 #include "support/subdivision_check.hpp"
 #include "support/test_meshes.hpp"
