@@ -54,7 +54,8 @@ for (let r = 0; r < runs; ++r) {
   for (let k = 0; k < ours.length; ++k) worst = Math.max(worst, Math.abs(ours[k] - theirs[k]));
 }
 const median = (xs) => [...xs].sort((a, b) => a - b)[xs.length >> 1];
-const ours = median(times.ours), three = median(times.three);
+const ours = median(times.ours),
+  three = median(times.three);
 console.log(`${index.length / 3} triangles, ${n} vertices, ${runs} runs (medians)`);
 console.log(`normals.js (16-bit, stride 4): ${ours.toFixed(1)} ms`);
 console.log(`three.js computeVertexNormals (float32): ${three.toFixed(1)} ms`);

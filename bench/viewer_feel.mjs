@@ -39,9 +39,17 @@ function millionTriangles(format) {
 const { startServer } = await import(path.join(here, '../tests/browser/start_server.mjs'));
 const { server, port } = await startServer(serverBin);
 const browser = await puppeteer.launch({
-  browser: 'chrome', executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-         '--no-first-run', '--disable-background-networking'],
+  browser: 'chrome',
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  headless: true,
+  args: [
+    '--no-sandbox',
+    '--disable-gpu',
+    '--use-angle=swiftshader',
+    '--enable-unsafe-swiftshader',
+    '--no-first-run',
+    '--disable-background-networking',
+  ],
   protocolTimeout: 600000,
 });
 const results = [];
@@ -62,9 +70,15 @@ try {
       let shown = '';
       if (v) {
         const u = v.preview.uniforms;
-        shown = [u.sdTarget.value.x, u.sdTarget.value.y, u.sdScale.value, u.sdRotation.value.x,
-                 u.sdFieldP.value && u.sdFieldP.value.uuid, v.preview.mesh.visible,
-                 v.state.lastExact && v.state.lastExact.done_at].join();
+        shown = [
+          u.sdTarget.value.x,
+          u.sdTarget.value.y,
+          u.sdScale.value,
+          u.sdRotation.value.x,
+          u.sdFieldP.value && u.sdFieldP.value.uuid,
+          v.preview.mesh.visible,
+          v.state.lastExact && v.state.lastExact.done_at,
+        ].join();
       }
       window.feel.frames.push([performance.now(), shown, v ? v.framesDrawn() : 0]);
     };
@@ -73,30 +87,41 @@ try {
       requestAnimationFrame(loop);
     };
     requestAnimationFrame(loop);
-    window.addEventListener('pointermove', (e) => window.feel.waits.push(performance.now() - e.timeStamp),
-                            true);
+    window.addEventListener('pointermove', (e) => window.feel.waits.push(performance.now() - e.timeStamp), true);
   });
-  const ready = (what) => page.waitForFunction(() => document.body.dataset.state === 'ready',
-                                               { timeout: 600000 }).catch(() => {
-    throw new Error(`${what}: the page did not settle`);
-  });
-  const reset = () => page.evaluate(() => { window.feel.frames = []; window.feel.waits = []; });
+  const ready = (what) =>
+    page
+      .waitForFunction(() => document.body.dataset.state === 'ready', { timeout: 600000 })
+      .catch(() => {
+        throw new Error(`${what}: the page did not settle`);
+      });
+  const reset = () =>
+    page.evaluate(() => {
+      window.feel.frames = [];
+      window.feel.waits = [];
+    });
   // Frames drawn per second, and the share of them that showed the model
   // moved (from the display frame before each drawn one).
-  const collect = () => page.evaluate(() => {
-    const f = window.feel.frames;
-    let moved = 0, drawn = 0;
-    for (let k = 1; k < f.length; ++k) {
-      if (f[k][2] === f[k - 1][2]) continue;
-      drawn += f[k][2] - f[k - 1][2];
-      moved += f[k][1] !== f[k - 1][1];
-    }
-    const span = f.length > 1 ? (f[f.length - 1][0] - f[0][0]) / 1000 : 0;
-    const w = [...window.feel.waits].sort((a, b) => a - b);
-    return { fps: span ? drawn / span : 0, moved: drawn ? moved / drawn : 0,
-             wait_median: w.length ? w[Math.floor(w.length / 2)] : 0,
-             wait_p95: w.length ? w[Math.floor(0.95 * (w.length - 1))] : 0, moves: w.length };
-  });
+  const collect = () =>
+    page.evaluate(() => {
+      const f = window.feel.frames;
+      let moved = 0,
+        drawn = 0;
+      for (let k = 1; k < f.length; ++k) {
+        if (f[k][2] === f[k - 1][2]) continue;
+        drawn += f[k][2] - f[k - 1][2];
+        moved += f[k][1] !== f[k - 1][1];
+      }
+      const span = f.length > 1 ? (f[f.length - 1][0] - f[0][0]) / 1000 : 0;
+      const w = [...window.feel.waits].sort((a, b) => a - b);
+      return {
+        fps: span ? drawn / span : 0,
+        moved: drawn ? moved / drawn : 0,
+        wait_median: w.length ? w[Math.floor(w.length / 2)] : 0,
+        wait_p95: w.length ? w[Math.floor(0.95 * (w.length - 1))] : 0,
+        moves: w.length,
+      };
+    });
   // Pointer moves every 16 ms (or as fast as the page takes them) for the
   // phase's length, along `path(t)`; then the release, and the time until
   // the exact result is on screen.
@@ -120,19 +145,28 @@ try {
     await ready('after the release');
     const exact = await page.evaluate(() => window.surfdeformViewer.state.lastExact);
     // On screen: the end of the first frame the view drew with it.
-    await page.waitForFunction((t) => {
-      const f = window.feel.frames;
-      return f.length > 1 && f[f.length - 1][0] > t && f[f.length - 1][2] > f.findLast((e) => e[0] <= t)[2];
-    }, { timeout: 60000 }, exact.done_at);
+    await page.waitForFunction(
+      (t) => {
+        const f = window.feel.frames;
+        return f.length > 1 && f[f.length - 1][0] > t && f[f.length - 1][2] > f.findLast((e) => e[0] <= t)[2];
+      },
+      { timeout: 60000 },
+      exact.done_at,
+    );
     const shown_at = await page.evaluate((t) => {
       const f = window.feel.frames;
       const before = f.findLast((e) => e[0] <= t)[2];
       return f.find((e) => e[0] > t && e[2] > before)[0];
     }, exact.done_at);
     // The page's marks since the release (app.js), ms after it.
-    const marks = await page.evaluate((t) => performance.getEntriesByType('mark')
-      .filter((m) => m.startTime >= t).map((m) => `${m.name.replace('surfdeform:', '')} +${Math.round(m.startTime - t)}`),
-    released);
+    const marks = await page.evaluate(
+      (t) =>
+        performance
+          .getEntriesByType('mark')
+          .filter((m) => m.startTime >= t)
+          .map((m) => `${m.name.replace('surfdeform:', '')} +${Math.round(m.startTime - t)}`),
+      released,
+    );
     return { ...during, release_ms: shown_at - released, exact, marks };
   };
 
@@ -143,7 +177,8 @@ try {
   writeFileSync(big.ply, millionTriangles('ply'));
   writeFileSync(big.stl, millionTriangles('stl'));
   for (const model of modelsArg.split(',')) {
-    if (model === 'bunny' || model === 'word') {  // samples
+    if (model === 'bunny' || model === 'word') {
+      // samples
       await page.select('#sample', model);
     } else {
       await (await page.$('#upload')).uploadFile(model === 'relief-1m-stl' ? big.stl : big.ply);
@@ -163,8 +198,10 @@ try {
     // The baseline: the view orbited (dragged where no control point is),
     // a frame drawn at every pointer move and nothing else to do.
     const view = await (await page.$('#view3d')).boundingBox();
-    const idle = await hold([view.x + 0.06 * view.width, view.y + 0.94 * view.height],
-                            (t) => [40 * Math.sin(2 * t), 0]);
+    const idle = await hold([view.x + 0.06 * view.width, view.y + 0.94 * view.height], (t) => [
+      40 * Math.sin(2 * t),
+      0,
+    ]);
     await page.mouse.up();
     const box = await (await page.$('#sheet')).boundingBox();
     const centre = [box.x + box.width / 2, box.y + box.height / 2];
@@ -173,20 +210,27 @@ try {
     const handle = await page.evaluate(() => window.surfdeformViewer.handlePoint(5));
     const control = await drag(handle, (t) => [0, -40 * Math.sin(2 * t)]);
     results.push({ model, triangles, still, idle, footprint, control });
-    const line = (name, d) => `  ${name.padEnd(18)} ${d.fps.toFixed(1).padStart(5)} fps ` +
+    const line = (name, d) =>
+      `  ${name.padEnd(18)} ${d.fps.toFixed(1).padStart(5)} fps ` +
       `(${(d.fps / idle.fps).toFixed(2)} of orbiting), model moved in ${(100 * d.moved).toFixed(0)}% of frames, ` +
       `pointer wait median ${d.wait_median.toFixed(0)} ms, p95 ${d.wait_p95.toFixed(0)} ms` +
-      (d.exact ? `; release to exact ${d.release_ms.toFixed(0)} ms = ` +
-        `${(d.release_ms / (d.exact.server_ms + d.exact.decode_ms)).toFixed(2)}x (server ` +
-        `${d.exact.server_ms.toFixed(0)} ms + decode ${d.exact.decode_ms.toFixed(0)} ms)` : '');
+      (d.exact
+        ? `; release to exact ${d.release_ms.toFixed(0)} ms = ` +
+          `${(d.release_ms / (d.exact.server_ms + d.exact.decode_ms)).toFixed(2)}x (server ` +
+          `${d.exact.server_ms.toFixed(0)} ms + decode ${d.exact.decode_ms.toFixed(0)} ms)`
+        : '');
     console.log(`${model} (${triangles} triangles shown exact)`);
     console.log(`  idle               ${still.fps.toFixed(1).padStart(5)} frames drawn a second`);
-    console.log(`  orbiting the view  ${idle.fps.toFixed(1).padStart(5)} fps, pointer wait median ` +
-                `${idle.wait_median.toFixed(0)} ms`);
+    console.log(
+      `  orbiting the view  ${idle.fps.toFixed(1).padStart(5)} fps, pointer wait median ` +
+        `${idle.wait_median.toFixed(0)} ms`,
+    );
     console.log(line('footprint drag', footprint));
     console.log(line('control-point drag', control));
     console.log(`  live surfaces during the control-point drag: ${JSON.stringify(control.live)}`);
-    console.log(`  after the releases: footprint ${footprint.marks.join(', ')}; control point ${control.marks.join(', ')}`);
+    console.log(
+      `  after the releases: footprint ${footprint.marks.join(', ')}; control point ${control.marks.join(', ')}`,
+    );
   }
   console.log(JSON.stringify(results));
 } finally {

@@ -89,4 +89,5 @@ if [[ $build_only != 1 ]]; then
   npm_ci tests/k8s kubernetes-models
   npm_ci tests/fonts wawoff2  # WOFF2 files for the font upload test (Google's encoder)
   npm_ci bench/text_peer opentype.js  # the text benchmark's peer (opentype.js + earcut)
+  npm_ci tests/lint prettier  # ESLint and Prettier (scripts/lint_js.sh)
 fi

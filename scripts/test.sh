@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds and runs the whole test suite: formatting; the release build (GCC)
+# Builds and runs the whole test suite: formatting (clang-format; ESLint and
+# Prettier for the JavaScript); the release build (GCC)
 # with warnings as errors; one clang build under AddressSanitizer +
 # UndefinedBehaviorSanitizer for the unit tests, the integration, CLI and
 # failover tests against the sanitized server, and the fuzzers; a
@@ -18,6 +19,8 @@ stage() { printf '== %s (at %dm%02ds)\n' "$*" $((SECONDS / 60)) $((SECONDS % 60)
 stage "clang-format"
 mapfile -t sources < <(git ls-files -co --exclude-standard '*.cpp' '*.hpp')
 clang-format --dry-run -Werror "${sources[@]}"
+stage "ESLint and Prettier (the viewer, the JavaScript tests and benchmarks)"
+bash scripts/lint_js.sh
 
 stage "release build"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSURFDEFORM_WERROR=ON \

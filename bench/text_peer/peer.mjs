@@ -12,7 +12,9 @@ import opentype from 'opentype.js';
 import earcut from 'earcut';
 
 const [fontPath, tolerance, size, repeat, ...texts] = process.argv.slice(2);
-const tol = Number(tolerance), em = Number(size), runs = Number(repeat);
+const tol = Number(tolerance),
+  em = Number(size),
+  runs = Number(repeat);
 const bytes = readFileSync(fontPath);
 const buffer = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
 
@@ -23,7 +25,9 @@ function pieces(bound) {
 // A glyph's path as closed contours of [x, y] points.
 function contours(path) {
   const out = [];
-  let cur = null, x = 0, y = 0;
+  let cur = null,
+    x = 0,
+    y = 0;
   for (const c of path.commands) {
     if (c.type === 'M') {
       cur = [[c.x, c.y]];
@@ -33,17 +37,23 @@ function contours(path) {
     } else if (c.type === 'Q') {
       const n = pieces(2 * Math.hypot(x - 2 * c.x1 + c.x, y - 2 * c.y1 + c.y));
       for (let k = 1; k <= n; ++k) {
-        const t = k / n, s = 1 - t;
+        const t = k / n,
+          s = 1 - t;
         cur.push([s * s * x + 2 * s * t * c.x1 + t * t * c.x, s * s * y + 2 * s * t * c.y1 + t * t * c.y]);
       }
     } else if (c.type === 'C') {
-      const m = Math.max(Math.hypot(x - 2 * c.x1 + c.x2, y - 2 * c.y1 + c.y2),
-                         Math.hypot(c.x1 - 2 * c.x2 + c.x, c.y1 - 2 * c.y2 + c.y));
+      const m = Math.max(
+        Math.hypot(x - 2 * c.x1 + c.x2, y - 2 * c.y1 + c.y2),
+        Math.hypot(c.x1 - 2 * c.x2 + c.x, c.y1 - 2 * c.y2 + c.y),
+      );
       const n = pieces(6 * m);
       for (let k = 1; k <= n; ++k) {
-        const t = k / n, s = 1 - t;
-        cur.push([s * s * s * x + 3 * s * s * t * c.x1 + 3 * s * t * t * c.x2 + t * t * t * c.x,
-                  s * s * s * y + 3 * s * s * t * c.y1 + 3 * s * t * t * c.y2 + t * t * t * c.y]);
+        const t = k / n,
+          s = 1 - t;
+        cur.push([
+          s * s * s * x + 3 * s * s * t * c.x1 + 3 * s * t * t * c.x2 + t * t * t * c.x,
+          s * s * s * y + 3 * s * s * t * c.y1 + 3 * s * t * t * c.y2 + t * t * t * c.y,
+        ]);
       }
     } else if (c.type === 'Z') {
       if (cur && cur.length > 1) {
@@ -52,7 +62,10 @@ function contours(path) {
       }
       continue;
     }
-    if (c.type !== 'Z') { x = c.x; y = c.y; }
+    if (c.type !== 'Z') {
+      x = c.x;
+      y = c.y;
+    }
   }
   return out.filter((r) => r.length >= 3);
 }
@@ -65,8 +78,11 @@ const area = (r) => {
 const inside = (p, r) => {
   let c = false;
   for (let i = 0, j = r.length - 1; i < r.length; j = i++) {
-    if ((r[i][1] > p[1]) !== (r[j][1] > p[1]) &&
-        p[0] < ((r[j][0] - r[i][0]) * (p[1] - r[i][1])) / (r[j][1] - r[i][1]) + r[i][0]) c = !c;
+    if (
+      r[i][1] > p[1] !== r[j][1] > p[1] &&
+      p[0] < ((r[j][0] - r[i][0]) * (p[1] - r[i][1])) / (r[j][1] - r[i][1]) + r[i][0]
+    )
+      c = !c;
   }
   return c;
 };
@@ -83,27 +99,33 @@ function solid(rings, depth, mesh) {
     if (o) o.holes.push(h);
   }
   for (const { r, holes } of outers) {
-    const flat = [], holeIndex = [];
+    const flat = [],
+      holeIndex = [];
     for (const p of r) flat.push(p[0], p[1]);
     for (const h of holes) {
       holeIndex.push(flat.length / 2);
       for (const p of h) flat.push(p[0], p[1]);
     }
     const tri = earcut(flat, holeIndex);
-    const n = flat.length / 2, base = mesh.positions.length / 3;
+    const n = flat.length / 2,
+      base = mesh.positions.length / 3;
     for (let k = 0; k < n; ++k) mesh.positions.push(flat[2 * k], flat[2 * k + 1], depth);
     for (let k = 0; k < n; ++k) mesh.positions.push(flat[2 * k], flat[2 * k + 1], 0);
     for (let k = 0; k < tri.length; k += 3) {
       mesh.triangles.push(base + tri[k], base + tri[k + 1], base + tri[k + 2]);
       mesh.triangles.push(base + n + tri[k], base + n + tri[k + 2], base + n + tri[k + 1]);
     }
-    const loops = [[0, r.length], ...holes.map((h, i) => {
-      const start = holeIndex[i];
-      return [start, start + h.length];
-    })];
+    const loops = [
+      [0, r.length],
+      ...holes.map((h, i) => {
+        const start = holeIndex[i];
+        return [start, start + h.length];
+      }),
+    ];
     for (const [s, e] of loops) {
       for (let k = s; k < e; ++k) {
-        const a = base + k, b = base + (k + 1 < e ? k + 1 : s);
+        const a = base + k,
+          b = base + (k + 1 < e ? k + 1 : s);
         mesh.triangles.push(a + n, b + n, b, a + n, b, a);
       }
     }
@@ -123,7 +145,7 @@ const t0 = performance.now();
 const font = opentype.parse(buffer);
 const openMs = performance.now() - t0;
 const results = texts.map((text) => {
-  for (let k = 0; k < 5; ++k) make(font, text);  // the JIT warm
+  for (let k = 0; k < 5; ++k) make(font, text); // the JIT warm
   const times = [];
   let made = null;
   for (let k = 0; k < runs; ++k) {

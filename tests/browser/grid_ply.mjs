@@ -6,15 +6,18 @@
 // Grid point (i, j): [x, y, height(x, y)].
 function gridPoint(n, x0, y0, size, height) {
   return (i, j) => {
-    const x = x0 + (size * i) / (n - 1), y = y0 + (size * j) / (n - 1);
+    const x = x0 + (size * i) / (n - 1),
+      y = y0 + (size * j) / (n - 1);
     return [x, y, height(x, y)];
   };
 }
 
 export function gridPly(n, x0, y0, size, height) {
   const point = gridPoint(n, x0, y0, size, height);
-  const verts = n * n, tris = 2 * (n - 1) * (n - 1);
-  const header = `ply\nformat binary_little_endian 1.0\nelement vertex ${verts}\n` +
+  const verts = n * n,
+    tris = 2 * (n - 1) * (n - 1);
+  const header =
+    `ply\nformat binary_little_endian 1.0\nelement vertex ${verts}\n` +
     'property float x\nproperty float y\nproperty float z\n' +
     `element face ${tris}\nproperty list uchar int vertex_indices\nend_header\n`;
   const body = Buffer.alloc(12 * verts + 13 * tris);
@@ -29,8 +32,14 @@ export function gridPly(n, x0, y0, size, height) {
   }
   for (let j = 0; j + 1 < n; ++j) {
     for (let i = 0; i + 1 < n; ++i) {
-      const a = i + n * j, b = a + 1, c = a + n + 1, d = a + n;
-      for (const [p, q, r] of [[a, b, c], [a, c, d]]) {
+      const a = i + n * j,
+        b = a + 1,
+        c = a + n + 1,
+        d = a + n;
+      for (const [p, q, r] of [
+        [a, b, c],
+        [a, c, d],
+      ]) {
         body.writeUInt8(3, o);
         body.writeInt32LE(p, o + 1);
         body.writeInt32LE(q, o + 5);
@@ -50,10 +59,20 @@ export function gridStl(n, x0, y0, size, height) {
   let o = 84;
   for (let j = 0; j + 1 < n; ++j) {
     for (let i = 0; i + 1 < n; ++i) {
-      const a = point(i, j), b = point(i + 1, j), c = point(i + 1, j + 1), d = point(i, j + 1);
-      for (const corners of [[a, b, c], [a, c, d]]) {
-        o += 12;  // the facet normal: zero, readers compute it
-        for (const q of corners) for (const x of q) { body.writeFloatLE(x, o); o += 4; }
+      const a = point(i, j),
+        b = point(i + 1, j),
+        c = point(i + 1, j + 1),
+        d = point(i, j + 1);
+      for (const corners of [
+        [a, b, c],
+        [a, c, d],
+      ]) {
+        o += 12; // the facet normal: zero, readers compute it
+        for (const q of corners)
+          for (const x of q) {
+            body.writeFloatLE(x, o);
+            o += 4;
+          }
         o += 2;
       }
     }

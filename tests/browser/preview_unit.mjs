@@ -9,20 +9,34 @@
 import assert from 'node:assert/strict';
 // The client's own three.js (the module its files import as 'three').
 import * as THREE from '../../client/web/node_modules/three/build/three.module.js';
-import { footprint, mergedGeometry, placementFrame, positionsOf,
-         readModel } from '../../client/web/public/footprint.js';
+import {
+  footprint,
+  mergedGeometry,
+  placementFrame,
+  positionsOf,
+  readModel,
+} from '../../client/web/public/footprint.js';
 import { sampleField, sampleParams } from '../../client/web/public/preview.js';
 import { MeshoptEncoder } from '../../client/web/node_modules/meshoptimizer/meshopt_encoder.js';
 import { MeshoptSimplifier } from '../../client/web/node_modules/meshoptimizer/meshopt_simplifier.js';
-import { kPreviewError, kPreviewMinTriangles, orderForVertexCache, previewMesh, simplifyTriangles,
-         weldTriangles } from '../../client/web/public/preview_mesh.js';
+import {
+  kPreviewError,
+  kPreviewMinTriangles,
+  orderForVertexCache,
+  previewMesh,
+  simplifyTriangles,
+  weldTriangles,
+} from '../../client/web/public/preview_mesh.js';
 import { computeNormals } from '../../client/web/public/vertex_normals.js';
 import { EditHistory } from '../../client/web/public/edit_history.js';
 
 // A 3 x 3 lattice over [0, 2] x [0, 2] whose points are (a, b, a b) and whose
 // parameters are (a / 2, b / 2 + a / 10): bilinear in each cell.
 const n = 3;
-const positions = [], normals = [], params = [], onSheet = [];
+const positions = [],
+  normals = [],
+  params = [],
+  onSheet = [];
 for (let j = 0; j < n; ++j) {
   for (let i = 0; i < n; ++i) {
     positions.push([i, j, i * j]);
@@ -31,7 +45,17 @@ for (let j = 0; j < n; ++j) {
     onSheet.push(1);
   }
 }
-const field = { n, bounds: [[0, 0], [2, 2]], positions, normals, params, on_sheet: onSheet };
+const field = {
+  n,
+  bounds: [
+    [0, 0],
+    [2, 2],
+  ],
+  positions,
+  normals,
+  params,
+  on_sheet: onSheet,
+};
 
 let checks = 0;
 const near = (a, b, what) => {
@@ -50,7 +74,11 @@ for (let j = 0; j < n; ++j) {
   }
 }
 // Inside a cell: bilinear, as the surface point is.
-for (const [a, b] of [[0.25, 0.75], [1.5, 1.2], [1.9, 0.1]]) {
+for (const [a, b] of [
+  [0.25, 0.75],
+  [1.5, 1.2],
+  [1.9, 0.1],
+]) {
   const [u, v] = sampleParams(field, a, b);
   near(u, a / 2, `u at (${a}, ${b})`);
   near(v, b / 2 + a / 10, `v at (${a}, ${b})`);
@@ -77,7 +105,8 @@ near(placementFrame(new Float32Array([0, 0, 5, 1, 1, 7]), '+z', 'bottom').h0, 5,
 // Float32 positions, and from quantized ones as the exact result's GLB has
 // them (normalized Int16, interleaved four to a vertex).
 const side = 20;
-const grid = [], index = [];
+const grid = [],
+  index = [];
 for (let j = 0; j < side; ++j) {
   for (let i = 0; i < side; ++i) grid.push(i / side, j / side, 0.1 * Math.sin(i) * Math.cos(0.7 * j));
 }
@@ -97,8 +126,12 @@ const sameNormals = (geometry, what) => {
   assert.equal(got.count, want.count, what);
   let worst = 0;
   for (let k = 0; k < want.count; ++k) {
-    worst = Math.max(worst, Math.abs(got.getX(k) - want.getX(k)), Math.abs(got.getY(k) - want.getY(k)),
-                     Math.abs(got.getZ(k) - want.getZ(k)));
+    worst = Math.max(
+      worst,
+      Math.abs(got.getX(k) - want.getX(k)),
+      Math.abs(got.getY(k) - want.getY(k)),
+      Math.abs(got.getZ(k) - want.getZ(k)),
+    );
   }
   assert.ok(worst < 1e-6, `${what}: off by ${worst}`);
   ++checks;
@@ -114,8 +147,10 @@ for (let v = 0; v < side * side; ++v) {
   for (let c = 0; c < 3; ++c) quantized[4 * v + c] = Math.round(grid[3 * v + c] * 32767);
 }
 const packed = new THREE.BufferGeometry();
-packed.setAttribute('position',
-                    new THREE.InterleavedBufferAttribute(new THREE.InterleavedBuffer(quantized, 4), 3, 0, true));
+packed.setAttribute(
+  'position',
+  new THREE.InterleavedBufferAttribute(new THREE.InterleavedBuffer(quantized, 4), 3, 0, true),
+);
 packed.setIndex(index);
 computeNormals(packed);
 // Against three.js's on the same quantized positions.
@@ -142,7 +177,8 @@ for (let k = shuffled.length - 1; k > 0; --k) {
   [shuffled[k], shuffled[j]] = [shuffled[j], shuffled[k]];
 }
 const missRatio = (idx) => {
-  const fifo = [], cached = new Set();
+  const fifo = [],
+    cached = new Set();
   let misses = 0;
   for (const v of idx) {
     if (cached.has(v)) continue;
@@ -157,7 +193,7 @@ const canonical = (idx) => {
   const tris = [];
   for (let t = 0; t < idx.length; t += 3) {
     const tri = [idx[t], idx[t + 1], idx[t + 2]];
-    const k = tri.indexOf(Math.min(...tri));  // rotated to its smallest vertex: winding kept
+    const k = tri.indexOf(Math.min(...tri)); // rotated to its smallest vertex: winding kept
     tris.push([tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]].join());
   }
   return tris.sort();
@@ -170,8 +206,10 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   orderForVertexCache(MeshoptEncoder, reordered);
   const after = Array.from(reordered);
   assert.deepEqual(canonical(after), canonical(before), 'the same triangles, the same winding');
-  assert.ok(missRatio(after) < 0.5 * missRatio(before),
-            `cache misses per triangle ${missRatio(before).toFixed(2)} -> ${missRatio(after).toFixed(2)}`);
+  assert.ok(
+    missRatio(after) < 0.5 * missRatio(before),
+    `cache misses per triangle ${missRatio(before).toFixed(2)} -> ${missRatio(after).toFixed(2)}`,
+  );
   checks += 2;
 }
 
@@ -182,10 +220,13 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
 // projected on the plane); no triangle turns over (the signed and unsigned
 // projected areas agree).
 {
-  const side = 181, vertices = [], triangles = [];
+  const side = 181,
+    vertices = [],
+    triangles = [];
   for (let j = 0; j < side; ++j) {
     for (let i = 0; i < side; ++i) {
-      const x = (10 * i) / (side - 1), y = (10 * j) / (side - 1);
+      const x = (10 * i) / (side - 1),
+        y = (10 * j) / (side - 1);
       vertices.push(x, y, 0.2 + 0.1 * Math.sin(2 * x) * Math.cos(3 * y));
     }
   }
@@ -199,7 +240,8 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   }
   const positions = new Float32Array(vertices);
   const projected = (idx) => {
-    let signed = 0, unsigned = 0;
+    let signed = 0,
+      unsigned = 0;
     for (let t = 0; t < idx.length; t += 3) {
       const [p, q, r] = [idx[t], idx[t + 1], idx[t + 2]].map((v) => [vertices[3 * v], vertices[3 * v + 1]]);
       const area = ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])) / 2;
@@ -213,7 +255,8 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
     const edges = new Map();
     for (let t = 0; t < idx.length; t += 3) {
       for (let k = 0; k < 3; ++k) {
-        const a = idx[t + k], b = idx[t + ((k + 1) % 3)];
+        const a = idx[t + k],
+          b = idx[t + ((k + 1) % 3)];
         const key = `${Math.min(a, b)},${Math.max(a, b)}`;
         edges.set(key, (edges.get(key) || 0) + 1);
       }
@@ -226,22 +269,34 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   const lod = simplifyTriangles(MeshoptSimplifier, Uint32Array.from(triangles), positions);
   assert.ok(lod, `a relief of ${triangles.length / 3} triangles is simplified`);
   const kept = Array.from(lod.index);
-  assert.ok(kept.length / 3 <= 0.25 * (triangles.length / 3) + 1,
-            `a quarter of the triangles or fewer (${kept.length / 3} of ${triangles.length / 3})`);
+  assert.ok(
+    kept.length / 3 <= 0.25 * (triangles.length / 3) + 1,
+    `a quarter of the triangles or fewer (${kept.length / 3} of ${triangles.length / 3})`,
+  );
   assert.ok(lod.error <= kPreviewError, `within the error asked (${lod.error})`);
-  assert.ok(kept.every((v) => Number.isInteger(v) && v >= 0 && v < side * side), 'on the model\'s own vertices');
+  assert.ok(
+    kept.every((v) => Number.isInteger(v) && v >= 0 && v < side * side),
+    "on the model's own vertices",
+  );
   const after = projected(kept);
   assert.deepEqual(borderOf(kept), borderOf(triangles), 'every border vertex stays');
-  assert.ok(Math.abs(after.signed - before.signed) < 1e-9 * before.signed,
-            `the footprint stays (projected area ${after.signed} against ${before.signed})`);
-  assert.ok(Math.abs(after.unsigned - after.signed) < 1e-9 * after.signed,
-            `no triangle turns over (${after.unsigned} against ${after.signed})`);
+  assert.ok(
+    Math.abs(after.signed - before.signed) < 1e-9 * before.signed,
+    `the footprint stays (projected area ${after.signed} against ${before.signed})`,
+  );
+  assert.ok(
+    Math.abs(after.unsigned - after.signed) < 1e-9 * after.signed,
+    `no triangle turns over (${after.unsigned} against ${after.signed})`,
+  );
   checks += 7;
   // The whole mesh as the worker makes it: the same simplification, the
   // vertices and their normals as they were (an index was given).
   const mesh = previewMesh(meshopt, positions, Uint32Array.from(triangles));
-  assert.deepEqual(mesh.lod, { triangles: [triangles.length / 3, kept.length / 3], error: lod.error },
-                   'the counts and error reported');
+  assert.deepEqual(
+    mesh.lod,
+    { triangles: [triangles.length / 3, kept.length / 3], error: lod.error },
+    'the counts and error reported',
+  );
   assert.deepEqual(canonical(Array.from(mesh.index)), canonical(kept), 'its triangles, reordered');
   assert.ok(mesh.positions === positions && !mesh.welded, 'the vertices kept');
   // Their normals, made by the worker over every triangle (before the
@@ -253,13 +308,14 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   const wholeNormals = whole.getAttribute('normal').array;
   let off = 0;
   for (let k = 0; k < wholeNormals.length; ++k) off = Math.max(off, Math.abs(mesh.normals[k] - wholeNormals[k]));
-  assert.ok(mesh.normals.length === wholeNormals.length && off < 1e-6,
-            `the worker's normals are the whole model's (off by ${off})`);
+  assert.ok(
+    mesh.normals.length === wholeNormals.length && off < 1e-6,
+    `the worker's normals are the whole model's (off by ${off})`,
+  );
   checks += 4;
   // A small model is drawn whole.
   const small = Uint32Array.from(triangles.slice(0, 3 * (kPreviewMinTriangles - 1)));
-  assert.equal(simplifyTriangles(MeshoptSimplifier, small, positions), null,
-               'fewer than 20,000 triangles: left whole');
+  assert.equal(simplifyTriangles(MeshoptSimplifier, small, positions), null, 'fewer than 20,000 triangles: left whole');
   assert.equal(previewMesh(meshopt, positions, small).index.length, small.length, 'every triangle drawn');
   checks += 2;
 }
@@ -277,8 +333,11 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   const separate = read.geometry.getAttribute('position').array;
   const welded = weldTriangles(MeshoptSimplifier, separate);
   assert.equal(welded.index.length, separate.length / 3, 'the same triangles');
-  assert.equal(welded.positions.length / 3, fileVertices,
-               `one vertex per distinct position (${welded.positions.length / 3}, the file has ${fileVertices})`);
+  assert.equal(
+    welded.positions.length / 3,
+    fileVertices,
+    `one vertex per distinct position (${welded.positions.length / 3}, the file has ${fileVertices})`,
+  );
   for (let k = 0; k < welded.index.length; ++k) {
     for (let c = 0; c < 3; ++c) {
       if (welded.positions[3 * welded.index[k] + c] !== separate[3 * k + c]) assert.fail(`corner ${k} moved`);
@@ -296,7 +355,10 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   const want = smooth.getAttribute('normal').array;
   let off = 0;
   for (let k = 0; k < want.length; ++k) off = Math.max(off, Math.abs(mesh.normals[k] - want[k]));
-  assert.ok(mesh.normals.length === want.length && off < 1e-6, `smooth normals over the welded vertices (off by ${off})`);
+  assert.ok(
+    mesh.normals.length === want.length && off < 1e-6,
+    `smooth normals over the welded vertices (off by ${off})`,
+  );
   checks += 7;
 }
 
@@ -308,7 +370,8 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   const fullHull = (pairs) => {
     const pts = [...pairs].sort((p, q) => p[0] - q[0] || p[1] - q[1]);
     const cross = (o, a, b) => (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-    const lower = [], upper = [];
+    const lower = [],
+      upper = [];
     for (const p of pts) {
       while (lower.length >= 2 && cross(lower[lower.length - 2], lower[lower.length - 1], p) <= 0) lower.pop();
       lower.push(p);
@@ -323,16 +386,20 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   const random = () => (seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648;
   const sets = {
     disk: Array.from({ length: 5000 }, () => {
-      const r = 3 * Math.sqrt(random()), t = 2 * Math.PI * random();
+      const r = 3 * Math.sqrt(random()),
+        t = 2 * Math.PI * random();
       return [1 + r * Math.cos(t), -2 + r * Math.sin(t), random()];
     }),
     grid: Array.from({ length: 41 * 41 }, (_, k) => [k % 41, Math.floor(k / 41), 0]),
     corners: Array.from({ length: 3 * 600 }, (_, k) => {
-      const v = (k * 7) % 200;  // 200 vertices of a 20 x 10 grid, each several times
+      const v = (k * 7) % 200; // 200 vertices of a 20 x 10 grid, each several times
       return [v % 20, Math.floor(v / 20) * 0.5, 1];
     }),
     line: Array.from({ length: 50 }, (_, k) => [k, 2 * k, 0]),
-    point: [[3, 4, 5], [3, 4, 5]],
+    point: [
+      [3, 4, 5],
+      [3, 4, 5],
+    ],
   };
   for (const [name, points] of Object.entries(sets)) {
     const got = footprint(points.flat(), '+z');
@@ -341,7 +408,7 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
     assert.deepEqual(got.centre, [mid(0), mid(1)], `the ${name}'s centre: its bounds' middle`);
     checks += 2;
   }
-  assert.equal(footprint(sets.grid.flat(), '+z').hull.length, 4, 'a grid\'s hull is its four corners');
+  assert.equal(footprint(sets.grid.flat(), '+z').hull.length, 4, "a grid's hull is its four corners");
   ++checks;
 }
 
@@ -383,16 +450,21 @@ const meshopt = { encoder: MeshoptEncoder, simplifier: MeshoptSimplifier };
   const box = new THREE.Mesh(new THREE.BoxGeometry(1, 2, 3));
   const ball = new THREE.Mesh(new THREE.SphereGeometry(0.5, 6, 4).toNonIndexed());
   ball.position.set(0, 4, 0);
-  const cloud = new THREE.Points(new THREE.BufferGeometry().setAttribute(
-    'position', new THREE.Float32BufferAttribute([9, 9, 9, -9, -9, -9], 3)));
-  const line = new THREE.Line(new THREE.BufferGeometry().setAttribute(
-    'position', new THREE.Float32BufferAttribute([20, 0, 0, -20, 0, 0], 3)));
+  const cloud = new THREE.Points(
+    new THREE.BufferGeometry().setAttribute('position', new THREE.Float32BufferAttribute([9, 9, 9, -9, -9, -9], 3)),
+  );
+  const line = new THREE.Line(
+    new THREE.BufferGeometry().setAttribute('position', new THREE.Float32BufferAttribute([20, 0, 0, -20, 0, 0], 3)),
+  );
   const scene = new THREE.Group();
   scene.add(box, ball, cloud, line);
   const boxCount = box.geometry.getAttribute('position').count;
   const ballCount = ball.geometry.getAttribute('position').count;
-  assert.equal(positionsOf(scene).length, 3 * (boxCount + ballCount),
-               'the triangle meshes\' vertices, no points or lines');
+  assert.equal(
+    positionsOf(scene).length,
+    3 * (boxCount + ballCount),
+    "the triangle meshes' vertices, no points or lines",
+  );
   const merged = mergedGeometry(scene);
   assert.ok(merged, 'indexed and separate triangles merge');
   assert.equal(merged.index, null, 'as separate triangles');

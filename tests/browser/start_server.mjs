@@ -3,8 +3,9 @@
 import { spawn } from 'node:child_process';
 
 export async function startServer(binary) {
-  const server = spawn(binary, ['--host', '127.0.0.1', '--port', '0', '--log-level', 'warn'],
-                       { stdio: ['ignore', 'pipe', 'inherit'] });
+  const server = spawn(binary, ['--host', '127.0.0.1', '--port', '0', '--log-level', 'warn'], {
+    stdio: ['ignore', 'pipe', 'inherit'],
+  });
   const port = await new Promise((resolve, reject) => {
     let out = '';
     server.stdout.on('data', (d) => {

@@ -39,18 +39,29 @@ const launchOptions = {
     browser: 'chrome',
     executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
     headless: true,
-    args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync',
-           '--no-first-run', '--disable-quic'],
+    args: [
+      '--no-sandbox',
+      '--disable-gpu',
+      '--use-angle=swiftshader',
+      '--enable-unsafe-swiftshader',
+      '--disable-background-networking',
+      '--disable-component-update',
+      '--disable-sync',
+      '--no-first-run',
+      '--disable-quic',
+    ],
   },
   firefox: {
     browser: 'firefox',
     executablePath: process.env.FIREFOX || '/usr/bin/firefox-esr',
-    headless: false,  // on xvfb's display: WebGL through Mesa's software renderer
+    headless: false, // on xvfb's display: WebGL through Mesa's software renderer
     // WebGL on a software renderer is on Firefox's blocklist; no update or
     // telemetry traffic (the page must fetch from the server only).
-    extraPrefsFirefox: { 'webgl.force-enabled': true, 'app.update.enabled': false,
-                         'datareporting.policy.dataSubmissionEnabled': false },
+    extraPrefsFirefox: {
+      'webgl.force-enabled': true,
+      'app.update.enabled': false,
+      'datareporting.policy.dataSubmissionEnabled': false,
+    },
   },
 }[browserName];
 if (!launchOptions) {
@@ -65,7 +76,7 @@ const browser = await puppeteer.launch(launchOptions);
 try {
   console.log(`browser: ${await browser.version()}`);
   const page = await browser.newPage();
-  await page.setViewport({ width: 1280, height: 800 });  // a laptop's window
+  await page.setViewport({ width: 1280, height: 800 }); // a laptop's window
   const foreign = [];
   const pageErrors = [];
   page.on('request', (r) => {
@@ -81,8 +92,11 @@ try {
       if ((init.method || 'GET') === 'POST') {
         const headers = init.headers || {};
         const path = new URL(String(input), location.href).pathname;
-        window.sentPosts.push({ path, type: headers['Content-Type'] || '',
-                                body: typeof init.body === 'string' ? init.body : '' });
+        window.sentPosts.push({
+          path,
+          type: headers['Content-Type'] || '',
+          body: typeof init.body === 'string' ? init.body : '',
+        });
         // A test may hold new surfaces back (a slow network), ms.
         if (path === '/v1/surfaces' && window.holdSurfaces) {
           return new Promise((resolve) => setTimeout(resolve, window.holdSurfaces)).then(() => original(input, init));
@@ -100,8 +114,11 @@ try {
       await page.waitForFunction((s) => document.body.dataset.state === s, { timeout: 90000 }, state);
       return true;
     } catch {
-      check(false, `${what}: state ${await page.evaluate(() => document.body.dataset.state)}, ` +
-                   `error ${await page.evaluate(() => window.surfdeformViewer?.state.lastError)}`);
+      check(
+        false,
+        `${what}: state ${await page.evaluate(() => document.body.dataset.state)}, ` +
+          `error ${await page.evaluate(() => window.surfdeformViewer?.state.lastError)}`,
+      );
       await shot(`failed-${what.replace(/\W+/g, '-')}`);
       return false;
     }
@@ -116,35 +133,57 @@ try {
   if (await settled('ready', 'the name on Figure 10')) {
     await sleep(300);
     const s = await stats();
-    check(s && s.text && s.text.glyphs === 12 && s.text.solids === 11 && s.placement.up === '+z' &&
-          s.rigid && s.rigid.parts === 11,
-          `the page opens on a name standing on the surface (${s && JSON.stringify(s.text && s.text.runs)}, ` +
-          `${s && s.text && s.text.glyphs} glyphs, ${s && s.rigid && s.rigid.parts} rigid parts)`);
-    check(await coverage() > 0.002, `the name is on the canvas (${(100 * await coverage()).toFixed(2)}%)`);
+    check(
+      s &&
+        s.text &&
+        s.text.glyphs === 12 &&
+        s.text.solids === 11 &&
+        s.placement.up === '+z' &&
+        s.rigid &&
+        s.rigid.parts === 11,
+      `the page opens on a name standing on the surface (${s && JSON.stringify(s.text && s.text.runs)}, ` +
+        `${s && s.text && s.text.glyphs} glyphs, ${s && s.rigid && s.rigid.parts} rigid parts)`,
+    );
+    check((await coverage()) > 0.002, `the name is on the canvas (${(100 * (await coverage())).toFixed(2)}%)`);
     // three.js reads the OBJ as separate triangles; the preview's mesh is
     // welded over its distinct positions (preview_mesh.js), with unit normals.
-    const mesh = await page.waitForFunction(() => {
-      const g = window.surfdeformViewer.preview.mesh.geometry;
-      const n = g.getAttribute('normal');
-      if (!g.index || !n) return null;
-      let unit = 0;
-      for (let k = 0; k < n.count; ++k) unit += Math.abs(Math.hypot(n.getX(k), n.getY(k), n.getZ(k)) - 1) < 1e-5;
-      return { vertices: g.getAttribute('position').count, triangles: g.index.count / 3, unit };
-    }, { timeout: 10000 }).then((h) => h.jsonValue()).catch(() => null);
-    check(mesh && mesh.vertices < mesh.triangles && mesh.unit === mesh.vertices,  // separate: 3 per triangle
-          `the name's preview is welded (${mesh && mesh.vertices} vertices for ${mesh && mesh.triangles} ` +
-          `triangles, ${mesh && mesh.unit} unit normals)`);
-    const boxOf = (sel) => page.$eval(sel, (e) => {
-      const r = e.getBoundingClientRect();
-      return { x: r.x, y: r.y, w: r.width, h: r.height };
-    });
-    const view = await boxOf('#view3d'), sheet = await boxOf('#sheet');
-    check(view.w * view.h > 0.4 * 1280 * 800 && view.y + view.h <= 800,
-          `the 3D view takes most of the window (${Math.round(view.w)} x ${Math.round(view.h)})`);
+    const mesh = await page
+      .waitForFunction(
+        () => {
+          const g = window.surfdeformViewer.preview.mesh.geometry;
+          const n = g.getAttribute('normal');
+          if (!g.index || !n) return null;
+          let unit = 0;
+          for (let k = 0; k < n.count; ++k) unit += Math.abs(Math.hypot(n.getX(k), n.getY(k), n.getZ(k)) - 1) < 1e-5;
+          return { vertices: g.getAttribute('position').count, triangles: g.index.count / 3, unit };
+        },
+        { timeout: 10000 },
+      )
+      .then((h) => h.jsonValue())
+      .catch(() => null);
+    check(
+      mesh && mesh.vertices < mesh.triangles && mesh.unit === mesh.vertices, // separate: 3 per triangle
+      `the name's preview is welded (${mesh && mesh.vertices} vertices for ${mesh && mesh.triangles} ` +
+        `triangles, ${mesh && mesh.unit} unit normals)`,
+    );
+    const boxOf = (sel) =>
+      page.$eval(sel, (e) => {
+        const r = e.getBoundingClientRect();
+        return { x: r.x, y: r.y, w: r.width, h: r.height };
+      });
+    const view = await boxOf('#view3d'),
+      sheet = await boxOf('#sheet');
+    check(
+      view.w * view.h > 0.4 * 1280 * 800 && view.y + view.h <= 800,
+      `the 3D view takes most of the window (${Math.round(view.w)} x ${Math.round(view.h)})`,
+    );
     check(sheet.x >= view.x + view.w && sheet.y < 800, 'the sheet stands beside the 3D view');
-    const panels = await page.$eval('#controls', (e) => ({ bottom: e.getBoundingClientRect().bottom,
-                                                           scrolls: getComputedStyle(e).overflowY,
-                                                           wide: e.scrollWidth, width: e.clientWidth }));
+    const panels = await page.$eval('#controls', (e) => ({
+      bottom: e.getBoundingClientRect().bottom,
+      scrolls: getComputedStyle(e).overflowY,
+      wide: e.scrollWidth,
+      width: e.clientWidth,
+    }));
     check(panels.bottom <= 800 && panels.scrolls === 'auto', 'every panel is reachable (the panels scroll)');
     // A fieldset as wide as a select's longest option was cut at the panel's edge.
     check(panels.wide <= panels.width, `no panel is wider than the column (${panels.wide} <= ${panels.width} px)`);
@@ -156,28 +195,47 @@ try {
     await page.focus('#text');
     await page.keyboard.press('End');
     await page.keyboard.type('!');
-    const typed = await page.waitForFunction(() => {
-      const m = window.surfdeformViewer.state.model;
-      const previewed = performance.getEntriesByName('surfdeform:text-preview');
-      return m && m.text && m.text.string === 'Ada Lovelace!' && previewed.length > 0 &&
-        { vertices: m.positions.length,
-          preview: previewed[0].startTime - performance.getEntriesByName('surfdeform:text-typed')[0].startTime,
-          exactAsked: performance.getEntriesByName('surfdeform:run-deform').map((e) => e.startTime),
-          previewAt: previewed[0].startTime };
-    }, { timeout: 10000 }).then((h) => h.jsonValue()).catch(() => null);
-    check(typed && typed.vertices > before,
-          `a typed letter is on the preview (${before / 3} -> ${typed && typed.vertices / 3} vertices, ` +
-          `${typed && typed.preview.toFixed(1)} ms from the keystroke)`);
-    check(typed && typed.exactAsked.every((t) => t > typed.previewAt),
-          'the preview came before the exact result was asked for');
+    const typed = await page
+      .waitForFunction(
+        () => {
+          const m = window.surfdeformViewer.state.model;
+          const previewed = performance.getEntriesByName('surfdeform:text-preview');
+          return (
+            m &&
+            m.text &&
+            m.text.string === 'Ada Lovelace!' &&
+            previewed.length > 0 && {
+              vertices: m.positions.length,
+              preview: previewed[0].startTime - performance.getEntriesByName('surfdeform:text-typed')[0].startTime,
+              exactAsked: performance.getEntriesByName('surfdeform:run-deform').map((e) => e.startTime),
+              previewAt: previewed[0].startTime,
+            }
+          );
+        },
+        { timeout: 10000 },
+      )
+      .then((h) => h.jsonValue())
+      .catch(() => null);
+    check(
+      typed && typed.vertices > before,
+      `a typed letter is on the preview (${before / 3} -> ${typed && typed.vertices / 3} vertices, ` +
+        `${typed && typed.preview.toFixed(1)} ms from the keystroke)`,
+    );
+    check(
+      typed && typed.exactAsked.every((t) => t > typed.previewAt),
+      'the preview came before the exact result was asked for',
+    );
     await settled('ready', 'the typed name');
     const t = await stats();
-    check(t && t.text && t.text.glyphs === 13, `the exact result has the new letter (${t && t.text && t.text.glyphs} glyphs)`);
+    check(
+      t && t.text && t.text.glyphs === 13,
+      `the exact result has the new letter (${t && t.text && t.text.glyphs} glyphs)`,
+    );
   }
   await page.select('#sample', 'bunny');
   await sleep(300);
   if (await settled('ready', 'the bunny on Figure 10')) {
-    await sleep(300);  // a frame or two after the model arrived
+    await sleep(300); // a frame or two after the model arrived
     const s = await stats();
     check(s && s.input_format === 'ply' && s.triangles >= 75408, `bunny deformed (${s && s.triangles} triangles)`);
     const c = await coverage();
@@ -191,21 +249,29 @@ try {
   const mask = () => page.evaluate(() => window.surfdeformViewer.modelMask());
   const changed = (a, b) => a.reduce((n, x, k) => n + (x !== b[k]), 0);
   const overlap = (a, b) => {
-    let both = 0, either = 0;
-    a.forEach((x, k) => { both += x && b[k]; either += x || b[k]; });
+    let both = 0,
+      either = 0;
+    a.forEach((x, k) => {
+      both += x && b[k];
+      either += x || b[k];
+    });
     return either ? both / either : 0;
   };
   const viewer = (f, ...args) => page.evaluate(f, ...args);
   // What an undo restores: the surface's spec and id, and the placement.
-  const pose = () => viewer(() => {
-    const s = window.surfdeformViewer.state;
-    return { spec: JSON.stringify(s.spec), surface: s.surfaceId, center: s.placement.center };
-  });
+  const pose = () =>
+    viewer(() => {
+      const s = window.surfdeformViewer.state;
+      return { spec: JSON.stringify(s.spec), surface: s.surfaceId, center: s.placement.center };
+    });
   const keys = async (...combo) => {
     for (const key of combo) await page.keyboard.down(key);
     for (const key of [...combo].reverse()) await page.keyboard.up(key);
   };
-  let poseBeforeFootprint = null, poseAfterFootprint = null, poseAfterDrag = null, poseAfterQuick = null;
+  let poseBeforeFootprint = null,
+    poseAfterFootprint = null,
+    poseAfterDrag = null,
+    poseAfterQuick = null;
   // Half the fitted scale (room to move), subdivision off.
   await page.$eval('#scale', (e) => {
     e.value = String(window.surfdeformViewer.state.placement.scale / 2);
@@ -222,10 +288,12 @@ try {
     const s = await stats();
     check(s && s.compression === 'meshopt', `the viewer asks for meshopt (${s && s.compression})`);
     const c = await viewer(() => window.surfdeformViewer.compareEncodings());
-    check(c.worst <= c.bound * 1.001,
-          `meshopt and Draco GLB decode to the same positions (${c.worst.toExponential(2)} <= ` +
-          `${c.bound.toExponential(2)}; ${c.vertices.join(' / ')} vertices, ` +
-          `${c.bytes.meshopt} / ${c.bytes.draco} bytes)`);
+    check(
+      c.worst <= c.bound * 1.001,
+      `meshopt and Draco GLB decode to the same positions (${c.worst.toExponential(2)} <= ` +
+        `${c.bound.toExponential(2)}; ${c.vertices.join(' / ')} vertices, ` +
+        `${c.bytes.meshopt} / ${c.bytes.draco} bytes)`,
+    );
   }
   {
     // The footprint: the preview follows every move, no request; the release
@@ -252,21 +320,27 @@ try {
     if (await settled('ready', 'the exact result after the footprint drag')) {
       poseAfterFootprint = await pose();
       const after = (await posts()).slice(sent);
-      check(after.length === 1 && after[0].path === '/v1/deform',
-            `the release sends exactly one exact request (${after.map((p) => p.path).join(', ')})`);
-      check(!await viewer(() => window.surfdeformViewer.previewShown()), 'the exact result replaced the preview');
+      check(
+        after.length === 1 && after[0].path === '/v1/deform',
+        `the release sends exactly one exact request (${after.map((p) => p.path).join(', ')})`,
+      );
+      check(!(await viewer(() => window.surfdeformViewer.previewShown())), 'the exact result replaced the preview');
       const m2 = await mask();
       check(overlap(m1, m2) > 0.8, `the preview covered what the exact result covers (${overlap(m1, m2).toFixed(3)})`);
       const p = await viewer(() => window.surfdeformViewer.state.lastPreview);
-      check(p && p.relative < 1e-3,
-            `the preview was within 1e-3 of the sheet's diagonal of the exact result (${p && p.relative.toExponential(2)})`);
+      check(
+        p && p.relative < 1e-3,
+        `the preview was within 1e-3 of the sheet's diagonal of the exact result (${p && p.relative.toExponential(2)})`,
+      );
       check(/preview vs exact/.test(await text('#timings')), 'the page shows how far the preview was');
       // The preview drew the bunny with a quarter of its triangles (preview_mesh.js).
       const lod = await viewer(() => window.surfdeformViewer.state.model.lod);
-      check(lod && lod.triangles[1] <= 0.26 * lod.triangles[0] && lod.error <= 5e-4,
-            `the preview draws the bunny simplified (${lod && lod.triangles[1]} of ${lod && lod.triangles[0]} triangles, ` +
-            `error ${lod && lod.error.toExponential(2)})`);
-      check(/preview triangles/.test(await text('#timings')), 'the page shows the preview\'s triangles');
+      check(
+        lod && lod.triangles[1] <= 0.26 * lod.triangles[0] && lod.error <= 5e-4,
+        `the preview draws the bunny simplified (${lod && lod.triangles[1]} of ${lod && lod.triangles[0]} triangles, ` +
+          `error ${lod && lod.error.toExponential(2)})`,
+      );
+      check(/preview triangles/.test(await text('#timings')), "the page shows the preview's triangles");
       // Settled, nothing changes: no frame is drawn (software WebGL's frames
       // would hold every reply).
       const f0 = await viewer(() => window.surfdeformViewer.framesDrawn());
@@ -296,22 +370,33 @@ try {
       await page.mouse.up();
       const f2 = await viewer(() => window.surfdeformViewer.framesDrawn());
       // 150 ms after the view stops, and then a frame (however busy the machine).
-      await page.waitForFunction((f, soft) => !window.surfdeformViewer.standingIn() &&
-                                 (!soft || window.surfdeformViewer.framesDrawn() > f),
-                                 { timeout: 20000 }, f2, software).catch(() => {});
+      await page
+        .waitForFunction(
+          (f, soft) => !window.surfdeformViewer.standingIn() && (!soft || window.surfdeformViewer.framesDrawn() > f),
+          { timeout: 20000 },
+          f2,
+          software,
+        )
+        .catch(() => {});
       const stopped = await viewer(() => window.surfdeformViewer.standingIn());
       const f3 = await viewer(() => window.surfdeformViewer.framesDrawn());
-      check(orbiting === software, `while the view orbits, the preview stands in for the exact bunny ` +
-            `with software WebGL only (software: ${software}, stood in: ${orbiting})`);
-      check(!stopped && (!software || f3 > f2), `the exact bunny is drawn again once the view stops ` +
-            `(stood in: ${stopped}, ${f3 - f2} frames after the release)`);
+      check(
+        orbiting === software,
+        `while the view orbits, the preview stands in for the exact bunny ` +
+          `with software WebGL only (software: ${software}, stood in: ${orbiting})`,
+      );
+      check(
+        !stopped && (!software || f3 > f2),
+        `the exact bunny is drawn again once the view stops ` +
+          `(stood in: ${stopped}, ${f3 - f2} frames after the release)`,
+      );
       check((await posts()).length === asked, 'orbiting sends no request');
     }
   }
   {
     // A control point: the surface and the model follow during the drag,
     // one surface request at a time; the release deforms exactly once.
-    const k = 5;  // an inner control point of the bicubic patch
+    const k = 5; // an inner control point of the bicubic patch
     const at = await viewer((i) => window.surfdeformViewer.handlePoint(i), k);
     const m0 = await mask();
     const sent = (await posts()).length;
@@ -335,9 +420,11 @@ try {
     // A surface replaced with a new material of its own released the old
     // one's program and compiled it again, at every pointer move (SwiftShader:
     // 323 ms of a 4 s drag in getProgramInfoLog alone).
-    check(compiled.length === 0,
-          `no shader is compiled while a control point is dragged (${compiled.length} new programs; ` +
-          `${programs0.length} held)`);
+    check(
+      compiled.length === 0,
+      `no shader is compiled while a control point is dragged (${compiled.length} new programs; ` +
+        `${programs0.length} held)`,
+    );
     const m1 = await mask();
     const live = (await viewer(() => window.surfdeformViewer.state.live.surfaces)) - live0;
     const moved = (await viewer(() => window.surfdeformViewer.state.live.moved)) - moved0;
@@ -350,11 +437,18 @@ try {
     // depends on how far the pose moved while a request was out (the
     // machine's speed): reported, and bounded below for a fixed edit.
     const gap = await viewer(() => window.surfdeformViewer.state.live.gap);
-    check(gap > 0, `moved fields were compared with the server's during the drag (${gap.toExponential(2)} of the diagonal at most)`);
-    check(during.length >= 1 && during.every((p) => p.path === '/v1/surfaces'),
-          `only surfaces are asked for during it (${during.map((p) => p.path).join(', ')})`);
-    check(during.every((p) => /"warm_start":"[0-9a-f]{32}"/.test(p.body)),
-          'each pose starts from the surface before it (warm_start)');
+    check(
+      gap > 0,
+      `moved fields were compared with the server's during the drag (${gap.toExponential(2)} of the diagonal at most)`,
+    );
+    check(
+      during.length >= 1 && during.every((p) => p.path === '/v1/surfaces'),
+      `only surfaces are asked for during it (${during.map((p) => p.path).join(', ')})`,
+    );
+    check(
+      during.every((p) => /"warm_start":"[0-9a-f]{32}"/.test(p.body)),
+      'each pose starts from the surface before it (warm_start)',
+    );
     check(changed(m0, m1) > 50, `the 3D view changes during the control-point drag (${changed(m0, m1)} cells)`);
     await shot('live-control-point-drag');
     const before = (await posts()).length;
@@ -366,28 +460,37 @@ try {
       // Each pointer move replaced the surface (and the release the model):
       // the ones replaced are freed on the GPU, not kept until the page closes.
       const gpu1 = await viewer(() => window.surfdeformViewer.gpuMemory());
-      check(gpu1.geometries <= gpu0.geometries + 1 && gpu1.textures <= gpu0.textures + 2,
-            `the replaced surfaces and models are freed (geometries ${gpu0.geometries} -> ` +
-            `${gpu1.geometries}, textures ${gpu0.textures} -> ${gpu1.textures})`);
+      check(
+        gpu1.geometries <= gpu0.geometries + 1 && gpu1.textures <= gpu0.textures + 2,
+        `the replaced surfaces and models are freed (geometries ${gpu0.geometries} -> ` +
+          `${gpu1.geometries}, textures ${gpu0.textures} -> ${gpu1.textures})`,
+      );
       const uv1 = await viewer(() => window.surfdeformViewer.placementParams());
       // The model stays on the same part of the surface: its placement moved
       // with each new sheet (warm_start.motion). Measured: 2.1e-4 in (u, v);
       // 7.2e-3 with the placement left where it was on the sheet.
       const slid = Math.hypot(uv1[0] - uv0[0], uv1[1] - uv0[1]);
-      check(slid < 2e-3, `the placement stays on the same surface point through the edit (slid ${slid.toExponential(2)} in u, v)`);
+      check(
+        slid < 2e-3,
+        `the placement stays on the same surface point through the edit (slid ${slid.toExponential(2)} in u, v)`,
+      );
       // The moved field lies on the edited surface: the server's, for a
       // control point raised by 5% of the patch, at float32's precision.
       const on = await viewer(() => window.surfdeformViewer.movedFieldOnSurface(5, 0.5));
-      check(on.points > 50 && on.shift > 1e-3 && on.worst < 1e-6,
-            `a moved field's ${on.points} points lie on the edited surface (${on.worst.toExponential(2)} ` +
-            `of the diagonal off, moved ${on.shift.toExponential(2)})`);
+      check(
+        on.points > 50 && on.shift > 1e-3 && on.worst < 1e-6,
+        `a moved field's ${on.points} points lie on the edited surface (${on.worst.toExponential(2)} ` +
+          `of the diagonal off, moved ${on.shift.toExponential(2)})`,
+      );
       // With the placement moved as the new sheet lies (warm_start.motion),
       // it is much nearer the server's field of that pose than the field
       // before the edit is: what is left is the flat sheet's own change.
-      check(on.gap < 0.5 * on.unmoved,
-            `the moved field is nearer the server's field for that pose than the unmoved one ` +
-            `(${on.gap.toExponential(2)} against ${on.unmoved.toExponential(2)} of the diagonal; ` +
-            `${on.raw.toExponential(2)} without the sheet's motion)`);
+      check(
+        on.gap < 0.5 * on.unmoved,
+        `the moved field is nearer the server's field for that pose than the unmoved one ` +
+          `(${on.gap.toExponential(2)} against ${on.unmoved.toExponential(2)} of the diagonal; ` +
+          `${on.raw.toExponential(2)} without the sheet's motion)`,
+      );
     }
     // Let go at once after a move: that pose is not flattened yet (the live
     // request for it held back 1 s, as on a slow network). The release is
@@ -399,26 +502,38 @@ try {
     await page.mouse.move(at2[0], at2[1]);
     await page.mouse.down();
     const quick = (await posts()).length;
-    await page.evaluate(() => { window.holdSurfaces = 1000; });
+    await page.evaluate(() => {
+      window.holdSurfaces = 1000;
+    });
     await page.mouse.move(at2[0], at2[1] + 15);
     await page.mouse.up();
     const quickSettled = await settled('ready', 'the exact result after a quick control-point drag');
-    await page.evaluate(() => { window.holdSurfaces = 0; });
+    await page.evaluate(() => {
+      window.holdSurfaces = 0;
+    });
     if (quickSettled) {
       poseAfterQuick = await pose();
       const after = (await posts()).slice(quick);
       const exact = after.filter((p) => p.path === '/v1/deform');
-      check(exact.length === 1 && /"surface":\{/.test(exact[0].body) &&
-            /"warm_start":"[0-9a-f]{32}"/.test(exact[0].body),
-            `a quick release is one deformation of the edit inline, warm (${after.map((p) => p.path).join(', ')})`);
+      check(
+        exact.length === 1 && /"surface":\{/.test(exact[0].body) && /"warm_start":"[0-9a-f]{32}"/.test(exact[0].body),
+        `a quick release is one deformation of the edit inline, warm (${after.map((p) => p.path).join(', ')})`,
+      );
       const uv3 = await viewer(() => window.surfdeformViewer.placementParams());
       const slid = Math.hypot(uv3[0] - uv2[0], uv3[1] - uv2[1]);
-      check(slid < 2e-3, `the server kept the placement on the same surface point (slid ${slid.toExponential(2)} in u, v)`);
-      const st = await viewer(() => ({ shown: window.surfdeformViewer.state.surfaceId,
-                                       stats: window.surfdeformViewer.state.lastStats }));
-      check(st.stats.surface_id === st.shown && Boolean(st.stats.warm_start?.placement),
-            `the page shows the surface the deformation made, the placement the server moved ` +
-            `(${JSON.stringify(st.stats.warm_start)})`);
+      check(
+        slid < 2e-3,
+        `the server kept the placement on the same surface point (slid ${slid.toExponential(2)} in u, v)`,
+      );
+      const st = await viewer(() => ({
+        shown: window.surfdeformViewer.state.surfaceId,
+        stats: window.surfdeformViewer.state.lastStats,
+      }));
+      check(
+        st.stats.surface_id === st.shown && Boolean(st.stats.warm_start?.placement),
+        `the page shows the surface the deformation made, the placement the server moved ` +
+          `(${JSON.stringify(st.stats.warm_start)})`,
+      );
     }
   }
   if (poseBeforeFootprint && poseAfterFootprint && poseAfterDrag && poseAfterQuick) {
@@ -428,33 +543,41 @@ try {
     // button; forward by Ctrl+Shift+Z, Ctrl+Y and the button. The quick
     // drag is shown again at the end, for what follows.
     const h0 = await viewer(() => window.surfdeformViewer.history());
-    check(h0.back >= 3 && h0.ahead === 0,
-          `every settled edit is a step to undo (${h0.back} back, ${h0.ahead} ahead)`);
-    check(!await page.$eval('#undo', (e) => e.disabled) && await page.$eval('#redo', (e) => e.disabled),
-          'Undo is enabled, Redo is not');
-    const same = (p, q) => p.spec === q.spec && p.surface === q.surface &&
+    check(h0.back >= 3 && h0.ahead === 0, `every settled edit is a step to undo (${h0.back} back, ${h0.ahead} ahead)`);
+    check(
+      !(await page.$eval('#undo', (e) => e.disabled)) && (await page.$eval('#redo', (e) => e.disabled)),
+      'Undo is enabled, Redo is not',
+    );
+    const same = (p, q) =>
+      p.spec === q.spec &&
+      p.surface === q.surface &&
       Math.hypot(p.center[0] - q.center[0], p.center[1] - q.center[1]) < 1e-9;
     const shows = async (want, how, what) => {
       const sent = (await posts()).length;
       await how();
       await sleep(100);
-      if (!await settled('ready', what)) return;
+      if (!(await settled('ready', what))) return;
       const p = await pose();
       const deforms = (await posts()).slice(sent).filter((x) => x.path === '/v1/deform').length;
       const s = await stats();
-      check(same(p, want) && s.surface_id === want.surface && deforms === 1,
-            `${what}: the surface and placement it brings back, one exact deformation ` +
-            `(${deforms}) of that surface (${p.surface === want.surface}, ${s.surface_id === want.surface})`);
+      check(
+        same(p, want) && s.surface_id === want.surface && deforms === 1,
+        `${what}: the surface and placement it brings back, one exact deformation ` +
+          `(${deforms}) of that surface (${p.surface === want.surface}, ${s.surface_id === want.surface})`,
+      );
     };
     await toTop();
     await shows(poseAfterDrag, () => keys('Control', 'z'), 'Ctrl+Z undoes the quick drag');
-    check(!await page.$eval('#redo', (e) => e.disabled), 'then Redo is enabled');
+    check(!(await page.$eval('#redo', (e) => e.disabled)), 'then Redo is enabled');
     await shows(poseAfterQuick, () => keys('Control', 'Shift', 'z'), 'Ctrl+Shift+Z redoes it');
     await shows(poseAfterDrag, () => page.click('#undo'), 'the Undo button undoes it');
     await shows(poseAfterFootprint, () => page.click('#undo'), 'the Undo button undoes the first control-point drag');
     await shows(poseBeforeFootprint, () => keys('Control', 'z'), 'Ctrl+Z undoes the footprint drag');
-    check(poseBeforeFootprint.spec === poseAfterFootprint.spec &&
-          poseBeforeFootprint.center[0] !== poseAfterFootprint.center[0], 'which moved the placement only');
+    check(
+      poseBeforeFootprint.spec === poseAfterFootprint.spec &&
+        poseBeforeFootprint.center[0] !== poseAfterFootprint.center[0],
+      'which moved the placement only',
+    );
     await shows(poseAfterFootprint, () => keys('Control', 'y'), 'Ctrl+Y redoes the footprint drag');
     await shows(poseAfterDrag, () => page.click('#redo'), 'the Redo button redoes the first control-point drag');
     await shows(poseAfterQuick, () => page.click('#redo'), 'and the quick one');
@@ -467,7 +590,9 @@ try {
     const saved = await viewer(async () => {
       const click = HTMLAnchorElement.prototype.click;
       let file = null;
-      HTMLAnchorElement.prototype.click = function () { file = { name: this.download, href: this.href }; };
+      HTMLAnchorElement.prototype.click = function () {
+        file = { name: this.download, href: this.href };
+      };
       try {
         document.getElementById('save-request').click();
       } finally {
@@ -478,16 +603,27 @@ try {
     // Sent as saved, and as the page sends it, both meshopt: the same bytes.
     const request = JSON.parse(saved ? saved.text : '{}');
     const form = new FormData();
-    form.append('mesh', new Blob([readFileSync(new URL('../../client/web/samples/bunny.ply', import.meta.url))]),
-                'bunny.ply');
+    form.append(
+      'mesh',
+      new Blob([readFileSync(new URL('../../client/web/samples/bunny.ply', import.meta.url))]),
+      'bunny.ply',
+    );
     form.append('params', JSON.stringify({ ...request, output: { ...request.output, compression: 'meshopt' } }));
     const r = await fetch(`${base}/v1/deform`, { method: 'POST', body: form });
-    const digest = createHash('sha256').update(Buffer.from(await r.arrayBuffer())).digest('hex');
+    const digest = createHash('sha256')
+      .update(Buffer.from(await r.arrayBuffer()))
+      .digest('hex');
     const shown = await viewer(() => window.surfdeformViewer.exactDigest());
-    check(saved && saved.name === 'bunny-request.json' && request.surface?.kind === 'bezier' &&
-          Array.isArray(request.placement?.center) && r.ok && digest === shown,
-          `the saved request (${saved && saved.name}), sent by curl's route with the model's file, gives ` +
-          `the page's exact result byte for byte (${r.status}, ${digest.slice(0, 12)} / ${shown.slice(0, 12)})`);
+    check(
+      saved &&
+        saved.name === 'bunny-request.json' &&
+        request.surface?.kind === 'bezier' &&
+        Array.isArray(request.placement?.center) &&
+        r.ok &&
+        digest === shown,
+      `the saved request (${saved && saved.name}), sent by curl's route with the model's file, gives ` +
+        `the page's exact result byte for byte (${r.status}, ${digest.slice(0, 12)} / ${shown.slice(0, 12)})`,
+    );
     // Turned away, then the saved file opened: the page shows that request again.
     await page.$eval('#rotation', (e) => {
       e.value = String(Number(e.value) + 40);
@@ -503,9 +639,11 @@ try {
     await sleep(300);
     if (await settled('ready', 'the saved request opened')) {
       const opened = await viewer(() => window.surfdeformViewer.exactDigest());
-      check(turned !== digest && opened === digest,
-            `opening the saved request brings its result back, byte for byte (turned ${turned.slice(0, 12)}, ` +
-            `opened ${opened.slice(0, 12)}, saved ${digest.slice(0, 12)})`);
+      check(
+        turned !== digest && opened === digest,
+        `opening the saved request brings its result back, byte for byte (turned ${turned.slice(0, 12)}, ` +
+          `opened ${opened.slice(0, 12)}, saved ${digest.slice(0, 12)})`,
+      );
     }
     // Not a request: a clear error, nothing changed.
     const bad = path.join(artifacts, 'not-a-request.json');
@@ -513,9 +651,11 @@ try {
     await (await page.$('#open-request')).uploadFile(bad);
     await sleep(300);
     await page.waitForFunction(() => document.body.dataset.state !== 'loading', { timeout: 30000 });
-    check(/no "surface" object/.test(await text('#error')) &&
-          await viewer(() => window.surfdeformViewer.exactDigest()) === digest,
-          `a JSON file that is no request is refused, and the page stays (${await text('#error')})`);
+    check(
+      /no "surface" object/.test(await text('#error')) &&
+        (await viewer(() => window.surfdeformViewer.exactDigest())) === digest,
+      `a JSON file that is no request is refused, and the page stays (${await text('#error')})`,
+    );
     // The request opened once more: the banner goes with the next result.
     const again = path.join(artifacts, 'bunny-request-again.json');
     writeFileSync(again, saved ? saved.text : '{}');
@@ -537,11 +677,16 @@ try {
     await sleep(300);
     const point = () => viewer((i) => window.surfdeformViewer.state.spec.control_points[i], k);
     const p0 = await point();
-    const shownNumbers = () => page.evaluate(() => ['x', 'y', 'z'].map((c) => Number(document.getElementById(`cp-${c}`).value)));
+    const shownNumbers = () =>
+      page.evaluate(() => ['x', 'y', 'z'].map((c) => Number(document.getElementById(`cp-${c}`).value)));
     const visible = await page.$eval('#cp-edit', (e) => !e.hidden);
-    check(visible && JSON.stringify(await shownNumbers()) === JSON.stringify(p0) &&
-          (await posts()).length === sent && await page.evaluate(() => document.body.dataset.state) === 'ready',
-          `a control point pressed without a move shows its numbers and sends nothing (${await shownNumbers()})`);
+    check(
+      visible &&
+        JSON.stringify(await shownNumbers()) === JSON.stringify(p0) &&
+        (await posts()).length === sent &&
+        (await page.evaluate(() => document.body.dataset.state)) === 'ready',
+      `a control point pressed without a move shows its numbers and sends nothing (${await shownNumbers()})`,
+    );
     await shot('control-point-numbers');
     const z = Math.round((p0[2] + 0.5) * 1e6) / 1e6;
     await page.focus('#cp-z');
@@ -552,20 +697,29 @@ try {
     if (await settled('ready', 'a typed control point')) {
       const after = (await posts()).slice(sent);
       const p1 = await point();
-      const st = await viewer(() => ({ shown: window.surfdeformViewer.state.surfaceId,
-                                       stats: window.surfdeformViewer.state.lastStats }));
-      check(p1[2] === z && p1[0] === p0[0] && p1[1] === p0[1] &&
-            after.filter((x) => x.path === '/v1/deform').length === 1 && st.stats.surface_id === st.shown,
-            `a typed z moves the point (${p0[2]} -> ${p1[2]}), as one exact deformation of the new patch ` +
-            `(${after.map((x) => x.path).join(', ')})`);
+      const st = await viewer(() => ({
+        shown: window.surfdeformViewer.state.surfaceId,
+        stats: window.surfdeformViewer.state.lastStats,
+      }));
+      check(
+        p1[2] === z &&
+          p1[0] === p0[0] &&
+          p1[1] === p0[1] &&
+          after.filter((x) => x.path === '/v1/deform').length === 1 &&
+          st.stats.surface_id === st.shown,
+        `a typed z moves the point (${p0[2]} -> ${p1[2]}), as one exact deformation of the new patch ` +
+          `(${after.map((x) => x.path).join(', ')})`,
+      );
     }
     await page.evaluate(() => document.activeElement && document.activeElement.blur());
     await keys('Control', 'z');
     await sleep(100);
     if (await settled('ready', 'the typed control point undone')) {
       const p2 = await point();
-      check(JSON.stringify(p2) === JSON.stringify(p0) && (await shownNumbers())[2] === p0[2],
-            `Ctrl+Z puts the typed point back (${p2}), and its numbers (${await shownNumbers()})`);
+      check(
+        JSON.stringify(p2) === JSON.stringify(p0) && (await shownNumbers())[2] === p0[2],
+        `Ctrl+Z puts the typed point back (${p2}), and its numbers (${await shownNumbers()})`,
+      );
     }
   }
   {
@@ -588,7 +742,7 @@ try {
     await shot('live-off-the-sheet');
     await page.mouse.up();
     if (await settled('error', 'the exact request off the sheet')) {
-      check(/outside the flat sheet/.test(await text('#error')), 'the exact request\'s error is shown');
+      check(/outside the flat sheet/.test(await text('#error')), "the exact request's error is shown");
       const view1 = await page.$eval('#view3d', (e) => e.getBoundingClientRect().toJSON());
       check(view1.x === view0.x && view1.y === view0.y, 'the banner does not move the views');
     }
@@ -608,9 +762,11 @@ try {
   if (await settled('ready', 'the plate on a cylinder')) {
     await sleep(300);
     const s = await stats();
-    check(s && s.subdivision.vertices_added > 0,
-          `the plate follows the cylinder (${s && s.subdivision.vertices_added} vertices added)`);
-    check(await coverage() > 0.005, 'the plate is on the canvas');
+    check(
+      s && s.subdivision.vertices_added > 0,
+      `the plate follows the cylinder (${s && s.subdivision.vertices_added} vertices added)`,
+    );
+    check((await coverage()) > 0.005, 'the plate is on the canvas');
     await shot('plate-cylinder');
   }
 
@@ -623,18 +779,22 @@ try {
     await sleep(300);
     const s = await stats();
     const n = await page.evaluate(() => window.surfdeformViewer.pixelCounts());
-    check(s && s.distortion && s.distortion.max > 0.01,
-          `distortion stats shown (max ${s && s.distortion && s.distortion.max})`);
+    check(
+      s && s.distortion && s.distortion.max > 0.01,
+      `distortion stats shown (max ${s && s.distortion && s.distortion.max})`,
+    );
     const coloured = n.red + n.blue;
-    check(coloured > 0.005 * n.total && n.red > 0 && n.blue > 0 && n.warm - n.red < 0.2 * coloured,
-          `the model is coloured by distortion (${n.red} red, ${n.blue} blue, ${n.warm} plain pixels)`);
+    check(
+      coloured > 0.005 * n.total && n.red > 0 && n.blue > 0 && n.warm - n.red < 0.2 * coloured,
+      `the model is coloured by distortion (${n.red} red, ${n.blue} blue, ${n.warm} plain pixels)`,
+    );
     check(/distortion/.test(await text('#timings')), 'the distortion summary is listed');
     await shot('plate-distortion');
   }
   await page.click('#distortion');
   await sleep(300);
   await settled('ready', 'the distortion map turned off');
-  check(await coverage() > 0.005, 'the plain colour is back');
+  check((await coverage()) > 0.005, 'the plain colour is back');
   // Clicking the controls may have scrolled the page (Firefox does): mouse
   // positions below are taken with the views in sight.
   await toTop();
@@ -662,8 +822,10 @@ try {
   if (await settled('ready', 'after dragging the footprint')) {
     const center = await page.evaluate(() => window.surfdeformViewer.state.placement.center);
     const s = await stats();
-    check(center[0] > before[0] + 0.05 && Math.abs(center[1] - before[1]) < 0.05,
-          `the footprint moved right (centre ${before.map((x) => x.toFixed(2))} -> ${center.map((x) => x.toFixed(2))})`);
+    check(
+      center[0] > before[0] + 0.05 && Math.abs(center[1] - before[1]) < 0.05,
+      `the footprint moved right (centre ${before.map((x) => x.toFixed(2))} -> ${center.map((x) => x.toFixed(2))})`,
+    );
     check(s.placement.scale === fitted / 2, `deformed at the scale the person chose (${s.placement.scale})`);
     await shot('plate-moved');
   }
@@ -675,12 +837,19 @@ try {
     const all = await posts();
     const uploads = all.filter((p) => p.path === '/v1/models').length;
     const deforms = all.filter((p) => p.path === '/v1/deform');
-    check(uploads === 2, `each model uploaded once (${uploads} uploads for the bunny and the plate; ` +
-                         'the text is shaped by the server)');
-    check(deforms.length >= 4 && deforms.every((p) => p.type.startsWith('application/json') &&
-                                                     /"model_id":"[0-9a-f]{32}"|"text":\{/.test(p.body)),
-          `every deformation names its model by id or is a text (${deforms.length} deformations, ` +
-          `types ${[...new Set(deforms.map((p) => p.type))].join(', ')})`);
+    check(
+      uploads === 2,
+      `each model uploaded once (${uploads} uploads for the bunny and the plate; ` +
+        'the text is shaped by the server)',
+    );
+    check(
+      deforms.length >= 4 &&
+        deforms.every(
+          (p) => p.type.startsWith('application/json') && /"model_id":"[0-9a-f]{32}"|"text":\{/.test(p.body),
+        ),
+      `every deformation names its model by id or is a text (${deforms.length} deformations, ` +
+        `types ${[...new Set(deforms.map((p) => p.type))].join(', ')})`,
+    );
   }
 
   // Draw a mark on the sheet (three clicks across it): the server resamples
@@ -693,19 +862,20 @@ try {
     await sleep(150);
   }
   try {
-    await page.waitForFunction(() => (window.surfdeformViewer.state.lastMark || []).length > 3,
-                               { timeout: 20000 });
+    await page.waitForFunction(() => (window.surfdeformViewer.state.lastMark || []).length > 3, { timeout: 20000 });
     await sleep(300);
     const mark = await page.evaluate(() => window.surfdeformViewer.state.lastMark);
     const n = await page.evaluate(() => window.surfdeformViewer.pixelCounts());
-    check(mark.every((m) => m.on_sheet && Math.abs(Math.hypot(m.point[0], m.point[1]) - 1) < 1e-6),
-          `the mark lies on the cylinder (${mark.length} points)`);
+    check(
+      mark.every((m) => m.on_sheet && Math.abs(Math.hypot(m.point[0], m.point[1]) - 1) < 1e-6),
+      `the mark lies on the cylinder (${mark.length} points)`,
+    );
     check(n.green > 50, `the mark is drawn in the 3D view (${n.green} green pixels)`);
     await shot('mark-on-cylinder');
   } catch (e) {
     check(false, `the mark came back from the server: ${e}`);
   }
-  await page.click('#mark');  // done marking: clicks move the footprint again
+  await page.click('#mark'); // done marking: clicks move the footprint again
   await page.click('#clear-marks');
   await toTop();
   await sleep(200);
@@ -714,8 +884,7 @@ try {
 
   // A textured glTF (assimp's BoxTextured) comes back textured: three.js
   // decodes the image the server carried over, and draws the model with it.
-  await (await page.$('#upload')).uploadFile(
-    '/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb');
+  await (await page.$('#upload')).uploadFile('/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb');
   await sleep(500);
   if (await settled('ready', 'the textured box')) {
     try {
@@ -735,12 +904,17 @@ try {
   // plays, and the frame shown at time k / fps is the one POST /v1/deform
   // gives for frame k (to within the positions' quantization).
   await page.select('#anim-preset', 'swim');
-  await page.$eval('#anim-frames', (e) => { e.value = '12'; });
-  await page.$eval('#anim-fps', (e) => { e.value = '12'; });
+  await page.$eval('#anim-frames', (e) => {
+    e.value = '12';
+  });
+  await page.$eval('#anim-fps', (e) => {
+    e.value = '12';
+  });
   await page.click('#anim-run');
   try {
-    await page.waitForFunction(() => ['playing', 'error'].includes(document.body.dataset.animation),
-                               { timeout: 60000 });
+    await page.waitForFunction(() => ['playing', 'error'].includes(document.body.dataset.animation), {
+      timeout: 60000,
+    });
     const animState = await page.evaluate(() => document.body.dataset.animation);
     check(animState === 'playing', `the animation plays (${animState}; ${await text('#error')})`);
     const canvas = () => page.evaluate(() => document.querySelector('#view3d canvas').toDataURL());
@@ -752,13 +926,15 @@ try {
     for (const k of [0, 5, 11]) {
       const r = await page.evaluate((f) => window.surfdeformViewer.animation.compareFrame(f), k);
       const oneHot = r.weights.every((w, j) => Math.abs(w - (j === k ? 1 : 0)) < 1e-6);
-      check(r.worst <= 0.51 * r.step + 1e-6 && oneHot,
-            `frame ${k} as shown matches POST /v1/deform's frame ${k} (${r.worst.toExponential(2)}, ` +
-            `step ${r.step.toExponential(2)}, weight ${r.weights[k]})`);
+      check(
+        r.worst <= 0.51 * r.step + 1e-6 && oneHot,
+        `frame ${k} as shown matches POST /v1/deform's frame ${k} (${r.worst.toExponential(2)}, ` +
+          `step ${r.step.toExponential(2)}, weight ${r.weights[k]})`,
+      );
     }
     const paused = await canvas();
     await sleep(300);
-    check(paused === await canvas(), 'scrubbing pauses the animation');
+    check(paused === (await canvas()), 'scrubbing pauses the animation');
     await shot('animation-frame-11');
   } catch (e) {
     check(false, `the animation ran: ${e}`);
@@ -769,29 +945,41 @@ try {
     // comes in pieces, one primitive each; decoded by three.js, a vertex on
     // a border has the same bits in every piece that holds it (no crack).
     const grid = gridPly(410, -2, -2, 4, (x, y) => 0.05 * Math.sin(3 * x) * Math.cos(2 * y));
-    const verts = grid.vertices, tris = grid.triangles;
+    const verts = grid.vertices,
+      tris = grid.triangles;
     const up = await fetch(`${base}/v1/models`, {
-      method: 'POST', headers: { 'Content-Type': 'application/octet-stream' },
-      body: grid.bytes });
+      method: 'POST',
+      headers: { 'Content-Type': 'application/octet-stream' },
+      body: grid.bytes,
+    });
     const model = (await up.json()).id;
     const d = await viewer(async (id) => {
       const v = window.surfdeformViewer;
       const r = await fetch('/v1/deform', {
         method: 'POST',
         headers: { 'Content-Type': 'application/json', Accept: 'model/gltf-binary' },
-        body: JSON.stringify({ model_id: id, surface_id: v.state.surfaceId,
-                               placement: { scale: 'fit' }, subdivision: { mode: 'off' },
-                               output: { format: 'glb' } }) });
+        body: JSON.stringify({
+          model_id: id,
+          surface_id: v.state.surfaceId,
+          placement: { scale: 'fit' },
+          subdivision: { mode: 'off' },
+          output: { format: 'glb' },
+        }),
+      });
       if (!r.ok) return { error: `${r.status} ${await r.text()}` };
-      return { ...(await v.decodeGlb(await r.arrayBuffer())),
-               stats: JSON.parse(r.headers.get('X-Surfdeform-Stats')) };
+      return { ...(await v.decodeGlb(await r.arrayBuffer())), stats: JSON.parse(r.headers.get('X-Surfdeform-Stats')) };
     }, model);
-    check(!d.error && d.primitives === 2 && d.stats.pieces === 2 && d.triangles === tris,
-          `a ${verts}-vertex Draco GLB comes in pieces (${d.error || `${d.primitives} primitives, ` +
-          `${d.triangles} triangles`})`);
-    check(!d.error && d.vertices > verts && d.distinct === verts,
-          `three.js decodes the pieces without a crack (${d.distinct} distinct positions of ` +
-          `${d.vertices} decoded, ${verts} vertices)`);
+    check(
+      !d.error && d.primitives === 2 && d.stats.pieces === 2 && d.triangles === tris,
+      `a ${verts}-vertex Draco GLB comes in pieces (${
+        d.error || `${d.primitives} primitives, ` + `${d.triangles} triangles`
+      })`,
+    );
+    check(
+      !d.error && d.vertices > verts && d.distinct === verts,
+      `three.js decodes the pieces without a crack (${d.distinct} distinct positions of ` +
+        `${d.vertices} decoded, ${verts} vertices)`,
+    );
   }
 
   // The can, a whole cylinder: its sheet is periodic. The footprint dragged
@@ -799,21 +987,24 @@ try {
   // model is deformed across the seam.
   // The sheet view paints its cells and seams once per sheet: the new
   // sheet's seams (dashed, #c60) must show where the last sheet had none.
-  const seamPixels = () => page.$eval('#sheet', (c) => {
-    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-    let n = 0;
-    for (let k = 0; k < d.length; k += 4) {
-      n += Math.abs(d[k] - 204) < 30 && Math.abs(d[k + 1] - 102) < 30 && d[k + 2] < 40 ? 1 : 0;
-    }
-    return n;
-  });
+  const seamPixels = () =>
+    page.$eval('#sheet', (c) => {
+      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      let n = 0;
+      for (let k = 0; k < d.length; k += 4) {
+        n += Math.abs(d[k] - 204) < 30 && Math.abs(d[k + 1] - 102) < 30 && d[k + 2] < 40 ? 1 : 0;
+      }
+      return n;
+    });
   const seamsBefore = await seamPixels();
   await page.select('#preset', 'can');
   await sleep(300);
   if (await settled('ready', 'on the can')) {
     const seamsAfter = await seamPixels();
-    check(seamsBefore < 20 && seamsAfter > 200,
-          `the new sheet's seams are painted (${seamsBefore} -> ${seamsAfter} seam-coloured pixels)`);
+    check(
+      seamsBefore < 20 && seamsAfter > 200,
+      `the new sheet's seams are painted (${seamsBefore} -> ${seamsAfter} seam-coloured pixels)`,
+    );
     const before = await page.evaluate(() => [...window.surfdeformViewer.state.placement.center]);
     await toTop();
     const canBox = await (await page.$('#sheet')).boundingBox();
@@ -823,24 +1014,34 @@ try {
     const perUnit = ((width - 32) / (2 * Math.PI)) * (canBox.width / width);
     await page.mouse.move(canBox.x + canBox.width / 2, canBox.y + canBox.height / 2);
     await page.mouse.down();
-    await page.mouse.move(canBox.x + canBox.width / 2 - (Math.PI + 0.2) * perUnit,
-                          canBox.y + canBox.height / 2, { steps: 8 });
+    await page.mouse.move(canBox.x + canBox.width / 2 - (Math.PI + 0.2) * perUnit, canBox.y + canBox.height / 2, {
+      steps: 8,
+    });
     await page.mouse.up();
     await sleep(400);
     if (await settled('ready', 'after dragging the footprint past the seam')) {
       const center = await page.evaluate(() => window.surfdeformViewer.state.placement.center);
       const s = await stats();
-      check(before[0] > 3 && before[0] < 3.3 && center[0] > 2 * Math.PI - 0.3 &&
-            center[0] < 2 * Math.PI - 0.1 && Math.abs(center[1] - before[1]) < 0.05,
-            `the footprint went past the seam and came back from the other side (centre ` +
-            `${before.map((x) => x.toFixed(2))} -> ${center.map((x) => x.toFixed(2))})`);
-      check(s && s.placement.turns > 0 && s.placement.turns <= 1,
-            `deformed across the seam of the can (turns ${s && s.placement.turns})`);
+      check(
+        before[0] > 3 &&
+          before[0] < 3.3 &&
+          center[0] > 2 * Math.PI - 0.3 &&
+          center[0] < 2 * Math.PI - 0.1 &&
+          Math.abs(center[1] - before[1]) < 0.05,
+        `the footprint went past the seam and came back from the other side (centre ` +
+          `${before.map((x) => x.toFixed(2))} -> ${center.map((x) => x.toFixed(2))})`,
+      );
+      check(
+        s && s.placement.turns > 0 && s.placement.turns <= 1,
+        `deformed across the seam of the can (turns ${s && s.placement.turns})`,
+      );
       // The preview bent the parts past the seam a period away, as the server.
       const p = await page.evaluate(() => window.surfdeformViewer.state.lastPreview);
-      check(p && p.relative < 1e-3,
-            `the preview across the seam was within 1e-3 of the sheet's diagonal of the exact ` +
-            `result (${p && p.relative.toExponential(2)})`);
+      check(
+        p && p.relative < 1e-3,
+        `the preview across the seam was within 1e-3 of the sheet's diagonal of the exact ` +
+          `result (${p && p.relative.toExponential(2)})`,
+      );
       await shot('across-the-seam');
     }
   }
@@ -857,16 +1058,19 @@ try {
       const s = window.surfdeformViewer.sheet();
       return s && { period: s.period, lo: s.lo, hi: s.hi };
     });
-    check(sheet && sheet.period && Math.abs(sheet.period.angle) < 1e-9 && sheet.period.t[0] > 5,
-          `the bottle's sheet is periodic, with a translation period ` +
-          `(${JSON.stringify(sheet && sheet.period)})`);
+    check(
+      sheet && sheet.period && Math.abs(sheet.period.angle) < 1e-9 && sheet.period.t[0] > 5,
+      `the bottle's sheet is periodic, with a translation period ` + `(${JSON.stringify(sheet && sheet.period)})`,
+    );
     const middle = sheet ? (sheet.lo[1] + sheet.hi[1]) / 2 : 1;
     await page.evaluate((y) => window.surfdeformViewer.placeAt([0, y]), middle);
     await sleep(400);
-    if (await settled('ready', 'with the model on the bottle\'s seam')) {
+    if (await settled('ready', "with the model on the bottle's seam")) {
       const s = await stats();
-      check(s && s.placement.turns > 0 && s.placement.outside === 0,
-            `deformed across the seam of the bottle (turns ${s && s.placement.turns})`);
+      check(
+        s && s.placement.turns > 0 && s.placement.outside === 0,
+        `deformed across the seam of the bottle (turns ${s && s.placement.turns})`,
+      );
       await shot('bottle');
     }
   }
@@ -880,18 +1084,24 @@ try {
       const s = window.surfdeformViewer.sheet();
       return s && { u: s.period && s.period.t, v: s.periodV };
     });
-    check(periods && periods.u && periods.v && Math.hypot(...periods.v) > 3,
-          `the ring's sheet is periodic both ways (${JSON.stringify(periods)})`);
+    check(
+      periods && periods.u && periods.v && Math.hypot(...periods.v) > 3,
+      `the ring's sheet is periodic both ways (${JSON.stringify(periods)})`,
+    );
     await page.evaluate(() => window.surfdeformViewer.placeAt([0, 0]));
     await sleep(400);
-    if (await settled('ready', 'with the model on the corner of the ring\'s seams')) {
+    if (await settled('ready', "with the model on the corner of the ring's seams")) {
       const s = await stats();
-      check(s && s.placement.turns > 0 && s.placement.outside === 0,
-            `deformed across both seams of the ring (turns ${s && s.placement.turns})`);
+      check(
+        s && s.placement.turns > 0 && s.placement.outside === 0,
+        `deformed across both seams of the ring (turns ${s && s.placement.turns})`,
+      );
       const p = await page.evaluate(() => window.surfdeformViewer.state.lastPreview);
-      check(p && p.relative < 2e-3,
-            `the preview across both seams was within 2e-3 of the sheet's diagonal of the ` +
-            `exact result (${p && p.relative.toExponential(2)})`);
+      check(
+        p && p.relative < 2e-3,
+        `the preview across both seams was within 2e-3 of the sheet's diagonal of the ` +
+          `exact result (${p && p.relative.toExponential(2)})`,
+      );
       await shot('ring');
     }
   }
@@ -913,14 +1123,18 @@ try {
     // Sample (0, 0) is at the origin and the seam runs up from it.
     await page.evaluate(() => window.surfdeformViewer.placeAt([0, 0.55]));
     await sleep(400);
-    if (await settled('ready', 'with the plate on the lampshade\'s seam')) {
+    if (await settled('ready', "with the plate on the lampshade's seam")) {
       const s = await stats();
-      check(s && s.placement.turns > 0 && s.placement.outside === 0,
-            `deformed across the seam of the lampshade (turns ${s && s.placement.turns})`);
+      check(
+        s && s.placement.turns > 0 && s.placement.outside === 0,
+        `deformed across the seam of the lampshade (turns ${s && s.placement.turns})`,
+      );
       const p = await page.evaluate(() => window.surfdeformViewer.state.lastPreview);
-      check(p && p.relative < 2e-3,
-            `the preview across a cone's seam was within 2e-3 of the sheet's diagonal of the ` +
-            `exact result (${p && p.relative.toExponential(2)})`);
+      check(
+        p && p.relative < 2e-3,
+        `the preview across a cone's seam was within 2e-3 of the sheet's diagonal of the ` +
+          `exact result (${p && p.relative.toExponential(2)})`,
+      );
       await shot('lampshade');
     }
   }
@@ -938,11 +1152,15 @@ try {
     });
     check(triangles === 1728, `the panel's sheet is its 1728 flat triangles (${triangles})`);
     const s = await stats();
-    check(s && s.vertices >= 8 && s.placement.outside === 0,
-          `the plate deformed along the panel mesh (${s && s.vertices} vertices)`);
+    check(
+      s && s.vertices >= 8 && s.placement.outside === 0,
+      `the plate deformed along the panel mesh (${s && s.vertices} vertices)`,
+    );
     const quality = await text('#quality');
-    check(/925 vertices, 1728 triangles/.test(quality) && /folded triangles/.test(quality),
-          `the quality panel describes the mesh: ${quality.replace(/\s+/g, ' ').slice(0, 100)}`);
+    check(
+      /925 vertices, 1728 triangles/.test(quality) && /folded triangles/.test(quality),
+      `the quality panel describes the mesh: ${quality.replace(/\s+/g, ' ').slice(0, 100)}`,
+    );
     await shot('panel');
   }
   await page.evaluate(() => {
@@ -956,15 +1174,19 @@ try {
     }
     for (let j = 0; j < 4; ++j) {
       for (let i = 0; i < 6; ++i) {
-        const a = 1 + i + 7 * j, b = a + 1, c = a + 8, d = a + 7;
+        const a = 1 + i + 7 * j,
+          b = a + 1,
+          c = a + 8,
+          d = a + 7;
         lines.push(`f ${a} ${b} ${c}`, `f ${a} ${c} ${d}`);
       }
     }
     const file = new File([lines.join('\n') + '\n'], 'half-cylinder.obj');
     const transfer = new DataTransfer();
     transfer.items.add(file);
-    document.querySelector('#sheet').dispatchEvent(
-        new DragEvent('drop', { dataTransfer: transfer, bubbles: true, cancelable: true }));
+    document
+      .querySelector('#sheet')
+      .dispatchEvent(new DragEvent('drop', { dataTransfer: transfer, bubbles: true, cancelable: true }));
   });
   await sleep(300);
   if (await settled('ready', 'after dropping a surface mesh on the sheet')) {
@@ -983,8 +1205,7 @@ try {
   await (await page.$('#upload')).uploadFile(broken);
   if (await settled('error', 'a broken upload')) {
     const message = await text('#error');
-    check(/422/.test(message) && /mesh/i.test(message),
-          `the server's error is shown: ${message.trim().slice(0, 120)}`);
+    check(/422/.test(message) && /mesh/i.test(message), `the server's error is shown: ${message.trim().slice(0, 120)}`);
     const visible = await page.$eval('#error', (e) => {
       const r = e.getBoundingClientRect();
       return getComputedStyle(e).visibility !== 'hidden' && r.width > 0 && r.height > 0;

@@ -38,12 +38,14 @@ function accessorValues(glb, index) {
   const bytes = viewBytes(glb, a.bufferView);
   const dv = new DataView(bytes.buffer, bytes.byteOffset + (a.byteOffset ?? 0));
   const read = {
-    5120: (o) => dv.getInt8(o), 5121: (o) => dv.getUint8(o), 5122: (o) => dv.getInt16(o, true),
-    5123: (o) => dv.getUint16(o, true), 5125: (o) => dv.getUint32(o, true),
+    5120: (o) => dv.getInt8(o),
+    5121: (o) => dv.getUint8(o),
+    5122: (o) => dv.getInt16(o, true),
+    5123: (o) => dv.getUint16(o, true),
+    5125: (o) => dv.getUint32(o, true),
     5126: (o) => dv.getFloat32(o, true),
   }[a.componentType];
-  for (let i = 0; i < a.count; i++)
-    for (let c = 0; c < comps; c++) out[i * comps + c] = read(i * stride + c * size);
+  for (let i = 0; i < a.count; i++) for (let c = 0; c < comps; c++) out[i * comps + c] = read(i * stride + c * size);
   return { values: out, comps, accessor: a };
 }
 
@@ -58,8 +60,7 @@ const plain = parseGlb(new Uint8Array(await readFile(plainPath)));
 
 // 1. One document.
 for (const key of ['accessors', 'meshes', 'nodes', 'animations', 'materials', 'scenes']) {
-  if (JSON.stringify(compressed.json[key]) !== JSON.stringify(plain.json[key]))
-    fail(`the twins differ in ${key}`);
+  if (JSON.stringify(compressed.json[key]) !== JSON.stringify(plain.json[key])) fail(`the twins differ in ${key}`);
 }
 if (!compressed.json.extensionsRequired.includes('EXT_meshopt_compression'))
   fail('the compressed file does not require EXT_meshopt_compression');
@@ -69,7 +70,6 @@ if (!plain.json.extensionsRequired.includes('KHR_mesh_quantization'))
 // 2. Every compressed view decodes to the twin's bytes.
 await MeshoptDecoder.ready;
 let decoded = 0;
-let packed = 0;
 compressed.json.bufferViews.forEach((v, index) => {
   const ext = v.extensions?.EXT_meshopt_compression;
   if (!ext) return;
@@ -82,7 +82,6 @@ compressed.json.bufferViews.forEach((v, index) => {
     if (target[i] !== expected[i]) fail(`view ${index} byte ${i} decodes to ${target[i]}, twin ${expected[i]}`);
   }
   decoded += 1;
-  packed += ext.byteLength;
 });
 if (decoded === 0) fail('no view is meshopt-compressed');
 
@@ -100,21 +99,27 @@ for (let i = 0; i < frameArgs.length; i += 2) {
   const frame = parseGlb(new Uint8Array(await readFile(frameArgs[i + 1])));
   const positions = accessorValues(frame, frame.json.meshes[0].primitives[0].attributes.POSITION).values;
   const delta = accessorValues(plain, prim.targets[k].POSITION).values;
-  if (positions.length !== base.length) fail(`frame ${k} has ${positions.length / 3} vertices, the animation ${base.length / 3}`);
+  if (positions.length !== base.length)
+    fail(`frame ${k} has ${positions.length / 3} vertices, the animation ${base.length / 3}`);
   let worst = 0;
   for (let v = 0; v < base.length; v += 3) {
     const p = [0, 1, 2].map((c) => ((base[v + c] + delta[v + c]) / 32767) * scale + [tx, ty, tz][c]);
     for (let c = 0; c < 3; c++) worst = Math.max(worst, Math.abs(p[c] - positions[v + c]));
   }
   // Float32 rounding of the frame and of the transform on top of the half step.
-  if (worst > halfStep * 1.01 + 1e-6 * scale) fail(`target ${k} on the base is ${worst} from frame ${k} (half a step: ${halfStep})`);
-  console.log(`target ${k} on the base: within ${worst.toExponential(3)} of frame ${k} (half a step ${halfStep.toExponential(3)})`);
+  if (worst > halfStep * 1.01 + 1e-6 * scale)
+    fail(`target ${k} on the base is ${worst} from frame ${k} (half a step: ${halfStep})`);
+  console.log(
+    `target ${k} on the base: within ${worst.toExponential(3)} of frame ${k} (half a step ${halfStep.toExponential(3)})`,
+  );
   shapes.push(positions);
 }
 if (shapes.length >= 2) {
   let apart = 0;
-  for (let v = 0; v < shapes[0].length; v++) apart = Math.max(apart, Math.abs(shapes[0][v] - shapes[shapes.length - 1][v]));
-  if (apart < 100 * halfStep) fail(`the frames checked hardly differ (${apart}): the check would not see a wrong target`);
+  for (let v = 0; v < shapes[0].length; v++)
+    apart = Math.max(apart, Math.abs(shapes[0][v] - shapes[shapes.length - 1][v]));
+  if (apart < 100 * halfStep)
+    fail(`the frames checked hardly differ (${apart}): the check would not see a wrong target`);
 }
 
 // 4. The weights' animation.
@@ -131,5 +136,7 @@ for (let k = 0; k < frames; k++) {
     if (w !== (j === k ? 255 : 0)) fail(`weight ${j} at frame ${k} is ${w}`);
   }
 }
-console.log(`animation: ${frames} frames, ${decoded} views decoded by three.js's MeshoptDecoder ` +
-  `to the twin's bytes (${compressed.bin.length} bytes against ${plain.bin.length})`);
+console.log(
+  `animation: ${frames} frames, ${decoded} views decoded by three.js's MeshoptDecoder ` +
+    `to the twin's bytes (${compressed.bin.length} bytes against ${plain.bin.length})`,
+);

@@ -19,14 +19,23 @@ export async function animationPreset(name) {
   if (name === 'swim') {
     // The paper's Figures 12-13: a travelling wave; one key, its time advances.
     // Speed 1 over wavelength 2: 60 frames at 30 fps are one period (it loops).
-    return { keyframes: [{ time: 0, surface: { kind: 'wave', length: 4, width: 1.5,
-                                               amplitude: 0.25, wavelength: 2, speed: 1 } }] };
+    return {
+      keyframes: [
+        { time: 0, surface: { kind: 'wave', length: 4, width: 1.5, amplitude: 0.25, wavelength: 2, speed: 1 } },
+      ],
+    };
   }
   // Figure 10's Bezier bending and unbending: its heights x0.3, x1, x0.3.
   const fig10 = await surfacePreset('figure10');
   const scaled = (k) => ({ ...fig10, control_points: fig10.control_points.map(([x, y, z]) => [x, y, z * k]) });
-  return { keyframes: [{ time: 0, surface: scaled(0.3) }, { time: 1, surface: fig10 },
-                       { time: 2, surface: scaled(0.3) }], interpolation: 'cubic' };
+  return {
+    keyframes: [
+      { time: 0, surface: scaled(0.3) },
+      { time: 1, surface: fig10 },
+      { time: 2, surface: scaled(0.3) },
+    ],
+    interpolation: 'cubic',
+  };
 }
 
 export class AnimationPanel {
@@ -38,7 +47,7 @@ export class AnimationPanel {
     this.onError = onError;
     this.loader = new GLTFLoader().setMeshoptDecoder(MeshoptDecoder);
     this.action = null;
-    this.params = null;  // the last request's parameters
+    this.params = null; // the last request's parameters
     this.frames = 0;
     this.fps = 30;
     $('anim-run').addEventListener('click', () => this.run());
@@ -47,8 +56,12 @@ export class AnimationPanel {
     setInterval(() => this.showFps(), 500);
   }
 
-  setState(s) { document.body.dataset.animation = s; }
-  playing() { return this.action && !this.action.paused; }
+  setState(s) {
+    document.body.dataset.animation = s;
+  }
+  playing() {
+    return this.action && !this.action.paused;
+  }
 
   async run() {
     const { model, placement } = this.request();
@@ -58,8 +71,13 @@ export class AnimationPanel {
       const anim = await animationPreset($('anim-preset').value);
       anim.frames = Math.max(2, Math.min(600, Number($('anim-frames').value) || 60));
       anim.fps = Math.max(1, Math.min(120, Number($('anim-fps').value) || 30));
-      this.params = { animation: anim, sampling: { nu: 16, nv: 16 }, placement,
-                      subdivision: { mode: 'adaptive' }, output: { compression: 'meshopt' } };
+      this.params = {
+        animation: anim,
+        sampling: { nu: 16, nv: 16 },
+        placement,
+        subdivision: { mode: 'adaptive' },
+        output: { compression: 'meshopt' },
+      };
       const t0 = performance.now();
       const { bytes, stats, timing } = await animate(model.bytes, model.name, this.params);
       const gltf = await this.loader.parseAsync(bytes, '');
@@ -78,12 +96,17 @@ export class AnimationPanel {
       const per = (k) => `${fmt((timing[k] || 0) / this.frames, 3)} ms`;
       this.info = [
         ['frames', `${this.frames} at ${this.fps} fps, ${stats.vertices} vertices`],
-        ['per frame', `flatten ${fmt(flatten, 3)} ms (${stats.flatten?.iterations_warm_mean?.toFixed(1)} ` +
-          `iterations warm, ${stats.flatten?.iterations_first} cold), subdivide ${per('subdivide')}, ` +
-          `deform ${per('deform')}, encode ${per('encode')}`],
+        [
+          'per frame',
+          `flatten ${fmt(flatten, 3)} ms (${stats.flatten?.iterations_warm_mean?.toFixed(1)} ` +
+            `iterations warm, ${stats.flatten?.iterations_first} cold), subdivide ${per('subdivide')}, ` +
+            `deform ${per('deform')}, encode ${per('encode')}`,
+        ],
         ['server', `${fmt(timing.total || 0, 3)} ms, ${stats.cached ? 'sheets cached' : 'sheets flattened'}`],
-        ['download', `${(bytes.byteLength / 1024).toFixed(0)} KiB (meshopt), round trip ` +
-          `${fmt(performance.now() - t0, 3)} ms`],
+        [
+          'download',
+          `${(bytes.byteLength / 1024).toFixed(0)} KiB (meshopt), round trip ` + `${fmt(performance.now() - t0, 3)} ms`,
+        ],
       ];
       this.showFps();
       this.onError(null);
@@ -159,7 +182,9 @@ export class AnimationPanel {
       worst = Math.max(worst, Math.abs(shown[i] - alone[i]));
     }
     let node = null;
-    this.modelView.model.traverse((o) => { if (o.isMesh && !node) node = o; });
+    this.modelView.model.traverse((o) => {
+      if (o.isMesh && !node) node = o;
+    });
     const scale = node.getWorldScale(new THREE.Vector3()).x;
     return { worst, step: scale / 32767, weights: [...(node.morphTargetInfluences || [])] };
   }

@@ -31,9 +31,13 @@ async function checked(response) {
 // with fieldSide the field of that side ({n, bounds, positions, normals,
 // on_sheet}) in the same reply.
 export async function createSurface(request, fieldSide = 0) {
-  const r = await checked(await fetch(fieldSide ? `/v1/surfaces?field=${fieldSide}` : '/v1/surfaces', {
-    method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(request),
-  }));
+  const r = await checked(
+    await fetch(fieldSide ? `/v1/surfaces?field=${fieldSide}` : '/v1/surfaces', {
+      method: 'POST',
+      headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify(request),
+    }),
+  );
   return r.json();
 }
 
@@ -45,9 +49,13 @@ export async function getSurface(id) {
 // POST /v1/surfaces/{id}/map: marks between the sheet and the surface
 // ({points}, {polylines, tolerance, max_segment} or {surface_points}).
 export async function mapOnSurface(id, request) {
-  const r = await checked(await fetch(`/v1/surfaces/${id}/map`, {
-    method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(request),
-  }));
+  const r = await checked(
+    await fetch(`/v1/surfaces/${id}/map`, {
+      method: 'POST',
+      headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify(request),
+    }),
+  );
   return r.json();
 }
 
@@ -86,7 +94,7 @@ async function postByModel(path, meshBytes, meshName, params, accept) {
     return await post(path, { ...params, model_id: await modelIdOf(meshBytes, meshName) }, accept);
   } catch (e) {
     if (!(e instanceof ApiError) || e.problem.code !== 'unknown_model') throw e;
-    modelIds.delete(meshBytes);  // evicted: upload again, once
+    modelIds.delete(meshBytes); // evicted: upload again, once
     return post(path, { ...params, model_id: await modelIdOf(meshBytes, meshName) }, accept);
   }
 }
@@ -95,10 +103,14 @@ async function postByModel(path, meshBytes, meshName, params, accept) {
 // preview (binary PLY: a fifth of the OBJ's bytes, read without parsing
 // text); `signal` aborts it (a newer keystroke wins).
 export async function textMesh(text, signal) {
-  const r = await checked(await fetch('/v1/text', {
-    method: 'POST', signal, headers: { 'Content-Type': 'application/json' },
-    body: JSON.stringify({ text, output: { format: 'ply' } }),
-  }));
+  const r = await checked(
+    await fetch('/v1/text', {
+      method: 'POST',
+      signal,
+      headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify({ text, output: { format: 'ply' } }),
+    }),
+  );
   return { bytes: await r.arrayBuffer(), stats: JSON.parse(r.headers.get('X-Surfdeform-Stats') || '{}') };
 }
 

@@ -43,32 +43,32 @@ const kFieldSide = 64;
 const kLiveFieldSide = 32;
 
 const state = {
-  spec: null,            // the surface spec being shown
+  spec: null, // the surface spec being shown
   grid: 16,
   surfaceId: null,
-  model: null,           // {name, bytes, positions}
+  model: null, // {name, bytes, positions}
   placement: { center: null, rotation_deg: 0, scale: 'fit' },
-  fitNext: true,         // the next deformation fits the model to the sheet
-  recentre: true,        // a new surface: centre and fit the model when its sheet arrives
+  fitNext: true, // the next deformation fits the model to the sheet
+  recentre: true, // a new surface: centre and fit the model when its sheet arrives
   surfacePending: false, // a surface is being flattened: deformations wait for it
   lastStats: null,
   lastError: null,
-  lastMark: null,        // the mark on the surface, as /map returned it
-  upResolved: null,      // the axis "auto" chose for the current model
-  field: null,           // the current surface's field (preview.js), as the server gave it
-  fieldSpec: null,       // the spec that field is of (a copy)
-  placementSheet: null,  // the id of the surface whose sheet the placement is on
-  specVersion: 0,        // bumped by every control-point move
-  fieldVersion: -1,      // the spec version the field shows
-  releasedVersion: -1,   // the spec version of the last control-point release
+  lastMark: null, // the mark on the surface, as /map returned it
+  upResolved: null, // the axis "auto" chose for the current model
+  field: null, // the current surface's field (preview.js), as the server gave it
+  fieldSpec: null, // the spec that field is of (a copy)
+  placementSheet: null, // the id of the surface whose sheet the placement is on
+  specVersion: 0, // bumped by every control-point move
+  fieldVersion: -1, // the spec version the field shows
+  releasedVersion: -1, // the spec version of the last control-point release
   // Live edits: surfaces fetched, fields moved at once with a control point,
   // previews shown, and the largest gap between a moved field and the
   // server's field of the same pose (of the sheet's diagonal).
   live: { surfaces: 0, moved: 0, previews: 0, gap: 0 },
-  lastPreview: null,     // how far the last preview was from the exact result
-  sheetPending: false,   // a new surface's exact result is shown, its sheet not yet
-  edited: false,         // a control point or the placement changed since the last step
-  historyReset: true,    // a new model or surface: the next exact result starts the history
+  lastPreview: null, // how far the last preview was from the exact result
+  sheetPending: false, // a new surface's exact result is shown, its sheet not yet
+  edited: false, // a control point or the placement changed since the last step
+  historyReset: true, // a new model or surface: the next exact result starts the history
 };
 
 // Undo and redo (edit_history.js): a step is the surface's spec and the
@@ -97,7 +97,7 @@ function setControlPoint(index, point) {
   return changed;
 }
 
-let pointerMoved = false;  // the control point held has moved since it was pressed
+let pointerMoved = false; // the control point held has moved since it was pressed
 const modelView = new ModelView($('view3d'), (index, point, final) => {
   // A release where the last move left the point: the same surface.
   const changed = setControlPoint(index, point);
@@ -121,7 +121,9 @@ preview.onChange = () => modelView.invalidate();
 // encode than Draco, decoded here at GB/s); downloads stay Draco (smaller).
 const gltf = new GLTFLoader().setDRACOLoader(dracoLoader()).setMeshoptDecoder(MeshoptDecoder);
 
-function setState(s) { document.body.dataset.state = s; }
+function setState(s) {
+  document.body.dataset.state = s;
+}
 
 function showError(error) {
   state.lastError = error ? String(error.message || error) : null;
@@ -131,13 +133,15 @@ function showError(error) {
 }
 
 function list(el, entries) {
-  el.replaceChildren(...entries.flatMap(([k, v]) => {
-    const dt = document.createElement('dt');
-    dt.textContent = k;
-    const dd = document.createElement('dd');
-    dd.textContent = v;
-    return [dt, dd];
-  }));
+  el.replaceChildren(
+    ...entries.flatMap(([k, v]) => {
+      const dt = document.createElement('dt');
+      dt.textContent = k;
+      const dd = document.createElement('dd');
+      dd.textContent = v;
+      return [dt, dd];
+    }),
+  );
 }
 
 const fmt = (x, digits = 4) => (typeof x === 'number' ? Number(x.toPrecision(digits)).toString() : String(x));
@@ -202,8 +206,10 @@ function shownKey(surfaceId) {
 // is simplified (a quarter of the triangles).
 modelView.standInAllowed = () =>
   // m.lod: the worker's mesh, with its normals.
-  Boolean(state.model?.lod) && $('rigid').value === 'none' &&
-  state.exactShown === shownKey(state.fieldSurface) && placePreview();
+  Boolean(state.model?.lod) &&
+  $('rigid').value === 'none' &&
+  state.exactShown === shownKey(state.fieldSurface) &&
+  placePreview();
 
 function useField(field, version, spec, surfaceId) {
   state.field = field;
@@ -244,7 +250,8 @@ function showMovedField() {
 // A control point moved: the new surface's field, one request at a time,
 // the newest pose each time. Errors wait for the release (the exact request
 // shows them).
-let liveBusy = false, liveAgain = false;
+let liveBusy = false,
+  liveAgain = false;
 async function liveSurface() {
   if (liveBusy) {
     liveAgain = true;
@@ -256,12 +263,16 @@ async function liveSurface() {
     do {
       liveAgain = false;
       const version = state.specVersion;
-      if (version <= state.releasedVersion) break;  // released: the release flattens it
+      if (version <= state.releasedVersion) break; // released: the release flattens it
       // Each pose starts from the sheet of the one before (warm_start): the
       // sheet the placement is on, whose motion to the new sheet it follows.
-      const request = JSON.parse(JSON.stringify({
-        surface: state.spec, sampling: { nu: state.grid, nv: state.grid },
-        warm_start: state.placementSheet || state.surfaceId }));
+      const request = JSON.parse(
+        JSON.stringify({
+          surface: state.spec,
+          sampling: { nu: state.grid, nv: state.grid },
+          warm_start: state.placementSheet || state.surfaceId,
+        }),
+      );
       const t0 = performance.now();
       const summary = await createSurface(request, kLiveFieldSide);
       const t1 = performance.now();
@@ -325,8 +336,13 @@ async function releaseEdit() {
   const run = ++surfaceRun;
   state.sheetPending = true;
   clearTimeout(deformTimer);
-  const edit = JSON.parse(JSON.stringify({ surface: state.spec, sampling: { nu: state.grid, nv: state.grid },
-                                           warm_start: state.placementSheet }));
+  const edit = JSON.parse(
+    JSON.stringify({
+      surface: state.spec,
+      sampling: { nu: state.grid, nv: state.grid },
+      warm_start: state.placementSheet,
+    }),
+  );
   const version = state.specVersion;
   const done = await runDeform(edit);
   if (run !== surfaceRun) return;
@@ -350,8 +366,8 @@ function followEdit(stats, sent) {
   if (w.placement && !changed) {
     state.placement.rotation_deg = w.placement.rotation_deg;
     if (w.placement.center) {
-      state.placement.center = state.model && state.model.text
-        ? offsetCenter(w.placement.center, state.placement, 1) : w.placement.center;
+      state.placement.center =
+        state.model && state.model.text ? offsetCenter(w.placement.center, state.placement, 1) : w.placement.center;
     }
     state.placementSheet = stats.surface_id;
     showPlacement();
@@ -373,21 +389,20 @@ async function refreshSurface(known = null, deformed = false) {
   setState('loading');
   try {
     const version = known ? known.version : state.specVersion;
-    const request = JSON.parse(JSON.stringify({ surface: state.spec,
-                                                sampling: { nu: state.grid, nv: state.grid } }));
+    const request = JSON.parse(JSON.stringify({ surface: state.spec, sampling: { nu: state.grid, nv: state.grid } }));
     // From the sheet the placement is on (after live poses, the last one):
     // the reply's motion keeps the placement on the surface.
     if (!known && state.placementSheet) request.warm_start = state.placementSheet;
     const summary = known ? known.summary : await createSurface(request, kFieldSide);
-    if (run !== surfaceRun) return;  // a newer edit is on its way
+    if (run !== surfaceRun) return; // a newer edit is on its way
     useField(summary.field, version, known ? known.spec : request.surface, summary.id);
-    if (!known) followSheet(summary);  // a live reply was followed when it came
+    if (!known) followSheet(summary); // a live reply was followed when it came
     state.surfaceId = summary.id;
     state.surfacePending = false;
     const early = deformed || (Boolean(state.placement.center) && !state.recentre);
     if (early && !deformed) {
       clearTimeout(deformTimer);
-      state.sheetPending = true;  // the page is not settled until the sheet is shown
+      state.sheetPending = true; // the page is not settled until the sheet is shown
       await runDeform();
       if (run !== surfaceRun) return;
     }
@@ -412,12 +427,12 @@ async function refreshSurface(known = null, deformed = false) {
     } else {
       modelView.setSurface(sheet.points, sheet.grid.nu, sheet.grid.nv);
     }
-    showMark(sheetView.mark);  // the mark stays where it was on the sheet
+    showMark(sheetView.mark); // the mark stays where it was on the sheet
     modelView.setControlPoints(state.spec.kind === 'bezier' ? state.spec.control_points : []);
     showControlPoint();
     if (!state.placement.center || state.recentre) {
       state.placement.center = sheetView.sheetCentre();
-      state.fitNext = !(state.model && state.model.text);  // a text keeps its millimetres
+      state.fitNext = !(state.model && state.model.text); // a text keeps its millimetres
       state.recentre = false;
     }
     showPlacement();
@@ -474,7 +489,9 @@ function deformParams(format, compression, edit = null) {
   };
 }
 
-let deforming = false, pending = false, deformTimer = 0;
+let deforming = false,
+  pending = false,
+  deformTimer = 0;
 function scheduleDeform(delay) {
   setState('loading');
   clearTimeout(deformTimer);
@@ -497,9 +514,17 @@ function measurePreview(placement) {
   // About 4000 of the model's vertices, bent as the preview bent them.
   const stride = 3 * Math.max(1, Math.floor(m.positions.length / 3 / 4000));
   const some = [];
-  for (let k = 0; k < m.positions.length; k += stride) some.push(m.positions[k], m.positions[k + 1], m.positions[k + 2]);
-  const shown = previewPositions(some, frame, placement, state.field, preview.period,
-                                 preview.periodV, preview.rotation);
+  for (let k = 0; k < m.positions.length; k += stride)
+    some.push(m.positions[k], m.positions[k + 1], m.positions[k + 2]);
+  const shown = previewPositions(
+    some,
+    frame,
+    placement,
+    state.field,
+    preview.period,
+    preview.periodV,
+    preview.rotation,
+  );
   const [lo, hi] = state.field.bounds;
   const diagonal = Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
   const d = nearestDistances(shown, modelView.shownPositions(), diagonal / 100, Infinity);
@@ -511,10 +536,12 @@ function measurePreview(placement) {
 function afterNextFrame() {
   return new Promise((resolve) => {
     const timer = setTimeout(resolve, 250);
-    requestAnimationFrame(() => setTimeout(() => {
-      clearTimeout(timer);
-      resolve();
-    }, 0));
+    requestAnimationFrame(() =>
+      setTimeout(() => {
+        clearTimeout(timer);
+        resolve();
+      }, 0),
+    );
   });
 }
 
@@ -542,8 +569,12 @@ async function runDeform(edit = null) {
     const asked = state.fitNext ? null : { ...state.placement, center: [...state.placement.center] };
     const sent = JSON.stringify(state.placement);
     const specSent = JSON.stringify(state.spec);
-    const { bytes, stats, timing } = await deform(state.model.bytes, state.model.name,
-                                                  deformParams('glb', 'meshopt', edit), 'model/gltf-binary');
+    const { bytes, stats, timing } = await deform(
+      state.model.bytes,
+      state.model.name,
+      deformParams('glb', 'meshopt', edit),
+      'model/gltf-binary',
+    );
     const t1 = performance.now();
     performance.mark('surfdeform:exact-received');
     if (edit) followEdit(stats, sent);
@@ -551,8 +582,12 @@ async function runDeform(edit = null) {
     modelView.setModel(scene, { distortion: $('distortion').checked });
     // What the exact result cost: the round trip, the server's part of it,
     // and decoding here (bench/viewer_feel.mjs reads it).
-    state.lastExact = { round_trip_ms: t1 - t0, server_ms: timing.total || 0,
-                        decode_ms: performance.now() - t1, done_at: performance.now() };
+    state.lastExact = {
+      round_trip_ms: t1 - t0,
+      server_ms: timing.total || 0,
+      decode_ms: performance.now() - t1,
+      done_at: performance.now(),
+    };
     state.lastPreview = null;
     if (state.fitNext) {
       state.fitNext = false;
@@ -572,23 +607,49 @@ async function runDeform(edit = null) {
       ['vertices', `${stats.vertices} (${sub.vertices_added || 0} added)`],
       ['triangles', stats.triangles],
       ['subdivision', `${sub.mode}${sub.tolerance ? `, tolerance ${fmt(sub.tolerance, 3)}` : ''}`],
-      ...(stats.distortion ? [['distortion', `max ${fmt(stats.distortion.max, 3)}, p95 ` +
-        `${fmt(stats.distortion.p95, 3)}, mean ${fmt(stats.distortion.mean, 3)}`]] : []),
+      ...(stats.distortion
+        ? [
+            [
+              'distortion',
+              `max ${fmt(stats.distortion.max, 3)}, p95 ` +
+                `${fmt(stats.distortion.p95, 3)}, mean ${fmt(stats.distortion.mean, 3)}`,
+            ],
+          ]
+        : []),
       ...['parse', 'flatten', 'deform', 'subdivide', 'encode'].map((k) => [k, `${fmt(timing[k] || 0, 3)} ms`]),
       ['round trip', `${fmt(roundTrip, 3)} ms, ${bytes.byteLength} bytes`],
-      ...(state.lastPreview ? [['preview vs exact', `${fmt(state.lastPreview.max, 2)} ` +
-        `(${fmt(100 * state.lastPreview.relative, 2)}% of the sheet)`]] : []),
-      ...(state.model && state.model.lod ? [['preview triangles', `${state.model.lod.triangles[1]} of ` +
-        `${state.model.lod.triangles[0]} (simplified within ${fmt(100 * state.model.lod.error, 2)}% of the model's size)`]] : []),
-      ...(state.live.gap ? [['moved field vs server', `${fmt(100 * state.live.gap, 2)}% of the sheet ` +
-        `(largest over ${state.live.surfaces} live surfaces)`]] : []),
+      ...(state.lastPreview
+        ? [
+            [
+              'preview vs exact',
+              `${fmt(state.lastPreview.max, 2)} ` + `(${fmt(100 * state.lastPreview.relative, 2)}% of the sheet)`,
+            ],
+          ]
+        : []),
+      ...(state.model && state.model.lod
+        ? [
+            [
+              'preview triangles',
+              `${state.model.lod.triangles[1]} of ` +
+                `${state.model.lod.triangles[0]} (simplified within ${fmt(100 * state.model.lod.error, 2)}% of the model's size)`,
+            ],
+          ]
+        : []),
+      ...(state.live.gap
+        ? [
+            [
+              'moved field vs server',
+              `${fmt(100 * state.live.gap, 2)}% of the sheet ` + `(largest over ${state.live.surfaces} live surfaces)`,
+            ],
+          ]
+        : []),
     ];
     list($('timings'), timings());
     // How far the preview was from it, once it is on screen: measuring takes
     // ~40 ms for the bunny, which held the exact result's frame as long.
     if (asked) {
-      await afterNextFrame();  // drawn
-      await afterNextFrame();  // shown
+      await afterNextFrame(); // drawn
+      await afterNextFrame(); // shown
       if (modelView.model === scene) {
         state.lastPreview = measurePreview(asked);
         list($('timings'), timings());
@@ -639,8 +700,10 @@ function deformRequest() {
 
 // Indented JSON whose arrays of numbers stay on a line (a control point, a centre).
 function readableJson(value) {
-  return JSON.stringify(value, null, 2)
-    .replace(/\[\s+([^[\]{}]*?)\s+\]/g, (_, inner) => `[${inner.split(/,\s+/).join(', ')}]`);
+  return JSON.stringify(value, null, 2).replace(
+    /\[\s+([^[\]{}]*?)\s+\]/g,
+    (_, inner) => `[${inner.split(/,\s+/).join(', ')}]`,
+  );
 }
 
 function saveRequest() {
@@ -661,12 +724,18 @@ async function openRequest(name, bytes) {
   if (!r || typeof r !== 'object' || !r.surface || typeof r.surface !== 'object') {
     throw new Error(`${name} is not a deformation request: it has no "surface" object`);
   }
-  const nu = r.sampling?.nu ?? 16, nv = r.sampling?.nv ?? nu;
+  const nu = r.sampling?.nu ?? 16,
+    nv = r.sampling?.nv ?? nu;
   if (nu !== nv || !(nu >= 4 && nu <= 64)) {
     throw new Error(`the page samples square grids of 4 to 64 per side; ${name} asks for ${nu} x ${nv}`);
   }
   const p = r.placement || {};
-  const settings = [['up', p.up], ['anchor', p.anchor], ['rigid', p.rigid], ['subdivision', r.subdivision?.mode]];
+  const settings = [
+    ['up', p.up],
+    ['anchor', p.anchor],
+    ['rigid', p.rigid],
+    ['subdivision', r.subdivision?.mode],
+  ];
   for (const [id, value] of settings) {
     if (value !== undefined && ![...$(id).options].some((o) => o.value === value)) {
       throw new Error(`${name}: the page has no ${id} "${value}"`);
@@ -676,14 +745,16 @@ async function openRequest(name, bytes) {
   state.spec = r.surface;
   state.grid = nu;
   $('grid').value = nu;
-  state.placement = { center: Array.isArray(p.center) ? p.center : null,
-                      rotation_deg: Number(p.rotation_deg) || 0,
-                      scale: typeof p.scale === 'number' ? p.scale : 'fit' };
+  state.placement = {
+    center: Array.isArray(p.center) ? p.center : null,
+    rotation_deg: Number(p.rotation_deg) || 0,
+    scale: typeof p.scale === 'number' ? p.scale : 'fit',
+  };
   state.fitNext = typeof p.scale !== 'number';
   state.recentre = !state.placement.center;
-  state.placementSheet = null;  // the placement lies on the sheet its spec flattens to
+  state.placementSheet = null; // the placement lies on the sheet its spec flattens to
   state.historyReset = true;
-  $('preset').selectedIndex = -1;  // none of the presets: the request's own surface
+  $('preset').selectedIndex = -1; // none of the presets: the request's own surface
   modelView.framed = false;
   showPlacement();
   scheduleSurface();
@@ -746,8 +817,17 @@ modelView.onSelect = showControlPoint;
     const input = $(`cp-${c}`);
     const value = Number(input.value);
     const points = state.spec && state.spec.kind === 'bezier' ? state.spec.control_points : null;
-    if (!points || !points[k] || input.value.trim() === '' || !Number.isFinite(value) ||
-        modelView.drag || !setControlPoint(k, points[k].map((x, j) => (j === i ? value : x)))) {
+    if (
+      !points ||
+      !points[k] ||
+      input.value.trim() === '' ||
+      !Number.isFinite(value) ||
+      modelView.drag ||
+      !setControlPoint(
+        k,
+        points[k].map((x, j) => (j === i ? value : x)),
+      )
+    ) {
       input.value = points && points[k] ? points[k][i] : '';
       return;
     }
@@ -833,7 +913,8 @@ document.addEventListener('keydown', (e) => {
   if (!(e.ctrlKey || e.metaKey) || e.altKey) return;
   // Text and number fields keep their own undo.
   const t = e.target;
-  if (t && (t.tagName === 'TEXTAREA' || (t.tagName === 'INPUT' && ['text', 'number', 'search'].includes(t.type)))) return;
+  if (t && (t.tagName === 'TEXTAREA' || (t.tagName === 'INPUT' && ['text', 'number', 'search'].includes(t.type))))
+    return;
   const key = e.key.toLowerCase();
   if (key === 'z' && !e.shiftKey) undoEdit();
   else if ((key === 'z' && e.shiftKey) || key === 'y') redoEdit();
@@ -851,15 +932,23 @@ function offsetCenter(center, p, sign) {
   if (!center || !m || !m.positions || typeof p.scale !== 'number') return center;
   const f = placementFrame(m.positions, effectiveUp(), $('anchor').value);
   const [bx, by] = f.centre;
-  const a = (p.rotation_deg * Math.PI) / 180, s = p.scale;
-  return [center[0] + sign * s * (Math.cos(a) * bx - Math.sin(a) * by),
-          center[1] + sign * s * (Math.sin(a) * bx + Math.cos(a) * by)];
+  const a = (p.rotation_deg * Math.PI) / 180,
+    s = p.scale;
+  return [
+    center[0] + sign * s * (Math.cos(a) * bx - Math.sin(a) * by),
+    center[1] + sign * s * (Math.sin(a) * bx + Math.cos(a) * by),
+  ];
 }
 
 function textSettings() {
   const size = Math.max(0.05, Number($('text-size').value) || 0.6);
-  return { string: $('text').value, font: $('font').value, size_mm: size,
-           depth_mm: Math.max(0, Number($('text-depth').value) || 0), tolerance_mm: size / 100 };
+  return {
+    string: $('text').value,
+    font: $('font').value,
+    size_mm: size,
+    depth_mm: Math.max(0, Number($('text-depth').value) || 0),
+    tolerance_mm: size / 100,
+  };
 }
 
 // The typed text on the surface: its flat mesh from POST /v1/text (the
@@ -880,7 +969,7 @@ async function useText(delay = 0) {
     if (e.name !== 'AbortError' && textInFlight === controller) showError(e);
     return;
   }
-  if (textInFlight !== controller) return;  // a newer keystroke's is coming
+  if (textInFlight !== controller) return; // a newer keystroke's is coming
   textInFlight = null;
   performance.mark('surfdeform:text-received');
   const read = await readModel('text.ply', made.bytes);
@@ -888,8 +977,11 @@ async function useText(delay = 0) {
   const first = !state.model || !state.model.text;
   const model = { name: 'text.ply', bytes: made.bytes, positions: read.positions, lod: null, text };
   state.model = model;
-  preview.setModelGeometry(read.geometry, (lod) => { model.lod = lod; });
-  $('model-name').textContent = `"${text.string}": ${made.stats.text.glyphs} glyphs in ` +
+  preview.setModelGeometry(read.geometry, (lod) => {
+    model.lod = lod;
+  });
+  $('model-name').textContent =
+    `"${text.string}": ${made.stats.text.glyphs} glyphs in ` +
     `${made.stats.text.family} ${made.stats.text.style}, ${fmt(made.stats.text.width_mm, 3)} mm long`;
   if (first) {
     // Letters stand on the surface, each rigid, at their size in mm.
@@ -923,12 +1015,14 @@ function showTextControls() {
 async function listFonts() {
   const list = await fonts();
   const select = $('font');
-  select.replaceChildren(...list.fonts.map((f) => {
-    const o = document.createElement('option');
-    o.value = f.name;
-    o.textContent = `${f.name} (${f.scripts.join(', ')})`;
-    return o;
-  }));
+  select.replaceChildren(
+    ...list.fonts.map((f) => {
+      const o = document.createElement('option');
+      o.value = f.name;
+      o.textContent = `${f.name} (${f.scripts.join(', ')})`;
+      return o;
+    }),
+  );
   select.value = list.default;
 }
 
@@ -936,7 +1030,8 @@ async function listFonts() {
 
 async function useModel(name, bytes) {
   const read = await readModel(name, bytes);
-  if (state.model && state.model.text) {  // a text's settings go with it
+  if (state.model && state.model.text) {
+    // a text's settings go with it
     $('up').value = 'auto';
     $('anchor').value = 'center';
     $('rigid').value = 'none';
@@ -944,10 +1039,13 @@ async function useModel(name, bytes) {
   const model = { name, bytes, positions: read.positions, lod: null };
   state.model = model;
   state.historyReset = true;
-  preview.setModelGeometry(read.geometry, (lod) => { model.lod = lod; });
+  preview.setModelGeometry(read.geometry, (lod) => {
+    model.lod = lod;
+  });
   state.upResolved = null;
-  $('model-name').textContent = `${name} (${bytes.byteLength} bytes)` +
-      (state.model.positions ? '' : ' — the browser cannot outline it; the server reads it');
+  $('model-name').textContent =
+    `${name} (${bytes.byteLength} bytes)` +
+    (state.model.positions ? '' : ' — the browser cannot outline it; the server reads it');
   state.fitNext = true;
   state.placement.rotation_deg = 0;
   if (sheetView.sheet) state.placement.center = sheetView.sheetCentre();
@@ -1069,11 +1167,19 @@ $('open-request').addEventListener('change', (e) => useFile(e.target.files[0], o
 
 // The animation panel: the current model, placed as on the sheet (fitted to
 // every frame's sheet, rotated, with the chosen axes).
-const animationPanel = new AnimationPanel(modelView, () => ({
-  model: state.model,
-  placement: { scale: 'fit', rotation_deg: state.placement.rotation_deg, up: $('up').value,
-               anchor: $('anchor').value },
-}), showError);
+const animationPanel = new AnimationPanel(
+  modelView,
+  () => ({
+    model: state.model,
+    placement: {
+      scale: 'fit',
+      rotation_deg: state.placement.rotation_deg,
+      up: $('up').value,
+      anchor: $('anchor').value,
+    },
+  }),
+  showError,
+);
 
 // The current deformation as the viewer receives it (meshopt GLB) against
 // the Draco GLB of the same request, both decoded by three.js: every vertex
@@ -1081,8 +1187,12 @@ const animationPanel = new AnimationPanel(modelView, () => ({
 // positions over its bounding box, meshopt's over the node's scale).
 async function compareEncodings() {
   const decoded = async (compression) => {
-    const { bytes } = await deform(state.model.bytes, state.model.name,
-                                   deformParams('glb', compression), 'model/gltf-binary');
+    const { bytes } = await deform(
+      state.model.bytes,
+      state.model.name,
+      deformParams('glb', compression),
+      'model/gltf-binary',
+    );
     const scene = (await gltf.parseAsync(bytes, '')).scene;
     scene.updateMatrixWorld(true);
     const positions = [];
@@ -1101,7 +1211,8 @@ async function compareEncodings() {
   };
   const meshopt = await decoded('meshopt');
   const draco = await decoded('draco');
-  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  const lo = [Infinity, Infinity, Infinity],
+    hi = [-Infinity, -Infinity, -Infinity];
   for (let k = 0; k < draco.positions.length; ++k) {
     lo[k % 3] = Math.min(lo[k % 3], draco.positions[k]);
     hi[k % 3] = Math.max(hi[k % 3], draco.positions[k]);
@@ -1109,12 +1220,17 @@ async function compareEncodings() {
   const dracoStep = Math.max(...hi.map((h, c) => h - lo[c])) / (2 ** 14 - 1);
   const meshoptStep = meshopt.scale / 32767;
   const bound = (Math.sqrt(3) / 2) * (dracoStep + meshoptStep);
-  const all = 1e9;  // every vertex, not a sample
+  const all = 1e9; // every vertex, not a sample
   const there = nearestDistances(meshopt.positions, draco.positions, bound, all);
   const back = nearestDistances(draco.positions, meshopt.positions, bound, all);
-  return { worst: Math.max(there.max, back.max), bound, dracoStep, meshoptStep,
-           vertices: [meshopt.positions.length / 3, draco.positions.length / 3],
-           bytes: { meshopt: meshopt.bytes, draco: draco.bytes } };
+  return {
+    worst: Math.max(there.max, back.max),
+    bound,
+    dracoStep,
+    meshoptStep,
+    vertices: [meshopt.positions.length / 3, draco.positions.length / 3],
+    bytes: { meshopt: meshopt.bytes, draco: draco.bytes },
+  };
 }
 
 // A GLB as three.js decodes it (for tests: a large Draco answer comes in
@@ -1123,7 +1239,9 @@ async function compareEncodings() {
 async function decodeGlb(bytes) {
   const scene = (await gltf.parseAsync(bytes, '')).scene;
   const distinct = new Set();
-  let primitives = 0, vertices = 0, triangles = 0;
+  let primitives = 0,
+    vertices = 0,
+    triangles = 0;
   scene.traverse((o) => {
     if (!o.isMesh) return;
     ++primitives;
@@ -1146,18 +1264,27 @@ async function movedFieldOnSurface(index, lift) {
   const after = JSON.parse(JSON.stringify(state.fieldSpec));
   after.control_points[index][2] += lift;
   const moved = movedField(state.field, state.fieldSpec, after);
-  const made = await createSurface({ surface: after, sampling: { nu: state.grid, nv: state.grid },
-                                     warm_start: state.placementSheet }, state.field.n);
+  const made = await createSurface(
+    { surface: after, sampling: { nu: state.grid, nv: state.grid }, warm_start: state.placementSheet },
+    state.field.n,
+  );
   const motion = made.warm_start && made.warm_start.motion;
   const points = moved.positions.filter((p, k) => moved.on_sheet[k] && k % 7 === 0);
   const marks = await mapOnSurface(made.id, { surface_points: points });
   const [lo, hi] = moved.bounds;
   const diagonal = Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
   const worst = Math.max(...marks.surface_points.map((m) => m.distance));
-  const shift = Math.max(...moved.positions.map((p, k) => Math.hypot(...p.map((x, c) => x - state.field.positions[k][c]))));
-  return { points: points.length, worst: worst / diagonal, shift: shift / diagonal,
-           gap: fieldGap(moved, made.field, motion), unmoved: fieldGap(state.field, made.field, motion),
-           raw: fieldGap(moved, made.field) };
+  const shift = Math.max(
+    ...moved.positions.map((p, k) => Math.hypot(...p.map((x, c) => x - state.field.positions[k][c]))),
+  );
+  return {
+    points: points.length,
+    worst: worst / diagonal,
+    shift: shift / diagonal,
+    gap: fieldGap(moved, made.field, motion),
+    unmoved: fieldGap(state.field, made.field, motion),
+    raw: fieldGap(moved, made.field),
+  };
 }
 
 // For tests: the surface parameters (u, v) under the placement's centre,
@@ -1168,36 +1295,47 @@ function placementParams() {
 }
 
 // For tests and the curious: the state and the model's share of the 3D canvas.
-window.surfdeformViewer = { state, animation: animationPanel, preview, compareEncodings, decodeGlb,
-                            movedFieldOnSurface, placementParams,
-                            history: () => ({ back: editHistory.back.length, ahead: editHistory.ahead.length }),
-                            deformRequest: () => readableJson(deformRequest()),
-                            // SHA-256 (hex) of the exact result of what the page shows, as it asks for it.
-                            exactDigest: async () => {
-                              const { bytes } = await deform(state.model.bytes, state.model.name,
-                                                             deformParams('glb', 'meshopt'), 'model/gltf-binary');
-                              const hash = new Uint8Array(await crypto.subtle.digest('SHA-256', bytes));
-                              return [...hash].map((b) => b.toString(16).padStart(2, '0')).join('');
-                            },
-                            sheet: () => sheetView.sheet,
-                            placeAt: (center) => {
-                              state.placement.center = center;
-                              state.edited = true;
-                              showPlacement();
-                              scheduleDeform(0);
-                            },
-                            framesDrawn: () => modelView.drawn,
-                            software: () => modelView.software,
-                            standingIn: () => modelView.stoodIn,
-                            modelCoverage: () => modelView.modelCoverage(),
-                            modelMask: () => modelView.modelMask(),
-                            handlePoint: (k) => modelView.handleClientPoint(k),
-                            previewShown: () => preview.mesh.visible,
-                            pixelCounts: () => modelView.pixelCounts(),
-                            gpuMemory: () => ({ ...modelView.renderer.info.memory }),
-                            // The shader programs three.js holds, by id (a new id: one compiled).
-                            programs: () => modelView.renderer.info.programs.map((p) => p.id),
-                            texturedMeshes: () => modelView.texturedMeshes() };
+window.surfdeformViewer = {
+  state,
+  animation: animationPanel,
+  preview,
+  compareEncodings,
+  decodeGlb,
+  movedFieldOnSurface,
+  placementParams,
+  history: () => ({ back: editHistory.back.length, ahead: editHistory.ahead.length }),
+  deformRequest: () => readableJson(deformRequest()),
+  // SHA-256 (hex) of the exact result of what the page shows, as it asks for it.
+  exactDigest: async () => {
+    const { bytes } = await deform(
+      state.model.bytes,
+      state.model.name,
+      deformParams('glb', 'meshopt'),
+      'model/gltf-binary',
+    );
+    const hash = new Uint8Array(await crypto.subtle.digest('SHA-256', bytes));
+    return [...hash].map((b) => b.toString(16).padStart(2, '0')).join('');
+  },
+  sheet: () => sheetView.sheet,
+  placeAt: (center) => {
+    state.placement.center = center;
+    state.edited = true;
+    showPlacement();
+    scheduleDeform(0);
+  },
+  framesDrawn: () => modelView.drawn,
+  software: () => modelView.software,
+  standingIn: () => modelView.stoodIn,
+  modelCoverage: () => modelView.modelCoverage(),
+  modelMask: () => modelView.modelMask(),
+  handlePoint: (k) => modelView.handleClientPoint(k),
+  previewShown: () => preview.mesh.visible,
+  pixelCounts: () => modelView.pixelCounts(),
+  gpuMemory: () => ({ ...modelView.renderer.info.memory }),
+  // The shader programs three.js holds, by id (a new id: one compiled).
+  programs: () => modelView.renderer.info.programs.map((p) => p.id),
+  texturedMeshes: () => modelView.texturedMeshes(),
+};
 
 (async () => {
   try {

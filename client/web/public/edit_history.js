@@ -12,8 +12,8 @@ export class EditHistory {
     this.limit = limit;
     this.derived = new Set(derived);
     this.current = null;
-    this.back = [];    // older steps, newest last
-    this.ahead = [];   // undone steps, the next redo last
+    this.back = []; // older steps, newest last
+    this.ahead = []; // undone steps, the next redo last
   }
 
   key(step) {
@@ -47,11 +47,17 @@ export class EditHistory {
     return true;
   }
 
-  canUndo() { return this.back.length > 0; }
-  canRedo() { return this.ahead.length > 0; }
+  canUndo() {
+    return this.back.length > 0;
+  }
+  canRedo() {
+    return this.ahead.length > 0;
+  }
 
   // The step shown last (a copy), or null before the first.
-  currentStep() { return copy(this.current); }
+  currentStep() {
+    return copy(this.current);
+  }
 
   // The step to show now (a copy), or null when there is none.
   undo() {

@@ -37,8 +37,10 @@ function latticeNormals(positions, n) {
   for (let j = 0; j < n; ++j) {
     for (let i = 0; i < n; ++i) {
       const at = (a, b) => positions[a + n * b];
-      const i0 = Math.max(i - 1, 0), i1 = Math.min(i + 1, n - 1);
-      const j0 = Math.max(j - 1, 0), j1 = Math.min(j + 1, n - 1);
+      const i0 = Math.max(i - 1, 0),
+        i1 = Math.min(i + 1, n - 1);
+      const j0 = Math.max(j - 1, 0),
+        j1 = Math.min(j + 1, n - 1);
       const du = [0, 1, 2].map((c) => at(i1, j)[c] - at(i0, j)[c]);
       const dv = [0, 1, 2].map((c) => at(i, j1)[c] - at(i, j0)[c]);
       const x = [du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]];
@@ -54,13 +56,22 @@ function latticeNormals(positions, n) {
 // shape, or a field without params: the server's field is then waited for).
 // `field` itself is left as it is.
 export function movedField(field, before, after) {
-  if (!field || !field.params || !before || !after || before.kind !== 'bezier' ||
-      after.kind !== 'bezier' || before.degree_u !== after.degree_u ||
-      before.degree_v !== after.degree_v ||
-      before.control_points.length !== after.control_points.length) {
+  if (
+    !field ||
+    !field.params ||
+    !before ||
+    !after ||
+    before.kind !== 'bezier' ||
+    after.kind !== 'bezier' ||
+    before.degree_u !== after.degree_u ||
+    before.degree_v !== after.degree_v ||
+    before.control_points.length !== after.control_points.length
+  ) {
     return null;
   }
-  const du = after.degree_u, dv = after.degree_v, count = field.n * field.n;
+  const du = after.degree_u,
+    dv = after.degree_v,
+    count = field.n * field.n;
   const moves = [];
   after.control_points.forEach((p, k) => {
     const d = p.map((x, c) => x - before.control_points[k][c]);
@@ -70,7 +81,8 @@ export function movedField(field, before, after) {
   const positions = new Array(count);
   for (let k = 0; k < count; ++k) {
     const [u, v] = field.params[k];
-    const bu = bernstein(du, u), bv = bernstein(dv, v);
+    const bu = bernstein(du, u),
+      bv = bernstein(dv, v);
     const p = [...field.positions[k]];
     for (const m of moves) {
       const w = bu[m.i] * bv[m.j];
@@ -80,7 +92,8 @@ export function movedField(field, before, after) {
   }
   // The given normals turned as the lattice's own turn: N + s (n' - n), s the
   // side the lattice's normal n takes of N (the sheet may be mirrored).
-  const was = latticeNormals(field.positions, field.n), now = latticeNormals(positions, field.n);
+  const was = latticeNormals(field.positions, field.n),
+    now = latticeNormals(positions, field.n);
   const normals = field.normals.map((q, k) => {
     const s = q[0] * was[k][0] + q[1] * was[k][1] + q[2] * was[k][2] < 0 ? -1 : 1;
     const x = q.map((c, i) => c + s * (now[k][i] - was[k][i]));
@@ -95,7 +108,9 @@ export function movedField(field, before, after) {
 // from to its own); unmoved without one.
 export function moveSheetPoint([x, y], motion) {
   if (!motion) return [x, y];
-  const t = (motion.rotation_deg * Math.PI) / 180, c = Math.cos(t), s = Math.sin(t);
+  const t = (motion.rotation_deg * Math.PI) / 180,
+    c = Math.cos(t),
+    s = Math.sin(t);
   return [c * x - s * y + motion.translation[0], s * x + c * y + motion.translation[1]];
 }
 
@@ -105,7 +120,8 @@ export function moveSheetPoint([x, y], motion) {
 // relative to a's sheet's diagonal: what a person sees move when b replaces
 // a under the preview (and the placement moves with the sheet).
 export function fieldGap(a, b, motion = null) {
-  const n = a.n, [lo, hi] = a.bounds;
+  const n = a.n,
+    [lo, hi] = a.bounds;
   const diagonal = Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
   let worst = 0;
   a.positions.forEach((p, k) => {

@@ -50,7 +50,9 @@ export function positionsOf(object) {
     // million-triangle STL's three million corners).
     const a = !p.isInterleavedBufferAttribute && !p.normalized && p.itemSize === 3 ? p.array : null;
     for (let k = 0; k < p.count; ++k, w += 3) {
-      const x = a ? a[3 * k] : p.getX(k), y = a ? a[3 * k + 1] : p.getY(k), z = a ? a[3 * k + 2] : p.getZ(k);
+      const x = a ? a[3 * k] : p.getX(k),
+        y = a ? a[3 * k + 1] : p.getY(k),
+        z = a ? a[3 * k + 2] : p.getZ(k);
       out[w] = e[0] * x + e[4] * y + e[8] * z + e[12];
       out[w + 1] = e[1] * x + e[5] * y + e[9] * z + e[13];
       out[w + 2] = e[2] * x + e[6] * y + e[10] * z + e[14];
@@ -84,7 +86,10 @@ export function mergedGeometry(object) {
 }
 
 function offPositions(text) {
-  const words = text.replace(/#[^\n]*/g, ' ').split(/\s+/).filter(Boolean);
+  const words = text
+    .replace(/#[^\n]*/g, ' ')
+    .split(/\s+/)
+    .filter(Boolean);
   if (!/OFF$/.test(words[0])) return [];
   const n = Number(words[1]);
   return words.slice(4, 4 + 3 * n).map(Number);
@@ -94,10 +99,14 @@ function offPositions(text) {
 // cannot read it (OFF: positions only).
 async function readObject(ext, bytes) {
   switch (ext) {
-    case 'ply': return new THREE.Mesh(new PLYLoader().parse(bytes));
-    case 'stl': return new THREE.Mesh(new STLLoader().parse(bytes));
-    case 'obj': return new OBJLoader().parse(new TextDecoder().decode(bytes));
-    case 'glb': case 'gltf': {
+    case 'ply':
+      return new THREE.Mesh(new PLYLoader().parse(bytes));
+    case 'stl':
+      return new THREE.Mesh(new STLLoader().parse(bytes));
+    case 'obj':
+      return new OBJLoader().parse(new TextDecoder().decode(bytes));
+    case 'glb':
+    case 'gltf': {
       const loader = new GLTFLoader().setDRACOLoader(dracoLoader());
       return (await loader.parseAsync(bytes, '')).scene;
     }
@@ -107,7 +116,8 @@ async function readObject(ext, bytes) {
       });
       return new THREE.Mesh(geometry);
     }
-    default: return null;
+    default:
+      return null;
   }
 }
 
@@ -129,9 +139,36 @@ export async function readModel(name, bytes) {
 
 // Model axis -> (a, b, h), rows as the server's AxisBasis.
 export const kBasis = {
-  '+z': [[1, 0, 0], [0, 1, 0], [0, 0, 1]], '-z': [[1, 0, 0], [0, -1, 0], [0, 0, -1]],
-  '+x': [[0, 1, 0], [0, 0, 1], [1, 0, 0]], '-x': [[0, 1, 0], [0, 0, -1], [-1, 0, 0]],
-  '+y': [[0, 0, 1], [1, 0, 0], [0, 1, 0]], '-y': [[0, 0, 1], [-1, 0, 0], [0, -1, 0]],
+  '+z': [
+    [1, 0, 0],
+    [0, 1, 0],
+    [0, 0, 1],
+  ],
+  '-z': [
+    [1, 0, 0],
+    [0, -1, 0],
+    [0, 0, -1],
+  ],
+  '+x': [
+    [0, 1, 0],
+    [0, 0, 1],
+    [1, 0, 0],
+  ],
+  '-x': [
+    [0, 1, 0],
+    [0, 0, -1],
+    [-1, 0, 0],
+  ],
+  '+y': [
+    [0, 0, 1],
+    [1, 0, 0],
+    [0, 1, 0],
+  ],
+  '-y': [
+    [0, 0, 1],
+    [-1, 0, 0],
+    [0, -1, 0],
+  ],
 };
 
 // {hull: [[a, b], ...] counter-clockwise, centre: [a, b]} in model units
@@ -144,40 +181,87 @@ export function footprint(positions, up) {
   if (!positions || positions.length < 3) return null;
   const [ra, rb] = kBasis[up] || kBasis['+z'];
   const count = positions.length / 3;
-  const as = new Float64Array(count), bs = new Float64Array(count);
+  const as = new Float64Array(count),
+    bs = new Float64Array(count);
   // The first point furthest along each of eight directions, counter-
   // clockwise from -a: -a, -(a + b), -b, a - b, a, a + b, b, b - a (one
   // comparison each, unrolled: the loop runs over every corner of the
   // model, three million for a million-triangle STL).
-  let t0 = -Infinity, t1 = -Infinity, t2 = -Infinity, t3 = -Infinity;
-  let t4 = -Infinity, t5 = -Infinity, t6 = -Infinity, t7 = -Infinity;
-  let e0 = 0, e1 = 0, e2 = 0, e3 = 0, e4 = 0, e5 = 0, e6 = 0, e7 = 0;
+  let t0 = -Infinity,
+    t1 = -Infinity,
+    t2 = -Infinity,
+    t3 = -Infinity;
+  let t4 = -Infinity,
+    t5 = -Infinity,
+    t6 = -Infinity,
+    t7 = -Infinity;
+  let e0 = 0,
+    e1 = 0,
+    e2 = 0,
+    e3 = 0,
+    e4 = 0,
+    e5 = 0,
+    e6 = 0,
+    e7 = 0;
   for (let v = 0; v < count; ++v) {
-    const x = positions[3 * v], y = positions[3 * v + 1], z = positions[3 * v + 2];
+    const x = positions[3 * v],
+      y = positions[3 * v + 1],
+      z = positions[3 * v + 2];
     const a = (as[v] = ra[0] * x + ra[1] * y + ra[2] * z);
     const b = (bs[v] = rb[0] * x + rb[1] * y + rb[2] * z);
-    const s = a + b, d = a - b;
-    if (-a > t0) { t0 = -a; e0 = v; }
-    if (-s > t1) { t1 = -s; e1 = v; }
-    if (-b > t2) { t2 = -b; e2 = v; }
-    if (d > t3) { t3 = d; e3 = v; }
-    if (a > t4) { t4 = a; e4 = v; }
-    if (s > t5) { t5 = s; e5 = v; }
-    if (b > t6) { t6 = b; e6 = v; }
-    if (-d > t7) { t7 = -d; e7 = v; }
+    const s = a + b,
+      d = a - b;
+    if (-a > t0) {
+      t0 = -a;
+      e0 = v;
+    }
+    if (-s > t1) {
+      t1 = -s;
+      e1 = v;
+    }
+    if (-b > t2) {
+      t2 = -b;
+      e2 = v;
+    }
+    if (d > t3) {
+      t3 = d;
+      e3 = v;
+    }
+    if (a > t4) {
+      t4 = a;
+      e4 = v;
+    }
+    if (s > t5) {
+      t5 = s;
+      e5 = v;
+    }
+    if (b > t6) {
+      t6 = b;
+      e6 = v;
+    }
+    if (-d > t7) {
+      t7 = -d;
+      e7 = v;
+    }
   }
   const extreme = [e0, e1, e2, e3, e4, e5, e6, e7];
   // The bounds' centre, from the extremes along the axes.
-  const loA = as[e0], hiA = as[e4], loB = bs[e2], hiB = bs[e6];
+  const loA = as[e0],
+    hiA = as[e4],
+    loB = bs[e2],
+    hiB = bs[e6];
   // Their polygon (counter-clockwise, repeats dropped) as edges: p is
   // strictly left of edge k where ea[k] a + eb[k] b + ec[k] > 0. A point
   // strictly left of every edge of any closed polygon of the points is
   // strictly inside their hull (the polygon winds round it), so ties that
   // leave the polygon odd can only leave in more points.
   const corners = extreme.filter((v, k) => v !== extreme[(k + 7) % 8]);
-  const ea = [], eb = [], ec = [];
+  const ea = [],
+    eb = [],
+    ec = [];
   for (let k = 0; corners.length >= 3 && k < corners.length; ++k) {
-    const p = corners[k], q = corners[(k + 1) % corners.length];
+    const p = corners[k],
+      q = corners[(k + 1) % corners.length];
     ea.push(-(bs[q] - bs[p]));
     eb.push(as[q] - as[p]);
     ec.push((bs[q] - bs[p]) * as[p] - (as[q] - as[p]) * bs[p]);
@@ -190,7 +274,8 @@ export function footprint(positions, up) {
   }
   const cross = (o, a, b) => (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
   pts.sort((p, q) => p[0] - q[0] || p[1] - q[1]);
-  const lower = [], upper = [];
+  const lower = [],
+    upper = [];
   for (const p of pts) {
     while (lower.length >= 2 && cross(lower[lower.length - 2], lower[lower.length - 1], p) <= 0) lower.pop();
     lower.push(p);
@@ -225,7 +310,8 @@ export function placementFrame(positions, up, anchor) {
 
 function computePlacementFrame(positions, up, anchor) {
   const m = kBasis[up] || kBasis['+z'];
-  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  const lo = [Infinity, Infinity, Infinity],
+    hi = [-Infinity, -Infinity, -Infinity];
   for (let k = 0; k < positions.length; k += 3) {
     for (let r = 0; r < 3; ++r) {
       const q = m[r][0] * positions[k] + m[r][1] * positions[k + 1] + m[r][2] * positions[k + 2];

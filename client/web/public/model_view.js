@@ -12,7 +12,8 @@ import { computeNormals } from './vertex_normals.js';
 function distortionColours(d, spread) {
   const rgb = new Float32Array(3 * d.count);
   for (let k = 0; k < d.count; ++k) {
-    const a = Math.log1p(d.getX(k)), b = Math.log1p(d.getY(k));
+    const a = Math.log1p(d.getX(k)),
+      b = Math.log1p(d.getY(k));
     const x = Math.max(-1, Math.min(1, (Math.abs(a) >= Math.abs(b) ? a : b) / spread));
     const w = 1 - Math.abs(x);
     rgb.set(x > 0 ? [1, w, w] : [w, w, 1], 3 * k);
@@ -73,8 +74,7 @@ export class ModelView {
     // there (6.5 -> 14.4 fps for the bunny in Chromium's SwiftShader), and
     // every pointer move and reply waits for the frame.
     this.software = softwareWebGl();
-    this.renderer = new THREE.WebGLRenderer({ antialias: !this.software,
-                                              preserveDrawingBuffer: true });
+    this.renderer = new THREE.WebGLRenderer({ antialias: !this.software, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
     container.appendChild(this.renderer.domElement);
     this.scene = new THREE.Scene();
@@ -94,22 +94,28 @@ export class ModelView {
       // roughness of 1 they look alike, and the translucent surface covers
       // most of the view, drawn twice (both sides): with software WebGL it
       // was 70% of a frame of the word sample (29 -> 19 ms a frame).
-      surface: keptMaterial(new THREE.MeshLambertMaterial({
-        color: 0x88aacc, transparent: true, opacity: 0.35, side: THREE.DoubleSide,
-        depthWrite: false })),
+      surface: keptMaterial(
+        new THREE.MeshLambertMaterial({
+          color: 0x88aacc,
+          transparent: true,
+          opacity: 0.35,
+          side: THREE.DoubleSide,
+          depthWrite: false,
+        }),
+      ),
       handle: keptMaterial(new THREE.MeshStandardMaterial({ color: 0xff8822 })),
       selected: keptMaterial(new THREE.MeshStandardMaterial({ color: 0xcc2266 })),
       mark: keptMaterial(new THREE.LineBasicMaterial({ color: 0x00aa00, depthTest: false })),
-      model: keptMaterial(new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
-                                                          side: THREE.DoubleSide })),
-      distortion: keptMaterial(new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.6,
-                                                               side: THREE.DoubleSide })),
+      model: keptMaterial(new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6, side: THREE.DoubleSide })),
+      distortion: keptMaterial(
+        new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.6, side: THREE.DoubleSide }),
+      ),
     };
-    this.marks = new THREE.Group();  // polylines on the surface
+    this.marks = new THREE.Group(); // polylines on the surface
     this.scene.add(this.marks);
     this.handles = new THREE.Group();
     this.scene.add(this.handles);
-    this.selected = -1;  // the control point last pressed (its numbers are shown), or -1
+    this.selected = -1; // the control point last pressed (its numbers are shown), or -1
     this.onSelect = () => {};
     this.framed = false;
     this.raycaster = new THREE.Raycaster();
@@ -119,10 +125,10 @@ export class ModelView {
     el.addEventListener('pointerup', (e) => this.up(e));
     new ResizeObserver(() => this.resize()).observe(container);
     this.resize();
-    this.mixer = null;  // an animation's AnimationMixer, when one plays
+    this.mixer = null; // an animation's AnimationMixer, when one plays
     this.clock = new THREE.Clock();
-    this.rendered = [];  // the times of the last frames drawn, for the achieved fps
-    this.drawn = 0;      // frames drawn since the page opened
+    this.rendered = []; // the times of the last frames drawn, for the achieved fps
+    this.drawn = 0; // frames drawn since the page opened
     // A frame is drawn only when something shown changed (every method below
     // that changes the scene, the camera, a playing animation, the preview's
     // uniforms) or the view was resized. With software WebGL a frame holds
@@ -140,15 +146,18 @@ export class ModelView {
     // exact model is drawn again 150 ms after the view stops (the wheel's
     // events each start and end).
     this.standInAllowed = () => false;
-    this.standIn = false;       // decided as the view starts moving
-    this.navigating = false;    // the view is being moved
-    this.stoodIn = false;       // the last frame drawn showed the stand-in
+    this.standIn = false; // decided as the view starts moving
+    this.navigating = false; // the view is being moved
+    this.stoodIn = false; // the last frame drawn showed the stand-in
     this.controls.addEventListener('start', () => {
       clearTimeout(this.navigationEnd);
       if (!this.navigating) {
-        this.standIn = this.software && Boolean(this.model) && !this.distortionSpread &&
-                       meshesOf(this.model).every((o) => o.material === this.materials.model) &&
-                       this.standInAllowed();
+        this.standIn =
+          this.software &&
+          Boolean(this.model) &&
+          !this.distortionSpread &&
+          meshesOf(this.model).every((o) => o.material === this.materials.model) &&
+          this.standInAllowed();
       }
       this.navigating = true;
     });
@@ -170,8 +179,15 @@ export class ModelView {
       this.dirty = false;
       // A control point's drag starts the controls too (they see the press
       // first): not a navigation.
-      const standIn = this.standIn && this.navigating && !this.drag && this.model && this.model.visible &&
-                      this.preview && !this.preview.visible && !this.mixer;
+      const standIn =
+        this.standIn &&
+        this.navigating &&
+        !this.drag &&
+        this.model &&
+        this.model.visible &&
+        this.preview &&
+        !this.preview.visible &&
+        !this.mixer;
       if (standIn) {
         this.model.visible = false;
         this.preview.visible = true;
@@ -208,7 +224,10 @@ export class ModelView {
     const index = [];
     for (let j = 0; j + 1 < nv; ++j) {
       for (let i = 0; i + 1 < nu; ++i) {
-        const a = i + nu * j, b = a + 1, c = a + nu + 1, d = a + nu;
+        const a = i + nu * j,
+          b = a + 1,
+          c = a + nu + 1,
+          d = a + nu;
         if (!keep || keep(a, b, c, d)) index.push(a, b, c, a, c, d);
       }
     }
@@ -251,7 +270,7 @@ export class ModelView {
 
   showPreview(on) {
     this.invalidate();
-    if (on) this.standIn = false;  // a live edit: the exact model shown is stale
+    if (on) this.standIn = false; // a live edit: the exact model shown is stale
     if (!this.preview) return;
     this.preview.visible = on;
     if (this.model) this.model.visible = !on;
@@ -299,14 +318,14 @@ export class ModelView {
   // with distortion, coloured by its _DISTORTION attribute.
   setModel(object, { distortion = false, mixer = null } = {}) {
     this.invalidate();
-    this.standIn = false;  // a new exact model: asked again when the view next moves
+    this.standIn = false; // a new exact model: asked again when the view next moves
     if (this.model && this.model !== object) {
       this.scene.remove(this.model);
       disposeObject(this.model);
     }
     this.model = object;
-    if (this.preview) this.preview.visible = false;  // the exact result replaces the preview
-    this.mixer = mixer;  // null stops an animation that was playing
+    if (this.preview) this.preview.visible = false; // the exact result replaces the preview
+    this.mixer = mixer; // null stops an animation that was playing
     // The static surface does not move with an animation: hidden meanwhile.
     for (const o of [this.surface, this.handles, this.marks]) if (o) o.visible = !mixer;
     const meshes = meshesOf(object);
@@ -327,9 +346,9 @@ export class ModelView {
       if (colour) {
         o.geometry.setAttribute('color', distortionColours(o.geometry.getAttribute('_distortion'), spread));
         o.material = this.materials.distortion;
-      } else if (o.material && o.material.map) {  // textured: the model's own texture
-        o.material = new THREE.MeshStandardMaterial({ map: o.material.map, roughness: 0.6,
-                                                      side: THREE.DoubleSide });
+      } else if (o.material && o.material.map) {
+        // textured: the model's own texture
+        o.material = new THREE.MeshStandardMaterial({ map: o.material.map, roughness: 0.6, side: THREE.DoubleSide });
       } else {
         o.material = this.materials.model;
       }
@@ -407,8 +426,7 @@ export class ModelView {
 
   pointer(e) {
     const r = this.renderer.domElement.getBoundingClientRect();
-    return new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1,
-                             -((e.clientY - r.top) / r.height) * 2 + 1);
+    return new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
   }
 
   down(e) {
@@ -426,12 +444,14 @@ export class ModelView {
   move(e) {
     if (!this.drag) return;
     const h = this.drag.handle;
-    if (e.shiftKey) {  // sideways: on the horizontal plane through the point
+    if (e.shiftKey) {
+      // sideways: on the horizontal plane through the point
       this.raycaster.setFromCamera(this.pointer(e), this.camera);
       const plane = new THREE.Plane(new THREE.Vector3(0, 0, 1), -h.position.z);
       const p = this.raycaster.ray.intersectPlane(plane, new THREE.Vector3());
       if (p) h.position.set(p.x, p.y, h.position.z);
-    } else {  // up and down
+    } else {
+      // up and down
       h.position.z = this.drag.z + ((this.drag.y - e.clientY) / 200) * this.drag.size * 0.25;
     }
     this.invalidate();
@@ -473,7 +493,7 @@ export class ModelView {
   // warm is the model's plain colour; red and blue the distortion map's
   // ends; green the marks.
   pixelCounts() {
-    const { px, width, height } = this.canvasPixels();
+    const { px } = this.canvasPixels();
     const n = { warm: 0, red: 0, blue: 0, green: 0, total: px.length / 4 };
     for (let k = 0; k < px.length; k += 4) {
       const [r, g, b] = [px[k], px[k + 1], px[k + 2]];

@@ -13,12 +13,24 @@ export function vertexNormals(array, stride, offset, count, index) {
   const a = array;
   const sum = new Float64Array(3 * count);
   for (let t = 0; t + 2 < index.length; t += 3) {
-    const ia = index[t], ib = index[t + 1], ic = index[t + 2];
-    const pa = offset + stride * ia, pb = offset + stride * ib, pc = offset + stride * ic;
-    const bx = a[pb], by = a[pb + 1], bz = a[pb + 2];
-    const cbx = a[pc] - bx, cby = a[pc + 1] - by, cbz = a[pc + 2] - bz;
-    const abx = a[pa] - bx, aby = a[pa + 1] - by, abz = a[pa + 2] - bz;
-    const nx = cby * abz - cbz * aby, ny = cbz * abx - cbx * abz, nz = cbx * aby - cby * abx;
+    const ia = index[t],
+      ib = index[t + 1],
+      ic = index[t + 2];
+    const pa = offset + stride * ia,
+      pb = offset + stride * ib,
+      pc = offset + stride * ic;
+    const bx = a[pb],
+      by = a[pb + 1],
+      bz = a[pb + 2];
+    const cbx = a[pc] - bx,
+      cby = a[pc + 1] - by,
+      cbz = a[pc + 2] - bz;
+    const abx = a[pa] - bx,
+      aby = a[pa + 1] - by,
+      abz = a[pa + 2] - bz;
+    const nx = cby * abz - cbz * aby,
+      ny = cbz * abx - cbx * abz,
+      nz = cbx * aby - cby * abx;
     sum[3 * ia] += nx;
     sum[3 * ia + 1] += ny;
     sum[3 * ia + 2] += nz;
@@ -34,7 +46,9 @@ export function vertexNormals(array, stride, offset, count, index) {
   // integer data, whose squares stay far inside double range.
   const normals = new Float32Array(3 * count);
   for (let v = 0; v < 3 * count; v += 3) {
-    const x = sum[v], y = sum[v + 1], z = sum[v + 2];
+    const x = sum[v],
+      y = sum[v + 1],
+      z = sum[v + 2];
     const len = Math.sqrt(x * x + y * y + z * z);
     const k = len > 0 ? 1 / len : 0;
     normals[v] = x * k;

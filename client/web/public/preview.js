@@ -23,9 +23,14 @@ export function placePoint(x, y, z, frame, placement) {
   const qb = m[1][0] * x + m[1][1] * y + m[1][2] * z - frame.centre[1];
   const qh = m[2][0] * x + m[2][1] * y + m[2][2] * z;
   const t = (placement.rotation_deg * Math.PI) / 180;
-  const c = Math.cos(t), s = Math.sin(t), k = placement.scale;
-  return [placement.center[0] + k * (c * qa - s * qb), placement.center[1] + k * (s * qa + c * qb),
-          k * (qh - frame.h0)];
+  const c = Math.cos(t),
+    s = Math.sin(t),
+    k = placement.scale;
+  return [
+    placement.center[0] + k * (c * qa - s * qb),
+    placement.center[1] + k * (s * qa + c * qb),
+    k * (qh - frame.h0),
+  ];
 }
 
 // The field's P, N at sheet point (a, b), bilinear, and whether the cell's
@@ -33,19 +38,31 @@ export function placePoint(x, y, z, frame, placement) {
 // The lattice cell that sheet point (a, b) falls in (clamped to the
 // field's box), its corners and the point's place in it.
 function fieldCell(field, a, b) {
-  const n = field.n, [lo, hi] = field.bounds;
-  const tx = ((a - lo[0]) / (hi[0] - lo[0])) * (n - 1), ty = ((b - lo[1]) / (hi[1] - lo[1])) * (n - 1);
-  const ix = Math.min(Math.max(Math.floor(tx), 0), n - 2), iy = Math.min(Math.max(Math.floor(ty), 0), n - 2);
-  const fx = tx - ix, fy = ty - iy;
-  const k00 = ix + n * iy, k10 = k00 + 1, k01 = k00 + n, k11 = k01 + 1;
-  const lerp = (arr, c) => (1 - fy) * ((1 - fx) * arr[k00][c] + fx * arr[k10][c]) +
-                           fy * ((1 - fx) * arr[k01][c] + fx * arr[k11][c]);
+  const n = field.n,
+    [lo, hi] = field.bounds;
+  const tx = ((a - lo[0]) / (hi[0] - lo[0])) * (n - 1),
+    ty = ((b - lo[1]) / (hi[1] - lo[1])) * (n - 1);
+  const ix = Math.min(Math.max(Math.floor(tx), 0), n - 2),
+    iy = Math.min(Math.max(Math.floor(ty), 0), n - 2);
+  const fx = tx - ix,
+    fy = ty - iy;
+  const k00 = ix + n * iy,
+    k10 = k00 + 1,
+    k01 = k00 + n,
+    k11 = k01 + 1;
+  const lerp = (arr, c) =>
+    (1 - fy) * ((1 - fx) * arr[k00][c] + fx * arr[k10][c]) + fy * ((1 - fx) * arr[k01][c] + fx * arr[k11][c]);
   return { tx, ty, corners: [k00, k10, k01, k11], lerp };
 }
 
 export function sampleField(field, a, b) {
   const n = field.n;
-  const { tx, ty, corners: [k00, k10, k01, k11], lerp } = fieldCell(field, a, b);
+  const {
+    tx,
+    ty,
+    corners: [k00, k10, k01, k11],
+    lerp,
+  } = fieldCell(field, a, b);
   const p = [0, 1, 2].map((c) => lerp(field.positions, c));
   const nr = [0, 1, 2].map((c) => lerp(field.normals, c));
   const len = Math.hypot(...nr);
@@ -70,8 +87,9 @@ export function sampleParams(field, a, b) {
 export function wrapByPeriod(a, b, field, period) {
   if (!period) return [a, b];
   const lo = field.bounds[0];
-  const k = Math.floor(((a - lo[0]) * period[0] + (b - lo[1]) * period[1]) /
-                       (period[0] * period[0] + period[1] * period[1]));
+  const k = Math.floor(
+    ((a - lo[0]) * period[0] + (b - lo[1]) * period[1]) / (period[0] * period[0] + period[1] * period[1]),
+  );
   return [a - k * period[0], b - k * period[1]];
 }
 
@@ -83,18 +101,21 @@ export function wrapByPeriod(a, b, field, period) {
 export function wrapByRotation(a, b, rotation) {
   if (!rotation) return [a, b];
   const { angle, centre, start } = rotation;
-  const turn = 2 * Math.PI, span = Math.abs(angle), gap = turn - span;
-  const x = a - centre[0], y = b - centre[1];
+  const turn = 2 * Math.PI,
+    span = Math.abs(angle),
+    gap = turn - span;
+  const x = a - centre[0],
+    y = b - centre[1];
   let phi = Math.sign(angle) * (Math.atan2(y, x) - start);
   phi -= turn * Math.floor((phi + gap / 2) / turn);
   const r = -Math.floor(phi / span) * angle;
-  const c = Math.cos(r), s = Math.sin(r);
+  const c = Math.cos(r),
+    s = Math.sin(r);
   return [centre[0] + c * x - s * y, centre[1] + s * x + c * y];
 }
 
 // The preview's position of every model vertex (`positions`: x, y, z, ...).
-export function previewPositions(positions, frame, placement, field, period = null,
-                                 periodV = null, rotation = null) {
+export function previewPositions(positions, frame, placement, field, period = null, periodV = null, rotation = null) {
   const out = new Float64Array(positions.length);
   for (let k = 0; k < positions.length; k += 3) {
     const [a0, b0, h] = placePoint(positions[k], positions[k + 1], positions[k + 2], frame, placement);
@@ -115,26 +136,37 @@ export function nearestDistances(from, to, cell, samples = 4000) {
   // 2^16 cells of the origin (points farther only add candidates, each
   // measured).
   const grid = new Map();
-  const key = (i, j, l) => (i + 65536) + 131072 * ((j + 65536) + 131072 * (l + 65536));
+  const key = (i, j, l) => i + 65536 + 131072 * (j + 65536 + 131072 * (l + 65536));
   for (let k = 0; k < to.length; k += 3) {
     const id = key(Math.floor(to[k] / cell), Math.floor(to[k + 1] / cell), Math.floor(to[k + 2] / cell));
     const list = grid.get(id);
     if (list) list.push(k);
     else grid.set(id, [k]);
   }
-  const count = from.length / 3, stride = Math.max(1, Math.floor(count / samples));
-  let worst = 0, sum = 0, n = 0;
+  const count = from.length / 3,
+    stride = Math.max(1, Math.floor(count / samples));
+  let worst = 0,
+    sum = 0,
+    n = 0;
   for (let v = 0; v < count; v += stride) {
-    const x = from[3 * v], y = from[3 * v + 1], z = from[3 * v + 2];
-    const cx = Math.floor(x / cell), cy = Math.floor(y / cell), cz = Math.floor(z / cell);
+    const x = from[3 * v],
+      y = from[3 * v + 1],
+      z = from[3 * v + 2];
+    const cx = Math.floor(x / cell),
+      cy = Math.floor(y / cell),
+      cz = Math.floor(z / cell);
     let best2 = Infinity;
     for (let ring = 1; ring <= 4 && best2 === Infinity; ++ring) {
-      for (let i = -ring; i <= ring; ++i) for (let j = -ring; j <= ring; ++j) for (let l = -ring; l <= ring; ++l) {
-        for (const k of grid.get(key(cx + i, cy + j, cz + l)) || []) {
-          const dx = to[k] - x, dy = to[k + 1] - y, dz = to[k + 2] - z;
-          best2 = Math.min(best2, dx * dx + dy * dy + dz * dz);
-        }
-      }
+      for (let i = -ring; i <= ring; ++i)
+        for (let j = -ring; j <= ring; ++j)
+          for (let l = -ring; l <= ring; ++l) {
+            for (const k of grid.get(key(cx + i, cy + j, cz + l)) || []) {
+              const dx = to[k] - x,
+                dy = to[k + 1] - y,
+                dz = to[k + 2] - z;
+              best2 = Math.min(best2, dx * dx + dy * dy + dz * dz);
+            }
+          }
     }
     const best = Math.sqrt(best2);
     worst = Math.max(worst, best);
@@ -243,8 +275,7 @@ function previewMeshWorker() {
 // x, y, z per vertex in a Float32Array of their own (a copy: an attribute
 // may be interleaved, or of another type).
 function packedPositions(position) {
-  if (position.array instanceof Float32Array && !position.isInterleavedBufferAttribute &&
-      position.itemSize === 3) {
+  if (position.array instanceof Float32Array && !position.isInterleavedBufferAttribute && position.itemSize === 3) {
     return position.array.slice(0, 3 * position.count);
   }
   const out = new Float32Array(3 * position.count);
@@ -292,11 +323,16 @@ function fieldTexture(data, n) {
 export class FieldPreview {
   constructor() {
     this.uniforms = {
-      sdFieldP: { value: null }, sdFieldN: { value: null },
-      sdLo: { value: new THREE.Vector2() }, sdHi: { value: new THREE.Vector2(1, 1) },
-      sdN: { value: 2 }, sdBasis: { value: new THREE.Matrix3() },
-      sdCentre: { value: new THREE.Vector2() }, sdH0: { value: 0 },
-      sdRotation: { value: new THREE.Vector2(1, 0) }, sdScale: { value: 1 },
+      sdFieldP: { value: null },
+      sdFieldN: { value: null },
+      sdLo: { value: new THREE.Vector2() },
+      sdHi: { value: new THREE.Vector2(1, 1) },
+      sdN: { value: 2 },
+      sdBasis: { value: new THREE.Matrix3() },
+      sdCentre: { value: new THREE.Vector2() },
+      sdH0: { value: 0 },
+      sdRotation: { value: new THREE.Vector2(1, 0) },
+      sdScale: { value: 1 },
       sdTarget: { value: new THREE.Vector2() },
       sdPeriod: { value: new THREE.Vector2() },
       sdPeriodV: { value: new THREE.Vector2() },
@@ -304,26 +340,30 @@ export class FieldPreview {
       sdRotCentre: { value: new THREE.Vector2() },
       sdRotStart: { value: 0 },
     };
-    this.material = new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6,
-                                                     side: THREE.DoubleSide });
+    this.material = new THREE.MeshStandardMaterial({ color: 0xd9b38c, roughness: 0.6, side: THREE.DoubleSide });
     this.material.onBeforeCompile = (shader) => {
       Object.assign(shader.uniforms, this.uniforms);
-      shader.vertexShader = kVertexHead + shader.vertexShader
-        .replace('#include <beginnormal_vertex>', kVertexPlace)
-        .replace('#include <begin_vertex>', 'vec3 transformed = sdTransformed;');
-      shader.fragmentShader = 'varying float sdOff;\n' + shader.fragmentShader.replace(
-        '#include <color_fragment>',
-        '#include <color_fragment>\n  diffuseColor.rgb = mix(diffuseColor.rgb, vec3(1.0, 0.12, 0.05), step(0.5, sdOff));');
+      shader.vertexShader =
+        kVertexHead +
+        shader.vertexShader
+          .replace('#include <beginnormal_vertex>', kVertexPlace)
+          .replace('#include <begin_vertex>', 'vec3 transformed = sdTransformed;');
+      shader.fragmentShader =
+        'varying float sdOff;\n' +
+        shader.fragmentShader.replace(
+          '#include <color_fragment>',
+          '#include <color_fragment>\n  diffuseColor.rgb = mix(diffuseColor.rgb, vec3(1.0, 0.12, 0.05), step(0.5, sdOff));',
+        );
     };
     this.mesh = new THREE.Mesh(new THREE.BufferGeometry(), this.material);
-    this.mesh.frustumCulled = false;  // its geometry is the model before bending
+    this.mesh.frustumCulled = false; // its geometry is the model before bending
     this.field = null;
     this.frame = null;
     this.placement = null;
     this.period = null;
     this.periodV = null;
     this.rotation = null;
-    this.onChange = () => {};  // what is drawn changed (the view draws a frame)
+    this.onChange = () => {}; // what is drawn changed (the view draws a frame)
   }
 
   // The sheet's period when it repeats by a translation (a whole cylinder,
@@ -340,9 +380,11 @@ export class FieldPreview {
     // apex; the seam's column u = 0 (sample (0, 0) on it) leaves c at `start`.
     this.rotation = null;
     if (p && Math.abs(p.angle_deg) >= 1e-9 && sheet.flat && sheet.flat.length) {
-      const angle = (p.angle_deg * Math.PI) / 180, [tx, ty] = p.translation;
-      const c = Math.cos(angle), s = Math.sin(angle);
-      const det = (1 - c) * (1 - c) + s * s;  // det(I - R)
+      const angle = (p.angle_deg * Math.PI) / 180,
+        [tx, ty] = p.translation;
+      const c = Math.cos(angle),
+        s = Math.sin(angle);
+      const det = (1 - c) * (1 - c) + s * s; // det(I - R)
       const centre = [((1 - c) * tx - s * ty) / det, (s * tx + (1 - c) * ty) / det];
       const start = Math.atan2(sheet.flat[0][1] - centre[1], sheet.flat[0][0] - centre[0]);
       this.rotation = { angle, centre, start };
@@ -350,8 +392,11 @@ export class FieldPreview {
     this.uniforms.sdRotAngle.value = this.rotation ? this.rotation.angle : 0;
     this.uniforms.sdRotCentre.value.set(...(this.rotation ? this.rotation.centre : [0, 0]));
     this.uniforms.sdRotStart.value = this.rotation ? this.rotation.start : 0;
-    this.useDefines({ SD_PERIOD: Boolean(this.period), SD_PERIOD_V: Boolean(this.periodV),
-                      SD_ROTATION: Boolean(this.rotation) });
+    this.useDefines({
+      SD_PERIOD: Boolean(this.period),
+      SD_PERIOD_V: Boolean(this.periodV),
+      SD_ROTATION: Boolean(this.rotation),
+    });
     this.onChange();
   }
 
@@ -366,8 +411,10 @@ export class FieldPreview {
 
   // The field as GET /v1/surfaces/{id}/field returns it in JSON.
   setField(field) {
-    const n = field.n, count = n * n;
-    const p = new Float32Array(4 * count), q = new Float32Array(4 * count);
+    const n = field.n,
+      count = n * n;
+    const p = new Float32Array(4 * count),
+      q = new Float32Array(4 * count);
     for (let k = 0; k < count; ++k) {
       p.set(field.positions[k], 4 * k);
       p[4 * k + 3] = field.on_sheet[k] ? 1 : 0;
@@ -436,7 +483,12 @@ export class FieldPreview {
 
   // Whether there is everything a preview needs.
   ready() {
-    return Boolean(this.field && this.frame && this.placement && this.mesh.geometry.getAttribute('position') &&
-                   typeof this.placement.scale === 'number');
+    return Boolean(
+      this.field &&
+      this.frame &&
+      this.placement &&
+      this.mesh.geometry.getAttribute('position') &&
+      typeof this.placement.scale === 'number',
+    );
   }
 }

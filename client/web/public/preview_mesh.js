@@ -37,16 +37,16 @@
 
 import { vertexNormals } from './normals.js';
 
-export const kPreviewShare = 0.25;          // of the triangles
-export const kPreviewError = 5e-4;          // of the model's extent
-export const kPreviewMinTriangles = 20000;  // below: drawn whole
+export const kPreviewShare = 0.25; // of the triangles
+export const kPreviewError = 5e-4; // of the model's extent
+export const kPreviewMinTriangles = 20000; // below: drawn whole
 
 // `positions` (x, y, z per corner, three corners a triangle) welded:
 // {positions, index} over the distinct positions (meshoptimizer's position
 // remap: bitwise-equal positions), in the order they are first used.
 export function weldTriangles(simplifier, positions) {
   const index = Uint32Array.from(simplifier.generatePositionRemap(positions, 3));
-  const [remap, count] = simplifier.compactMesh(index);  // remap: corner -> vertex
+  const [remap, count] = simplifier.compactMesh(index); // remap: corner -> vertex
   const kept = new Float32Array(3 * count);
   for (let v = 0; v < remap.length; ++v) {
     if (remap[v] !== 0xffffffff) kept.set(positions.subarray(3 * v, 3 * v + 3), 3 * remap[v]);

@@ -11,10 +11,10 @@ import { previewMesh } from './preview_mesh.js';
 self.onmessage = async ({ data }) => {
   try {
     await Promise.all([MeshoptSimplifier.ready, MeshoptEncoder.ready]);
-    const out = previewMesh({ simplifier: MeshoptSimplifier, encoder: MeshoptEncoder }, data.positions,
-                            data.index);
-    self.postMessage({ id: data.id, ...out },
-                     [...new Set([out.positions.buffer, out.normals.buffer, out.index.buffer])]);
+    const out = previewMesh({ simplifier: MeshoptSimplifier, encoder: MeshoptEncoder }, data.positions, data.index);
+    self.postMessage({ id: data.id, ...out }, [
+      ...new Set([out.positions.buffer, out.normals.buffer, out.index.buffer]),
+    ]);
   } catch (e) {
     self.postMessage({ id: data.id, error: String(e && e.message ? e.message : e) });
   }

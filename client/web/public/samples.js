@@ -9,7 +9,7 @@ export async function surfacePreset(name) {
     const r = await fetch(`/samples/${name}.json`);
     if (!r.ok) throw new Error(`cannot load the preset ${name}`);
     const spec = await r.json();
-    delete spec.description;  // a note for people; the API takes surface fields only
+    delete spec.description; // a note for people; the API takes surface fields only
     return spec;
   }
   if (name === 'panel') {
@@ -19,15 +19,28 @@ export async function surfacePreset(name) {
     return { kind: 'mesh', model_id: model.id };
   }
   switch (name) {
-    case 'cylinder': return { kind: 'cylinder', radius: 1, height: 2, angle_deg: 180 };
-    case 'can': return { kind: 'cylinder', radius: 1, height: 2, angle_deg: 360 };
-    case 'ring': return { kind: 'torus', major_radius: 2, minor_radius: 0.6, u_min_deg: 0,
-                          u_max_deg: 360, v_min_deg: 0, v_max_deg: 360 };
-    case 'cone': return { kind: 'cone', radius_bottom: 1, radius_top: 0.5, height: 1, angle_deg: 240 };
-    case 'lampshade': return { kind: 'cone', radius_bottom: 1, radius_top: 0.5, height: 1,
-                               angle_deg: 360 };
-    case 'wave': return { kind: 'wave', length: 4, width: 1.5, amplitude: 0.25, wavelength: 2 };
-    default: throw new Error(`no preset ${name}`);
+    case 'cylinder':
+      return { kind: 'cylinder', radius: 1, height: 2, angle_deg: 180 };
+    case 'can':
+      return { kind: 'cylinder', radius: 1, height: 2, angle_deg: 360 };
+    case 'ring':
+      return {
+        kind: 'torus',
+        major_radius: 2,
+        minor_radius: 0.6,
+        u_min_deg: 0,
+        u_max_deg: 360,
+        v_min_deg: 0,
+        v_max_deg: 360,
+      };
+    case 'cone':
+      return { kind: 'cone', radius_bottom: 1, radius_top: 0.5, height: 1, angle_deg: 240 };
+    case 'lampshade':
+      return { kind: 'cone', radius_bottom: 1, radius_top: 0.5, height: 1, angle_deg: 360 };
+    case 'wave':
+      return { kind: 'wave', length: 4, width: 1.5, amplitude: 0.25, wavelength: 2 };
+    default:
+      throw new Error(`no preset ${name}`);
   }
 }
 

@@ -6,9 +6,11 @@
 // footprint is drawn where it lands past the seam too, and a footprint
 // released past the seam comes back onto the sheet by the period.
 
-function cellArea(p, q, r, s) {  // quad p q r s, as two triangles (2D or 3D)
+function cellArea(p, q, r, s) {
+  // quad p q r s, as two triangles (2D or 3D)
   const tri = (a, b, c) => {
-    const u = a.map((x, i) => b[i] - x), v = a.map((x, i) => c[i] - x);
+    const u = a.map((x, i) => b[i] - x),
+      v = a.map((x, i) => c[i] - x);
     if (u.length === 2) return Math.abs(u[0] * v[1] - u[1] * v[0]) / 2;
     const n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
     return Math.hypot(...n) / 2;
@@ -27,8 +29,8 @@ export class SheetView {
     this.sheet = null;
     this.footprint = null;
     this.placement = null;
-    this.marking = null;  // while drawing a mark: onMark(points) after each click
-    this.mark = [];       // the mark's points, sheet units
+    this.marking = null; // while drawing a mark: onMark(points) after each click
+    this.mark = []; // the mark's points, sheet units
     canvas.addEventListener('pointerdown', (e) => this.down(e));
     canvas.addEventListener('pointermove', (e) => this.move(e));
     canvas.addEventListener('pointerup', (e) => this.up(e));
@@ -50,7 +52,8 @@ export class SheetView {
         ratios.push(surf > 0 ? flat / surf : 1);
       }
     }
-    let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+    let lo = [Infinity, Infinity],
+      hi = [-Infinity, -Infinity];
     for (const [x, y] of sheet.flat) {
       lo = [Math.min(lo[0], x), Math.min(lo[1], y)];
       hi = [Math.max(hi[0], x), Math.max(hi[1], y)];
@@ -58,8 +61,10 @@ export class SheetView {
     const spread = Math.max(0.01, ...ratios.map((r) => Math.abs(Math.log(r))));
     // A surface closed in u (a full cylinder or cone): the motion that takes
     // the seam's column u = 0 onto u = 1, and the sheet's outline.
-    const period = sheet.periodic_u && sheet.period
-      ? { angle: (sheet.period.angle_deg * Math.PI) / 180, t: sheet.period.translation } : null;
+    const period =
+      sheet.periodic_u && sheet.period
+        ? { angle: (sheet.period.angle_deg * Math.PI) / 180, t: sheet.period.translation }
+        : null;
     // Closed in v too (a torus round its tube): the translation of row v = 0 onto v = 1.
     const periodV = sheet.periodic_v && sheet.period_v ? sheet.period_v.translation : null;
     const outline = [];
@@ -79,7 +84,8 @@ export class SheetView {
       const s = cellArea(points[a], points[b], points[c], points[c]);
       return s > 0 ? cellArea(flat[a], flat[b], flat[c], flat[c]) / s : 1;
     });
-    let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+    let lo = [Infinity, Infinity],
+      hi = [-Infinity, -Infinity];
     for (const [x, y] of flat) {
       lo = [Math.min(lo[0], x), Math.min(lo[1], y)];
       hi = [Math.max(hi[0], x), Math.max(hi[1], y)];
@@ -87,8 +93,19 @@ export class SheetView {
     const spread = Math.max(0.01, ...ratios.map((r) => Math.abs(Math.log(r))));
     const { nu, nv } = sheet.grid;
     const outline = [sheet.flat[0], sheet.flat[nu - 1], sheet.flat[nu * nv - 1], sheet.flat[nu * (nv - 1)]];
-    this.sheet = { nu, nv, flat: sheet.flat, ratios, spread, lo, hi, period: null, periodV: null,
-                   outline, mesh: { flat, triangles } };
+    this.sheet = {
+      nu,
+      nv,
+      flat: sheet.flat,
+      ratios,
+      spread,
+      lo,
+      hi,
+      period: null,
+      periodV: null,
+      outline,
+      mesh: { flat, triangles },
+    };
     this.draw();
   }
 
@@ -113,10 +130,14 @@ export class SheetView {
   byPeriod([x, y], k) {
     const { angle, t } = this.sheet.period;
     if (k > 0) {
-      const c = Math.cos(angle), s = Math.sin(angle);
+      const c = Math.cos(angle),
+        s = Math.sin(angle);
       return [c * x - s * y + t[0], s * x + c * y + t[1]];
     }
-    const c = Math.cos(-angle), s = Math.sin(-angle), u = x - t[0], v = y - t[1];
+    const c = Math.cos(-angle),
+      s = Math.sin(-angle),
+      u = x - t[0],
+      v = y - t[1];
     return [c * u - s * v, s * u + c * v];
   }
 
@@ -125,8 +146,8 @@ export class SheetView {
     let inside = false;
     const o = this.sheet.outline;
     for (let a = 0, b = o.length - 1; a < o.length; b = a++) {
-      if ((o[a][1] > y) !== (o[b][1] > y) &&
-          x < ((o[b][0] - o[a][0]) * (y - o[a][1])) / (o[b][1] - o[a][1]) + o[a][0]) inside = !inside;
+      if (o[a][1] > y !== o[b][1] > y && x < ((o[b][0] - o[a][0]) * (y - o[a][1])) / (o[b][1] - o[a][1]) + o[a][0])
+        inside = !inside;
     }
     return inside;
   }
@@ -150,12 +171,20 @@ export class SheetView {
   // The centre of the sheet: the image of (u, v) = (1/2, 1/2), as the server's "center".
   sheetCentre() {
     const { nu, nv, flat } = this.sheet;
-    const gu = (nu - 1) / 2, gv = (nv - 1) / 2;
-    const i = Math.min(Math.floor(gu), nu - 2), j = Math.min(Math.floor(gv), nv - 2);
-    const s = gu - i, t = gv - j;
+    const gu = (nu - 1) / 2,
+      gv = (nv - 1) / 2;
+    const i = Math.min(Math.floor(gu), nu - 2),
+      j = Math.min(Math.floor(gv), nv - 2);
+    const s = gu - i,
+      t = gv - j;
     const p = (a, b) => flat[a + nu * b];
-    return [0, 1].map((c) => (1 - s) * (1 - t) * p(i, j)[c] + s * (1 - t) * p(i + 1, j)[c] +
-                             s * t * p(i + 1, j + 1)[c] + (1 - s) * t * p(i, j + 1)[c]);
+    return [0, 1].map(
+      (c) =>
+        (1 - s) * (1 - t) * p(i, j)[c] +
+        s * (1 - t) * p(i + 1, j)[c] +
+        s * t * p(i + 1, j + 1)[c] +
+        (1 - s) * t * p(i, j + 1)[c],
+    );
   }
 
   // Marking mode on (onMark(points) after each point) or off (null).
@@ -163,29 +192,46 @@ export class SheetView {
     this.marking = onMark;
     this.canvas.style.cursor = onMark ? 'crosshair' : '';
   }
-  setMark(points) { this.mark = points; this.draw(); }
+  setMark(points) {
+    this.mark = points;
+    this.draw();
+  }
 
-  setFootprint(footprint) { this.footprint = footprint; this.draw(); }
-  setPlacement(placement) { this.placement = placement; this.draw(); }
+  setFootprint(footprint) {
+    this.footprint = footprint;
+    this.draw();
+  }
+  setPlacement(placement) {
+    this.placement = placement;
+    this.draw();
+  }
 
   // Sheet units <-> canvas pixels (y up on the sheet).
   frame() {
     const { lo, hi } = this.sheet;
-    const w = this.canvas.width, h = this.canvas.height, pad = 16;
+    const w = this.canvas.width,
+      h = this.canvas.height,
+      pad = 16;
     const k = Math.min((w - 2 * pad) / (hi[0] - lo[0] || 1), (h - 2 * pad) / (hi[1] - lo[1] || 1));
-    const ox = (w - k * (hi[0] - lo[0])) / 2, oy = (h - k * (hi[1] - lo[1])) / 2;
+    const ox = (w - k * (hi[0] - lo[0])) / 2,
+      oy = (h - k * (hi[1] - lo[1])) / 2;
     return {
       toPx: ([x, y]) => [ox + k * (x - lo[0]), h - oy - k * (y - lo[1])],
       toSheet: ([px, py]) => [lo[0] + (px - ox) / k, lo[1] + (h - oy - py) / k],
     };
   }
 
-  placed() {  // the footprint's hull on the sheet
-    const f = this.footprint, p = this.placement;
+  placed() {
+    // the footprint's hull on the sheet
+    const f = this.footprint,
+      p = this.placement;
     if (!f || !p || !p.center || typeof p.scale !== 'number') return null;
-    const a = (p.rotation_deg * Math.PI) / 180, c = Math.cos(a), s = Math.sin(a);
+    const a = (p.rotation_deg * Math.PI) / 180,
+      c = Math.cos(a),
+      s = Math.sin(a);
     return f.hull.map(([x, y]) => {
-      const dx = x - f.centre[0], dy = y - f.centre[1];
+      const dx = x - f.centre[0],
+        dy = y - f.centre[1];
       return [p.center[0] + p.scale * (c * dx - s * dy), p.center[1] + p.scale * (s * dx + c * dy)];
     });
   }
@@ -214,7 +260,7 @@ export class SheetView {
     const { nu, nv, flat, ratios, spread, mesh } = this.sheet;
     const { toPx } = this.frame();
     const patch = (corners, ratio) => {
-      const x = Math.log(ratio) / spread;  // -1 .. 1
+      const x = Math.log(ratio) / spread; // -1 .. 1
       const w = Math.round(255 * (1 - Math.abs(x)));
       ctx.fillStyle = x > 0 ? `rgb(255,${w},${w})` : `rgb(${w},${w},255)`;
       ctx.strokeStyle = mesh ? '#8884' : '#8888';
@@ -225,16 +271,29 @@ export class SheetView {
       ctx.stroke();
     };
     if (mesh) {
-      mesh.triangles.forEach((t, k) => patch(t.map((v) => mesh.flat[v]), ratios[k]));
+      mesh.triangles.forEach((t, k) =>
+        patch(
+          t.map((v) => mesh.flat[v]),
+          ratios[k],
+        ),
+      );
     } else {
       for (let j = 0; j + 1 < nv; ++j) {
         for (let i = 0; i + 1 < nu; ++i) {
-          patch([[i, j], [i + 1, j], [i + 1, j + 1], [i, j + 1]].map(([a, b]) => flat[a + nu * b]),
-                ratios[i + (nu - 1) * j]);
+          patch(
+            [
+              [i, j],
+              [i + 1, j],
+              [i + 1, j + 1],
+              [i, j + 1],
+            ].map(([a, b]) => flat[a + nu * b]),
+            ratios[i + (nu - 1) * j],
+          );
         }
       }
     }
-    if (this.sheet.period || this.sheet.periodV) {  // the seams, both sides of each
+    if (this.sheet.period || this.sheet.periodV) {
+      // the seams, both sides of each
       ctx.strokeStyle = '#c60';
       ctx.lineWidth = 2;
       ctx.setLineDash([6, 4]);
@@ -299,8 +358,10 @@ export class SheetView {
 
   eventPoint(e) {
     const r = this.canvas.getBoundingClientRect();
-    return this.frame().toSheet([(e.clientX - r.left) * (this.canvas.width / r.width),
-                                 (e.clientY - r.top) * (this.canvas.height / r.height)]);
+    return this.frame().toSheet([
+      (e.clientX - r.left) * (this.canvas.width / r.width),
+      (e.clientY - r.top) * (this.canvas.height / r.height),
+    ]);
   }
 
   down(e) {
@@ -319,8 +380,10 @@ export class SheetView {
   move(e) {
     if (!this.drag) return;
     const p = this.eventPoint(e);
-    this.placement.center = [this.drag.center[0] + p[0] - this.drag.start[0],
-                             this.drag.center[1] + p[1] - this.drag.start[1]];
+    this.placement.center = [
+      this.drag.center[0] + p[0] - this.drag.start[0],
+      this.drag.center[1] + p[1] - this.drag.start[1],
+    ];
     this.draw();
     this.onPlacement(this.placement, false, 'drag');
   }
@@ -337,7 +400,8 @@ export class SheetView {
     if (!this.placement || typeof this.placement.scale !== 'number') return;
     e.preventDefault();
     if (e.shiftKey) {
-      this.placement.rotation_deg = ((this.placement.rotation_deg + Math.sign(e.deltaY || e.deltaX) * 5 + 540) % 360) - 180;
+      this.placement.rotation_deg =
+        ((this.placement.rotation_deg + Math.sign(e.deltaY || e.deltaX) * 5 + 540) % 360) - 180;
     } else {
       this.placement.scale *= e.deltaY < 0 ? 1.05 : 1 / 1.05;
     }
