@@ -1,5 +1,5 @@
 // surfdeform-demo: flattens a built-in surface and prints the flat sheet's
-// quality: the engine alone, without the server (see README, "Flattening").
+// quality: the engine alone, without the server (see docs/algorithm.md).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <string>

@@ -13,7 +13,7 @@
 
 namespace surfdeform::cli {
 
-// Documented in `surfdeform --help` and the README.
+// Documented in `surfdeform --help` and docs/cli.md.
 enum ExitCode {
   kExitOk = 0,
   kExitUsage = 1,        // bad flags or arguments

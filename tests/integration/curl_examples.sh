@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's curl examples against the real server: both body forms of
+# The API's curl examples (docs/api.md) against the real server: both body forms of
 # POST /v1/deform, the surface routes, Draco output decoded by draco_decoder,
 # GLB output through the Khronos glTF validator, and a clean SIGTERM exit.
 # Usage: curl_examples.sh SERVER_BINARY
@@ -38,7 +38,7 @@ curl -sS -f -o "$out/bunny-plain.glb" -H 'Content-Type: application/octet-stream
   -H 'X-Surfdeform-Params: {"surface":{"kind":"cylinder","radius":1,"height":2,"angle_deg":180},"placement":{"scale":"fit"},"output":{"format":"glb_plain"}}' \
   --data-binary @"$data/bunny.ply" "$base/v1/deform"
 
-# The distortion map (README): GLB with _DISTORTION, the stats header's summary.
+# The distortion map (docs/api.md): GLB with _DISTORTION, the stats header's summary.
 curl -sS -f -o "$out/bunny-distortion.glb" -D "$out/distortion-headers.txt" \
   --data-binary @"$data/bunny.ply" -H 'Content-Type: application/octet-stream' \
   -H 'X-Surfdeform-Params: {"surface":{"kind":"cylinder","radius":1,"height":2,"angle_deg":180},"placement":{"scale":"fit"},"output":{"format":"glb","distortion":true}}' \
@@ -63,7 +63,7 @@ status=$(curl -sS -o "$out/problem.json" -w '%{http_code}' --data-binary @"$data
   || fail "distortion in OBJ gave $status: $(cat "$out/problem.json")"
 node "$here/../gltf/validate.mjs" "$out/bunny.glb" "$out/bunny-plain.glb" "$out/bunny-distortion.glb"
 
-# Rigid parts (README): a word of three box glyphs on a cylinder, each glyph
+# Rigid parts (docs/api.md): a word of three box glyphs on a cylinder, each glyph
 # keeps its edge lengths; the stats report the parts and their corners' lift.
 python3 - "$out/word.obj" << 'PY'
 import sys
@@ -99,7 +99,7 @@ assert rigid["mode"] == "components" and rigid["parts"] == 3 and len(rigid["each
 assert abs(rigid["max_lift"] - (2 * math.cos(0.075) + 0.15 * math.sin(0.075) - 2)) < 1e-9, rigid
 PY
 
-# A textured glTF (README) comes back textured: its image byte for byte, and
+# A textured glTF (docs/api.md) comes back textured: its image byte for byte, and
 # the Khronos validator accepts the GLB. Being glTF, it stands on its +Y
 # (placement.up "auto", the default).
 box=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
@@ -121,7 +121,7 @@ node "$here/../gltf/validate.mjs" "$out/box-on-cylinder.glb"
 grep -qi '^x-surfdeform-stats: .*"up":"+y","up_reason":"gltf"' "$out/box-headers.txt" \
   || fail "a glTF model with up auto: $(grep -i stats "$out/box-headers.txt")"
 
-# Marks (README): sheet points onto the surface, and those surface points
+# Marks (docs/api.md): sheet points onto the surface, and those surface points
 # back onto the sheet: the same sheet points to 1e-9; a polyline resampled.
 cyl=$(curl -sS -f -H 'Content-Type: application/json' \
   -d '{"surface":{"kind":"cylinder","radius":1,"height":2,"angle_deg":180}}' "$base/v1/surfaces" \
@@ -150,11 +150,11 @@ status=$(curl -sS -o "$out/problem.json" -w '%{http_code}' -F mesh=@"$data/bunny
 [[ $status == 422 ]] || fail "zero radius gave $status"
 grep -q '"field":"surface.radius"' "$out/problem.json" || fail "problem field"
 
-# The README's animation: the bunny swimming along the wave, one GLB.
+# The API's animation example: the bunny swimming along the wave, one GLB.
 curl -sS -f -o "$out/bunny-swims.glb" -F mesh=@"$data/bunny.ply" \
      -F 'params={"animation":{"keyframes":[{"time":0,"surface":{"kind":"wave","length":4,"width":1.5,"amplitude":0.25,"wavelength":2}}],"frames":60,"fps":30},"placement":{"scale":"fit"}}' \
      "$base/v1/animate"
-python3 - "$out/bunny-swims.glb" << 'PY' || fail "the README's animation"
+python3 - "$out/bunny-swims.glb" << 'PY' || fail "the animation example"
 import json, struct, sys
 glb = open(sys.argv[1], "rb").read()
 doc = json.loads(glb[20:20 + struct.unpack_from("<I", glb, 12)[0]])

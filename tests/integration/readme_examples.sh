@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Every example of the README, as written (issue 34, item 7): each ```sh
+# Every example of the README and docs/*.md, as written: each ```sh
 # block but the two set-up commands and the load test (tested on their own)
 # runs from a copy of the repository's root against the real server, with
 # only these substitutions: the server's address for 127.0.0.1:8080,
@@ -35,14 +35,15 @@ id=$(python3 -c 'import json,sys; print(json.dumps({"surface": json.load(open(sy
   | python3 -c 'import json,sys; print(json.load(sys.stdin)["id"])')
 [[ $id =~ ^[0-9a-f]{32}$ ]] || fail "surface id '$id'"
 
-python3 - "$root/README.md" "$work" << 'PY'
+python3 - "$work" "$root/README.md" "$root"/docs/*.md << 'PY'
 import re, sys
-text = open(sys.argv[1]).read()
-blocks = re.findall(r"^```sh\n(.*?)^```", text, re.S | re.M)
-kept = [b for b in blocks if "scripts/" not in b]
-assert len(kept) >= 9, f"{len(kept)} example blocks in the README"
+kept = []
+for path in sys.argv[2:]:
+    blocks = re.findall(r"^```sh\n(.*?)^```", open(path).read(), re.S | re.M)
+    kept += [b for b in blocks if "scripts/" not in b]
+assert len(kept) >= 18, f"{len(kept)} example blocks in the README and docs/"
 for n, b in enumerate(kept):
-    open(f"{sys.argv[2]}/block{n:02d}.sh", "w").write(b)
+    open(f"{sys.argv[1]}/block{n:02d}.sh", "w").write(b)
 PY
 
 count=0
