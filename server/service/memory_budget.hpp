@@ -1,8 +1,8 @@
 // What a request's work takes in memory, estimated from its counts before
 // the work, against the per-request budget (ServiceLimits::
 // request_memory_bytes). The bytes per unit were measured with VmHWM on
-// single requests to a fresh Release server (BENCHMARKS.md, "Bounded cost
-// per request"), rounded up.
+// single requests to a fresh Release server (BENCHMARKS.md, "Hostile
+// input"), rounded up.
 #pragma once
 
 #include <cstddef>
