@@ -4,7 +4,7 @@
 // frames. Prints, in one run: the time per frame by stage (flattening warm
 // and cold, deformation, encoding), frames per second, output bytes per
 // frame against separate Draco frames, and the ratios the targets are
-// stated in (issue 13): frames per second, a frame against a standalone
+// stated in: frames per second, a frame against a standalone
 // deformation of it (cold flattening, deformation, Draco encode), and the
 // warm flattening against the cold one at the same stress.
 #include <CLI/CLI.hpp>

@@ -12,7 +12,9 @@ pids=()
 trap 'kill "${pids[@]}" 2> /dev/null || true; rm -rf "$out"' EXIT
 
 snapshot() {
-  launch_server "$1" "$out/$2.log"
+  # A data directory of its own: the default one is shared, and a surface
+  # the other build (or an earlier run) kept there answers "cached": true.
+  launch_server "$1" "$out/$2.log" --data-dir "$out/$2-data"
   pids+=("$SERVER_PID")
   [[ -n $SERVER_PORT ]] || { echo "$1 did not start: $(cat "$out/$2.log")" >&2; exit 1; }
   python3 "$here/behaviour_snapshot.py" "$SERVER_PORT" "$here/../client/web/samples" > "$out/$2.txt"

@@ -125,6 +125,22 @@ call("deform bunny on cone (multipart)", "POST", "/v1/deform",
      + json.dumps({"surface": cone, "placement": {"scale": "fit"}, "output": {"format": "ply"}}).encode()
      + b"\r\n--XyZ--\r\n",
      {"Content-Type": "multipart/form-data; boundary=XyZ"})
+# Text: a deformation of words (twice: the second is the kept answer), and
+# the words' mesh alone.
+jsn = {"Content-Type": "application/json"}
+text = {"string": "Ada", "size_mm": 0.3, "depth_mm": 0.05}
+for n in ("text on cylinder", "text on cylinder again (kept)"):
+    call(n, "POST", "/v1/deform", json.dumps(
+        {"surface": cylinder, "text": text, "placement": {"rigid": "components"},
+         "output": {"format": "obj"}}).encode(), jsn)
+call("text alone", "POST", "/v1/text", json.dumps({"text": text, "output": {"format": "ply"}}).encode(), jsn)
+# An edit and its deformation in one request, warm-started from Figure 10.
+edited = json.loads(json.dumps(fig10))
+edited["control_points"][5][2] += 0.1
+call("deform word on an edit (warm start)", "POST", "/v1/deform", word,
+     {**raw, "X-Surfdeform-Params": json.dumps(
+         {"surface": edited, "sampling": {"nu": 16, "nv": 16}, "warm_start": sid,
+          "placement": {"scale": 1, "center": [5.0, 5.0]}, "output": {"format": "obj"}})})
 # Errors: a problem each, by class.
 call("error: unknown surface", "GET", "/v1/surfaces/" + "0" * 32)
 call("error: bad json", "POST", "/v1/surfaces", b"{", {"Content-Type": "application/json"})

@@ -21,7 +21,7 @@
 // Its throughput is the ceiling this machine and this load generator allow
 // any server (the load generator's CPU and loopback transfer share the
 // cores); "of ceiling" is the server's throughput against it at the same
-// concurrency. Targets of issue 12:
+// concurrency. Targets:
 // server CPU per request at most 1.25x Draco's (subdivision off) and 1.35x (adaptive); throughput
 // at the best concurrency at least 80% of cores / Draco's encode CPU time.
 #include <httplib.h>
@@ -166,7 +166,7 @@ int RunFor(int k, double seconds, Once once) {
   return failed ? -1 : done.load();
 }
 
-// --forms (issue #38): the request forms side by side, each a server with
+// --forms: the request forms side by side, each a server with
 // no kept answers but the last. Per form and concurrency: requests per
 // second, the server's CPU per request, bytes per answer, and the wall time
 // of one request at one connection (median); then the ratios to inline
@@ -254,7 +254,7 @@ int RunForms(double seconds, int rounds, int max_concurrency, const std::string&
     }
   }
   std::printf(
-      "\nrequest forms (issue #38): %s (%zu bytes) on Figure 10 (16x16), subdivision off; no "
+      "\nrequest forms: %s (%zu bytes) on Figure 10 (16x16), subdivision off; no "
       "kept answers but in the last form; %.1f s per form and round, %d rounds\n",
       model_path.c_str(), bunny.size(), seconds, rounds);
   std::printf("%-16s %5s | %9s %11s %10s %9s\n", "form", "conc", "req/s", "CPU ms/req", "bytes",
@@ -318,7 +318,7 @@ int RunForms(double seconds, int rounds, int max_concurrency, const std::string&
                 b.bytes / best[0].bytes, b.wall_ms / best[0].wall_ms);
   }
   std::printf(
-      "targets (issue #38): by id with meshopt >= 3x inline Draco's capacity (%.2fx); by id with "
+      "targets: by id with meshopt >= 3x inline Draco's capacity (%.2fx); by id with "
       "Draco >= 1.1x (%.2fx); one request by id with meshopt at one connection <= 1/3 of inline "
       "Draco's wall time (%.2f)\n",
       best[2].per_second / best[0].per_second, best[1].per_second / best[0].per_second,

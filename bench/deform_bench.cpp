@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
   app.add_flag("--draco-sweep", sweep, "also measure Draco quantization and speed settings");
   bool closed_only = false;
   app.add_flag("--closed", closed_only,
-               "only the closed cylinder across its seam against the open one (issue #36)");
+               "only the closed cylinder across its seam against the open one");
   CLI11_PARSE(app, argc, argv);
   TuneAllocatorForServing();  // as the server runs (Draco encodes ~1.5x faster with it)
 

@@ -1,5 +1,5 @@
 // delivery_bench: what an answer costs to encode and to send, per encoding,
-// on the sample models deformed onto Figure 10 (issue #38). For each model
+// on the sample models deformed onto Figure 10. For each model
 // and each encoding (Draco .drc, GLB with Draco, GLB with meshopt, the
 // same with the vertex order a service keeps per model, the quantized GLB
 // uncompressed, plain GLB): the encode time (median), the
@@ -140,7 +140,7 @@ int Run(int repeat, int relief_side, size_t split_vertices) {
 }  // namespace surfdeform
 
 int main(int argc, char** argv) {
-  CLI::App app{"Encode time and bytes per answer encoding (issue #38)"};
+  CLI::App app{"Encode time and bytes per answer encoding"};
   int repeat = 5;
   int relief_side = 776;  // 777^2 = 603,729 vertices
   app.add_option("--repeat", repeat, "runs per encoding (the median is printed)");

@@ -173,7 +173,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--quick", quick, "Table 1 rows only, one run each (a smoke test)");
   app.add_flag("--periodic", periodic,
-               "surfaces closed in u (issue #36): the periodic flattening against the open one "
+               "surfaces closed in u: the periodic flattening against the open one "
                "of the same surface cut at its seam, at 32^2 and 128^2");
   CLI11_PARSE(app, argc, argv);
   if (periodic) return RunPeriodic(quick ? 1 : repeat);

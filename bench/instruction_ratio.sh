@@ -5,7 +5,7 @@
 # ceiling of capacity_bench: reads the body and encodes the same output).
 #
 # The counts do not depend on the machine's load, which makes them the
-# noise-free companion of capacity_bench's CPU-time ratios (issue 12's
+# noise-free companion of capacity_bench's CPU-time ratios (whose
 # targets are 1.25x with subdivision off and 1.35x adaptive, in CPU time).
 # They are user-space instructions only: the kernel's share (socket
 # copies) is not in them, and an instruction is not a cycle (Draco's

@@ -1,4 +1,4 @@
-// mesh_flatten_bench: surfaces given as meshes (issue #37). Irregular
+// mesh_flatten_bench: surfaces given as meshes. Irregular
 // triangulations (with CGAL: the Delaunay triangulation of random points of
 // the parameter square and points evenly along its sides; without: a grid
 // with each interior vertex moved at random by up to 0.2 of a cell and each

@@ -1,4 +1,4 @@
-// The key of an encoded answer of POST /v1/deform (issue #38): everything
+// The key of an encoded answer of POST /v1/deform: everything
 // that determines its bytes, in a canonical text, so that equal requests
 // have equal keys however they were written (defaults filled in, fields in
 // any order, the model inline or by id, the format from "output" or from the

@@ -17,7 +17,7 @@
 # so the ratios hold where goodput does not).
 #
 # Environment:
-#   LOADTEST_FORM         the request form (issue #38), which sets the script:
+#   LOADTEST_FORM         the request form, which sets the script:
 #                         inline_draco (the default: deform_by_id, the raw
 #                         mesh each time, Draco out), id_draco (the model
 #                         uploaded once and named by model_id, Draco out),

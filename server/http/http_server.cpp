@@ -161,7 +161,9 @@ struct HttpServer::Impl {
       res.set_header("Cache-Control", "public, max-age=31536000, immutable");
       res.set_header("Vary", "Accept");
     }
-    if (!reply.stats_json.empty()) res.set_header("X-Surfdeform-Stats", ToAscii(reply.stats_json));
+    if (!reply.stats.is_null()) {
+      res.set_header("X-Surfdeform-Stats", ToAscii(StatsHeaderText(reply.stats)));
+    }
     ctx.cache_hit = reply.cache_hit;
     // An answer the client holds (the service decided, for POST /v1/deform
     // before any work), or a GET of the representation it holds.
@@ -648,7 +650,7 @@ struct HttpServer::Impl {
   }
   void Info(RequestContext&, const httplib::Request&, httplib::Response& res) {
     // The service's limits and those of the HTTP edge (request_guard.hpp).
-    json info = json::parse(service.InfoJson());
+    json info = service.InfoJson();
     json& limits = info["limits"];
     limits["max_request_line_bytes"] = kMaxRequestLineBytes;
     limits["max_header_line_bytes"] = kMaxHeaderLineBytes;

@@ -39,6 +39,8 @@ namespace meshio {
 struct GltfLook;  // gltf_look.hpp
 }
 
+struct TextStats;
+
 struct ImportedMesh {
   Mesh mesh;
   MeshFormat format = MeshFormat::kUnknown;
@@ -47,10 +49,10 @@ struct ImportedMesh {
   // glTF input: its materials, textures and images, for glTF output; else null.
   std::shared_ptr<const meshio::GltfLook> look;
   // Made from a text (not imported): its origin is the footprint's centre,
-  // and its account (glyphs, lines, runs) is this JSON object, for the
-  // reply's statistics.
+  // and its account (glyphs, lines, runs), for the reply's statistics, is
+  // the service's (service/text_models.hpp), opaque here.
   bool centre_at_origin = false;
-  std::string text_stats_json;
+  std::shared_ptr<const TextStats> text_stats;
 };
 
 // Errors: kUnsupportedFormat (no format recognised), kLimitExceeded (with the

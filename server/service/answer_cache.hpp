@@ -1,4 +1,4 @@
-// Answers kept (issue #38): the encoded replies of POST /v1/deform by their
+// Answers kept: the encoded replies of POST /v1/deform by their
 // key (proto/answer_key.hpp), in an LRU bounded by bytes
 // (limits.answer_cache_bytes, --answer-cache-mib). A repeated request is
 // answered from it with no parse, deformation or encoding; concurrent

@@ -24,6 +24,7 @@
 #include "service/limit_checks.hpp"
 #include "service/output_negotiation.hpp"
 #include "service/stats_json.hpp"
+#include "service/text_models.hpp"
 
 namespace surfdeform {
 namespace {
@@ -81,7 +82,7 @@ Result<std::string> DumpFinite(const json& j, std::string_view what) {
   return NonFiniteNumber(what, at);
 }
 
-Result<std::string> StatsHeader(json stats) {
+Result<json> BoundedStats(json stats) {
   SURFDEFORM_ASSIGN_OR_RETURN(std::string text, DumpFinite(stats, "statistics"));
   std::vector<json*> owners;  // objects that hold an "each" list
   CollectLists(stats, &owners);
@@ -95,9 +96,9 @@ Result<std::string> StatsHeader(json stats) {
     const size_t cut = (each.size() + 1) / 2;
     each.erase(each.end() - static_cast<long>(cut), each.end());
     (*longest)["each_omitted"] = longest->value("each_omitted", size_t{0}) + cut;
-    text = Dump(stats);
+    text = StatsHeaderText(stats);
   }
-  return text;
+  return stats;
 }
 
 Reply BytesReply(std::string body, std::string content_type, std::string etag) {
@@ -111,12 +112,11 @@ Reply BytesReply(std::string body, std::string content_type, std::string etag) {
 void MarkKept(Reply* reply) {
   reply->cache_hit = true;
   reply->timings.clear();
-  json stats = json::parse(reply->stats_json, nullptr, false);
-  if (!stats.is_object()) return;
-  stats["answer_kept"] = true;
-  stats["cached"] = true;
-  auto text = StatsHeader(std::move(stats));  // within the header's bound, as made
-  if (text.ok()) reply->stats_json = std::move(*text);
+  if (!reply->stats.is_object()) return;
+  reply->stats["answer_kept"] = true;
+  reply->stats["cached"] = true;
+  auto bounded = BoundedStats(std::move(reply->stats));  // within the header's bound, as made
+  reply->stats = bounded.ok() ? std::move(*bounded) : json();
 }
 
 Reply NotModified(std::string etag) {
@@ -221,9 +221,7 @@ json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, boo
             {"placement", DeformStatsJson(st)},
             {"quality", QualityJson(quality)},
             {"warnings", Warnings(imported, st)}};
-  if (!imported.text_stats_json.empty()) {
-    j["text"] = json::parse(imported.text_stats_json, nullptr, /*allow_exceptions=*/false);
-  }
+  if (imported.text_stats) j["text"] = imported.text_stats->json;
   j["placement"]["reused"] = placement_reused;  // from the memo: the same model came before
   // Not run: it added nothing to the same model with the same options before.
   j["subdivision"]["reused"] = subdivision_reused;
@@ -237,7 +235,7 @@ json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, boo
                   {"parts", st.rigid.parts},
                   {"max_lift", st.rigid.max_lift},
                   {"max_sink", st.rigid.max_sink},
-                  {"each", std::move(each)}};  // the first 1000 parts (StatsHeader cuts more)
+                  {"each", std::move(each)}};  // the first 1000 parts (BoundedStats cuts more)
   }
   if (st.distortion.computed) {
     j["distortion"] = {
@@ -286,9 +284,7 @@ json AnimationStatsHeader(const StoredAnimation& animation, bool hit, double fps
          std::max(0LL, cold * static_cast<long long>(frames - 1) - warm_iterations)},
         {"each", std::move(per_frame)}}},
       {"warnings", Warnings(imported, first_frame)}};
-  if (!imported.text_stats_json.empty()) {
-    stats["text"] = json::parse(imported.text_stats_json, nullptr, /*allow_exceptions=*/false);
-  }
+  if (imported.text_stats) stats["text"] = imported.text_stats->json;
   return stats;
 }
 
@@ -331,7 +327,7 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
       if (pieces > 1) stats["pieces"] = pieces;  // per group
     }
   }
-  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, StatsHeader(std::move(stats)));
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats, BoundedStats(std::move(stats)));
   return reply;
 }
 
@@ -387,7 +383,7 @@ json FontLimitsJson(const FontLimits& f) {
           {"max_text_cost", f.max_text_cost}};
 }
 
-std::string InfoJson(const ServiceLimits& l, const Retention& kept) {
+json InfoJson(const ServiceLimits& l, const Retention& kept) {
   json j = {{"name", "surfdeform"},
             {"version", SURFDEFORM_VERSION},
             {"limits",
@@ -467,7 +463,7 @@ std::string InfoJson(const ServiceLimits& l, const Retention& kept) {
     if (e.value != ErrorCode::kOk)
       enums["problem.code"].push_back({{"name", e.name}, {"description", e.description}});
   }
-  return Dump(j);
+  return j;
 }
 
 }  // namespace surfdeform

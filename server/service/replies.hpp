@@ -38,14 +38,16 @@ Result<std::string> DumpFinite(const nlohmann::json& j, std::string_view what);
 // That error: the number at path `at` of `what` is not finite.
 Status NonFiniteNumber(std::string_view what, const std::string& at);
 
-// The X-Surfdeform-Stats header's text. Header lines have limits on the way:
+// The X-Surfdeform-Stats header's content, finite (else kInternal naming the
+// number) and bounded. Header lines have limits on the way:
 // cpp-httplib's clients (the CLI) read at most 8 KB a line, and nginx fails a
 // response whose headers outgrow proxy_buffer_size (4 KB by default) with
 // 502. The per-item lists ("each": a rigid model's parts, an animation's
 // frames) are cut to their first items until the text fits
-// kMaxStatsHeaderBytes; "each_omitted" beside a list counts what was cut.
+// kMaxStatsHeaderBytes (as StatsHeaderText writes it); "each_omitted" beside
+// a list counts what was cut.
 inline constexpr size_t kMaxStatsHeaderBytes = 2048;
-Result<std::string> StatsHeader(nlohmann::json stats);
+Result<nlohmann::json> BoundedStats(nlohmann::json stats);
 
 // A reply of these bytes: its media type, and its ETag (`etag`, else a
 // digest of the bytes).
@@ -113,7 +115,7 @@ Reply NotModified(std::string etag);
 
 // GET /v1/info: the limits, where uploads are kept, the formats, every
 // named choice of the request.
-std::string InfoJson(const ServiceLimits& limits, const Retention& kept);
+nlohmann::json InfoJson(const ServiceLimits& limits, const Retention& kept);
 // The limits on fonts and texts (GET /v1/info's "font_limits", GET /v1/fonts).
 nlohmann::json FontLimitsJson(const FontLimits& limits);
 

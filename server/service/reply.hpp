@@ -2,6 +2,7 @@
 // strings, no engine types (the HTTP layer must not see Eigen).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,12 @@ struct Reply {
   std::string body;
   std::string content_type;
   std::vector<Timing> timings;
-  std::string stats_json;  // for a response header: counts, quality
-  std::string etag;        // over the body bytes (deterministic)
+  // For the X-Surfdeform-Stats header: counts, quality. Built as this
+  // object, finite and within the header's bound (replies.hpp,
+  // BoundedStats), and written once, by the HTTP layer (StatsHeaderText);
+  // null: no header.
+  nlohmann::json stats;
+  std::string etag;  // over the body bytes (deterministic)
   bool cache_hit = false;
   // The body is a function of the URL and the Accept header alone (a content
   // id's): cacheable forever, varying by Accept.
@@ -30,5 +35,10 @@ struct Reply {
   // empty when the answer does not compress or was made without it.
   std::string gzip_body;
 };
+
+// The stats header's text: compact JSON, invalid UTF-8 replaced.
+inline std::string StatsHeaderText(const nlohmann::json& stats) {
+  return stats.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
 
 }  // namespace surfdeform

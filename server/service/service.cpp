@@ -408,9 +408,9 @@ struct Service::Impl {
                      {"subdivide", a.subdivide_ms},
                      {"deform", deform_ms},
                      {"encode", encode_ms}};
-    SURFDEFORM_ASSIGN_OR_RETURN(reply.stats_json, StatsHeader(AnimationStatsHeader(
-                                                      *a.entry, a.hit, anim.fps, a.model,
-                                                      glb.compression, imported, first_stats)));
+    SURFDEFORM_ASSIGN_OR_RETURN(
+        reply.stats, BoundedStats(AnimationStatsHeader(*a.entry, a.hit, anim.fps, a.model,
+                                                       glb.compression, imported, first_stats)));
     return reply;
   }
 
@@ -444,7 +444,7 @@ Retention Service::retention() const {
   return impl_->options.shared_tier != nullptr ? impl_->options.shared_tier->retention()
                                                : Retention{};
 }
-std::string Service::InfoJson() const {
+nlohmann::json Service::InfoJson() const {
   return surfdeform::InfoJson(impl_->options.limits, retention());
 }
 
@@ -488,7 +488,7 @@ Result<Reply> Service::CreateSurface(std::string_view body, std::string_view fie
   reply.surface_id = (*entry)->id;
   reply.timings = {{"parse", work.parse_ms()}, {"flatten", flatten_ms}};
   if (side != 0) reply.timings.push_back({"field", field_ms});
-  reply.stats_json = Dump({{"surface_id", (*entry)->id}, {"cached", hit}});
+  reply.stats = {{"surface_id", (*entry)->id}, {"cached", hit}};
   return reply;
 }
 
@@ -607,7 +607,7 @@ Result<Reply> Service::MakeText(std::string_view body, std::string_view accept,
   json stats = {{"vertices", made.mesh.positions.size()},
                 {"triangles", made.mesh.triangles.size()},
                 {"format", proto::OutputFormatName(format)},
-                {"text", json::parse(made.text_stats_json)}};
+                {"text", made.text_stats->json}};
   proto::OutputOptions output;
   output.format = format;
   return MeshReply(made.mesh, output, format, made, false,
@@ -732,8 +732,8 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   if (!reply.ok() || warm.from.empty()) return reply;
   // The edit's account, this request's own (a kept answer may have been
   // made from another start): the warm start, and where the placement went.
-  json stats = json::parse(reply->stats_json, nullptr, /*allow_exceptions=*/false);
-  if (!stats.is_object()) return reply;
+  if (!reply->stats.is_object()) return reply;
+  json& stats = reply->stats;
   stats["warm_start"] = WarmStartJson(warm, *entry, hit, motion);
   if (motion) {
     json& moved = stats["warm_start"]["placement"];
@@ -742,7 +742,6 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
       moved["center"] = {params.placement.center.x(), params.placement.center.y()};
     }
   }
-  reply->stats_json = Dump(stats);
   return reply;
 }
 

@@ -92,7 +92,7 @@ class Service {
   Result<Reply> MapOnSurface(std::string_view id, std::string_view body,
                              const CancelFlag* cancel = nullptr);
 
-  std::string InfoJson() const;  // GET /v1/info
+  nlohmann::json InfoJson() const;  // GET /v1/info (the HTTP layer adds its own limits)
   // Where uploads and flattened surfaces are kept, and for how long.
   Retention retention() const;
   CacheStats cache_stats() const;

@@ -121,7 +121,7 @@ Result<ImportedMesh> MakeTextMesh(const TextSettings& text, const StoredFont& fo
                 {"runs", model.runs},
                 {"clusters", clusters}};
   if (model.path_length_mm > 0) stats["path_length_mm"] = model.path_length_mm;
-  out.text_stats_json = stats.dump();
+  out.text_stats = std::make_shared<const TextStats>(TextStats{std::move(stats)});
   out.mesh = std::move(model.mesh);
   return out;
 }

@@ -4,6 +4,7 @@
 // an answer's key.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -29,8 +30,15 @@ Status PlaceTextOnItsPath(const std::optional<TextSettings>& text, PlacementSett
 // font's content id.
 std::string TextModelKey(const TextSettings& text, const std::string& font_id);
 
+// A text's account in the reply's statistics ("text": font, glyphs, lines,
+// width, runs, clusters), made once with its mesh (ImportedMesh::text_stats)
+// and copied into each reply's stats object.
+struct TextStats {
+  nlohmann::json json;
+};
+
 // The text's mesh (in mm; x along the baseline, z out of the surface), its
-// origin the footprint's centre, its account in text_stats_json. A code
+// origin the footprint's centre, its account in text_stats. A code
 // point the font lacks is a 422 naming the built-in fonts that have them.
 Result<ImportedMesh> MakeTextMesh(const TextSettings& text, const StoredFont& font,
                                   const FontStore& fonts, const FontLimits& limits,

@@ -1139,7 +1139,7 @@ try {
     }
   }
 
-  // Surfaces given as meshes (issue #37): the panel preset (a triangle mesh
+  // Surfaces given as meshes: the panel preset (a triangle mesh
   // uploaded as a model) flattens to its flat triangles, drawn on the sheet,
   // and the plate deforms along it; a mesh dropped on the sheet becomes the
   // surface.

@@ -1,4 +1,4 @@
-// libFuzzer target: the cost of a small request (issue 34, item 1). An
+// libFuzzer target: the cost of a small request. An
 // input is the deformation's parameters (JSON, the first line) and a small
 // mesh (the rest: OBJ, PLY, ...), typically with extreme coordinates,
 // scales, centres, tolerances and outside modes. The service, with the

@@ -88,7 +88,7 @@ size=$(stat -c %s "$out/anim.glb")
 plain_size=$(stat -c %s "$out/anim-plain.glb")
 ((size * 4 < plain_size * 3)) || fail "meshopt output $size bytes, uncompressed $plain_size"
 
-# The placement follows the surface (issue #36): on a pair whose sheet
+# The placement follows the surface: on a pair whose sheet
 # shrinks, moves and turns, "center" is resolved on every frame's sheet, so
 # the last frame is the static deformation on the last key; and "fit" fits
 # every frame, the tightest deciding, where fitting the first alone leaves

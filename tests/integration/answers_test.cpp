@@ -1,4 +1,4 @@
-// Answers kept and meshopt GLB on the real server (issue #38): a repeated
+// Answers kept and meshopt GLB on the real server: a repeated
 // POST /v1/deform is answered byte for byte from the kept answers (the
 // metrics count it), its ETag is the answer's key, so If-None-Match gets 304
 // with no body, and --answer-cache-mib 0 keeps nothing. The meshopt GLB

@@ -283,7 +283,7 @@ grep -q "0 done, 2 skipped, 1 failed" "$out/e" || fail "resumed batch: $(cat "$o
 rm "$out/in/broken.obj"
 expect 0 batch "$out/in" -o "$out/batch" --ext .glb --surface "$out/cylinder.json" --scale fit --force
 grep -q "2 done, 0 skipped, 0 failed" "$out/e" || fail "forced batch: $(cat "$out/e")"
-# A mesh file as the surface (issue #37): uploaded, flattened as kind "mesh";
+# A mesh file as the surface: uploaded, flattened as kind "mesh";
 # a deformation along it by --surface; a closed mesh is the server's 422, exit 2.
 expect 0 flatten "$samples/panel.obj"
 grep -q "stress" "$out/o" || fail "flatten of a mesh file printed no quality: $(cat "$out/o")"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Closed surfaces against the real server (issue #36, closed-form sheets):
+# Closed surfaces against the real server (closed-form sheets):
 # a full cylinder's sheet says it is periodic and gives its period; the
 # bunny across the seam is the bunny half a turn away, turned; a band longer
 # than the circumference goes round with a warning; a cone band across the

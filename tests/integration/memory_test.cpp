@@ -135,7 +135,7 @@ TEST(BoundedMemory, ClaimsTheBodyCannotHoldCostNoMemory) {
   EXPECT_EQ(health->status, 200);
 }
 
-// Issue 34, item 1: a request's cost is bounded by what it is, not by what
+// A request's cost is bounded by what it is, not by what
 // its numbers ask for. Requests of under 1 KiB whose numbers would have
 // taken minutes and gigabytes (a model laid across 1e30 units of the sheet
 // and clamped, a scale of 1e300, a tolerance of 1e-9 or 1e-300, a polyline

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Surfaces given as meshes against the real server (issue #37): an irregular
+# Surfaces given as meshes against the real server: an irregular
 # triangulation of half a cylinder, uploaded as OBJ, flattens (POST
 # /v1/surfaces, kind "mesh") to its development; its sheet lists the flat
 # triangles and its SVG draws them; a plate deformed along it matches the

@@ -544,7 +544,7 @@ TEST_F(ServerTest, RequestFramingAttacks) {
   EXPECT_EQ(r->status, 200);
 }
 
-// Issue 34, item 4: a request that cannot be framed is answered once, with
+// A request that cannot be framed is answered once, with
 // problem+json naming the rule or the limit, and its connection ends: what
 // follows it is never served as a request. Framed forms HTTP/1.1 allows
 // (absolute-form targets, 100 header fields of the client's own) are served.
@@ -623,7 +623,7 @@ TEST_F(ServerTest, HeadsThatCannotBeFramedEndTheirConnection) {
   EXPECT_EQ(limits.value("max_header_fields", 0), 100);
 }
 
-// Issue 34, item 2: a mesh whose every triangle is degenerate (two corners on
+// A mesh whose every triangle is degenerate (two corners on
 // one vertex) is valid input: every output format answers 200, Draco's
 // included (its edgebreaker coding refuses such connectivity).
 TEST_F(ServerTest, DegenerateTrianglesAreServedInEveryFormat) {
@@ -638,7 +638,7 @@ TEST_F(ServerTest, DegenerateTrianglesAreServedInEveryFormat) {
   }
 }
 
-// Issue 34, item 3: every number the service writes is finite, or the
+// Every number the service writes is finite, or the
 // request is refused with a 422 that names the field.
 TEST_F(ServerTest, NothingNonFiniteIsWritten) {
   auto c = Client();
@@ -673,7 +673,7 @@ TEST_F(ServerTest, NothingNonFiniteIsWritten) {
   Problem(mapped, 422);
 }
 
-// Issue 34, item 8: what could be read two ways is refused, not resolved in
+// What could be read two ways is refused, not resolved in
 // silence: a key given twice, parameters given in two places or twice.
 TEST_F(ServerTest, AmbiguousParametersAreRefused) {
   auto c = Client();

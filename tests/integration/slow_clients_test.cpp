@@ -269,7 +269,7 @@ TEST_F(SlowClients, AKeptAliveConnectionThatTricklesItsNextHeadIsClosed) {
   EXPECT_EQ(received.rfind("HTTP/1.1 408", 0), 0u) << received.substr(0, 80);
 }
 
-// Issue 34, item 5: a flood of silent connections past the gate's 512 places
+// A flood of silent connections past the gate's 512 places
 // cannot keep a liveness probe out. The longest waiting are closed to make
 // room; /healthz answers 200 (not 503) at once, and so does a real request.
 TEST_F(SlowClients, LivenessAnswersThroughAFloodOfSilentConnections) {

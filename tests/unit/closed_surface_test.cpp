@@ -1,4 +1,4 @@
-// Surfaces closed in u (issue #36, closed-form sheets): a model across the
+// Surfaces closed in u (closed-form sheets): a model across the
 // seam of a full cylinder or cone, mapped through the sheet continued past
 // it (engine/seam_extension.hpp).
 #include <gtest/gtest.h>

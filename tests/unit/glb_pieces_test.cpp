@@ -1,4 +1,4 @@
-// A large Draco GLB in pieces (issue #38): cut past the threshold into a
+// A large Draco GLB in pieces: cut past the threshold into a
 // power of two of compact pieces, one primitive each, on one quantization
 // grid, so that a vertex on a border decodes to the same bits in every
 // piece (no crack). The bytes

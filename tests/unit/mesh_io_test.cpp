@@ -673,7 +673,7 @@ TEST(HostileInput, StridesViewsAndSparseAccessorsPastTheBufferAreRejected) {
   }
 }
 
-// Issue 34, items 6 and 8: accessors, views and buffers that break the glTF
+// Accessors, views and buffers that break the glTF
 // schema are refused with the object and the field named, in .gltf and GLB
 // alike, never as "not a valid GLB file"; a negative byteOffset is refused,
 // not read as 0.

@@ -1,4 +1,4 @@
-// Surfaces given as meshes (issue #37): the disk checks and their messages,
+// Surfaces given as meshes: the disk checks and their messages,
 // the flattening (a flat mesh, a triangulated cylinder), the map, and
 // animations whose keyframes are meshes of one topology.
 #include <gtest/gtest.h>

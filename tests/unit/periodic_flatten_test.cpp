@@ -1,4 +1,4 @@
-// Periodic flattening (issue #36, phase two): a surface closed in u that is
+// Periodic flattening (phase two): a surface closed in u that is
 // not unrolled in closed form is flattened into a strip with a period T,
 // the pairs across the seam counted in the stress like any others.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// GLB with meshopt compression and its quantized twin (issue #38): decoded
+// GLB with meshopt compression and its quantized twin: decoded
 // with meshoptimizer's own decoders, the compressed file holds exactly the
 // twin's data, and the twin holds the mesh within its quantization.
 #include <gtest/gtest.h>

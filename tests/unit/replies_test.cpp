@@ -31,7 +31,7 @@ TEST(Replies, ANonFiniteNumberIsRefusedNamingItsPath) {
   EXPECT_EQ(refused.status().field(), "b[1]");
   EXPECT_NE(refused.status().message().find("statistics's b[1]"), std::string::npos);
   EXPECT_FALSE(JsonReply(bad).ok());
-  EXPECT_FALSE(StatsHeader(bad).ok());
+  EXPECT_FALSE(BoundedStats(bad).ok());
 }
 
 TEST(Replies, TheStatsHeaderCutsTheLongestListsToFitAndCountsTheCut) {
@@ -40,10 +40,10 @@ TEST(Replies, TheStatsHeaderCutsTheLongestListsToFitAndCountsTheCut) {
                 {"frames", {{"each", json::array()}}}};
   for (int k = 0; k < 300; ++k) stats["rigid"]["each"].push_back({{"vertices", k}, {"lift", 0.5}});
   for (int k = 0; k < 10; ++k) stats["frames"]["each"].push_back(k);
-  auto text = StatsHeader(stats);
-  ASSERT_TRUE(text.ok());
-  EXPECT_LE(text->size(), kMaxStatsHeaderBytes);
-  const json cut = json::parse(*text);
+  auto bounded = BoundedStats(stats);
+  ASSERT_TRUE(bounded.ok());
+  EXPECT_LE(StatsHeaderText(*bounded).size(), kMaxStatsHeaderBytes);
+  const json& cut = *bounded;
   const size_t kept = cut["rigid"]["each"].size();
   EXPECT_GT(kept, 10u);
   EXPECT_EQ(kept + cut["rigid"]["each_omitted"].get<size_t>(), 300u);
@@ -52,7 +52,7 @@ TEST(Replies, TheStatsHeaderCutsTheLongestListsToFitAndCountsTheCut) {
   EXPECT_FALSE(cut["frames"].contains("each_omitted"));
 
   const json small = {{"surface_id", "x"}, {"rigid", {{"each", {1, 2}}}}};
-  EXPECT_EQ(json::parse(*StatsHeader(small)), small);
+  EXPECT_EQ(*BoundedStats(small), small);
 }
 
 TEST(Replies, AJsonReplyCarriesItsTypeAndAnETagOverItsBytes) {
@@ -93,7 +93,7 @@ TEST(Replies, InfoPublishesTheLimitsAsConfigured) {
   ServiceLimits limits;
   limits.max_grid_side = 77;
   limits.request_memory_bytes = 64u << 20;
-  const json info = json::parse(InfoJson(limits, Retention{}));
+  const json info = InfoJson(limits, Retention{});
   EXPECT_EQ(info["limits"]["max_grid_side"], 77);
   EXPECT_EQ(info["limits"]["request_memory_bytes"], 64u << 20);
   // The output limit shrinks to fit the memory budget: 64 MiB / 384 B.
@@ -116,7 +116,7 @@ TEST(Replies, AMeshReplyIsTheFormatAskedForWithItsEncodingTimed) {
   EXPECT_TRUE(reply->body.rfind("v ", 0) == 0 || reply->body.find("\nv ") != std::string::npos);
   ASSERT_EQ(reply->timings.size(), 2u);
   EXPECT_EQ(reply->timings[1].name, "encode");
-  EXPECT_EQ(reply->stats_json, R"({"vertices":8})");
+  EXPECT_EQ(StatsHeaderText(reply->stats), R"({"vertices":8})");
   EXPECT_EQ(reply->etag.size(), 32u);
 }
 

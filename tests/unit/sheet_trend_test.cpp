@@ -43,7 +43,7 @@ TEST(SheetTrend, TheStepIsHowMuchOfTheTrendTheSamplesRepeat) {
 // Figure 10's control point 5 raised by 1% of the patch per edit, as a
 // person drags it: the third edit, started ahead along the second's change,
 // takes fewer iterations than started from the second's sheet as it is, at
-// the same stress as a cold flattening (issue #35's bound, 1e-6). An edit
+// the same stress as a cold flattening (the live edits' bound, 1e-6). An edit
 // going back starts behind (a negative step), and one of another control
 // point across the first's trend starts from the sheet as it is.
 TEST(SheetTrend, AnEditStartedAheadAlongTheLastTakesFewerIterations) {

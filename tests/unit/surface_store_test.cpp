@@ -352,7 +352,7 @@ TEST(SurfaceStore, AWarmStartFromTheSheetBeforeAnEditMatchesAColdStartInFewerIte
 // A chain of edits, each from the one before with the paths kept (as POST
 // /v1/surfaces does): the distances are measured from the previous edit's
 // paths, and the stress stays within 1e-6 of a cold flattening's on every
-// one of 30 edits, as issue #35 asks (the paths do not drift, and no pair
+// one of 30 edits, as live editing needs (the paths do not drift, and no pair
 // is left on its path once its chord turns little enough to be measured
 // directly, as a cold measurement does: carrying the turn of an earlier
 // edit instead reached 1.8e-6 by the 30th edit). Without kept paths, the edit measures

@@ -148,7 +148,7 @@ std::vector<BadSpec> Cases() {
     c.push_back({"GridCount", g, ErrorCode::kInvalidArgument, "points", "9 points expected"});
   }
   // Huge finite sizes overflow the derivatives: refused as too large, never
-  // blamed on a vanishing normal (issue 34, item 6).
+  // blamed on a vanishing normal (item 6).
   c.push_back({"HugeRadius", CylinderSpec{1e300, 1.0, 90.0, {}}, ErrorCode::kInvalidArgument,
                "radius", "within +-1e+15"});
   {

@@ -1,4 +1,4 @@
-// An animation whose keyframes are meshes of one topology (issue #37: a
+// An animation whose keyframes are meshes of one topology (a
 // cloth simulation exported frame by frame), flattened frame after frame.
 //
 // Every frame's mesh is the keys' vertices interpolated (animation.hpp's

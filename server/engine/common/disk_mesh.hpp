@@ -1,4 +1,4 @@
-// A triangle mesh given as a surface (issue #37): checked to be a topological
+// A triangle mesh given as a surface: checked to be a topological
 // disk before it is flattened.
 //
 // What is accepted: a connected, manifold, consistently oriented triangle

@@ -116,7 +116,7 @@ class Flattener {
 };
 
 // Whether `surface` is flattened periodic in u with these options on a grid
-// `nu` samples wide (issue #36): the columns of one period (nu - 1) when the
+// `nu` samples wide: the columns of one period (nu - 1) when the
 // surface closes in u (Surface::ClosedInU), is not unrolled in closed form,
 // is flattened by majorization and the period leaves room for the
 // neighbourhood (nu - 1 >= 2 max(range, 3) + 1); else 0, and the sheet has a

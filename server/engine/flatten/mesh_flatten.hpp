@@ -1,4 +1,4 @@
-// Flattening a surface given as a triangle mesh (issue #37): Ma & Lin's
+// Flattening a surface given as a triangle mesh: Ma & Lin's
 // stress over the mesh's vertices, as for sampled surfaces.
 //
 // Objective: C = sum over pairs (d_ij - |X_i - X_j|)^2, the pairs being the

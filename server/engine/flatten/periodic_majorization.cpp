@@ -1,4 +1,4 @@
-// Stress majorization of a periodic sheet (issue #36); see
+// Stress majorization of a periodic sheet; see
 // flatten_solvers.hpp.
 //
 // The unknowns are the node positions Y of one period (node_columns x

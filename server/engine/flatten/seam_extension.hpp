@@ -1,4 +1,4 @@
-// A sheet of a surface closed in u or v (issue #36), continued past its
+// A sheet of a surface closed in u or v, continued past its
 // seams, so that a model may lie across a seam and wrap round the surface.
 //
 // The sheet a surface is flattened to is cut at the seam u = 0 = 1. The

@@ -1,4 +1,4 @@
-// The edges of a surface given as a mesh, on the sheet (issue #37, section
+// The edges of a surface given as a mesh, on the sheet (the paper's section
 // 3): the map from the sheet to such a surface is flat on each of its
 // triangles and bends only across its edges, so its edges and vertices play
 // the part of the paper's grid lines and grid nodes. The subdivision's edge

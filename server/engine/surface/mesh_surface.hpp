@@ -1,4 +1,4 @@
-// A flattened triangle mesh as a Surface (issue #37), so that placement, the
+// A flattened triangle mesh as a Surface, so that placement, the
 // map, subdivision, rigid parts and the distortion treat it as every other
 // kind.
 //

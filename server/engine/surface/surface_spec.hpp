@@ -52,7 +52,7 @@ struct BSplineSpec {
   // periodic one (its last degree_u columns repeating the first) with
   // unclamped uniform knots, which are then allowed. Checked: a seam that
   // fails to meet by more than 1e-9 of the net's size is refused, saying by
-  // how much. Such a surface is flattened periodic (issue #36).
+  // how much. Such a surface is flattened periodic.
   bool periodic_u = false;
   bool periodic_v = false;  // the same in v (knots_v, the first and last rows)
 };
@@ -128,7 +128,7 @@ struct GridSpec {
   bool periodic_v = false;  // the same in v: the last row repeats the first
 };
 
-// A surface given as a triangle mesh (issue #37): an uploaded model, by id,
+// A surface given as a triangle mesh: an uploaded model, by id,
 // which must be a disk (disk_mesh.hpp). The service resolves the id and
 // flattens the mesh (`flattened`, not part of the description) before
 // MakeSurface, which wraps the flattening as a MeshSurface.

@@ -1,4 +1,4 @@
-// Subdivision on a surface given as a mesh (issue #37, section 3): the
+// Subdivision on a surface given as a mesh (section 3): the
 // target's edges take the grid's part, so the edge points are where the
 // model's edges cross them and the face points its vertices inside the
 // model's faces.
