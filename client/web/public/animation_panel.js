@@ -10,6 +10,7 @@ import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 
 import { animate, deform } from './api.js';
 import { surfacePreset } from './samples.js';
+import { scheduler } from './scheduler.js';
 
 const $ = (id) => document.getElementById(id);
 const fmt = (x, digits) => Number(x).toPrecision(digits);
@@ -79,7 +80,10 @@ export class AnimationPanel {
         output: { compression: 'meshopt' },
       };
       const t0 = performance.now();
-      const { bytes, stats, timing } = await animate(model.bytes, model.name, this.params);
+      // The "animation" lane: a newer Play aborts this one's request.
+      const sent = await scheduler.run('animation', (signal) => animate(model.bytes, model.name, this.params, signal));
+      if (!sent.done) return;
+      const { bytes, stats, timing } = sent.value;
       const gltf = await this.loader.parseAsync(bytes, '');
       const mixer = new THREE.AnimationMixer(gltf.scene);
       this.action = mixer.clipAction(gltf.animations[0]);

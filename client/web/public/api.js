@@ -27,13 +27,17 @@ async function checked(response) {
   throw new ApiError(response.status, problem);
 }
 
+// Every call takes an optional AbortSignal last (scheduler.js gives each
+// request its lane's): an aborted request rejects with an AbortError.
+
 // POST /v1/surfaces: {id, cached, grid, method, quality, timing_ms}, and
 // with fieldSide the field of that side ({n, bounds, positions, normals,
 // on_sheet}) in the same reply.
-export async function createSurface(request, fieldSide = 0) {
+export async function createSurface(request, fieldSide = 0, signal = undefined) {
   const r = await checked(
     await fetch(fieldSide ? `/v1/surfaces?field=${fieldSide}` : '/v1/surfaces', {
       method: 'POST',
+      signal,
       headers: { 'Content-Type': 'application/json' },
       body: JSON.stringify(request),
     }),
@@ -42,16 +46,17 @@ export async function createSurface(request, fieldSide = 0) {
 }
 
 // GET /v1/surfaces/{id}: the summary plus points (surface) and flat (sheet).
-export async function getSurface(id) {
-  return (await checked(await fetch(`/v1/surfaces/${id}`))).json();
+export async function getSurface(id, signal = undefined) {
+  return (await checked(await fetch(`/v1/surfaces/${id}`, { signal }))).json();
 }
 
 // POST /v1/surfaces/{id}/map: marks between the sheet and the surface
 // ({points}, {polylines, tolerance, max_segment} or {surface_points}).
-export async function mapOnSurface(id, request) {
+export async function mapOnSurface(id, request, signal = undefined) {
   const r = await checked(
     await fetch(`/v1/surfaces/${id}/map`, {
       method: 'POST',
+      signal,
       headers: { 'Content-Type': 'application/json' },
       body: JSON.stringify(request),
     }),
@@ -60,42 +65,42 @@ export async function mapOnSurface(id, request) {
 }
 
 // POST /v1/models: the mesh file's bytes, once; {id, format, vertices, ...}.
-export async function uploadModel(meshBytes, meshName) {
+export async function uploadModel(meshBytes, meshName, signal = undefined) {
   const form = new FormData();
   form.append('mesh', new Blob([meshBytes]), meshName);
-  const r = await checked(await fetch('/v1/models', { method: 'POST', body: form }));
+  const r = await checked(await fetch('/v1/models', { method: 'POST', body: form, signal }));
   return r.json();
 }
 
 // The server's id of each mesh this page has uploaded, by its bytes.
 const modelIds = new WeakMap();
 
-async function modelIdOf(meshBytes, meshName) {
-  if (!modelIds.has(meshBytes)) modelIds.set(meshBytes, (await uploadModel(meshBytes, meshName)).id);
+async function modelIdOf(meshBytes, meshName, signal) {
+  if (!modelIds.has(meshBytes)) modelIds.set(meshBytes, (await uploadModel(meshBytes, meshName, signal)).id);
   return modelIds.get(meshBytes);
 }
 
 // POST /v1/deform with the mesh named by its id: uploaded on first use, and
 // again when the server no longer holds it (404 unknown_model). Returns the
 // bytes, the stats header and the Server-Timing entries.
-export async function deform(meshBytes, meshName, params, accept) {
-  return postByModel('/v1/deform', meshBytes, meshName, params, accept);
+export async function deform(meshBytes, meshName, params, accept, signal = undefined) {
+  return postByModel('/v1/deform', meshBytes, meshName, params, accept, signal);
 }
 
 // POST /v1/animate: the same, a GLB of morph targets back.
-export async function animate(meshBytes, meshName, params) {
-  return postByModel('/v1/animate', meshBytes, meshName, params, 'model/gltf-binary');
+export async function animate(meshBytes, meshName, params, signal = undefined) {
+  return postByModel('/v1/animate', meshBytes, meshName, params, 'model/gltf-binary', signal);
 }
 
-async function postByModel(path, meshBytes, meshName, params, accept) {
+async function postByModel(path, meshBytes, meshName, params, accept, signal) {
   // A text is its own model: the server shapes it (no mesh to send).
-  if (params.text) return post(path, params, accept);
+  if (params.text) return post(path, params, accept, signal);
   try {
-    return await post(path, { ...params, model_id: await modelIdOf(meshBytes, meshName) }, accept);
+    return await post(path, { ...params, model_id: await modelIdOf(meshBytes, meshName, signal) }, accept, signal);
   } catch (e) {
     if (!(e instanceof ApiError) || e.problem.code !== 'unknown_model') throw e;
     modelIds.delete(meshBytes); // evicted: upload again, once
-    return post(path, { ...params, model_id: await modelIdOf(meshBytes, meshName) }, accept);
+    return post(path, { ...params, model_id: await modelIdOf(meshBytes, meshName, signal) }, accept, signal);
   }
 }
 
@@ -115,18 +120,18 @@ export async function textMesh(text, signal) {
 }
 
 // GET /v1/fonts: the built-in fonts and the scripts each covers.
-export async function fonts() {
-  return (await checked(await fetch('/v1/fonts'))).json();
+export async function fonts(signal = undefined) {
+  return (await checked(await fetch('/v1/fonts', { signal }))).json();
 }
 
-async function post(path, params, accept) {
+async function post(path, params, accept, signal) {
   const headers = { 'Content-Type': 'application/json' };
   if (accept) headers.Accept = accept;
   // A load balancer routes by them (docker/nginx.conf), so that the replica
   // that already holds this surface (or model) serves it.
   if (params.surface_id) headers['X-Surfdeform-Surface-Id'] = params.surface_id;
   if (params.model_id) headers['X-Surfdeform-Model-Id'] = params.model_id;
-  const r = await checked(await fetch(path, { method: 'POST', body: JSON.stringify(params), headers }));
+  const r = await checked(await fetch(path, { method: 'POST', body: JSON.stringify(params), headers, signal }));
   const stats = JSON.parse(r.headers.get('X-Surfdeform-Stats') || '{}');
   const timing = {};
   for (const part of (r.headers.get('Server-Timing') || '').split(',')) {

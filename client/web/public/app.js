@@ -32,9 +32,17 @@ import { fieldGap, movedField, moveSheetPoint } from './field_edit.js';
 import { FieldPreview, nearestDistances, previewPositions, sampleParams } from './preview.js';
 import { sampleModel, surfacePreset } from './samples.js';
 import { fonts, textMesh } from './api.js';
+import { scheduler } from './scheduler.js';
 import { SheetView } from './sheet_view.js';
 
 const $ = (id) => document.getElementById(id);
+
+// `request(signal)` on the scheduler's `lane`, the newest wins (an older one
+// is aborted): its value, or undefined when a newer one superseded it.
+async function latest(lane, request) {
+  const r = await scheduler.run(lane, request);
+  return r.done ? r.value : undefined;
+}
 
 // Lattice points per side of the field the preview samples: a settled
 // surface's, and a control-point drag's (a quarter of the bytes and the
@@ -248,58 +256,49 @@ function showMovedField() {
 }
 
 // A control point moved: the new surface's field, one request at a time,
-// the newest pose each time. Errors wait for the release (the exact request
-// shows them).
-let liveBusy = false,
-  liveAgain = false;
-async function liveSurface() {
-  if (liveBusy) {
-    liveAgain = true;
-    return;
+// the newest pose each time (the "live" lane: the pose in flight finishes,
+// the newest waiting one follows it). Errors wait for the release (the
+// exact request shows them).
+function liveSurface() {
+  if (!scheduler.busy('live')) holdDeform();
+  const settle = () => {
+    if (!scheduler.busy('live')) settleRelease();
+  };
+  scheduler.run('live', livePose, { policy: 'queue' }).then(settle, settle);
+}
+
+async function livePose(signal) {
+  const version = state.specVersion;
+  if (version <= state.releasedVersion) return; // released: the release flattens it
+  // Each pose starts from the sheet of the one before (warm_start): the
+  // sheet the placement is on, whose motion to the new sheet it follows.
+  const request = JSON.parse(
+    JSON.stringify({
+      surface: state.spec,
+      sampling: { nu: state.grid, nv: state.grid },
+      warm_start: state.placementSheet || state.surfaceId,
+    }),
+  );
+  const t0 = performance.now();
+  const summary = await createSurface(request, kLiveFieldSide, signal);
+  const t1 = performance.now();
+  // The release's surface came first, or the release has this pose.
+  if (version <= state.fieldVersion || version <= state.releasedVersion) return;
+  // How far the field moved at once for this pose was from its own.
+  const moved = movedField(state.field, state.fieldSpec, request.surface);
+  if (moved && moved !== state.field) {
+    state.live.gap = Math.max(state.live.gap, fieldGap(moved, summary.field, summary.warm_start?.motion));
   }
-  liveBusy = true;
-  holdDeform();
-  try {
-    do {
-      liveAgain = false;
-      const version = state.specVersion;
-      if (version <= state.releasedVersion) break; // released: the release flattens it
-      // Each pose starts from the sheet of the one before (warm_start): the
-      // sheet the placement is on, whose motion to the new sheet it follows.
-      const request = JSON.parse(
-        JSON.stringify({
-          surface: state.spec,
-          sampling: { nu: state.grid, nv: state.grid },
-          warm_start: state.placementSheet || state.surfaceId,
-        }),
-      );
-      const t0 = performance.now();
-      const summary = await createSurface(request, kLiveFieldSide);
-      const t1 = performance.now();
-      // The release's surface came first, or the release has this pose.
-      if (version <= state.fieldVersion || version <= state.releasedVersion) continue;
-      // How far the field moved at once for this pose was from its own.
-      const moved = movedField(state.field, state.fieldSpec, request.surface);
-      if (moved && moved !== state.field) {
-        state.live.gap = Math.max(state.live.gap, fieldGap(moved, summary.field, summary.warm_start?.motion));
-      }
-      useField(summary.field, version, request.surface, summary.id);
-      followSheet(summary);
-      // Then moved on to where the control point is now.
-      if (!showMovedField()) {
-        modelView.setSurfaceFromField(summary.field);
-        showLivePreview();
-      }
-      ++state.live.surfaces;
-      state.live.last = { request_ms: t1 - t0, apply_ms: performance.now() - t1 };
-      state.liveSummary = { summary, version, spec: request.surface };
-    } while (liveAgain);
-  } catch {
-    // The release flattens the surface again and shows what went wrong.
-  } finally {
-    liveBusy = false;
-    settleRelease();
+  useField(summary.field, version, request.surface, summary.id);
+  followSheet(summary);
+  // Then moved on to where the control point is now.
+  if (!showMovedField()) {
+    modelView.setSurfaceFromField(summary.field);
+    showLivePreview();
   }
+  ++state.live.surfaces;
+  state.live.last = { request_ms: t1 - t0, apply_ms: performance.now() - t1 };
+  state.liveSummary = { summary, version, spec: request.surface };
 }
 
 // A control point let go: the exact result of its last pose, at once, from
@@ -326,14 +325,19 @@ function settleRelease() {
   // Where the model stays put on the sheet: the edit flattened and the model
   // deformed on it in one request, the placement moved with the sheet by
   // the server; the new sheet and its field after the result is shown.
-  if (state.placementSheet && state.placement.center && !state.recentre && state.model && !deforming) {
+  if (state.placementSheet && state.placement.center && !state.recentre && state.model && !scheduler.busy('exact')) {
     return releaseEdit();
   }
   refreshSurface(null);
 }
 
-async function releaseEdit() {
-  const run = ++surfaceRun;
+// The "surface" lane: a release's edit, or a new surface, aborts the one
+// before it (its requests, and what it would show).
+function releaseEdit() {
+  return scheduler.run('surface', releaseEditTask);
+}
+
+async function releaseEditTask(signal) {
   state.sheetPending = true;
   clearTimeout(deformTimer);
   const edit = JSON.parse(
@@ -345,7 +349,7 @@ async function releaseEdit() {
   );
   const version = state.specVersion;
   const done = await runDeform(edit);
-  if (run !== surfaceRun) return;
+  if (signal.aborted) return;
   // Failed (shown), or a newer deformation asked in between: as before.
   if (!done || version !== state.specVersion) return refreshSurface(null);
   refreshSurface(null, true);
@@ -353,7 +357,6 @@ async function releaseEdit() {
 
 // --- surface -------------------------------------------------------------
 
-let surfaceRun = 0;
 // An edit's exact result came (runDeform with `edit`): its surface is the
 // current one, and the placement is on its sheet, as the server moved it
 // when it is the one sent (`sent`, JSON), else moved here by the same motion
@@ -373,7 +376,7 @@ function followEdit(stats, sent) {
     showPlacement();
   } else {
     followSheet({ id: stats.surface_id, warm_start: w });
-    if (changed) pending = true;
+    if (changed) deformAgain();
   }
 }
 
@@ -384,8 +387,11 @@ function followEdit(stats, sent) {
 // while the exact reply was on its way held that reply for a frame or two.
 // With `deformed`, the exact result of this very spec is on screen already
 // (releaseEdit), and the surface is held by the server: its field and sheet.
-async function refreshSurface(known = null, deformed = false) {
-  const run = ++surfaceRun;
+function refreshSurface(known = null, deformed = false) {
+  return scheduler.run('surface', (signal) => refreshSurfaceTask(known, deformed, signal));
+}
+
+async function refreshSurfaceTask(known, deformed, signal) {
   setState('loading');
   try {
     const version = known ? known.version : state.specVersion;
@@ -393,8 +399,8 @@ async function refreshSurface(known = null, deformed = false) {
     // From the sheet the placement is on (after live poses, the last one):
     // the reply's motion keeps the placement on the surface.
     if (!known && state.placementSheet) request.warm_start = state.placementSheet;
-    const summary = known ? known.summary : await createSurface(request, kFieldSide);
-    if (run !== surfaceRun) return; // a newer edit is on its way
+    const summary = known ? known.summary : await createSurface(request, kFieldSide, signal);
+    if (signal.aborted) return; // a newer edit is on its way
     useField(summary.field, version, known ? known.spec : request.surface, summary.id);
     if (!known) followSheet(summary); // a live reply was followed when it came
     state.surfaceId = summary.id;
@@ -404,10 +410,10 @@ async function refreshSurface(known = null, deformed = false) {
       clearTimeout(deformTimer);
       state.sheetPending = true; // the page is not settled until the sheet is shown
       await runDeform();
-      if (run !== surfaceRun) return;
+      if (signal.aborted) return;
     }
-    const sheet = await getSurface(summary.id);
-    if (run !== surfaceRun) return;
+    const sheet = await getSurface(summary.id, signal);
+    if (signal.aborted) return;
     const q = summary.quality;
     const piece = sheet.mesh ? 'triangle' : 'cell';
     state.surfaceInfo = [
@@ -441,10 +447,10 @@ async function refreshSurface(known = null, deformed = false) {
       scheduleDeform(0);
     } else {
       state.sheetPending = false;
-      if (!deforming) setState(state.lastError ? 'error' : 'ready');
+      if (!scheduler.busy('exact')) setState(state.lastError ? 'error' : 'ready');
     }
   } catch (e) {
-    if (run === surfaceRun) {
+    if (!signal.aborted) {
       state.surfacePending = false;
       state.sheetPending = false;
       showError(e);
@@ -489,9 +495,7 @@ function deformParams(format, compression, edit = null) {
   };
 }
 
-let deforming = false,
-  pending = false,
-  deformTimer = 0;
+let deformTimer = 0;
 function scheduleDeform(delay) {
   setState('loading');
   clearTimeout(deformTimer);
@@ -547,22 +551,41 @@ function afterNextFrame() {
 
 // The exact deformation of the current placement, on the current surface or
 // (`edit`, see deformParams) on an edit of it flattened by the same request;
-// true once it is shown.
+// true once it is shown. One at a time, on the "exact" lane: asked for while
+// one is in flight, the page asks again, for what it shows then, once that
+// one is done.
 async function runDeform(edit = null) {
-  // Never while a button is held: the release asks again.
+  if (!deformWanted(edit)) return false;
+  if (scheduler.busy('exact')) {
+    deformAgain();
+    return false;
+  }
+  const shown = await scheduler.run('exact', (signal) => exactDeform(edit, signal), { policy: 'queue' });
+  return shown.done && shown.value;
+}
+
+// After the exact request in flight: the exact result of what the page
+// shows then (the newest such ask wins).
+function deformAgain() {
+  scheduler.run('exact', (signal) => (deformWanted(null) ? exactDeform(null, signal) : false), {
+    policy: 'queue',
+  });
+}
+
+// Whether there is an exact deformation to ask for: never while a button is
+// held (the release asks again); not without a model or a surface, or while
+// a new surface is on its way (which deforms when it arrives).
+function deformWanted(edit) {
   if (sheetView.drag || modelView.drag) return false;
   performance.mark('surfdeform:run-deform');
-  // Without a model or a surface, or while a new surface is on its way (which
-  // deforms when it arrives), there is nothing to send.
   if (!edit && (!state.surfaceId || !state.model || state.surfacePending)) {
     if (!state.surfacePending && !state.sheetPending) setState(state.lastError ? 'error' : 'ready');
     return false;
   }
-  if (deforming) {
-    pending = true;
-    return false;
-  }
-  deforming = true;
+  return true;
+}
+
+async function exactDeform(edit, signal) {
   setState('loading');
   try {
     const t0 = performance.now();
@@ -574,6 +597,7 @@ async function runDeform(edit = null) {
       state.model.name,
       deformParams('glb', 'meshopt', edit),
       'model/gltf-binary',
+      signal,
     );
     const t1 = performance.now();
     performance.mark('surfdeform:exact-received');
@@ -659,14 +683,9 @@ async function runDeform(edit = null) {
     setState(state.sheetPending ? 'loading' : 'ready');
     return true;
   } catch (e) {
+    if (signal.aborted) return false;
     showError(e);
     return false;
-  } finally {
-    deforming = false;
-    if (pending) {
-      pending = false;
-      scheduleDeform(0);
-    }
   }
 }
 
@@ -682,8 +701,10 @@ function saveBlob(blob, suffix) {
 async function download(format) {
   try {
     const accept = format === 'glb' ? 'model/gltf-binary' : 'application/octet-stream';
-    const { bytes } = await deform(state.model.bytes, state.model.name, deformParams(format), accept);
-    saveBlob(new Blob([bytes]), `deformed.${format}`);
+    const made = await latest(`download-${format}`, (signal) =>
+      deform(state.model.bytes, state.model.name, deformParams(format), accept, signal),
+    );
+    if (made) saveBlob(new Blob([made.bytes]), `deformed.${format}`);
   } catch (e) {
     showError(e);
   }
@@ -771,7 +792,10 @@ async function showMark(points) {
     return;
   }
   try {
-    const { polylines } = await mapOnSurface(state.surfaceId, { polylines: [points] });
+    const surfaceId = state.surfaceId;
+    const mapped = await latest('mark', (signal) => mapOnSurface(surfaceId, { polylines: [points] }, signal));
+    if (!mapped) return; // a newer mark is on its way
+    const { polylines } = mapped;
     modelView.setMarks(polylines);
     state.lastMark = polylines[0];
   } catch (e) {
@@ -853,7 +877,9 @@ function editStep() {
 // edited. Not while an edit goes on or a newer result is on its way: that
 // one settles it.
 function settleHistory(specSent) {
-  if (sheetView.drag || modelView.drag || pending || JSON.stringify(state.spec) !== specSent) return;
+  if (sheetView.drag || modelView.drag || scheduler.queued('exact') || JSON.stringify(state.spec) !== specSent) {
+    return;
+  }
   if (state.historyReset) {
     editHistory.reset(editStep());
   } else if (state.edited) {
@@ -954,23 +980,19 @@ function textSettings() {
 // The typed text on the surface: its flat mesh from POST /v1/text (the
 // newest keystroke's: an older request in flight is aborted), bent by the
 // preview at once; the exact result `delay` ms after the typing pauses.
-let textInFlight = null;
 async function useText(delay = 0) {
   const text = textSettings();
   if (!text.string.trim()) return;
-  if (textInFlight) textInFlight.abort();
-  const controller = new AbortController();
-  textInFlight = controller;
   performance.mark('surfdeform:text-typed');
   let made;
   try {
-    made = await textMesh(text, controller.signal);
+    // The "text" lane: a newer keystroke aborts this one's request.
+    made = await latest('text', (signal) => textMesh(text, signal));
   } catch (e) {
-    if (e.name !== 'AbortError' && textInFlight === controller) showError(e);
+    showError(e);
     return;
   }
-  if (textInFlight !== controller) return; // a newer keystroke's is coming
-  textInFlight = null;
+  if (!made) return; // a newer keystroke's is coming
   performance.mark('surfdeform:text-received');
   const read = await readModel('text.ply', made.bytes);
   performance.mark('surfdeform:text-read');
@@ -1013,7 +1035,8 @@ function showTextControls() {
 
 // The built-in fonts, each with the scripts it covers.
 async function listFonts() {
-  const list = await fonts();
+  const list = await latest('fonts', (signal) => fonts(signal));
+  if (!list) return;
   const select = $('font');
   select.replaceChildren(
     ...list.fonts.map((f) => {
@@ -1057,7 +1080,8 @@ async function useModel(name, bytes) {
 // A surface given as a mesh (a disk-shaped triangle mesh file): uploaded as
 // a model, then flattened as the surface {kind: "mesh", model_id}.
 async function useSurfaceMesh(name, bytes) {
-  const model = await uploadModel(bytes, name);
+  const model = await latest('upload', (signal) => uploadModel(bytes, name, signal));
+  if (!model) return; // another file came after it
   state.spec = { kind: 'mesh', model_id: model.id };
   state.surfaceMeshName = name;
   state.recentre = true;
@@ -1083,7 +1107,9 @@ async function useFile(file, use = useModel) {
 $('preset').addEventListener('change', async () => {
   setState('loading');
   try {
-    state.spec = await surfacePreset($('preset').value);
+    const spec = await latest('preset', (signal) => surfacePreset($('preset').value, signal));
+    if (!spec) return; // another preset was chosen meanwhile
+    state.spec = spec;
     state.recentre = true;
     state.historyReset = true;
     modelView.framed = false;
@@ -1105,8 +1131,8 @@ $('sample').addEventListener('change', async () => {
   showTextControls();
   if ($('sample').value === 'text') return useText(0);
   try {
-    const m = await sampleModel($('sample').value);
-    await useModel(m.name, m.bytes);
+    const m = await latest('sample', (signal) => sampleModel($('sample').value, signal));
+    if (m) await useModel(m.name, m.bytes);
   } catch (e) {
     showError(e);
   }
@@ -1296,6 +1322,10 @@ function placementParams() {
 
 // For tests and the curious: the state and the model's share of the 3D canvas.
 window.surfdeformViewer = {
+  // Resolves once no request of the page is in flight or waiting (every
+  // request goes through scheduler.js).
+  whenIdle: () => scheduler.whenIdle(),
+  requestsStarted: () => scheduler.runs,
   state,
   animation: animationPanel,
   preview,
@@ -1339,15 +1369,16 @@ window.surfdeformViewer = {
 
 (async () => {
   try {
-    state.spec = await surfacePreset($('preset').value);
+    const spec = await latest('preset', (signal) => surfacePreset($('preset').value, signal));
+    if (spec) state.spec = spec; // else another preset was chosen, and is on its way
     state.surfacePending = true;
     showTextControls();
     if ($('sample').value === 'text') {
       await listFonts();
       await useText(0);
     } else {
-      const m = await sampleModel($('sample').value);
-      await useModel(m.name, m.bytes);
+      const m = await latest('sample', (signal) => sampleModel($('sample').value, signal));
+      if (m) await useModel(m.name, m.bytes);
     }
     await refreshSurface();
   } catch (e) {

@@ -4,18 +4,18 @@
 
 import { uploadModel } from './api.js';
 
-export async function surfacePreset(name) {
+export async function surfacePreset(name, signal = undefined) {
   if (name.startsWith('figure') || name === 'bottle') {
-    const r = await fetch(`/samples/${name}.json`);
+    const r = await fetch(`/samples/${name}.json`, { signal });
     if (!r.ok) throw new Error(`cannot load the preset ${name}`);
     const spec = await r.json();
     delete spec.description; // a note for people; the API takes surface fields only
     return spec;
   }
   if (name === 'panel') {
-    const r = await fetch('/samples/panel.obj');
+    const r = await fetch('/samples/panel.obj', { signal });
     if (!r.ok) throw new Error('cannot load the panel mesh');
-    const model = await uploadModel(await r.arrayBuffer(), 'panel.obj');
+    const model = await uploadModel(await r.arrayBuffer(), 'panel.obj', signal);
     return { kind: 'mesh', model_id: model.id };
   }
   switch (name) {
@@ -53,13 +53,13 @@ export function thinPlateObj() {
   return `${v.join('\n')}\nf 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n`;
 }
 
-export async function sampleModel(name) {
+export async function sampleModel(name, signal = undefined) {
   if (name === 'plate') {
     return { name: 'thin-plate.obj', bytes: new TextEncoder().encode(thinPlateObj()).buffer };
   }
   const files = { word: 'word.obj', label: 'label.obj' };
   const file = files[name] || 'bunny.ply';
-  const r = await fetch(`/samples/${file}`);
+  const r = await fetch(`/samples/${file}`, { signal });
   if (!r.ok) throw new Error(`cannot load the sample ${file}`);
   return { name: file, bytes: await r.arrayBuffer() };
 }
