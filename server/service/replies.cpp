@@ -32,13 +32,26 @@ namespace {
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-// The objects under `j` that hold an "each" list; not those inside such a
-// list, whose items the cut erases (a pointer to one would dangle).
-void CollectLists(json& j, std::vector<json*>* lists) {
+// The stats' per-item lists, which BoundedStats may cut: "each" (a rigid
+// model's parts, an animation's frames) and a text's "clusters".
+constexpr std::string_view kPerItemLists[] = {"each", "clusters"};
+
+// A per-item list: the object that holds it, and its key there.
+struct ListAt {
+  json* owner;
+  std::string key;
+  json& list() const { return (*owner)[key]; }
+};
+
+// The per-item lists under `j`; not those inside such a list, whose items
+// the cut erases (a pointer to one would dangle).
+void CollectLists(json& j, std::vector<ListAt>* lists) {
   if (j.is_object()) {
     for (auto& [key, value] : j.items()) {
-      if (key == "each" && value.is_array()) {
-        lists->push_back(&j);
+      const bool per_item = std::find(std::begin(kPerItemLists), std::end(kPerItemLists), key) !=
+                            std::end(kPerItemLists);
+      if (per_item && value.is_array()) {
+        lists->push_back({&j, key});
       } else {
         CollectLists(value, lists);
       }
@@ -84,18 +97,19 @@ Result<std::string> DumpFinite(const json& j, std::string_view what) {
 
 Result<json> BoundedStats(json stats) {
   SURFDEFORM_ASSIGN_OR_RETURN(std::string text, DumpFinite(stats, "statistics"));
-  std::vector<json*> owners;  // objects that hold an "each" list
-  CollectLists(stats, &owners);
+  std::vector<ListAt> lists;
+  CollectLists(stats, &lists);
   while (text.size() > kMaxStatsHeaderBytes) {
-    json* longest = nullptr;
-    for (json* o : owners) {
-      if (longest == nullptr || (*o)["each"].size() > (*longest)["each"].size()) longest = o;
+    const ListAt* longest = nullptr;
+    for (const ListAt& l : lists) {
+      if (longest == nullptr || l.list().size() > longest->list().size()) longest = &l;
     }
-    if (longest == nullptr || (*longest)["each"].empty()) break;
-    json& each = (*longest)["each"];
-    const size_t cut = (each.size() + 1) / 2;
-    each.erase(each.end() - static_cast<long>(cut), each.end());
-    (*longest)["each_omitted"] = longest->value("each_omitted", size_t{0}) + cut;
+    if (longest == nullptr || longest->list().empty()) break;
+    json& list = longest->list();
+    const size_t cut = (list.size() + 1) / 2;
+    list.erase(list.end() - static_cast<long>(cut), list.end());
+    const std::string omitted = longest->key + "_omitted";
+    (*longest->owner)[omitted] = longest->owner->value(omitted, size_t{0}) + cut;
     text = StatsHeaderText(stats);
   }
   return stats;

@@ -38,14 +38,14 @@ Result<std::string> DumpFinite(const nlohmann::json& j, std::string_view what);
 // That error: the number at path `at` of `what` is not finite.
 Status NonFiniteNumber(std::string_view what, const std::string& at);
 
-// The X-Surfdeform-Stats header's content, finite (else kInternal naming the
-// number) and bounded. Header lines have limits on the way:
+// The X-Surfdeform-Stats header's content, finite (else kInvalidArgument
+// naming the number) and bounded. Header lines have limits on the way:
 // cpp-httplib's clients (the CLI) read at most 8 KB a line, and nginx fails a
 // response whose headers outgrow proxy_buffer_size (4 KB by default) with
 // 502. The per-item lists ("each": a rigid model's parts, an animation's
-// frames) are cut to their first items until the text fits
-// kMaxStatsHeaderBytes (as StatsHeaderText writes it); "each_omitted" beside
-// a list counts what was cut.
+// frames; "clusters": a text's) are cut to their first items, longest first,
+// until the text fits kMaxStatsHeaderBytes (as StatsHeaderText writes it);
+// "each_omitted" ("clusters_omitted") beside a list counts what was cut.
 inline constexpr size_t kMaxStatsHeaderBytes = 2048;
 Result<nlohmann::json> BoundedStats(nlohmann::json stats);
 

@@ -122,6 +122,36 @@ TEST_F(ServerText, ANameRoundTheBottleWithRigidGlyphs) {
   EXPECT_NE(other->get_header_value("ETag"), r->get_header_value("ETag"));
 }
 
+// A long text's stats keep within the header's bound (nginx answers 502 past
+// its 4 KB of headers): its clusters are cut to their first ones, and
+// "clusters_omitted" counts the rest. The same for POST /v1/text.
+TEST_F(ServerText, ALongTextsStatsKeepWithinTheHeadersBound) {
+  const std::string words = "The quick brown fox jumps over the lazy dog, twice over";
+  json params = Name(words, {{"size_mm", 1}, {"depth_mm", 0.1}});
+  params["surface"] = {{"kind", "cylinder"}, {"radius", 20}, {"height", 10}, {"angle_deg", 360}};
+  auto r = Deform(params);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  const std::string header = r->get_header_value("X-Surfdeform-Stats");
+  EXPECT_LE(header.size(), 2048u);
+  const json stats = json::parse(header);
+  const size_t kept = stats["text"]["clusters"].size();
+  EXPECT_GT(kept, 0u);
+  EXPECT_EQ(stats["text"]["clusters"][0]["text"], "T");  // the first ones kept
+  EXPECT_EQ(kept + stats["text"].value("clusters_omitted", size_t{0}),
+            stats["text"]["glyphs"].get<size_t>());
+  EXPECT_GT(stats["text"].value("clusters_omitted", size_t{0}), 0u);
+
+  auto c = Client();
+  auto alone = c.Post(
+      "/v1/text",
+      json({{"text", {{"string", words}, {"size_mm", 1}}}, {"output", {{"format", "obj"}}}}).dump(),
+      "application/json");
+  ASSERT_TRUE(alone);
+  ASSERT_EQ(alone->status, 200) << alone->body;
+  EXPECT_LE(alone->get_header_value("X-Surfdeform-Stats").size(), 2048u);
+}
+
 TEST_F(ServerText, ANameSwimsWithTheWave) {
   json params = json::parse(ReadFile(SURFDEFORM_SOURCE_DIR "/client/web/samples/swim.json"));
   params["animation"]["frames"] = 4;

@@ -51,6 +51,16 @@ TEST(Replies, TheStatsHeaderCutsTheLongestListsToFitAndCountsTheCut) {
   EXPECT_EQ(cut["frames"]["each"].size(), 10u);                   // the short list left alone
   EXPECT_FALSE(cut["frames"].contains("each_omitted"));
 
+  // A text's clusters are such a list too.
+  json text = {{"text", {{"glyphs", 200}, {"clusters", json::array()}}}};
+  for (int k = 0; k < 200; ++k) text["text"]["clusters"].push_back({{"text", "a"}, {"s_mm", k}});
+  auto text_bounded = BoundedStats(text);
+  ASSERT_TRUE(text_bounded.ok());
+  EXPECT_LE(StatsHeaderText(*text_bounded).size(), kMaxStatsHeaderBytes);
+  const json& clusters = (*text_bounded)["text"]["clusters"];
+  EXPECT_GT(clusters.size(), 10u);
+  EXPECT_EQ(clusters.size() + (*text_bounded)["text"]["clusters_omitted"].get<size_t>(), 200u);
+
   const json small = {{"surface_id", "x"}, {"rigid", {{"each", {1, 2}}}}};
   EXPECT_EQ(*BoundedStats(small), small);
 }
