@@ -17,12 +17,8 @@ const puppeteer = require('puppeteer-core');
 const { startServer } = await import(path.join(here, '../tests/browser/start_server.mjs'));
 const [serverBin] = process.argv.slice(2);
 const { server, port } = await startServer(serverBin);
-const browser = await puppeteer.launch({
-  browser: 'chrome',
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
+const { chromiumLaunchOptions } = await import(path.join(here, '../tests/browser/chromium.mjs'));
+const browser = await puppeteer.launch(chromiumLaunchOptions());
 const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
 try {
   const page = await browser.newPage();

@@ -38,20 +38,8 @@ function millionTriangles(format) {
 
 const { startServer } = await import(path.join(here, '../tests/browser/start_server.mjs'));
 const { server, port } = await startServer(serverBin);
-const browser = await puppeteer.launch({
-  browser: 'chrome',
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  headless: true,
-  args: [
-    '--no-sandbox',
-    '--disable-gpu',
-    '--use-angle=swiftshader',
-    '--enable-unsafe-swiftshader',
-    '--no-first-run',
-    '--disable-background-networking',
-  ],
-  protocolTimeout: 600000,
-});
+const { chromiumLaunchOptions } = await import(path.join(here, '../tests/browser/chromium.mjs'));
+const browser = await puppeteer.launch(chromiumLaunchOptions({ protocolTimeout: 600000 }));
 const results = [];
 try {
   const page = await browser.newPage();

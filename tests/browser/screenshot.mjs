@@ -6,6 +6,7 @@
 // (scripts/screenshot.sh builds the server and writes docs/viewer.png.)
 import puppeteer from 'puppeteer-core';
 
+import { chromiumLaunchOptions } from './chromium.mjs';
 import { startServer } from './start_server.mjs';
 
 const [serverBin, out] = process.argv.slice(2);
@@ -14,12 +15,7 @@ if (!serverBin || !out) {
   process.exit(2);
 }
 const { server, port } = await startServer(serverBin);
-const browser = await puppeteer.launch({
-  browser: 'chrome',
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--no-first-run'],
-});
+const browser = await puppeteer.launch(chromiumLaunchOptions());
 try {
   const page = await browser.newPage();
   await page.setViewport({ width: 1280, height: 800 });

@@ -22,6 +22,7 @@ import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import path from 'node:path';
 import puppeteer from 'puppeteer-core';
 
+import { chromiumLaunchOptions } from './chromium.mjs';
 import { gridPly } from './grid_ply.mjs';
 import { startServer } from './start_server.mjs';
 
@@ -35,22 +36,7 @@ const check = (ok, what) => {
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
 const launchOptions = {
-  chromium: {
-    browser: 'chrome',
-    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-    headless: true,
-    args: [
-      '--no-sandbox',
-      '--disable-gpu',
-      '--use-angle=swiftshader',
-      '--enable-unsafe-swiftshader',
-      '--disable-background-networking',
-      '--disable-component-update',
-      '--disable-sync',
-      '--no-first-run',
-      '--disable-quic',
-    ],
-  },
+  chromium: chromiumLaunchOptions(),
   firefox: {
     browser: 'firefox',
     executablePath: process.env.FIREFOX || '/usr/bin/firefox-esr',

@@ -1325,7 +1325,6 @@ window.surfdeformViewer = {
   // Resolves once no request of the page is in flight or waiting (every
   // request goes through scheduler.js).
   whenIdle: () => scheduler.whenIdle(),
-  requestsStarted: () => scheduler.runs,
   state,
   animation: animationPanel,
   preview,

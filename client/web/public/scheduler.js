@@ -18,7 +18,6 @@ export class Scheduler {
   constructor() {
     this.lanes = new Map();
     this.idleWaiters = [];
-    this.runs = 0; // tasks started, over all lanes (for the curious)
   }
 
   lane(name) {
@@ -44,7 +43,6 @@ export class Scheduler {
 
   async start(name, lane, entry) {
     lane.running = entry;
-    ++this.runs;
     const { signal } = entry.controller;
     try {
       const value = await entry.task(signal);
