@@ -34,20 +34,21 @@ FontStore::FontStore(const ServiceLimits& limits, std::shared_ptr<SharedTier> sh
                          ", Debian package " + b.package + ")");
       continue;
     }
-    auto font = Read(proto::ModelId(*bytes), bytes, b.name);
+    std::unique_ptr<FontFace> face;
+    auto font = Read(proto::ModelId(*bytes), bytes, b.name, &face);
     if (!font.ok()) {
       missing_.push_back(std::string(b.name) + ": " + font.status().message());
       continue;
     }
     builtin_.push_back(*font);
-    auto face = FontFace::Open(*bytes, limits_.font);
-    if (face.ok()) faces_.push_back(std::move(*face));
+    faces_.push_back(std::move(face));  // opened once, beside its font
   }
 }
 
 Result<std::shared_ptr<const StoredFont>> FontStore::Read(const std::string& id,
                                                           std::shared_ptr<const std::string> bytes,
-                                                          std::string name) {
+                                                          std::string name,
+                                                          std::unique_ptr<FontFace>* face_out) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto face, FontFace::Open(*bytes, limits_.font));
   auto font = std::make_shared<StoredFont>();
   font->id = id;
@@ -55,6 +56,7 @@ Result<std::shared_ptr<const StoredFont>> FontStore::Read(const std::string& id,
   font->info = face->info();
   font->bytes_held = bytes->size() + 1024;
   font->bytes = std::move(bytes);
+  if (face_out != nullptr) *face_out = std::move(face);
   return std::shared_ptr<const StoredFont>(std::move(font));
 }
 

@@ -53,9 +53,12 @@ class FontStore {
   CacheStats stats() const { return uploaded_.stats(); }
 
  private:
+  // The font of `bytes`, read by FreeType within the font limits; the face
+  // it opened goes to `*face` when given (the built-ins keep theirs).
   Result<std::shared_ptr<const StoredFont>> Read(const std::string& id,
                                                  std::shared_ptr<const std::string> bytes,
-                                                 std::string name);
+                                                 std::string name,
+                                                 std::unique_ptr<FontFace>* face = nullptr);
 
   const ServiceLimits limits_;
   const std::shared_ptr<SharedTier> shared_;
