@@ -54,19 +54,10 @@ try {
   await page.evaluateOnNewDocument(() => {
     window.feel = { frames: [], waits: [] };
     const sample = () => {
-      const v = window.surfdeformViewer;
+      const v = window.surfdeformTest;
       let shown = '';
       if (v) {
-        const u = v.preview.uniforms;
-        shown = [
-          u.sdTarget.value.x,
-          u.sdTarget.value.y,
-          u.sdScale.value,
-          u.sdRotation.value.x,
-          u.sdFieldP.value && u.sdFieldP.value.uuid,
-          v.preview.mesh.visible,
-          v.state.lastExact && v.state.lastExact.done_at,
-        ].join();
+        shown = v.previewPose();
       }
       window.feel.frames.push([performance.now(), shown, v ? v.framesDrawn() : 0]);
     };
@@ -127,11 +118,11 @@ try {
   };
   const drag = async (from, pathAt) => {
     const during = await hold(from, pathAt);
-    during.live = await page.evaluate(() => window.surfdeformViewer.state.live);
+    during.live = await page.evaluate(() => window.surfdeformTest.snapshot().live);
     const released = await page.evaluate(() => performance.now());
     await page.mouse.up();
     await ready('after the release');
-    const exact = await page.evaluate(() => window.surfdeformViewer.state.lastExact);
+    const exact = await page.evaluate(() => window.surfdeformTest.snapshot().lastExact);
     // On screen: the end of the first frame the view drew with it.
     await page.waitForFunction(
       (t) => {
@@ -174,12 +165,12 @@ try {
     await sleep(300);
     await ready(model);
     await page.$eval('#scale', (e) => {
-      e.value = String(window.surfdeformViewer.state.placement.scale / 2);
+      e.value = String(window.surfdeformTest.snapshot().placement.scale / 2);
       e.dispatchEvent(new Event('change'));
     });
     await sleep(300);
     await ready(`${model} at half scale`);
-    const triangles = await page.evaluate(() => window.surfdeformViewer.state.lastStats.triangles);
+    const triangles = await page.evaluate(() => window.surfdeformTest.snapshot().lastStats.triangles);
     await reset();
     await sleep(seconds * 1000);
     const still = await collect();
@@ -195,7 +186,7 @@ try {
     const centre = [box.x + box.width / 2, box.y + box.height / 2];
     const r = 0.06 * box.width;
     const footprint = await drag(centre, (t) => [r * Math.sin(3 * t), r * (1 - Math.cos(3 * t))]);
-    const handle = await page.evaluate(() => window.surfdeformViewer.handlePoint(5));
+    const handle = await page.evaluate(() => window.surfdeformTest.handlePoint(5));
     const control = await drag(handle, (t) => [0, -40 * Math.sin(2 * t)]);
     results.push({ model, triangles, still, idle, footprint, control });
     const line = (name, d) =>

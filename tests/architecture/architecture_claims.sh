@@ -7,7 +7,10 @@
 #   api_client.hpp) reach no engine header and no Eigen header, however
 #   deep (the project's includes followed from server/, proto/ and client/);
 # - the HTTP layer maps statuses to HTTP codes in one place: only
-#   server/http/problem.cpp names the codes of base/status.hpp's errors.
+#   server/http/problem.cpp names the codes of base/status.hpp's errors;
+# - the viewer: no file under client/web/public/ is over 400 lines, only
+#   viewer_state.js defines actions (no other file calls createStore), and
+#   the browser tests read the page through window.surfdeformTest only.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 page=$root/docs/ARCHITECTURE.md
@@ -63,6 +66,14 @@ PY
 hits=$(grep -rnE 'ErrorCode::k[A-Za-z]+' "$root/server/http" --include=*.cpp |
   grep -E 'status *= *[0-9]{3}|return [0-9]{3}|case ErrorCode' | grep -v '/problem.cpp:' || true)
 [[ -z $hits ]] || report "an error code mapped to HTTP outside server/http/problem.cpp" "$hits"
+
+web=$root/client/web/public
+hits=$(wc -l "$web"/*.js | awk '$2 != "total" && $1 > 400 {print $2 ": " $1 " lines"}')
+[[ -z $hits ]] || report "a viewer file over 400 lines" "$hits"
+hits=$(grep -ln 'createStore(' "$web"/*.js | grep -vE '/(app|store)\.js$' || true)
+[[ -z $hits ]] || report "a second store in the viewer" "$hits"
+hits=$(grep -nE 'window\.surfdeform[A-SU-Z][a-zA-Z]*' "$root"/tests/browser/*.mjs "$root"/bench/*.mjs || true)
+[[ -z $hits ]] || report "a test reads the page past window.surfdeformTest" "$hits"
 
 ((fail == 0)) && echo "architecture claims: all hold"
 exit $fail

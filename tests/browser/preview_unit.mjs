@@ -1,4 +1,4 @@
-// The viewer's field sampling (client/web/public/preview.js) in Node, without
+// The viewer's field sampling (client/web/public/field_sampling.js) in Node, without
 // a browser: the surface point and the surface parameters at a sheet point,
 // interpolated over the field's lattice as the shader does. And the
 // placement's model frame (footprint.js), kept per model between moves, the
@@ -16,7 +16,7 @@ import {
   positionsOf,
   readModel,
 } from '../../client/web/public/footprint.js';
-import { sampleField, sampleParams } from '../../client/web/public/preview.js';
+import { sampleField, sampleParams } from '../../client/web/public/field_sampling.js';
 import { MeshoptEncoder } from '../../client/web/node_modules/meshoptimizer/meshopt_encoder.js';
 import { MeshoptSimplifier } from '../../client/web/node_modules/meshoptimizer/meshopt_simplifier.js';
 import {

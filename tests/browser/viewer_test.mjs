@@ -103,14 +103,14 @@ try {
       check(
         false,
         `${what}: state ${await page.evaluate(() => document.body.dataset.state)}, ` +
-          `error ${await page.evaluate(() => window.surfdeformViewer?.state.lastError)}`,
+          `error ${await page.evaluate(() => window.surfdeformTest?.snapshot().error)}`,
       );
       await shot(`failed-${what.replace(/\W+/g, '-')}`);
       return false;
     }
   };
-  const stats = () => page.evaluate(() => window.surfdeformViewer.state.lastStats);
-  const coverage = () => page.evaluate(() => window.surfdeformViewer.modelCoverage());
+  const stats = () => page.evaluate(() => window.surfdeformTest.snapshot().lastStats);
+  const coverage = () => page.evaluate(() => window.surfdeformTest.modelCoverage());
 
   await page.goto(base + '/');
   // The first thing a visitor sees: a name standing on the surface (a text
@@ -136,21 +136,16 @@ try {
     const mesh = await page
       .waitForFunction(
         () => {
-          const g = window.surfdeformViewer.preview.mesh.geometry;
-          const n = g.getAttribute('normal');
-          if (!g.index || !n) return null;
-          let unit = 0;
-          for (let k = 0; k < n.count; ++k) unit += Math.abs(Math.hypot(n.getX(k), n.getY(k), n.getZ(k)) - 1) < 1e-5;
-          return { vertices: g.getAttribute('position').count, triangles: g.index.count / 3, unit };
+          return window.surfdeformTest.previewMesh();
         },
         { timeout: 10000 },
       )
       .then((h) => h.jsonValue())
       .catch(() => null);
     check(
-      mesh && mesh.vertices < mesh.triangles && mesh.unit === mesh.vertices, // separate: 3 per triangle
+      mesh && mesh.vertices < mesh.triangles && mesh.unitNormals === mesh.vertices, // separate: 3 per triangle
       `the name's preview is welded (${mesh && mesh.vertices} vertices for ${mesh && mesh.triangles} ` +
-        `triangles, ${mesh && mesh.unit} unit normals)`,
+        `triangles, ${mesh && mesh.unitNormals} unit normals)`,
     );
     const boxOf = (sel) =>
       page.$eval(sel, (e) => {
@@ -176,7 +171,7 @@ try {
     await shot('name-figure10');
     // Typing: the new letter is on the preview (bent on the GPU) before the
     // exact result is asked for, which waits for the typing to pause.
-    const before = await page.evaluate(() => window.surfdeformViewer.state.model.positions.length);
+    const before = await page.evaluate(() => window.surfdeformTest.snapshot().model.vertices);
     await page.evaluate(() => performance.clearMarks());
     await page.focus('#text');
     await page.keyboard.press('End');
@@ -184,14 +179,14 @@ try {
     const typed = await page
       .waitForFunction(
         () => {
-          const m = window.surfdeformViewer.state.model;
+          const m = window.surfdeformTest.snapshot().model;
           const previewed = performance.getEntriesByName('surfdeform:text-preview');
           return (
             m &&
             m.text &&
             m.text.string === 'Ada Lovelace!' &&
             previewed.length > 0 && {
-              vertices: m.positions.length,
+              vertices: m.vertices,
               preview: previewed[0].startTime - performance.getEntriesByName('surfdeform:text-typed')[0].startTime,
               exactAsked: performance.getEntriesByName('surfdeform:run-deform').map((e) => e.startTime),
               previewAt: previewed[0].startTime,
@@ -204,7 +199,7 @@ try {
       .catch(() => null);
     check(
       typed && typed.vertices > before,
-      `a typed letter is on the preview (${before / 3} -> ${typed && typed.vertices / 3} vertices, ` +
+      `a typed letter is on the preview (${before} -> ${typed && typed.vertices} vertices, ` +
         `${typed && typed.preview.toFixed(1)} ms from the keystroke)`,
     );
     check(
@@ -216,6 +211,26 @@ try {
     check(
       t && t.text && t.text.glyphs === 13,
       `the exact result has the new letter (${t && t.text && t.text.glyphs} glyphs)`,
+    );
+    // The text's size, typed: the name twice as long, in millimetres.
+    const typedSize = async (mm) => {
+      await page.$eval(
+        '#text-size',
+        (e, v) => {
+          e.value = v;
+          e.dispatchEvent(new Event('change', { bubbles: true }));
+        },
+        String(mm),
+      );
+      await sleep(100);
+      await settled('ready', `the name at ${mm} mm`);
+      return (await stats())?.text?.width_mm;
+    };
+    const w1 = await typedSize(1.2),
+      w0 = await typedSize(0.6);
+    check(
+      w0 > 0 && Math.abs(w1 / w0 - 2) < 1e-3,
+      `a typed text size scales the name (${w0} mm at 0.6, ${w1} mm at 1.2)`,
     );
   }
   await page.select('#sample', 'bunny');
@@ -232,7 +247,7 @@ try {
 
   // --- live editing, with real pointer events ------------------------------
   const toTop = () => page.evaluate(() => window.scrollTo(0, 0));
-  const mask = () => page.evaluate(() => window.surfdeformViewer.modelMask());
+  const mask = () => page.evaluate(() => window.surfdeformTest.modelMask());
   const changed = (a, b) => a.reduce((n, x, k) => n + (x !== b[k]), 0);
   const overlap = (a, b) => {
     let both = 0,
@@ -247,7 +262,7 @@ try {
   // What an undo restores: the surface's spec and id, and the placement.
   const pose = () =>
     viewer(() => {
-      const s = window.surfdeformViewer.state;
+      const s = window.surfdeformTest.snapshot();
       return { spec: JSON.stringify(s.spec), surface: s.surfaceId, center: s.placement.center };
     });
   const keys = async (...combo) => {
@@ -260,7 +275,7 @@ try {
     poseAfterQuick = null;
   // Half the fitted scale (room to move), subdivision off.
   await page.$eval('#scale', (e) => {
-    e.value = String(window.surfdeformViewer.state.placement.scale / 2);
+    e.value = String(window.surfdeformTest.snapshot().placement.scale / 2);
     e.dispatchEvent(new Event('change'));
   });
   await sleep(300);
@@ -273,7 +288,7 @@ try {
     // the Draco GLB's positions to within the two quantizations.
     const s = await stats();
     check(s && s.compression === 'meshopt', `the viewer asks for meshopt (${s && s.compression})`);
-    const c = await viewer(() => window.surfdeformViewer.compareEncodings());
+    const c = await viewer(() => window.surfdeformTest.compareEncodings());
     check(
       c.worst <= c.bound * 1.001,
       `meshopt and Draco GLB decode to the same positions (${c.worst.toExponential(2)} <= ` +
@@ -299,7 +314,7 @@ try {
     const m1 = await mask();
     const during = (await posts()).length - sent;
     check(during === 0, `a footprint drag sends no request (${during} sent)`);
-    check(await viewer(() => window.surfdeformViewer.previewShown()), 'the GPU preview is shown during the drag');
+    check(await viewer(() => window.surfdeformTest.previewShown()), 'the GPU preview is shown during the drag');
     check(changed(m0, m1) > 50, `the 3D view follows the footprint drag (${changed(m0, m1)} cells changed)`);
     await shot('live-footprint-drag');
     await page.mouse.up();
@@ -310,17 +325,17 @@ try {
         after.length === 1 && after[0].path === '/v1/deform',
         `the release sends exactly one exact request (${after.map((p) => p.path).join(', ')})`,
       );
-      check(!(await viewer(() => window.surfdeformViewer.previewShown())), 'the exact result replaced the preview');
+      check(!(await viewer(() => window.surfdeformTest.previewShown())), 'the exact result replaced the preview');
       const m2 = await mask();
       check(overlap(m1, m2) > 0.8, `the preview covered what the exact result covers (${overlap(m1, m2).toFixed(3)})`);
-      const p = await viewer(() => window.surfdeformViewer.state.lastPreview);
+      const p = await viewer(() => window.surfdeformTest.snapshot().lastPreview);
       check(
         p && p.relative < 1e-3,
         `the preview was within 1e-3 of the sheet's diagonal of the exact result (${p && p.relative.toExponential(2)})`,
       );
       check(/preview vs exact/.test(await text('#timings')), 'the page shows how far the preview was');
       // The preview drew the bunny with a quarter of its triangles (preview_mesh.js).
-      const lod = await viewer(() => window.surfdeformViewer.state.model.lod);
+      const lod = await viewer(() => window.surfdeformTest.snapshot().model.lod);
       check(
         lod && lod.triangles[1] <= 0.26 * lod.triangles[0] && lod.error <= 5e-4,
         `the preview draws the bunny simplified (${lod && lod.triangles[1]} of ${lod && lod.triangles[0]} triangles, ` +
@@ -329,9 +344,9 @@ try {
       check(/preview triangles/.test(await text('#timings')), "the page shows the preview's triangles");
       // Settled, nothing changes: no frame is drawn (software WebGL's frames
       // would hold every reply).
-      const f0 = await viewer(() => window.surfdeformViewer.framesDrawn());
+      const f0 = await viewer(() => window.surfdeformTest.framesDrawn());
       await sleep(500);
-      const f1 = await viewer(() => window.surfdeformViewer.framesDrawn());
+      const f1 = await viewer(() => window.surfdeformTest.framesDrawn());
       check(f0 > 0 && f1 === f0, `a settled page draws no frames (${f1 - f0} in 0.5 s, ${f0} before)`);
       // Orbiting the exact bunny (and back to where the view was): with
       // software WebGL its simplified preview stands in for it while the
@@ -339,7 +354,7 @@ try {
       // stops; no request either way.
       const view = await (await page.$('#view3d')).boundingBox();
       const [ox, oy] = [view.x + 0.06 * view.width, view.y + 0.94 * view.height];
-      const software = await viewer(() => window.surfdeformViewer.software());
+      const software = await viewer(() => window.surfdeformTest.software());
       const asked = (await posts()).length;
       await page.mouse.move(ox, oy);
       await page.mouse.down();
@@ -347,25 +362,25 @@ try {
         await page.mouse.move(ox + 12 * k, oy);
         await sleep(80);
       }
-      await page.waitForFunction((f) => window.surfdeformViewer.framesDrawn() > f + 1, {}, f1);
-      const orbiting = await viewer(() => window.surfdeformViewer.standingIn());
+      await page.waitForFunction((f) => window.surfdeformTest.framesDrawn() > f + 1, {}, f1);
+      const orbiting = await viewer(() => window.surfdeformTest.standingIn());
       for (let k = 4; k >= 0; --k) {
         await page.mouse.move(ox + 12 * k, oy);
         await sleep(80);
       }
       await page.mouse.up();
-      const f2 = await viewer(() => window.surfdeformViewer.framesDrawn());
+      const f2 = await viewer(() => window.surfdeformTest.framesDrawn());
       // 150 ms after the view stops, and then a frame (however busy the machine).
       await page
         .waitForFunction(
-          (f, soft) => !window.surfdeformViewer.standingIn() && (!soft || window.surfdeformViewer.framesDrawn() > f),
+          (f, soft) => !window.surfdeformTest.standingIn() && (!soft || window.surfdeformTest.framesDrawn() > f),
           { timeout: 20000 },
           f2,
           software,
         )
         .catch(() => {});
-      const stopped = await viewer(() => window.surfdeformViewer.standingIn());
-      const f3 = await viewer(() => window.surfdeformViewer.framesDrawn());
+      const stopped = await viewer(() => window.surfdeformTest.standingIn());
+      const f3 = await viewer(() => window.surfdeformTest.framesDrawn());
       check(
         orbiting === software,
         `while the view orbits, the preview stands in for the exact bunny ` +
@@ -383,13 +398,13 @@ try {
     // A control point: the surface and the model follow during the drag,
     // one surface request at a time; the release deforms exactly once.
     const k = 5; // an inner control point of the bicubic patch
-    const at = await viewer((i) => window.surfdeformViewer.handlePoint(i), k);
+    const at = await viewer((i) => window.surfdeformTest.handlePoint(i), k);
     const m0 = await mask();
     const sent = (await posts()).length;
-    const live0 = await viewer(() => window.surfdeformViewer.state.live.surfaces);
-    const moved0 = await viewer(() => window.surfdeformViewer.state.live.moved);
-    const uv0 = await viewer(() => window.surfdeformViewer.placementParams());
-    const gpu0 = await viewer(() => window.surfdeformViewer.gpuMemory());
+    const live0 = await viewer(() => window.surfdeformTest.snapshot().live.surfaces);
+    const moved0 = await viewer(() => window.surfdeformTest.snapshot().live.moved);
+    const uv0 = await viewer(() => window.surfdeformTest.placementParams());
+    const gpu0 = await viewer(() => window.surfdeformTest.gpuMemory());
     await page.mouse.move(at[0], at[1]);
     await page.mouse.down();
     let programs0 = [];
@@ -398,10 +413,10 @@ try {
       await sleep(150);
       // From the second move on, the preview and the surface are drawn with
       // programs compiled already.
-      if (s === 2) programs0 = await viewer(() => window.surfdeformViewer.programs());
+      if (s === 2) programs0 = await viewer(() => window.surfdeformTest.programs());
     }
     await sleep(300);
-    const programs1 = await viewer(() => window.surfdeformViewer.programs());
+    const programs1 = await viewer(() => window.surfdeformTest.programs());
     const compiled = programs1.filter((id) => !programs0.includes(id));
     // A surface replaced with a new material of its own released the old
     // one's program and compiled it again, at every pointer move (SwiftShader:
@@ -412,8 +427,8 @@ try {
         `${programs0.length} held)`,
     );
     const m1 = await mask();
-    const live = (await viewer(() => window.surfdeformViewer.state.live.surfaces)) - live0;
-    const moved = (await viewer(() => window.surfdeformViewer.state.live.moved)) - moved0;
+    const live = (await viewer(() => window.surfdeformTest.snapshot().live.surfaces)) - live0;
+    const moved = (await viewer(() => window.surfdeformTest.snapshot().live.moved)) - moved0;
     const during = (await posts()).slice(sent);
     check(live >= 1, `the surface and the model follow a control-point drag (${live} surfaces shown)`);
     // Every pointer move moves the surface and the model at once (the field
@@ -422,7 +437,7 @@ try {
     // How far a moved field was from the server's field of the same pose
     // depends on how far the pose moved while a request was out (the
     // machine's speed): reported, and bounded below for a fixed edit.
-    const gap = await viewer(() => window.surfdeformViewer.state.live.gap);
+    const gap = await viewer(() => window.surfdeformTest.snapshot().live.gap);
     check(
       gap > 0,
       `moved fields were compared with the server's during the drag (${gap.toExponential(2)} of the diagonal at most)`,
@@ -445,13 +460,13 @@ try {
       check(deforms === 1, `the release sends one exact deformation (${deforms})`);
       // Each pointer move replaced the surface (and the release the model):
       // the ones replaced are freed on the GPU, not kept until the page closes.
-      const gpu1 = await viewer(() => window.surfdeformViewer.gpuMemory());
+      const gpu1 = await viewer(() => window.surfdeformTest.gpuMemory());
       check(
         gpu1.geometries <= gpu0.geometries + 1 && gpu1.textures <= gpu0.textures + 2,
         `the replaced surfaces and models are freed (geometries ${gpu0.geometries} -> ` +
           `${gpu1.geometries}, textures ${gpu0.textures} -> ${gpu1.textures})`,
       );
-      const uv1 = await viewer(() => window.surfdeformViewer.placementParams());
+      const uv1 = await viewer(() => window.surfdeformTest.placementParams());
       // The model stays on the same part of the surface: its placement moved
       // with each new sheet (warm_start.motion). Measured: 2.1e-4 in (u, v);
       // 7.2e-3 with the placement left where it was on the sheet.
@@ -462,7 +477,7 @@ try {
       );
       // The moved field lies on the edited surface: the server's, for a
       // control point raised by 5% of the patch, at float32's precision.
-      const on = await viewer(() => window.surfdeformViewer.movedFieldOnSurface(5, 0.5));
+      const on = await viewer(() => window.surfdeformTest.movedFieldOnSurface(5, 0.5));
       check(
         on.points > 50 && on.shift > 1e-3 && on.worst < 1e-6,
         `a moved field's ${on.points} points lie on the edited surface (${on.worst.toExponential(2)} ` +
@@ -483,8 +498,8 @@ try {
     // one request, the edit flattened and the model deformed on it
     // (warm_start in /v1/deform), the placement moved with the new sheet by
     // the server; the sheet and its field come after.
-    const uv2 = await viewer(() => window.surfdeformViewer.placementParams());
-    const at2 = await viewer((i) => window.surfdeformViewer.handlePoint(i), k);
+    const uv2 = await viewer(() => window.surfdeformTest.placementParams());
+    const at2 = await viewer((i) => window.surfdeformTest.handlePoint(i), k);
     await page.mouse.move(at2[0], at2[1]);
     await page.mouse.down();
     const quick = (await posts()).length;
@@ -505,15 +520,15 @@ try {
         exact.length === 1 && /"surface":\{/.test(exact[0].body) && /"warm_start":"[0-9a-f]{32}"/.test(exact[0].body),
         `a quick release is one deformation of the edit inline, warm (${after.map((p) => p.path).join(', ')})`,
       );
-      const uv3 = await viewer(() => window.surfdeformViewer.placementParams());
+      const uv3 = await viewer(() => window.surfdeformTest.placementParams());
       const slid = Math.hypot(uv3[0] - uv2[0], uv3[1] - uv2[1]);
       check(
         slid < 2e-3,
         `the server kept the placement on the same surface point (slid ${slid.toExponential(2)} in u, v)`,
       );
       const st = await viewer(() => ({
-        shown: window.surfdeformViewer.state.surfaceId,
-        stats: window.surfdeformViewer.state.lastStats,
+        shown: window.surfdeformTest.snapshot().surfaceId,
+        stats: window.surfdeformTest.snapshot().lastStats,
       }));
       check(
         st.stats.surface_id === st.shown && Boolean(st.stats.warm_start?.placement),
@@ -528,7 +543,7 @@ try {
     // footprint drag (the placement only), by Ctrl+Z and the header's
     // button; forward by Ctrl+Shift+Z, Ctrl+Y and the button. The quick
     // drag is shown again at the end, for what follows.
-    const h0 = await viewer(() => window.surfdeformViewer.history());
+    const h0 = await viewer(() => window.surfdeformTest.history());
     check(h0.back >= 3 && h0.ahead === 0, `every settled edit is a step to undo (${h0.back} back, ${h0.ahead} ahead)`);
     check(
       !(await page.$eval('#undo', (e) => e.disabled)) && (await page.$eval('#redo', (e) => e.disabled)),
@@ -599,7 +614,7 @@ try {
     const digest = createHash('sha256')
       .update(Buffer.from(await r.arrayBuffer()))
       .digest('hex');
-    const shown = await viewer(() => window.surfdeformViewer.exactDigest());
+    const shown = await viewer(() => window.surfdeformTest.exactDigest());
     check(
       saved &&
         saved.name === 'bunny-request.json' &&
@@ -618,13 +633,13 @@ try {
     });
     await sleep(300);
     await settled('ready', 'the model turned');
-    const turned = await viewer(() => window.surfdeformViewer.exactDigest());
+    const turned = await viewer(() => window.surfdeformTest.exactDigest());
     const file = path.join(artifacts, 'bunny-request.json');
     writeFileSync(file, saved ? saved.text : '{}');
     await (await page.$('#open-request')).uploadFile(file);
     await sleep(300);
     if (await settled('ready', 'the saved request opened')) {
-      const opened = await viewer(() => window.surfdeformViewer.exactDigest());
+      const opened = await viewer(() => window.surfdeformTest.exactDigest());
       check(
         turned !== digest && opened === digest,
         `opening the saved request brings its result back, byte for byte (turned ${turned.slice(0, 12)}, ` +
@@ -639,7 +654,7 @@ try {
     await page.waitForFunction(() => document.body.dataset.state !== 'loading', { timeout: 30000 });
     check(
       /no "surface" object/.test(await text('#error')) &&
-        (await viewer(() => window.surfdeformViewer.exactDigest())) === digest,
+        (await viewer(() => window.surfdeformTest.exactDigest())) === digest,
       `a JSON file that is no request is refused, and the page stays (${await text('#error')})`,
     );
     // The request opened once more: the banner goes with the next result.
@@ -657,11 +672,11 @@ try {
     // patch, and Ctrl+Z puts the point back.
     await toTop();
     const k = 5;
-    const at = await viewer((i) => window.surfdeformViewer.handlePoint(i), k);
+    const at = await viewer((i) => window.surfdeformTest.handlePoint(i), k);
     const sent = (await posts()).length;
     await page.mouse.click(at[0], at[1]);
     await sleep(300);
-    const point = () => viewer((i) => window.surfdeformViewer.state.spec.control_points[i], k);
+    const point = () => viewer((i) => window.surfdeformTest.snapshot().spec.control_points[i], k);
     const p0 = await point();
     const shownNumbers = () =>
       page.evaluate(() => ['x', 'y', 'z'].map((c) => Number(document.getElementById(`cp-${c}`).value)));
@@ -684,8 +699,8 @@ try {
       const after = (await posts()).slice(sent);
       const p1 = await point();
       const st = await viewer(() => ({
-        shown: window.surfdeformViewer.state.surfaceId,
-        stats: window.surfdeformViewer.state.lastStats,
+        shown: window.surfdeformTest.snapshot().surfaceId,
+        stats: window.surfdeformTest.snapshot().lastStats,
       }));
       check(
         p1[2] === z &&
@@ -722,7 +737,7 @@ try {
       await page.mouse.move(cx + 0.08 * box.width * k, cy);
       await sleep(60);
     }
-    const n = await page.evaluate(() => window.surfdeformViewer.pixelCounts());
+    const n = await page.evaluate(() => window.surfdeformTest.pixelCounts());
     const banner = await page.$eval('#error', (e) => !e.hidden);
     check(n.red > 100 && !banner, `the part off the sheet is tinted, no banner (${n.red} red pixels)`);
     await shot('live-off-the-sheet');
@@ -764,7 +779,7 @@ try {
   if (await settled('ready', 'the plate coloured by distortion')) {
     await sleep(300);
     const s = await stats();
-    const n = await page.evaluate(() => window.surfdeformViewer.pixelCounts());
+    const n = await page.evaluate(() => window.surfdeformTest.pixelCounts());
     check(
       s && s.distortion && s.distortion.max > 0.01,
       `distortion stats shown (max ${s && s.distortion && s.distortion.max})`,
@@ -788,7 +803,7 @@ try {
   // Halve the scale (the fit fills the sheet), typed into the field as a
   // person would, then drag the footprint on the sheet: the model is deformed
   // again where it lands.
-  const fitted = await page.evaluate(() => window.surfdeformViewer.state.placement.scale);
+  const fitted = await page.evaluate(() => window.surfdeformTest.snapshot().placement.scale);
   await page.focus('#scale');
   await page.keyboard.down('Control');
   await page.keyboard.press('KeyA');
@@ -797,7 +812,7 @@ try {
   await page.keyboard.press('Enter');
   await sleep(300);
   await settled('ready', 'at half the scale');
-  const before = await page.evaluate(() => [...window.surfdeformViewer.state.placement.center]);
+  const before = await page.evaluate(() => [...window.surfdeformTest.snapshot().placement.center]);
   await toTop();
   const box = await (await page.$('#sheet')).boundingBox();
   await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
@@ -806,7 +821,7 @@ try {
   await page.mouse.up();
   await sleep(400);
   if (await settled('ready', 'after dragging the footprint')) {
-    const center = await page.evaluate(() => window.surfdeformViewer.state.placement.center);
+    const center = await page.evaluate(() => window.surfdeformTest.snapshot().placement.center);
     const s = await stats();
     check(
       center[0] > before[0] + 0.05 && Math.abs(center[1] - before[1]) < 0.05,
@@ -848,10 +863,10 @@ try {
     await sleep(150);
   }
   try {
-    await page.waitForFunction(() => (window.surfdeformViewer.state.lastMark || []).length > 3, { timeout: 20000 });
+    await page.waitForFunction(() => (window.surfdeformTest.snapshot().lastMark || []).length > 3, { timeout: 20000 });
     await sleep(300);
-    const mark = await page.evaluate(() => window.surfdeformViewer.state.lastMark);
-    const n = await page.evaluate(() => window.surfdeformViewer.pixelCounts());
+    const mark = await page.evaluate(() => window.surfdeformTest.snapshot().lastMark);
+    const n = await page.evaluate(() => window.surfdeformTest.pixelCounts());
     check(
       mark.every((m) => m.on_sheet && Math.abs(Math.hypot(m.point[0], m.point[1]) - 1) < 1e-6),
       `the mark lies on the cylinder (${mark.length} points)`,
@@ -865,7 +880,7 @@ try {
   await page.click('#clear-marks');
   await toTop();
   await sleep(200);
-  const cleared = await page.evaluate(() => window.surfdeformViewer.pixelCounts());
+  const cleared = await page.evaluate(() => window.surfdeformTest.pixelCounts());
   check(cleared.green < 20, `clearing removes the mark (${cleared.green} green pixels)`);
 
   // A textured glTF (assimp's BoxTextured) comes back textured: three.js
@@ -874,7 +889,7 @@ try {
   await sleep(500);
   if (await settled('ready', 'the textured box')) {
     try {
-      await page.waitForFunction(() => window.surfdeformViewer.texturedMeshes() > 0, { timeout: 20000 });
+      await page.waitForFunction(() => window.surfdeformTest.texturedMeshes() > 0, { timeout: 20000 });
       check(true, 'the deformed box is drawn with its texture');
     } catch {
       check(false, 'the deformed box is drawn with its texture');
@@ -910,7 +925,7 @@ try {
     check(first !== later, 'the 3D view changes as the animation plays');
     await shot('animation-playing');
     for (const k of [0, 5, 11]) {
-      const r = await page.evaluate((f) => window.surfdeformViewer.animation.compareFrame(f), k);
+      const r = await page.evaluate((f) => window.surfdeformTest.compareAnimationFrame(f), k);
       const oneHot = r.weights.every((w, j) => Math.abs(w - (j === k ? 1 : 0)) < 1e-6);
       check(
         r.worst <= 0.51 * r.step + 1e-6 && oneHot,
@@ -940,13 +955,13 @@ try {
     });
     const model = (await up.json()).id;
     const d = await viewer(async (id) => {
-      const v = window.surfdeformViewer;
+      const v = window.surfdeformTest;
       const r = await fetch('/v1/deform', {
         method: 'POST',
         headers: { 'Content-Type': 'application/json', Accept: 'model/gltf-binary' },
         body: JSON.stringify({
           model_id: id,
-          surface_id: v.state.surfaceId,
+          surface_id: v.snapshot().surfaceId,
           placement: { scale: 'fit' },
           subdivision: { mode: 'off' },
           output: { format: 'glb' },
@@ -991,7 +1006,7 @@ try {
       seamsBefore < 20 && seamsAfter > 200,
       `the new sheet's seams are painted (${seamsBefore} -> ${seamsAfter} seam-coloured pixels)`,
     );
-    const before = await page.evaluate(() => [...window.surfdeformViewer.state.placement.center]);
+    const before = await page.evaluate(() => [...window.surfdeformTest.snapshot().placement.center]);
     await toTop();
     const canBox = await (await page.$('#sheet')).boundingBox();
     // The sheet (2 pi x 2) fills the canvas's width less 16 px each side:
@@ -1006,7 +1021,7 @@ try {
     await page.mouse.up();
     await sleep(400);
     if (await settled('ready', 'after dragging the footprint past the seam')) {
-      const center = await page.evaluate(() => window.surfdeformViewer.state.placement.center);
+      const center = await page.evaluate(() => window.surfdeformTest.snapshot().placement.center);
       const s = await stats();
       check(
         before[0] > 3 &&
@@ -1022,7 +1037,7 @@ try {
         `deformed across the seam of the can (turns ${s && s.placement.turns})`,
       );
       // The preview bent the parts past the seam a period away, as the server.
-      const p = await page.evaluate(() => window.surfdeformViewer.state.lastPreview);
+      const p = await page.evaluate(() => window.surfdeformTest.snapshot().lastPreview);
       check(
         p && p.relative < 1e-3,
         `the preview across the seam was within 1e-3 of the sheet's diagonal of the exact ` +
@@ -1041,7 +1056,7 @@ try {
   await sleep(300);
   if (await settled('ready', 'on the bottle')) {
     const sheet = await page.evaluate(() => {
-      const s = window.surfdeformViewer.sheet();
+      const s = window.surfdeformTest.sheet();
       return s && { period: s.period, lo: s.lo, hi: s.hi };
     });
     check(
@@ -1049,7 +1064,7 @@ try {
       `the bottle's sheet is periodic, with a translation period ` + `(${JSON.stringify(sheet && sheet.period)})`,
     );
     const middle = sheet ? (sheet.lo[1] + sheet.hi[1]) / 2 : 1;
-    await page.evaluate((y) => window.surfdeformViewer.placeAt([0, y]), middle);
+    await page.evaluate((y) => window.surfdeformTest.placeAt([0, y]), middle);
     await sleep(400);
     if (await settled('ready', "with the model on the bottle's seam")) {
       const s = await stats();
@@ -1067,14 +1082,14 @@ try {
   await sleep(300);
   if (await settled('ready', 'on the ring')) {
     const periods = await page.evaluate(() => {
-      const s = window.surfdeformViewer.sheet();
+      const s = window.surfdeformTest.sheet();
       return s && { u: s.period && s.period.t, v: s.periodV };
     });
     check(
       periods && periods.u && periods.v && Math.hypot(...periods.v) > 3,
       `the ring's sheet is periodic both ways (${JSON.stringify(periods)})`,
     );
-    await page.evaluate(() => window.surfdeformViewer.placeAt([0, 0]));
+    await page.evaluate(() => window.surfdeformTest.placeAt([0, 0]));
     await sleep(400);
     if (await settled('ready', "with the model on the corner of the ring's seams")) {
       const s = await stats();
@@ -1082,7 +1097,7 @@ try {
         s && s.placement.turns > 0 && s.placement.outside === 0,
         `deformed across both seams of the ring (turns ${s && s.placement.turns})`,
       );
-      const p = await page.evaluate(() => window.surfdeformViewer.state.lastPreview);
+      const p = await page.evaluate(() => window.surfdeformTest.snapshot().lastPreview);
       check(
         p && p.relative < 2e-3,
         `the preview across both seams was within 2e-3 of the sheet's diagonal of the ` +
@@ -1102,12 +1117,12 @@ try {
   await sleep(300);
   if (await settled('ready', 'on the lampshade')) {
     const angle = await page.evaluate(() => {
-      const s = window.surfdeformViewer.sheet();
+      const s = window.surfdeformTest.sheet();
       return s && s.period && s.period.angle;
     });
     check(angle && Math.abs(angle) > 1, `the lampshade's sheet repeats by a rotation (${angle})`);
     // Sample (0, 0) is at the origin and the seam runs up from it.
-    await page.evaluate(() => window.surfdeformViewer.placeAt([0, 0.55]));
+    await page.evaluate(() => window.surfdeformTest.placeAt([0, 0.55]));
     await sleep(400);
     if (await settled('ready', "with the plate on the lampshade's seam")) {
       const s = await stats();
@@ -1115,7 +1130,7 @@ try {
         s && s.placement.turns > 0 && s.placement.outside === 0,
         `deformed across the seam of the lampshade (turns ${s && s.placement.turns})`,
       );
-      const p = await page.evaluate(() => window.surfdeformViewer.state.lastPreview);
+      const p = await page.evaluate(() => window.surfdeformTest.snapshot().lastPreview);
       check(
         p && p.relative < 2e-3,
         `the preview across a cone's seam was within 2e-3 of the sheet's diagonal of the ` +
@@ -1133,7 +1148,7 @@ try {
   await sleep(300);
   if (await settled('ready', 'on the panel mesh')) {
     const triangles = await page.evaluate(() => {
-      const s = window.surfdeformViewer.sheet();
+      const s = window.surfdeformTest.sheet();
       return s && s.mesh ? s.mesh.triangles.length : 0;
     });
     check(triangles === 1728, `the panel's sheet is its 1728 flat triangles (${triangles})`);
@@ -1177,7 +1192,7 @@ try {
   await sleep(300);
   if (await settled('ready', 'after dropping a surface mesh on the sheet')) {
     const dropped = await page.evaluate(() => {
-      const s = window.surfdeformViewer.sheet();
+      const s = window.surfdeformTest.sheet();
       return s && s.mesh ? s.mesh.triangles.length : 0;
     });
     check(dropped === 48, `a mesh dropped on the sheet is the surface: 48 flat triangles (${dropped})`);

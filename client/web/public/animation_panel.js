@@ -11,6 +11,7 @@ import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 import { animate, deform } from './api.js';
 import { surfacePreset } from './samples.js';
 import { scheduler } from './scheduler.js';
+import { shownPositions } from './view_probes.js';
 
 const $ = (id) => document.getElementById(id);
 const fmt = (x, digits) => Number(x).toPrecision(digits);
@@ -165,7 +166,7 @@ export class AnimationPanel {
   // POST /v1/deform; {worst, step, weights}.
   async compareFrame(k) {
     this.scrub(k);
-    const shown = this.modelView.shownPositions();
+    const shown = shownPositions(this.modelView.model);
     const { model } = this.request();
     const params = { ...this.params, frame: k, output: { format: 'glb_plain' } };
     const { bytes } = await deform(model.bytes, model.name, params, 'model/gltf-binary');

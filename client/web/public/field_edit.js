@@ -11,7 +11,7 @@
 // edited surface), second order in a small edit: the server's field for the
 // pose replaces the moved one when it comes.
 
-import { sampleField } from './preview.js';
+import { sampleField } from './field_sampling.js';
 
 // The n + 1 Bernstein weights of degree n at t (de Casteljau's recurrence;
 // t may lie past [0, 1], where the field continues the surface).

@@ -5,64 +5,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { meshesOf } from './footprint.js';
 import { computeNormals } from './vertex_normals.js';
-
-// Per vertex, the sheet view's colour scale: white where lengths keep, towards
-// red where the larger change stretches, towards blue where it shrinks; full
-// colour at |log s| = spread. `d` holds (s1 - 1, s2 - 1).
-function distortionColours(d, spread) {
-  const rgb = new Float32Array(3 * d.count);
-  for (let k = 0; k < d.count; ++k) {
-    const a = Math.log1p(d.getX(k)),
-      b = Math.log1p(d.getY(k));
-    const x = Math.max(-1, Math.min(1, (Math.abs(a) >= Math.abs(b) ? a : b) / spread));
-    const w = 1 - Math.abs(x);
-    rgb.set(x > 0 ? [1, w, w] : [w, w, 1], 3 * k);
-  }
-  // The sheet's colours are sRGB; three.js lights in linear space.
-  const c = new THREE.Color();
-  for (let k = 0; k < d.count; ++k) {
-    c.setRGB(rgb[3 * k], rgb[3 * k + 1], rgb[3 * k + 2], THREE.SRGBColorSpace);
-    rgb.set([c.r, c.g, c.b], 3 * k);
-  }
-  return new THREE.BufferAttribute(rgb, 3);
-}
-
-// Frees what `object` holds on the GPU (geometries, materials, their
-// textures): three.js keeps a geometry's buffers until it is disposed, and
-// a control-point drag replaces the surface at every pointer move. The
-// view's own materials (keptMaterial) stay: disposing a material releases
-// its shader program, and the next object drawn with the same kind of
-// material compiled it again (SwiftShader: tens of ms a pointer move).
-function disposeObject(object) {
-  object.traverse((o) => {
-    if (o.geometry) o.geometry.dispose();
-    for (const m of [o.material || []].flat()) {
-      if (m.userData.kept) continue;
-      if (m.map) m.map.dispose();
-      m.dispose();
-    }
-  });
-}
-
-// A material the view keeps for every object of one role (the surface, the
-// handles, the model's plain and distortion colours), never disposed.
-function keptMaterial(material) {
-  material.userData.kept = true;
-  return material;
-}
-
-// Whether WebGL here is drawn by the CPU (SwiftShader, llvmpipe).
-function softwareWebGl() {
-  try {
-    const gl = document.createElement('canvas').getContext('webgl2');
-    const info = gl && gl.getExtension('WEBGL_debug_renderer_info');
-    const name = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : '';
-    gl?.getExtension('WEBGL_lose_context')?.loseContext();
-    return /swiftshader|llvmpipe|softpipe|software/i.test(name);
-  } catch {
-    return false;
-  }
-}
+import { disposeObject, distortionColours, keptMaterial, softwareWebGl } from './view_resources.js';
 
 export class ModelView {
   // onControlPoint(index, [x, y, z], final) when the person drags a control point.
@@ -367,35 +310,6 @@ export class ModelView {
     return t.length > 1 ? ((t.length - 1) * 1000) / (t[t.length - 1] - t[0]) : 0;
   }
 
-  // The positions the model shows now, in world space: each mesh's base with
-  // its morph targets at their current weights (as the GPU morphs them),
-  // through its world matrix. One flat array over the model's meshes.
-  shownPositions() {
-    const out = [];
-    const v = new THREE.Vector3();
-    this.model?.updateMatrixWorld(true);
-    this.model?.traverse((o) => {
-      if (!o.isMesh) return;
-      const pos = o.geometry.getAttribute('position');
-      const targets = o.geometry.morphAttributes.position || [];
-      const weights = o.morphTargetInfluences || [];
-      const relative = o.geometry.morphTargetsRelative;
-      for (let k = 0; k < pos.count; ++k) {
-        v.fromBufferAttribute(pos, k);
-        const base = targets.length ? v.clone() : v;
-        targets.forEach((t, j) => {
-          const w = weights[j] || 0;
-          if (!w) return;
-          const d = new THREE.Vector3().fromBufferAttribute(t, k);
-          v.addScaledVector(relative ? d : d.sub(base), w);
-        });
-        v.applyMatrix4(o.matrixWorld);
-        out.push(v.x, v.y, v.z);
-      }
-    });
-    return out;
-  }
-
   // The camera on `object` with the rest of the scene: the surface and the
   // model together (a name a few mm long on a large surface shows the
   // surface round it), from the default side, or, for a model well off the
@@ -476,73 +390,5 @@ export class ModelView {
     this.drag = null;
     this.controls.enabled = true;
     this.onControlPoint(h.userData.index, h.position.toArray(), true);
-  }
-
-  // The canvas's RGBA pixels as drawn last.
-  canvasPixels() {
-    const src = this.renderer.domElement;
-    const c = document.createElement('canvas');
-    c.width = src.width;
-    c.height = src.height;
-    const ctx = c.getContext('2d');
-    ctx.drawImage(src, 0, 0);
-    return { px: ctx.getImageData(0, 0, c.width, c.height).data, width: c.width, height: c.height };
-  }
-
-  // Counts of the canvas's pixels by hue: {warm, red, blue, green, total}.
-  // warm is the model's plain colour; red and blue the distortion map's
-  // ends; green the marks.
-  pixelCounts() {
-    const { px } = this.canvasPixels();
-    const n = { warm: 0, red: 0, blue: 0, green: 0, total: px.length / 4 };
-    for (let k = 0; k < px.length; k += 4) {
-      const [r, g, b] = [px[k], px[k + 1], px[k + 2]];
-      if (r - b > 30) ++n.warm;
-      if (r - g > 60 && r - b > 60) ++n.red;
-      if (b - r > 60 && b - g > 60) ++n.blue;
-      if (g - r > 60 && g - b > 60) ++n.green;
-    }
-    return n;
-  }
-
-  // Where control point k is drawn, in client (CSS pixel) coordinates; null
-  // without one.
-  handleClientPoint(k) {
-    const h = this.handles.children[k];
-    if (!h) return null;
-    const v = h.position.clone().project(this.camera);
-    const r = this.renderer.domElement.getBoundingClientRect();
-    return [r.left + ((v.x + 1) / 2) * r.width, r.top + ((1 - v.y) / 2) * r.height];
-  }
-
-  // Which pixels show the model (its warm colour, or the preview's tint),
-  // every `step`-th pixel each way: an array of 0 and 1.
-  modelMask(step = 4) {
-    const { px, width, height } = this.canvasPixels();
-    const mask = [];
-    for (let y = 0; y < height; y += step) {
-      for (let x = 0; x < width; x += step) {
-        const k = 4 * (x + width * y);
-        mask.push(px[k] - px[k + 2] > 30 ? 1 : 0);
-      }
-    }
-    return mask;
-  }
-
-  // Meshes of the model drawn with a texture whose image three.js decoded.
-  texturedMeshes() {
-    let n = 0;
-    this.model?.traverse((o) => {
-      const image = o.isMesh && o.material.map && o.material.map.image;
-      if (image && (image.width || image.naturalWidth) > 0) ++n;
-    });
-    return n;
-  }
-
-  // The share of the canvas (0..1) that shows the model: its warm colour,
-  // unlike the background and the bluish surface.
-  modelCoverage() {
-    const n = this.pixelCounts();
-    return n.warm / n.total;
   }
 }

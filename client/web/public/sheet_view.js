@@ -6,17 +6,7 @@
 // footprint is drawn where it lands past the seam too, and a footprint
 // released past the seam comes back onto the sheet by the period.
 
-function cellArea(p, q, r, s) {
-  // quad p q r s, as two triangles (2D or 3D)
-  const tri = (a, b, c) => {
-    const u = a.map((x, i) => b[i] - x),
-      v = a.map((x, i) => c[i] - x);
-    if (u.length === 2) return Math.abs(u[0] * v[1] - u[1] * v[0]) / 2;
-    const n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
-    return Math.hypot(...n) / 2;
-  };
-  return tri(p, q, r) + tri(p, r, s);
-}
+import { byPeriods, cellArea, periodMoves, sheetCentre, wrapAcrossSeam } from './sheet_geometry.js';
 
 export class SheetView {
   // onPlacement({center, rotation_deg, scale}, final, how) is called while
@@ -109,82 +99,9 @@ export class SheetView {
     this.draw();
   }
 
-  // The moves by whole periods that land a point on the same surface point:
-  // [ku, kv] for the periods in u and v (each -1, 0 or 1, not both 0).
-  periodMoves() {
-    const us = this.sheet.period ? [0, 1, -1] : [0];
-    const vs = this.sheet.periodV ? [0, 1, -1] : [0];
-    const moves = [];
-    for (const ku of us) for (const kv of vs) if (ku || kv) moves.push([ku, kv]);
-    return moves;
-  }
-
-  // Point p moved by [ku, kv] periods (periodMoves).
-  byPeriods(p, [ku, kv]) {
-    const [x, y] = ku ? this.byPeriod(p, ku) : p;
-    const t = this.sheet.periodV;
-    return kv ? [x + kv * t[0], y + kv * t[1]] : [x, y];
-  }
-
-  // Point p moved by the period in u k times (k = 1 or -1): the same surface point.
-  byPeriod([x, y], k) {
-    const { angle, t } = this.sheet.period;
-    if (k > 0) {
-      const c = Math.cos(angle),
-        s = Math.sin(angle);
-      return [c * x - s * y + t[0], s * x + c * y + t[1]];
-    }
-    const c = Math.cos(-angle),
-      s = Math.sin(-angle),
-      u = x - t[0],
-      v = y - t[1];
-    return [c * u - s * v, s * u + c * v];
-  }
-
-  // Whether p is inside the sheet's outline (even-odd rule).
-  onSheet([x, y]) {
-    let inside = false;
-    const o = this.sheet.outline;
-    for (let a = 0, b = o.length - 1; a < o.length; b = a++) {
-      if (o[a][1] > y !== o[b][1] > y && x < ((o[b][0] - o[a][0]) * (y - o[a][1])) / (o[b][1] - o[a][1]) + o[a][0])
-        inside = !inside;
-    }
-    return inside;
-  }
-
-  // On a closed surface, a footprint centre dragged past the seam comes
-  // back onto the sheet by the period (turned with it on a cone): the same
-  // placement on the surface. True when it moved.
-  wrapAcrossSeam(placement) {
-    if (!this.sheet || this.onSheet(placement.center)) return false;
-    for (const move of this.periodMoves()) {
-      const moved = this.byPeriods(placement.center, move);
-      if (!this.onSheet(moved)) continue;
-      placement.center = moved;
-      if (move[0]) placement.rotation_deg += (move[0] * this.sheet.period.angle * 180) / Math.PI;
-      placement.rotation_deg = ((placement.rotation_deg + 540) % 360) - 180;
-      return true;
-    }
-    return false;
-  }
-
   // The centre of the sheet: the image of (u, v) = (1/2, 1/2), as the server's "center".
   sheetCentre() {
-    const { nu, nv, flat } = this.sheet;
-    const gu = (nu - 1) / 2,
-      gv = (nv - 1) / 2;
-    const i = Math.min(Math.floor(gu), nu - 2),
-      j = Math.min(Math.floor(gv), nv - 2);
-    const s = gu - i,
-      t = gv - j;
-    const p = (a, b) => flat[a + nu * b];
-    return [0, 1].map(
-      (c) =>
-        (1 - s) * (1 - t) * p(i, j)[c] +
-        s * (1 - t) * p(i + 1, j)[c] +
-        s * t * p(i + 1, j + 1)[c] +
-        (1 - s) * t * p(i, j + 1)[c],
-    );
+    return sheetCentre(this.sheet);
   }
 
   // Marking mode on (onMark(points) after each point) or off (null).
@@ -326,12 +243,12 @@ export class SheetView {
     if (hull) {
       // On a closed surface, the footprint also where it lands past the
       // seam, a period away (paler).
-      for (const move of [null, ...this.periodMoves()]) {
+      for (const move of [null, ...periodMoves(this.sheet)]) {
         ctx.fillStyle = move ? 'rgba(30, 120, 60, 0.12)' : 'rgba(30, 120, 60, 0.25)';
         ctx.strokeStyle = move ? '#1746' : '#174';
         ctx.lineWidth = 2;
         ctx.beginPath();
-        for (const p of hull) ctx.lineTo(...toPx(move ? this.byPeriods(p, move) : p));
+        for (const p of hull) ctx.lineTo(...toPx(move ? byPeriods(this.sheet, p, move) : p));
         ctx.closePath();
         ctx.fill();
         ctx.stroke();
@@ -392,7 +309,7 @@ export class SheetView {
     if (!this.drag) return;
     this.drag = null;
     this.canvas.style.cursor = 'grab';
-    if (this.wrapAcrossSeam(this.placement)) this.draw();
+    if (wrapAcrossSeam(this.sheet, this.placement)) this.draw();
     this.onPlacement(this.placement, true, 'drag');
   }
 
