@@ -161,8 +161,8 @@ struct HttpServer::Impl {
       res.set_header("Cache-Control", "public, max-age=31536000, immutable");
       res.set_header("Vary", "Accept");
     }
-    if (!reply.stats.is_null()) {
-      res.set_header("X-Surfdeform-Stats", ToAscii(StatsHeaderText(reply.stats)));
+    if (const std::string stats = StatsHeaderText(reply); !stats.empty()) {
+      res.set_header("X-Surfdeform-Stats", ToAscii(stats));
     }
     ctx.cache_hit = reply.cache_hit;
     // An answer the client holds (the service decided, for POST /v1/deform

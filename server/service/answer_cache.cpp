@@ -8,8 +8,7 @@ namespace surfdeform {
 
 size_t EstimateBytes(const Reply& r) {
   return sizeof(Reply) + r.body.size() + r.gzip_body.size() + r.content_type.size() +
-         (r.stats.is_null() ? 0 : StatsHeaderText(r.stats).size()) + r.etag.size() +
-         32 * r.timings.size() + 256;
+         (r.stats ? StatsHeaderText(r).size() : 0) + r.etag.size() + 32 * r.timings.size() + 256;
 }
 
 AnswerCache::AnswerCache(size_t capacity_bytes)

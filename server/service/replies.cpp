@@ -1,7 +1,5 @@
 #include "service/replies.hpp"
 
-#include "base/format.hpp"
-
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -23,6 +21,7 @@
 #include "proto/surface_json.hpp"
 #include "service/limit_checks.hpp"
 #include "service/output_negotiation.hpp"
+#include "service/reply_stats.hpp"
 #include "service/stats_json.hpp"
 #include "service/text_models.hpp"
 
@@ -110,7 +109,7 @@ Result<json> BoundedStats(json stats) {
     list.erase(list.end() - static_cast<long>(cut), list.end());
     const std::string omitted = longest->key + "_omitted";
     (*longest->owner)[omitted] = longest->owner->value(omitted, size_t{0}) + cut;
-    text = StatsHeaderText(stats);
+    text = StatsJsonText(stats);
   }
   return stats;
 }
@@ -123,14 +122,29 @@ Reply BytesReply(std::string body, std::string content_type, std::string etag) {
   return reply;
 }
 
+Result<std::shared_ptr<const ReplyStats>> CheckedStats(std::shared_ptr<const ReplyStats> stats) {
+  if (stats) {
+    const std::string at = FirstNonFiniteNumber(stats->ToJson(), "");
+    if (!at.empty()) return NonFiniteNumber("statistics", at);
+  }
+  return stats;
+}
+
+std::string StatsHeaderText(const Reply& reply) {
+  if (!reply.stats) return "";
+  json stats = reply.stats->ToJson();
+  if (reply.answer_kept) {
+    stats["answer_kept"] = true;
+    stats["cached"] = true;  // nothing was flattened for it
+  }
+  auto bounded = BoundedStats(std::move(stats));
+  return bounded.ok() ? StatsJsonText(*bounded) : "";
+}
+
 void MarkKept(Reply* reply) {
   reply->cache_hit = true;
   reply->timings.clear();
-  if (!reply->stats.is_object()) return;
-  reply->stats["answer_kept"] = true;
-  reply->stats["cached"] = true;
-  auto bounded = BoundedStats(std::move(reply->stats));  // within the header's bound, as made
-  reply->stats = bounded.ok() ? std::move(*bounded) : json();
+  reply->answer_kept = true;
 }
 
 Reply NotModified(std::string etag) {
@@ -204,104 +218,6 @@ json SheetJson(const StoredSurface& s) {
   return j;
 }
 
-namespace {
-
-// The input's warnings, and the placement's: a model longer than the
-// circumference of a closed surface lies over itself.
-json Warnings(const ImportedMesh& imported, const DeformStats& st) {
-  json warnings = imported.warnings;
-  if (st.turns > 1.0) {
-    warnings.push_back(
-        Format("the model goes %.3g times round the closed surface: it is longer "
-               "than the circumference and lies over itself; scale it down "
-               "(placement.scale) to stay within one turn",
-               st.turns));
-  }
-  return warnings;
-}
-
-}  // namespace
-
-json DeformStatsHeader(const std::string& id, const FlattenQuality& quality, bool hit,
-                       proto::OutputFormat format, const ImportedMesh& imported,
-                       const DeformStats& st, bool placement_reused, bool subdivision_reused) {
-  json j = {{"surface_id", id},
-            {"cached", hit},
-            {"format", proto::OutputFormatName(format)},
-            {"input_format", MeshFormatName(imported.format)},
-            {"vertices", st.vertices},
-            {"triangles", st.triangles},
-            {"subdivision", SubdivisionStatsJson(st.subdivision)},
-            {"placement", DeformStatsJson(st)},
-            {"quality", QualityJson(quality)},
-            {"warnings", Warnings(imported, st)}};
-  if (imported.text_stats) j["text"] = imported.text_stats->json;
-  j["placement"]["reused"] = placement_reused;  // from the memo: the same model came before
-  // Not run: it added nothing to the same model with the same options before.
-  j["subdivision"]["reused"] = subdivision_reused;
-  if (st.rigid.mode != RigidMode::kNone) {
-    json each = json::array();
-    for (size_t k = 0; k < st.rigid.each.size() && k < 1000; ++k) {
-      const RigidPartStats& e = st.rigid.each[k];
-      each.push_back({{"vertices", e.vertices}, {"lift", e.lift}, {"sink", e.sink}});
-    }
-    j["rigid"] = {{"mode", NameOf<RigidMode>(kRigidModes, st.rigid.mode)},
-                  {"parts", st.rigid.parts},
-                  {"max_lift", st.rigid.max_lift},
-                  {"max_sink", st.rigid.max_sink},
-                  {"each", std::move(each)}};  // the first 1000 parts (BoundedStats cuts more)
-  }
-  if (st.distortion.computed) {
-    j["distortion"] = {
-        {"max", st.distortion.max}, {"p95", st.distortion.p95}, {"mean", st.distortion.mean}};
-  }
-  return j;
-}
-
-json AnimationStatsHeader(const StoredAnimation& animation, bool hit, double fps,
-                          const PreparedModel& model, AnimationCompression compression,
-                          const ImportedMesh& imported, const DeformStats& first_frame) {
-  const AnimatedSheets& sheets = animation.sheets;
-  const size_t frames = sheets.frames.size();
-  const size_t vertices = model.mesh.positions.size();
-  json per_frame = json::array();
-  long long warm_iterations = 0;
-  for (const FrameFlattening& f : sheets.frames) {
-    per_frame.push_back({{"time", f.time},
-                         {"warm", f.warm},
-                         {"paths_reused", f.reused_paths},
-                         {"stress", f.quality.stress},
-                         {"iterations", f.quality.iterations},
-                         {"folded_cells", f.quality.folded_cells},
-                         {"ms", f.quality.total_ms}});
-    if (f.warm) warm_iterations += f.quality.iterations;
-  }
-  // Frame 0 starts cold: what the others would have taken each, at most.
-  const long long cold = sheets.frames.front().quality.iterations;
-  json stats = {
-      {"animation_id", animation.id},
-      {"cached", hit},
-      {"frames", frames},
-      {"fps", fps},
-      {"vertices", vertices},
-      {"triangles", model.mesh.triangles.size()},
-      {"compression", NameOf<AnimationCompression>(kAnimationCompressions, compression)},
-      {"input_format", MeshFormatName(imported.format)},
-      {"subdivision", SubdivisionStatsJson(model.subdivision)},
-      {"subdivision_passes", model.subdivision_passes},
-      {"placement", DeformStatsJson(first_frame)},
-      {"flatten",
-       {{"iterations_first", cold},
-        {"iterations_warm_mean",
-         frames > 1 ? static_cast<double>(warm_iterations) / static_cast<double>(frames - 1) : 0.0},
-        {"iterations_saved_estimate",
-         std::max(0LL, cold * static_cast<long long>(frames - 1) - warm_iterations)},
-        {"each", std::move(per_frame)}}},
-      {"warnings", Warnings(imported, first_frame)}};
-  if (imported.text_stats) stats["text"] = imported.text_stats->json;
-  return stats;
-}
-
 GlbEncoding GlbEncodingOf(const proto::OutputOptions& output, proto::OutputFormat format) {
   if (format == proto::OutputFormat::kGlbPlain) return GlbEncoding::kPlain;
   switch (output.compression.value_or(proto::GlbCompression::kDraco)) {
@@ -317,7 +233,8 @@ GlbEncoding GlbEncodingOf(const proto::OutputOptions& output, proto::OutputForma
 
 Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
                         proto::OutputFormat format, const ImportedMesh& imported, bool hit,
-                        std::vector<Timing> timings, json stats, const EncodeContext& encode) {
+                        std::vector<Timing> timings, std::shared_ptr<EncodedMeshStats> stats,
+                        const EncodeContext& encode) {
   const auto t0 = Clock::now();
   ExportOptions export_options;
   export_options.draco = output.draco;
@@ -333,15 +250,14 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   Reply reply = BytesReply(std::move(bytes), proto::OutputMediaType(format), encode.etag);
   reply.cache_hit = hit;
   reply.timings = std::move(timings);
-  if (format == proto::OutputFormat::kGlb) {
-    stats["compression"] = NameOf<proto::GlbCompression>(
+  if (stats && format == proto::OutputFormat::kGlb) {
+    stats->compression = NameOf<proto::GlbCompression>(
         proto::kGlbCompressions, output.compression.value_or(proto::GlbCompression::kDraco));
     if (export_options.glb == GlbEncoding::kDraco) {
-      const int pieces = GlbPieces(mesh.positions.size(), encode.glb_split_vertices);
-      if (pieces > 1) stats["pieces"] = pieces;  // per group
+      stats->pieces = GlbPieces(mesh.positions.size(), encode.glb_split_vertices);
     }
   }
-  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats, BoundedStats(std::move(stats)));
+  SURFDEFORM_ASSIGN_OR_RETURN(reply.stats, CheckedStats(std::move(stats)));
   return reply;
 }
 

@@ -19,6 +19,7 @@
 #include "proto/api.hpp"
 #include "service/model_store.hpp"
 #include "service/reply.hpp"
+#include "service/reply_stats.hpp"
 #include "service/service_limits.hpp"
 #include "service/surface_store.hpp"
 
@@ -44,10 +45,14 @@ Status NonFiniteNumber(std::string_view what, const std::string& at);
 // response whose headers outgrow proxy_buffer_size (4 KB by default) with
 // 502. The per-item lists ("each": a rigid model's parts, an animation's
 // frames; "clusters": a text's) are cut to their first items, longest first,
-// until the text fits kMaxStatsHeaderBytes (as StatsHeaderText writes it);
+// until the text fits kMaxStatsHeaderBytes (as StatsJsonText writes it);
 // "each_omitted" ("clusters_omitted") beside a list counts what was cut.
 inline constexpr size_t kMaxStatsHeaderBytes = 2048;
 Result<nlohmann::json> BoundedStats(nlohmann::json stats);
+
+// `stats`, when their numbers are all finite; else kInvalidArgument naming
+// the first that is not. A reply's stats are checked so when it is made.
+Result<std::shared_ptr<const ReplyStats>> CheckedStats(std::shared_ptr<const ReplyStats> stats);
 
 // A reply of these bytes: its media type, and its ETag (`etag`, else a
 // digest of the bytes).
@@ -71,18 +76,6 @@ nlohmann::json ModelSummary(const StoredModel& m);
 // level's Retention): for upload replies ("kept") and GET /v1/info.
 nlohmann::json RetentionJson(const Retention& kept);
 
-// The X-Surfdeform-Stats of a deformation.
-nlohmann::json DeformStatsHeader(const std::string& surface_id, const FlattenQuality& quality,
-                                 bool hit, proto::OutputFormat format, const ImportedMesh& imported,
-                                 const DeformStats& stats, bool placement_reused = false,
-                                 bool subdivision_reused = false);
-
-// The X-Surfdeform-Stats of an animation: the model, and each frame's
-// flattening (frame 0 cold, the others warm from the one before).
-nlohmann::json AnimationStatsHeader(const StoredAnimation& animation, bool hit, double fps,
-                                    const PreparedModel& model, AnimationCompression compression,
-                                    const ImportedMesh& imported, const DeformStats& first_frame);
-
 // How a GLB in `format` is encoded for these output options.
 GlbEncoding GlbEncodingOf(const proto::OutputOptions& output, proto::OutputFormat format);
 
@@ -102,12 +95,12 @@ struct EncodeContext {
 // the encoding's; a GLB's stats its compression (and pieces, when cut).
 Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
                         proto::OutputFormat format, const ImportedMesh& imported, bool hit,
-                        std::vector<Timing> timings, nlohmann::json stats,
+                        std::vector<Timing> timings, std::shared_ptr<EncodedMeshStats> stats,
                         const EncodeContext& encode = {});
 
-// An answer served from the kept ones: its stats as it was made, with
-// "answer_kept" and "cached" (nothing was flattened for it) true, and no
-// timings of the work it did not do.
+// An answer served from the kept ones: its stats as it was made, written
+// with "answer_kept" and "cached" (nothing was flattened for it) true
+// (StatsHeaderText), and no timings of the work it did not do.
 void MarkKept(Reply* reply);
 
 // 304 for an answer whose ETag the request's If-None-Match names.

@@ -2,6 +2,7 @@
 // strings, no engine types (the HTTP layer must not see Eigen).
 #pragma once
 
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -13,15 +14,24 @@ struct Timing {
   double ms = 0.0;
 };
 
+// A reply's statistics for the X-Surfdeform-Stats header: a typed struct
+// per route (reply_stats.hpp), written as JSON once, by the HTTP layer
+// (StatsHeaderText). Counts, quality, what was reused.
+class ReplyStats {
+ public:
+  virtual ~ReplyStats() = default;
+  virtual nlohmann::json ToJson() const = 0;
+};
+
 struct Reply {
   std::string body;
   std::string content_type;
   std::vector<Timing> timings;
-  // For the X-Surfdeform-Stats header: counts, quality. Built as this
-  // object, finite and within the header's bound (replies.hpp,
-  // BoundedStats), and written once, by the HTTP layer (StatsHeaderText);
-  // null: no header.
-  nlohmann::json stats;
+  // For the X-Surfdeform-Stats header (null: none), checked finite when
+  // the reply is made (replies.hpp, CheckedStats).
+  std::shared_ptr<const ReplyStats> stats;
+  // Served from the kept answers (MarkKept): the header says so.
+  bool answer_kept = false;
   std::string etag;  // over the body bytes (deterministic)
   bool cache_hit = false;
   // The body is a function of the URL and the Accept header alone (a content
@@ -36,8 +46,12 @@ struct Reply {
   std::string gzip_body;
 };
 
-// The stats header's text: compact JSON, invalid UTF-8 replaced.
-inline std::string StatsHeaderText(const nlohmann::json& stats) {
+// The stats header's text: compact JSON, invalid UTF-8 replaced, cut to
+// the header's bound (replies.hpp, BoundedStats); empty: no header.
+std::string StatsHeaderText(const Reply& reply);
+
+// `stats` as the header writes them: compact JSON, invalid UTF-8 replaced.
+inline std::string StatsJsonText(const nlohmann::json& stats) {
   return stats.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

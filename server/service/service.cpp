@@ -252,15 +252,16 @@ struct Service::Impl {
     SURFDEFORM_ASSIGN_OR_RETURN(EncodeContext encode,
                                 EncodeContextFor(deformed->mesh, params.output, format, work));
     encode.etag = std::move(etag);
-    return MeshReply(
-        deformed->mesh, params.output, format, imported, hit,
-        {{"parse", work.parse_ms()},
-         {"flatten", flatten_ms},
-         {"deform", deform_ms},
-         {"subdivide", subdivide_ms}},
-        DeformStatsHeader(entry.id, entry.sheet.quality, hit, format, imported, deformed->stats,
-                          memo.placement_reused(), memo.subdivision_reused()),
-        encode);
+    auto stats =
+        DeformReplyStatsOf(entry.id, entry.sheet.quality, hit, format, imported, deformed->stats);
+    stats->placement_reused = memo.placement_reused();
+    stats->subdivision_reused = memo.subdivision_reused();
+    return MeshReply(deformed->mesh, params.output, format, imported, hit,
+                     {{"parse", work.parse_ms()},
+                      {"flatten", flatten_ms},
+                      {"deform", deform_ms},
+                      {"subdivide", subdivide_ms}},
+                     std::move(stats), encode);
   }
 
   // How this request's answer is encoded: on its ticket's threads (more
@@ -296,9 +297,10 @@ struct Service::Impl {
                                 DeformPrepared(a.maps[k], a.model, k, deform));
     const double deform_ms = MsSince(t2);
     const FrameFlattening& f = a.entry->sheets.frames[k];
-    json stats = DeformStatsHeader(a.entry->id, f.quality, a.hit, format, imported, deformed.stats);
-    stats["animation"] = {
-        {"frame", params.frame}, {"frames", params.animation->animation.frames}, {"time", f.time}};
+    auto stats =
+        DeformReplyStatsOf(a.entry->id, f.quality, a.hit, format, imported, deformed.stats);
+    stats->animation =
+        DeformReplyStats::Frame{params.frame, params.animation->animation.frames, f.time};
     SURFDEFORM_ASSIGN_OR_RETURN(EncodeContext encode,
                                 EncodeContextFor(deformed.mesh, params.output, format, work));
     encode.etag = std::move(etag);
@@ -408,9 +410,21 @@ struct Service::Impl {
                      {"subdivide", a.subdivide_ms},
                      {"deform", deform_ms},
                      {"encode", encode_ms}};
-    SURFDEFORM_ASSIGN_OR_RETURN(
-        reply.stats, BoundedStats(AnimationStatsHeader(*a.entry, a.hit, anim.fps, a.model,
-                                                       glb.compression, imported, first_stats)));
+    auto stats = std::make_shared<AnimationReplyStats>();
+    stats->animation_id = a.entry->id;
+    stats->cached = a.hit;
+    stats->frames = a.entry->sheets.frames;
+    stats->fps = anim.fps;
+    stats->vertices = a.model.mesh.positions.size();
+    stats->triangles = a.model.mesh.triangles.size();
+    stats->compression = NameOf<AnimationCompression>(kAnimationCompressions, glb.compression);
+    stats->input_format = imported.format;
+    stats->input_warnings = imported.warnings;
+    stats->subdivision = a.model.subdivision;
+    stats->subdivision_passes = a.model.subdivision_passes;
+    stats->first_frame = first_stats;
+    stats->text = imported.text_stats;
+    SURFDEFORM_ASSIGN_OR_RETURN(reply.stats, CheckedStats(std::move(stats)));
     return reply;
   }
 
@@ -488,7 +502,10 @@ Result<Reply> Service::CreateSurface(std::string_view body, std::string_view fie
   reply.surface_id = (*entry)->id;
   reply.timings = {{"parse", work.parse_ms()}, {"flatten", flatten_ms}};
   if (side != 0) reply.timings.push_back({"field", field_ms});
-  reply.stats = {{"surface_id", (*entry)->id}, {"cached", hit}};
+  auto stats = std::make_shared<SurfaceReplyStats>();
+  stats->surface_id = (*entry)->id;
+  stats->cached = hit;
+  reply.stats = std::move(stats);
   return reply;
 }
 
@@ -604,10 +621,11 @@ Result<Reply> Service::MakeText(std::string_view body, std::string_view accept,
       ImportedMesh made, MakeTextMesh(request.text, *font, impl_->fonts, impl_->options.limits.font,
                                       work.clock().cancel()));
   const double text_ms = MsSince(t1);
-  json stats = {{"vertices", made.mesh.positions.size()},
-                {"triangles", made.mesh.triangles.size()},
-                {"format", proto::OutputFormatName(format)},
-                {"text", made.text_stats->json}};
+  auto stats = std::make_shared<TextReplyStats>();
+  stats->vertices = made.mesh.positions.size();
+  stats->triangles = made.mesh.triangles.size();
+  stats->format = format;
+  stats->text = made.text_stats;
   proto::OutputOptions output;
   output.format = format;
   return MeshReply(made.mesh, output, format, made, false,
@@ -732,16 +750,18 @@ Result<Reply> Service::Deform(const DeformRequest& request) {
   if (!reply.ok() || warm.from.empty()) return reply;
   // The edit's account, this request's own (a kept answer may have been
   // made from another start): the warm start, and where the placement went.
-  if (!reply->stats.is_object()) return reply;
-  json& stats = reply->stats;
-  stats["warm_start"] = WarmStartJson(warm, *entry, hit, motion);
+  const auto* made = dynamic_cast<const DeformReplyStats*>(reply->stats.get());
+  if (made == nullptr) return reply;
+  auto stats = std::make_shared<DeformReplyStats>(*made);  // the kept answer's stay as made
+  stats->warm_start = WarmStartJson(warm, *entry, hit, motion);
   if (motion) {
-    json& moved = stats["warm_start"]["placement"];
+    json& moved = stats->warm_start["placement"];
     moved["rotation_deg"] = params.placement.rotation_deg;
     if (params.placement.center_mode == CenterMode::kSheetUnits) {
       moved["center"] = {params.placement.center.x(), params.placement.center.y()};
     }
   }
+  reply->stats = std::move(stats);
   return reply;
 }
 

@@ -100,30 +100,49 @@ Result<ImportedMesh> MakeTextMesh(const TextSettings& text, const StoredFont& fo
   for (size_t k = 0; k < model.mesh.groups.size(); ++k) {
     model.mesh.groups[k].material = static_cast<int>(k);
   }
-  json clusters = json::array();
+  auto stats = std::make_shared<TextStats>();
+  stats->font = font.name.empty() ? font.id : font.name;
+  stats->family = font.info.family;
+  stats->style = font.info.style;
+  stats->glyphs = model.glyphs.size();
+  stats->solids = model.mesh.groups.size();
+  stats->lines = model.lines;
+  stats->width_mm = model.width_mm;
+  stats->outline_points = model.outline_points;
+  stats->area_mm2 = model.area_mm2;
+  stats->runs = model.runs;
   for (const TextGlyph& g : model.glyphs) {
-    if (clusters.size() >= 1000) break;
-    clusters.push_back({{"text", g.cluster},
-                        {"glyph", g.glyph},
-                        {"line", g.line},
-                        {"s_mm", g.s_mm},
-                        {"advance_mm", g.advance_mm}});
+    if (stats->clusters.size() >= TextStats::kMaxClusters) break;
+    stats->clusters.push_back({g.cluster, g.glyph, g.line, g.s_mm, g.advance_mm});
   }
-  json stats = {{"font", font.name.empty() ? font.id : font.name},
-                {"family", font.info.family},
-                {"style", font.info.style},
-                {"glyphs", model.glyphs.size()},
-                {"solids", model.mesh.groups.size()},
-                {"lines", model.lines},
-                {"width_mm", model.width_mm},
-                {"outline_points", model.outline_points},
-                {"area_mm2", model.area_mm2},
-                {"runs", model.runs},
-                {"clusters", clusters}};
-  if (model.path_length_mm > 0) stats["path_length_mm"] = model.path_length_mm;
-  out.text_stats = std::make_shared<const TextStats>(TextStats{std::move(stats)});
+  stats->path_length_mm = model.path_length_mm;
+  out.text_stats = std::move(stats);
   out.mesh = std::move(model.mesh);
   return out;
+}
+
+json TextStats::ToJson() const {
+  json each = json::array();
+  for (const Cluster& c : clusters) {
+    each.push_back({{"text", c.text},
+                    {"glyph", c.glyph},
+                    {"line", c.line},
+                    {"s_mm", c.s_mm},
+                    {"advance_mm", c.advance_mm}});
+  }
+  json j = {{"font", font},
+            {"family", family},
+            {"style", style},
+            {"glyphs", glyphs},
+            {"solids", solids},
+            {"lines", lines},
+            {"width_mm", width_mm},
+            {"outline_points", outline_points},
+            {"area_mm2", area_mm2},
+            {"runs", runs},
+            {"clusters", std::move(each)}};
+  if (path_length_mm > 0) j["path_length_mm"] = path_length_mm;
+  return j;
 }
 
 }  // namespace surfdeform

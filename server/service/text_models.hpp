@@ -32,9 +32,30 @@ std::string TextModelKey(const TextSettings& text, const std::string& font_id);
 
 // A text's account in the reply's statistics ("text": font, glyphs, lines,
 // width, runs, clusters), made once with its mesh (ImportedMesh::text_stats)
-// and copied into each reply's stats object.
+// and shared by each reply's stats.
 struct TextStats {
-  nlohmann::json json;
+  std::string font;  // its name, or a font uploaded by id
+  std::string family;
+  std::string style;
+  size_t glyphs = 0;
+  size_t solids = 0;  // the mesh's groups: a letter each
+  int lines = 0;
+  double width_mm = 0.0;
+  size_t outline_points = 0;
+  double area_mm2 = 0.0;
+  std::vector<std::string> runs;
+  // The first kMaxClusters glyphs: the text each stands for, and where.
+  struct Cluster {
+    std::string text;
+    uint32_t glyph = 0;
+    int line = 0;
+    double s_mm = 0.0;
+    double advance_mm = 0.0;
+  };
+  static constexpr size_t kMaxClusters = 1000;
+  std::vector<Cluster> clusters;
+  double path_length_mm = 0.0;  // along a path (0: straight, not written)
+  nlohmann::json ToJson() const;
 };
 
 // The text's mesh (in mm; x along the baseline, z out of the surface), its

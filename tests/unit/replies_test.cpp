@@ -42,7 +42,7 @@ TEST(Replies, TheStatsHeaderCutsTheLongestListsToFitAndCountsTheCut) {
   for (int k = 0; k < 10; ++k) stats["frames"]["each"].push_back(k);
   auto bounded = BoundedStats(stats);
   ASSERT_TRUE(bounded.ok());
-  EXPECT_LE(StatsHeaderText(*bounded).size(), kMaxStatsHeaderBytes);
+  EXPECT_LE(StatsJsonText(*bounded).size(), kMaxStatsHeaderBytes);
   const json& cut = *bounded;
   const size_t kept = cut["rigid"]["each"].size();
   EXPECT_GT(kept, 10u);
@@ -56,7 +56,7 @@ TEST(Replies, TheStatsHeaderCutsTheLongestListsToFitAndCountsTheCut) {
   for (int k = 0; k < 200; ++k) text["text"]["clusters"].push_back({{"text", "a"}, {"s_mm", k}});
   auto text_bounded = BoundedStats(text);
   ASSERT_TRUE(text_bounded.ok());
-  EXPECT_LE(StatsHeaderText(*text_bounded).size(), kMaxStatsHeaderBytes);
+  EXPECT_LE(StatsJsonText(*text_bounded).size(), kMaxStatsHeaderBytes);
   const json& clusters = (*text_bounded)["text"]["clusters"];
   EXPECT_GT(clusters.size(), 10u);
   EXPECT_EQ(clusters.size() + (*text_bounded)["text"]["clusters_omitted"].get<size_t>(), 200u);
@@ -84,9 +84,10 @@ TEST(Replies, ADeformationsStatisticsSayWhatWasReused) {
   DeformStats st;
   st.vertices = 8;
   st.triangles = 12;
-  const json j = DeformStatsHeader("abc", FlattenQuality{}, true, proto::OutputFormat::kPly,
-                                   imported, st, /*placement_reused=*/true,
-                                   /*subdivision_reused=*/false);
+  auto stats =
+      DeformReplyStatsOf("abc", FlattenQuality{}, true, proto::OutputFormat::kPly, imported, st);
+  stats->placement_reused = true;
+  const json j = stats->ToJson();
   EXPECT_EQ(j["surface_id"], "abc");
   EXPECT_EQ(j["cached"], true);
   EXPECT_EQ(j["format"], "ply");
@@ -118,15 +119,25 @@ TEST(Replies, AMeshReplyIsTheFormatAskedForWithItsEncodingTimed) {
   ImportedMesh imported;
   imported.format = MeshFormat::kObj;
   proto::OutputOptions output;
+  auto stats = std::make_shared<TextReplyStats>();
+  stats->vertices = 8;
+  stats->format = proto::OutputFormat::kObj;
   auto reply = MeshReply(testing::ThinPlate(1.0, 0.5, 0.05), output, proto::OutputFormat::kObj,
-                         imported, false, {{"parse", 1.0}}, {{"vertices", 8}});
+                         imported, false, {{"parse", 1.0}}, stats);
   ASSERT_TRUE(reply.ok()) << reply.status().ToString();
   EXPECT_EQ(reply->content_type, "model/obj");
   // Vertex lines, first or after another line.
   EXPECT_TRUE(reply->body.rfind("v ", 0) == 0 || reply->body.find("\nv ") != std::string::npos);
   ASSERT_EQ(reply->timings.size(), 2u);
   EXPECT_EQ(reply->timings[1].name, "encode");
-  EXPECT_EQ(StatsHeaderText(reply->stats), R"({"vertices":8})");
+  EXPECT_EQ(StatsHeaderText(*reply), R"({"format":"obj","triangles":0,"vertices":8})");
+  // Served again from the kept answers: the header says so, the stats stay as made.
+  Reply kept = *reply;
+  MarkKept(&kept);
+  EXPECT_EQ(StatsHeaderText(kept),
+            R"({"answer_kept":true,"cached":true,"format":"obj","triangles":0,"vertices":8})");
+  EXPECT_EQ(StatsHeaderText(*reply), R"({"format":"obj","triangles":0,"vertices":8})");
+  EXPECT_TRUE(kept.timings.empty());
   EXPECT_EQ(reply->etag.size(), 32u);
 }
 

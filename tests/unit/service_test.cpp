@@ -19,6 +19,9 @@
 namespace surfdeform {
 namespace {
 
+// A reply's stats as the client reads them: the header's JSON.
+nlohmann::json StatsOf(const Reply& r) { return nlohmann::json::parse(StatsHeaderText(r)); }
+
 using nlohmann::json;
 
 const char kCylinder[] =
@@ -79,7 +82,7 @@ TEST(Service, DeformsInlineAndById) {
        ""});
   ASSERT_TRUE(inline_reply.ok()) << inline_reply.status().ToString();
   EXPECT_EQ(inline_reply->content_type, "model/obj");
-  const json stats = inline_reply->stats;
+  const json stats = StatsOf(*inline_reply);
   // Adaptive subdivision by default: the plate's large faces follow the cylinder.
   EXPECT_EQ(stats.at("subdivision").at("mode"), "adaptive");
   EXPECT_EQ(stats.at("subdivision").at("vertices_before"), 8);
@@ -97,8 +100,8 @@ TEST(Service, DeformsInlineAndById) {
        R"({"surface_id":")" + id + R"(","subdivision":{"mode":"off"},"output":{"format":"obj"}})",
        ""});
   ASSERT_TRUE(off.ok()) << off.status().ToString();
-  EXPECT_EQ(off->stats.at("vertices"), 8);
-  EXPECT_EQ(off->stats.at("triangles"), 12);
+  EXPECT_EQ(StatsOf(*off).at("vertices"), 8);
+  EXPECT_EQ(StatsOf(*off).at("triangles"), 12);
 
   // Same surface by id: the same bytes.
   auto by_id =
@@ -139,7 +142,7 @@ TEST(Service, ReusesThePlacementOfAModelThatComesBack) {
     return r;
   };
   auto reused = [](const Result<Reply>& r) {
-    return r->stats.at("placement").at("reused").get<bool>();
+    return StatsOf(*r).at("placement").at("reused").get<bool>();
   };
   const std::string fit = R"({"scale":"fit"})";
   auto first = deform(service, plate, fit, "obj");
@@ -255,7 +258,7 @@ TEST(Service, SkipsASubdivisionThatAddedNothingToAModelThatComesBack) {
                   ""});
     EXPECT_TRUE(r.ok()) << r.status().ToString();
     if (!r.ok()) return Deformed{};
-    return Deformed{r->body, r->stats.at("subdivision")};
+    return Deformed{r->body, StatsOf(*r).at("subdivision")};
   };
   const Mesh fine = testing::FlatGrid(-1, -1, 2, 2, 80, 80, 0.02);
   const std::string adaptive = R"({"mode":"adaptive"})";
@@ -359,23 +362,23 @@ TEST(Service, UpAutoStandsGltfModelsUpAndThinObjectsOnTheirFace) {
     return r.ok() ? *r : Reply{};
   };
   const Reply standing = deform(glb, "{}");
-  json st = standing.stats.at("placement");
+  json st = StatsOf(standing).at("placement");
   EXPECT_EQ(st.at("up"), "+y");
   EXPECT_EQ(st.at("up_reason"), "gltf");
   EXPECT_NEAR(extent_z(standing.body), 1.0, 1e-6);  // its height along the normal
   const Reply lying = deform(glb, R"({"up":"+z"})");
-  st = lying.stats.at("placement");
+  st = StatsOf(lying).at("placement");
   EXPECT_EQ(st.at("up"), "+z");
   EXPECT_EQ(st.at("up_reason"), "given");
   EXPECT_NEAR(extent_z(lying.body), 0.3, 1e-6);
   const Reply as_obj = deform(obj, "{}");
-  st = as_obj.stats.at("placement");
+  st = StatsOf(as_obj).at("placement");
   EXPECT_EQ(st.at("up"), "+z");  // 0.2 is not at most half of 0.3: not clearly thinnest
   EXPECT_EQ(st.at("up_reason"), "default");
   // A plate thin along X (a logo standing on its edge in the file).
   const std::string logo = *ExportMesh(testing::ThinPlate(0.02, 0.8, 0.5), MeshFormat::kObj);
   const Reply flat = deform(logo, "{}");
-  st = flat.stats.at("placement");
+  st = StatsOf(flat).at("placement");
   EXPECT_EQ(st.at("up"), "+x");
   EXPECT_EQ(st.at("up_reason"), "thinnest");
   EXPECT_NEAR(extent_z(flat.body), 0.02, 1e-6);
@@ -588,13 +591,13 @@ TEST(Service, KeepsAnswersAndServesThemByteForByteWithoutWork) {
     const CacheStats before = service.answer_cache_stats();
     auto made = service.Deform({mesh, plate.params(output), ""});
     ASSERT_TRUE(made.ok()) << made.status().ToString();
-    EXPECT_FALSE(made->stats.contains("answer_kept"));
+    EXPECT_FALSE(StatsOf(*made).contains("answer_kept"));
     auto kept = service.Deform({mesh, plate.params(output), ""});
     ASSERT_TRUE(kept.ok());
     EXPECT_EQ(kept->body, made->body);
     EXPECT_EQ(kept->etag, made->etag);
     EXPECT_EQ(kept->content_type, made->content_type);
-    EXPECT_TRUE(kept->stats.value("answer_kept", false));
+    EXPECT_TRUE(StatsOf(*kept).value("answer_kept", false));
     EXPECT_TRUE(kept->timings.empty()) << "no parse, deformation or encoding";
     const CacheStats after = service.answer_cache_stats();
     EXPECT_EQ(after.misses - before.misses, 1u);
@@ -607,7 +610,7 @@ TEST(Service, KeepsAnswersAndServesThemByteForByteWithoutWork) {
                             plate.params(R"({"format":"drc"})").substr(1);
   auto kept = service.Deform({"", by_id, ""});
   ASSERT_TRUE(kept.ok()) << kept.status().ToString();
-  EXPECT_TRUE(kept->stats.value("answer_kept", false));
+  EXPECT_TRUE(StatsOf(*kept).value("answer_kept", false));
 }
 
 TEST(Service, AnIfNoneMatchNamingTheAnswerIs304BeforeAnyWork) {
@@ -657,13 +660,13 @@ TEST(Service, KeepsAnimationsAndAnswers304BeforeAnyWork) {
   };
   auto made = service.Animate({"", params(1.0), ""});
   ASSERT_TRUE(made.ok()) << made.status().ToString();
-  EXPECT_FALSE(made->stats.contains("answer_kept"));
+  EXPECT_FALSE(StatsOf(*made).contains("answer_kept"));
   const CacheStats before = service.answer_cache_stats();
   auto kept = service.Animate({"", params(1.0), ""});
   ASSERT_TRUE(kept.ok()) << kept.status().ToString();
   EXPECT_EQ(kept->body, made->body);
   EXPECT_EQ(kept->etag, made->etag);
-  EXPECT_TRUE(kept->stats.value("answer_kept", false));
+  EXPECT_TRUE(StatsOf(*kept).value("answer_kept", false));
   EXPECT_TRUE(kept->timings.empty()) << "no flattening, deformation or encoding";
   EXPECT_EQ(service.answer_cache_stats().hits - before.hits, 1u);
   // If-None-Match naming it: 304, with neither the model nor the answers
@@ -694,10 +697,10 @@ TEST(Service, KeepsAnimationsAndAnswers304BeforeAnyWork) {
   auto again_frame = service.Deform({"", frame1, ""});
   ASSERT_TRUE(again_frame.ok());
   EXPECT_EQ(again_frame->body, first->body);
-  EXPECT_TRUE(again_frame->stats.value("answer_kept", false));
+  EXPECT_TRUE(StatsOf(*again_frame).value("answer_kept", false));
   auto other_frame = service.Deform({"", frame2, ""});
   ASSERT_TRUE(other_frame.ok());
-  EXPECT_FALSE(other_frame->stats.contains("answer_kept"));
+  EXPECT_FALSE(StatsOf(*other_frame).contains("answer_kept"));
   EXPECT_NE(other_frame->etag, first->etag);
 }
 
@@ -740,7 +743,7 @@ TEST(Service, AnAnswerMadeAgainAfterItsEvictionIsByteIdentical) {
   auto again = service.Deform({mesh, plate.params(R"({"format":"glb"})"), ""});
   ASSERT_TRUE(first.ok() && other.ok() && again.ok());
   EXPECT_GE(service.answer_cache_stats().evictions, 1u);
-  EXPECT_FALSE(again->stats.contains("answer_kept")) << "made again";
+  EXPECT_FALSE(StatsOf(*again).contains("answer_kept")) << "made again";
   EXPECT_EQ(again->body, first->body);
   EXPECT_EQ(again->etag, first->etag);
 }
@@ -752,7 +755,7 @@ TEST(Service, ABudgetOfZeroKeepsNoAnswer) {
   for (int k = 0; k < 2; ++k) {
     auto r = service.Deform({mesh, plate.params(R"({"format":"drc"})"), ""});
     ASSERT_TRUE(r.ok());
-    EXPECT_FALSE(r->stats.contains("answer_kept"));
+    EXPECT_FALSE(StatsOf(*r).contains("answer_kept"));
   }
   const CacheStats s = service.answer_cache_stats();
   EXPECT_EQ(s.hits + s.misses + s.entries, 0u);
