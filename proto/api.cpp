@@ -1,5 +1,7 @@
 #include "proto/api.hpp"
 
+#include "base/format.hpp"
+
 #include <type_traits>
 
 #include "proto/content_hash.hpp"
@@ -297,6 +299,10 @@ const char* OutputMediaType(OutputFormat format) {
       return "model/obj";
     case OutputFormat::kPly:
       return "application/x-ply";
+    case OutputFormat::kStl:
+      return "model/stl";
+    case OutputFormat::k3mf:
+      return "model/3mf";
   }
   return "application/octet-stream";
 }
@@ -314,6 +320,65 @@ Result<CreateSurfaceRequest> ParseCreateSurfaceRequest(const json& body) {
   CreateSurfaceRequest out;
   SURFDEFORM_RETURN_IF_ERROR(ReadId(o, "warm_start", "/v1/surfaces", &out.warm_start));
   SURFDEFORM_RETURN_IF_ERROR(ReadSurfaceParts(o, &out.request));
+  SURFDEFORM_RETURN_IF_ERROR(o.Finish());
+  return out;
+}
+
+Result<PartRequest> ParsePartRequest(const json& body) {
+  SURFDEFORM_ASSIGN_OR_RETURN(auto o, JsonObject::Open(body, ""));
+  PartRequest out;
+  const json* surface = o.Find("surface");
+  SURFDEFORM_RETURN_IF_ERROR(ReadId(o, "surface_id", "/v1/surfaces", &out.surface_id));
+  if ((surface != nullptr) == !out.surface_id.empty()) {
+    return Malformed(
+        "give exactly one of \"surface\" (inline) or \"surface_id\" (from POST /v1/surfaces)",
+        surface != nullptr ? "surface_id" : "surface");
+  }
+  if (surface != nullptr) {
+    SURFDEFORM_ASSIGN_OR_RETURN(auto spec, ReadSurface(*surface, o.PathOf("surface")));
+    out.surface = std::move(spec);
+  }
+  if (o.Find("sampling") != nullptr) {
+    out.sampling.emplace();
+    SURFDEFORM_RETURN_IF_ERROR(ReadSampling(o, &*out.sampling));
+  }
+  const json* b = o.Find("body");
+  if (b == nullptr) return Malformed("is required: {\"thickness_mm\", \"side\"}", "body");
+  SURFDEFORM_ASSIGN_OR_RETURN(auto bj, JsonObject::Open(*b, o.PathOf("body")));
+  if (bj.Find("thickness_mm") == nullptr) {
+    return Malformed("is required", bj.PathOf("thickness_mm"));
+  }
+  SURFDEFORM_RETURN_IF_ERROR(bj.Number("thickness_mm", &out.part.thickness_mm));
+  SURFDEFORM_RETURN_IF_ERROR(bj.Choice<BodySide>("side", kBodySides, &out.part.side));
+  SURFDEFORM_RETURN_IF_ERROR(bj.Finish());
+  const double t = out.part.thickness_mm;
+  if (!(t > 0) || t > kMaxBodyThicknessMm) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "must be more than 0 and at most " + Format("%g", kMaxBodyThicknessMm) +
+                      " mm, got " + Format("%g", t),
+                  "body.thickness_mm")
+        .WithLimit(kMaxBodyThicknessMm, t);
+  }
+  if (const json* p = o.Find("printer"); p != nullptr) {
+    SURFDEFORM_ASSIGN_OR_RETURN(auto pj, JsonObject::Open(*p, o.PathOf("printer")));
+    SURFDEFORM_RETURN_IF_ERROR(pj.Number("min_wall_mm", &out.part.min_wall_mm));
+    SURFDEFORM_RETURN_IF_ERROR(pj.Number("min_detail_mm", &out.part.min_detail_mm));
+    SURFDEFORM_RETURN_IF_ERROR(pj.Finish());
+    for (const auto& [key, value] : {std::pair{"min_wall_mm", out.part.min_wall_mm},
+                                     std::pair{"min_detail_mm", out.part.min_detail_mm}}) {
+      if (!(value >= 0) || value > kMaxBodyThicknessMm) {
+        return InvalidArgument("must be 0 (not checked) to " + Format("%g", kMaxBodyThicknessMm) +
+                                   " mm, got " + Format("%g", value),
+                               std::string("printer.") + key);
+      }
+    }
+  }
+  SURFDEFORM_RETURN_IF_ERROR(o.Boolean("strict", &out.part.strict));
+  SURFDEFORM_RETURN_IF_ERROR(ReadOutput(o, &out.output));
+  if (out.output.distortion) {
+    return InvalidArgument("belongs to a deformation; a part has no map to measure",
+                           "output.distortion");
+  }
   SURFDEFORM_RETURN_IF_ERROR(o.Finish());
   return out;
 }

@@ -23,6 +23,7 @@
 #include "engine/surface/sampling_options.hpp"
 #include "engine/surface/surface_spec.hpp"
 #include "meshio/draco_options.hpp"
+#include "part/part_settings.hpp"
 #include "text/text_settings.hpp"
 
 namespace surfdeform::proto {
@@ -41,13 +42,15 @@ struct SurfaceRequest {
 
 // Output formats: Draco .drc, GLB with KHR_draco_mesh_compression, plain GLB,
 // OBJ, PLY.
-enum class OutputFormat { kDrc, kGlb, kGlbPlain, kObj, kPly };
+enum class OutputFormat { kDrc, kGlb, kGlbPlain, kObj, kPly, kStl, k3mf };
 inline constexpr EnumEntry<OutputFormat> kOutputFormats[] = {
     {OutputFormat::kDrc, "drc", "Draco bitstream (application/octet-stream)"},
     {OutputFormat::kGlb, "glb", "GLB with KHR_draco_mesh_compression"},
     {OutputFormat::kGlbPlain, "glb_plain", "GLB without compression"},
     {OutputFormat::kObj, "obj", "Wavefront OBJ"},
     {OutputFormat::kPly, "ply", "binary PLY"},
+    {OutputFormat::kStl, "stl", "binary STL, in millimetres (model/stl)"},
+    {OutputFormat::k3mf, "3mf", "3MF, unit millimetre, one object (model/3mf)"},
 };
 const char* OutputFormatName(OutputFormat format);  // from kOutputFormats
 const char* OutputMediaType(OutputFormat format);
@@ -132,6 +135,20 @@ Result<CreateSurfaceRequest> ParseCreateSurfaceRequest(const nlohmann::json& bod
 Result<SurfaceRequest> ParseSurfaceRequest(const nlohmann::json& body);
 Result<DeformParams> ParseDeformParams(const nlohmann::json& body);
 Result<AnimateParams> ParseAnimateParams(const nlohmann::json& body);
+
+// POST /v1/parts: one closed solid, its body grown from a surface given
+// inline ("surface") or by id ("surface_id"), sampled by "sampling" (the
+// body's own grid), "body": {thickness_mm, side}, "printer": {min_wall_mm,
+// min_detail_mm}, "strict", "output": {format}.
+struct PartRequest {
+  std::optional<SurfaceSpec> surface;
+  std::string surface_id;
+  // The body's own grid; unset: as the surface bends (BodySamples).
+  std::optional<SamplingOptions> sampling;
+  PartSettings part;
+  OutputOptions output;
+};
+Result<PartRequest> ParsePartRequest(const nlohmann::json& body);
 
 // The request bodies as JSON, which the parsers above read back into the
 // same requests: every field written, with its default when not given (the

@@ -11,7 +11,8 @@ packages=(
   libbenchmark-dev         # benchmark executables
   libcli11-dev             # command-line flags
   nlohmann-json3-dev       # surface files in tests and benchmarks
-  libcgal-dev libgmp-dev libmpfr-dev  # glyphs' constrained Delaunay triangulation; peers in benchmarks
+  libcgal-dev libgmp-dev libmpfr-dev  # glyphs' constrained Delaunay triangulation; parts' self-intersection checks; peers in benchmarks
+  lib3mf-dev               # 3MF output of printable parts (POST /v1/parts)
   libdraco-dev draco       # Draco meshes: library, and draco_decoder for round-trip tests
   libtinygltf-dev          # glTF / GLB
   libmeshoptimizer-dev     # EXT_meshopt_compression of animations' morph targets (/v1/animate)

@@ -44,4 +44,15 @@ std::vector<std::string> NamesOf(std::span<const EnumEntry<E>> table) {
   return names;
 }
 
+// Every name, in the table's order, as a list for a message: "a, b or c".
+template <typename E>
+std::string OneOf(std::span<const EnumEntry<E>> table) {
+  std::string out;
+  for (size_t k = 0; k < table.size(); ++k) {
+    if (k > 0) out += k + 1 == table.size() ? " or " : ", ";
+    out += table[k].name;
+  }
+  return out;
+}
+
 }  // namespace surfdeform

@@ -663,38 +663,36 @@ struct HttpServer::Impl {
     limits["min_transfer_bytes_per_s"] = options.min_transfer_bytes_per_s;
     res.set_content(info.dump(), "application/json");
   }
-  void CreateSurface(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
+  // Whether the request's body is JSON; else it is answered with a 415
+  // naming `route` and the type it got.
+  bool TakesJson(RequestContext& ctx, const httplib::Request& req, httplib::Response& res,
+                 const char* route) {
     const std::string type = req.get_header_value("Content-Type");
-    if (type.rfind("application/json", 0) != 0) {
-      return Fail(
-          ctx, req, res,
-          Status(ErrorCode::kUnsupportedFormat,
-                 "POST /v1/surfaces takes application/json, got \"" + type.substr(0, 64) + "\"",
-                 "Content-Type"));
-    }
+    if (type.rfind("application/json", 0) == 0) return true;
+    Fail(ctx, req, res,
+         Status(ErrorCode::kUnsupportedFormat,
+                std::string(route) + " takes application/json, got \"" + type.substr(0, 64) + "\"",
+                "Content-Type"));
+    return false;
+  }
+  void CreateSurface(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
+    if (!TakesJson(ctx, req, res, "POST /v1/surfaces")) return;
     Created(ctx, req, res,
             service.CreateSurface(req.body, req.get_param_value("field"), ctx.cancel),
             "/v1/surfaces/", &Reply::surface_id);
   }
   void MakeText(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
-    const std::string type = req.get_header_value("Content-Type");
-    if (type.rfind("application/json", 0) != 0) {
-      return Fail(ctx, req, res,
-                  Status(ErrorCode::kUnsupportedFormat,
-                         "POST /v1/text takes application/json, got \"" + type.substr(0, 64) + "\"",
-                         "Content-Type"));
-    }
+    if (!TakesJson(ctx, req, res, "POST /v1/text")) return;
     Answer(ctx, req, res, service.MakeText(req.body, req.get_header_value("Accept"), ctx.cancel));
   }
+  void MakePart(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
+    if (!TakesJson(ctx, req, res, "POST /v1/parts")) return;
+    Answer(ctx, req, res,
+           service.MakePart(req.body, req.get_header_value("Accept"), req.get_param_value("report"),
+                            ctx.cancel));
+  }
   void MapOnSurface(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
-    const std::string type = req.get_header_value("Content-Type");
-    if (type.rfind("application/json", 0) != 0) {
-      return Fail(ctx, req, res,
-                  Status(ErrorCode::kUnsupportedFormat,
-                         "POST /v1/surfaces/{id}/map takes application/json, got \"" +
-                             type.substr(0, 64) + "\"",
-                         "Content-Type"));
-    }
+    if (!TakesJson(ctx, req, res, "POST /v1/surfaces/{id}/map")) return;
     Answer(ctx, req, res, service.MapOnSurface(req.matches[1].str(), req.body, ctx.cancel));
   }
   void SurfaceSvg(RequestContext& ctx, const httplib::Request& req, httplib::Response& res) {
@@ -739,6 +737,7 @@ const HttpServer::Impl::Route HttpServer::Impl::kRoutes[] = {
     {"GET", R"(/v1/models/([^/]+))", "/v1/models/{id}", &Impl::ModelSummary, nullptr},
     {"GET", "/v1/fonts", "/v1/fonts", &Impl::Fonts, nullptr},
     {"POST", "/v1/text", "/v1/text", &Impl::MakeText, nullptr},
+    {"POST", "/v1/parts", "/v1/parts", &Impl::MakePart, nullptr},
     {"POST", "/v1/fonts", "/v1/fonts", nullptr, &Impl::UploadFontRoute},
     {"GET", R"(/v1/fonts/([^/]+))", "/v1/fonts/{id}", &Impl::FontSummary, nullptr},
 };

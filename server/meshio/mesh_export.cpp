@@ -8,6 +8,7 @@
 #include "meshio/draco_io.hpp"
 #include "meshio/gltf_io.hpp"
 #include "meshio/importers.hpp"
+#include "meshio/print_formats.hpp"
 
 namespace surfdeform {
 namespace {
@@ -179,10 +180,14 @@ static Result<std::string> ExportClean(const Mesh& mesh, MeshFormat format,
       return meshio::EncodeDraco(mesh, o.draco);
     case MeshFormat::kGlb:
       return meshio::WriteGlb(mesh, o);
+    case MeshFormat::kStl:
+      return WriteBinaryStl(mesh);
+    case MeshFormat::k3mf:
+      return Write3mf(mesh, o.object_name);
     default:
       return Status(ErrorCode::kUnsupportedFormat,
                     std::string("meshes are not written as ") + MeshFormatName(format) +
-                        "; choose drc, glb, glb+draco, obj or ply",
+                        "; choose drc, glb, glb+draco, obj, ply, stl or 3mf",
                     "output.format");
   }
 }

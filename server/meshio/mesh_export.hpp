@@ -1,8 +1,8 @@
 // Writing meshes: Draco .drc, GLB (plain or with KHR_draco_mesh_compression),
-// OBJ and PLY. Output never contains NaN or Inf (a non-finite value is an
-// error). OBJ, PLY, plain GLB and Draco with sequential encoding keep the
-// vertex order and count (deformed frames can serve as morph targets);
-// Draco's edgebreaker (the default) compresses better and reorders.
+// OBJ, PLY, binary STL and 3MF (print_formats.hpp). Output never contains
+// NaN or Inf (a non-finite value is an error). OBJ, PLY, plain GLB and Draco with sequential
+// encoding keep the vertex order and count (deformed frames can serve as morph targets); Draco's
+// edgebreaker (the default) compresses better and reorders.
 #pragma once
 
 #include <memory>
@@ -57,6 +57,7 @@ struct ExportOptions {
   // The mesh's ComputeMeshoptOrder, when the caller keeps it (null, or one
   // that does not fit the mesh: computed).
   std::shared_ptr<const MeshoptOrder> meshopt_order;
+  std::string object_name = "surfdeform";  // a 3MF's one object
 };
 
 // A Draco GLB of `vertices` is cut into this many pieces per group: 1 up to

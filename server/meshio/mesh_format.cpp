@@ -46,6 +46,8 @@ const char* MeshFormatName(MeshFormat format) {
       return "stl";
     case MeshFormat::kOff:
       return "off";
+    case MeshFormat::k3mf:
+      return "3mf";
     case MeshFormat::kUnknown:
       break;
   }

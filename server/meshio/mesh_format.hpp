@@ -6,9 +6,10 @@
 
 namespace surfdeform {
 
-enum class MeshFormat { kUnknown, kGlb, kGltf, kDraco, kObj, kPly, kStl, kOff };
+// k3mf is written (parts), never read.
+enum class MeshFormat { kUnknown, kGlb, kGltf, kDraco, kObj, kPly, kStl, kOff, k3mf };
 
-// "glb", "gltf", "drc", "obj", "ply", "stl", "off" ("unknown").
+// "glb", "gltf", "drc", "obj", "ply", "stl", "off", "3mf" ("unknown").
 const char* MeshFormatName(MeshFormat format);
 
 // The format named by an extension or a name as above (case-insensitive,

@@ -130,6 +130,7 @@ Result<ImportedMesh> ImportMesh(std::string_view bytes, const ImportLimits& limi
         read = meshio::ReadGltf(bytes, format == MeshFormat::kGlb, limits);
         break;
       case MeshFormat::kUnknown:
+      case MeshFormat::k3mf:  // never detected: written only
         return Status(ErrorCode::kUnsupportedFormat,
                       "the bytes are in no supported mesh format (glTF/GLB, Draco, OBJ, PLY, STL, "
                       "OFF)",

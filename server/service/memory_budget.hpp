@@ -77,6 +77,12 @@ inline constexpr double kMeshKeyBytesPerVertex = 24;
 // them (measured 2.06 KB at 262k points; 170 B of it the reply's text).
 inline constexpr double kMapBytesPerOutputPoint = 2048;
 
+// A part, per triangle: the body, its checks (CGAL's halfedge mesh and
+// AABB boxes for the self-intersection test) and its file (measured 225 B
+// and 230 B: a whole torus's body at 512^2 and 256^2 samples, 3MF out),
+// rounded up.
+inline constexpr double kPartBytesPerTriangle = 256;
+
 // Distance pairs per sample past range 3's (0 up to range 3).
 double ExtraPairsPerSample(int range);
 

@@ -26,6 +26,10 @@ std::optional<proto::OutputFormat> FormatOfMediaType(const std::string& type) {
   if (type == "model/gltf-binary" || type == "model/*") return OutputFormat::kGlb;
   if (type == "model/obj" || type == "text/plain" || type == "text/*") return OutputFormat::kObj;
   if (type == "application/x-ply" || type == "application/ply") return OutputFormat::kPly;
+  if (type == "model/stl" || type == "application/sla") return OutputFormat::kStl;
+  if (type == "model/3mf" || type == "application/vnd.ms-package.3dmanufacturing-3dmodel+xml") {
+    return OutputFormat::k3mf;
+  }
   return std::nullopt;
 }
 
@@ -52,8 +56,8 @@ Result<proto::OutputFormat> ChooseOutputFormat(std::optional<proto::OutputFormat
   }
   return Status(ErrorCode::kNotAcceptable,
                 "the Accept header names no format this server writes; accept "
-                "application/octet-stream (Draco), model/gltf-binary, model/obj or "
-                "application/x-ply, or set output.format in the parameters",
+                "application/octet-stream (Draco), model/gltf-binary, model/obj, "
+                "application/x-ply, model/stl or model/3mf, or set output.format in the parameters",
                 "Accept");
 }
 
@@ -103,6 +107,10 @@ MeshFormat OutputMeshFormat(proto::OutputFormat format) {
       return MeshFormat::kObj;
     case proto::OutputFormat::kPly:
       return MeshFormat::kPly;
+    case proto::OutputFormat::kStl:
+      return MeshFormat::kStl;
+    case proto::OutputFormat::k3mf:
+      return MeshFormat::k3mf;
   }
   return MeshFormat::kDraco;
 }

@@ -244,6 +244,7 @@ Result<Reply> MeshReply(const Mesh& mesh, const proto::OutputOptions& output,
   export_options.meshopt_order = encode.meshopt_order;
   export_options.threads = std::max(1, encode.threads);
   export_options.split_vertices = encode.glb_split_vertices;
+  export_options.object_name = encode.object_name;
   SURFDEFORM_ASSIGN_OR_RETURN(auto bytes,
                               ExportMesh(mesh, OutputMeshFormat(format), export_options));
   timings.push_back({"encode", MsSince(t0)});
@@ -389,6 +390,7 @@ json InfoJson(const ServiceLimits& l, const Retention& kept) {
   publish("subdivision.mode", kSubdivisionModes);
   publish("animation.interpolation", kInterpolations);
   publish("output.compression", proto::kGlbCompressions);
+  publish("body.side", kBodySides);
   for (const auto& e : kErrorCodes) {  // problem+json's "code"
     if (e.value != ErrorCode::kOk)
       enums["problem.code"].push_back({{"name", e.name}, {"description", e.description}});

@@ -89,6 +89,7 @@ struct EncodeContext {
   int threads = 1;
   size_t glb_split_vertices = 0;
   std::shared_ptr<const MeshoptOrder> meshopt_order;
+  std::string object_name = "surfdeform";  // a 3MF's object
 };
 
 // A deformed mesh encoded as asked, and the reply around it: `timings` gain

@@ -142,4 +142,37 @@ json TextReplyStats::ToJson() const {
   return j;
 }
 
+json PartReplyStats::ToJson() const {
+  const SolidReport& r = solid;
+  const Vec3 size = r.hi - r.lo;
+  json j = {{"format", proto::OutputFormatName(format)},
+            {"units", "mm"},
+            {"vertices", r.vertices},
+            {"triangles", r.triangles},
+            {"volume_mm3", r.volume},
+            {"area_mm2", r.area},
+            {"bounding_box_mm",
+             {{"min", {r.lo.x(), r.lo.y(), r.lo.z()}},
+              {"max", {r.hi.x(), r.hi.y(), r.hi.z()}},
+              {"size", {size.x(), size.y(), size.z()}}}},
+            {"body",
+             {{"thickness_mm", part.thickness_mm},
+              {"side", NameOf<BodySide>(kBodySides, part.side)},
+              {"samples", {{"nu", nu}, {"nv", nv}}}}},
+            {"checks",
+             {{"closed", r.closed()},
+              {"border_edges", r.border_edges},
+              {"non_manifold_edges", r.non_manifold_edges},
+              {"oriented", r.oriented()},
+              {"degenerate_triangles", r.degenerate_triangles},
+              {"self_intersections", r.self_intersects},
+              {"volume_positive", r.volume > 0}}},
+            {"thinnest_wall_mm", thinnest_wall_mm},
+            {"printer", {{"min_wall_mm", part.min_wall_mm}, {"min_detail_mm", part.min_detail_mm}}},
+            {"warnings", warnings}};
+  if (!surface_id.empty()) j["surface_id"] = surface_id;
+  AddEncoding(&j);
+  return j;
+}
+
 }  // namespace surfdeform

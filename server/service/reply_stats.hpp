@@ -13,6 +13,8 @@
 #include "engine/common/flat_sheet.hpp"
 #include "engine/deform/deform.hpp"
 #include "meshio/mesh_import.hpp"
+#include "part/part_settings.hpp"
+#include "part/solid_report.hpp"
 #include "proto/api.hpp"
 #include "service/reply.hpp"
 #include "service/text_models.hpp"
@@ -95,6 +97,19 @@ struct TextReplyStats final : EncodedMeshStats {
   size_t triangles = 0;
   proto::OutputFormat format = proto::OutputFormat::kGlb;
   std::shared_ptr<const TextStats> text;
+  nlohmann::json ToJson() const override;
+};
+
+// POST /v1/parts: the part's report (also its body with ?report=json):
+// its measures in mm, the checks it passed, its thinnest wall, warnings.
+struct PartReplyStats final : EncodedMeshStats {
+  proto::OutputFormat format = proto::OutputFormat::k3mf;
+  std::string surface_id;  // a body from a stored surface; empty: inline
+  PartSettings part;
+  int nu = 0, nv = 0;  // the body's samples
+  SolidReport solid;
+  double thinnest_wall_mm = 0.0;
+  std::vector<std::string> warnings;
   nlohmann::json ToJson() const override;
 };
 

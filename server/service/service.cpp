@@ -29,6 +29,7 @@
 #include "service/meshopt_orders.hpp"
 #include "service/model_store.hpp"
 #include "service/output_negotiation.hpp"
+#include "service/part_replies.hpp"
 #include "service/placement_memo.hpp"
 #include "service/replies.hpp"
 #include "service/request_work.hpp"
@@ -609,7 +610,8 @@ Result<Reply> Service::MakeText(std::string_view body, std::string_view accept,
     asked = ValueOf<proto::OutputFormat>(proto::kOutputFormats, *request.format);
     if (!asked) {
       return Status(ErrorCode::kInvalidArgument,
-                    "must be one of drc, glb, glb_plain, obj, ply, got \"" + *request.format + "\"",
+                    "must be one of " + OneOf<proto::OutputFormat>(proto::kOutputFormats) +
+                        ", got \"" + *request.format + "\"",
                     "output.format");
     }
   }
@@ -630,6 +632,51 @@ Result<Reply> Service::MakeText(std::string_view body, std::string_view accept,
   output.format = format;
   return MeshReply(made.mesh, output, format, made, false,
                    {{"parse", work.parse_ms()}, {"text", text_ms}}, std::move(stats));
+}
+
+Result<Reply> Service::MakePart(std::string_view body, std::string_view accept,
+                                std::string_view report, const CancelFlag* cancel) {
+  RequestWork work(impl_->options.limits, cancel, &impl_->parse_memory);
+  SURFDEFORM_ASSIGN_OR_RETURN(auto parsed, work.ParseJson(body, "body"));
+  SURFDEFORM_ASSIGN_OR_RETURN(proto::PartRequest request, proto::ParsePartRequest(parsed));
+  SURFDEFORM_RETURN_IF_ERROR(work.EndParse());
+  if (!report.empty() && report != "json") {
+    return Status(ErrorCode::kInvalidArgument,
+                  "must be \"json\" (the part's report instead of the part), got \"" +
+                      std::string(report.substr(0, 32)) + "\"",
+                  "report");
+  }
+  // No output.format and no Accept (or anything): 3MF, the printing format
+  // that carries its unit.
+  std::optional<proto::OutputFormat> asked = request.output.format;
+  if (!asked && (accept.empty() || accept == "*/*")) asked = proto::OutputFormat::k3mf;
+  SURFDEFORM_ASSIGN_OR_RETURN(auto format, ChooseOutputFormat(asked, accept));
+  std::unique_ptr<Surface> inline_surface;
+  std::shared_ptr<const StoredSurface> entry;
+  const Surface* surface = nullptr;
+  if (request.surface) {
+    if (std::holds_alternative<MeshSpec>(*request.surface)) {
+      return InvalidArgument(
+          "a body is grown from a parametric surface; a surface given as a mesh has no "
+          "parameters to thicken it by",
+          "surface.kind");
+    }
+    auto made = MakeSurface(*request.surface);
+    if (!made.ok()) return made.status().WithFieldPrefix("surface");
+    inline_surface = std::move(*made);
+    surface = inline_surface.get();
+  } else {
+    auto found = impl_->store.Find(request.surface_id);
+    if (!found.ok()) return Status(found.status().code(), found.status().message(), "surface_id");
+    entry = *found;
+    surface = entry->surface.get();
+  }
+  SURFDEFORM_RETURN_IF_ERROR(CheckPartSize(request, *surface, impl_->options.limits));
+  SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+  SURFDEFORM_ASSIGN_OR_RETURN(
+      Reply reply, MakePartReply(request, *surface, request.surface_id, format, report == "json"));
+  reply.timings.insert(reply.timings.begin(), Timing{"parse", work.parse_ms()});
+  return reply;
 }
 
 Result<Reply> Service::ListFonts() {

@@ -83,6 +83,11 @@ class Service {
   // previews, and for a mesh of the words.
   Result<Reply> MakeText(std::string_view body, std::string_view accept,
                          const CancelFlag* cancel = nullptr);
+  // POST /v1/parts: one closed solid grown from a surface (inline or by
+  // id), checked, in millimetres, as 3MF (the default), STL or any mesh
+  // format; with report "json", its report instead.
+  Result<Reply> MakePart(std::string_view body, std::string_view accept, std::string_view report,
+                         const CancelFlag* cancel = nullptr);
   Result<Reply> UploadModel(std::string_view mesh, std::string_view routed_id,
                             const CancelFlag* cancel = nullptr);
   Result<Reply> GetModel(std::string_view id);          // GET /v1/models/{id}

@@ -54,16 +54,22 @@ hits=$(grep -rnE '#include "' "$root/server/text" | grep -vE '#include "(text|en
 hits=$(grep -rnE '#include <(httplib|nlohmann|draco|tiny_gltf|CLI|openssl|fstream|iostream)' \
          "$root/server/text" || true)
 [[ -z $hits ]] || report "text/ includes an I/O, JSON or HTTP library" "$hits"
+# part/ (printable parts) builds on the engine and base/ only, the same way.
+hits=$(grep -rnE '#include "' "$root/server/part" | grep -vE '#include "(part|engine|base)/' || true)
+[[ -z $hits ]] || report "part/ includes a project header outside part/, engine/ and base/" "$hits"
+hits=$(grep -rnE '#include <(httplib|nlohmann|draco|tiny_gltf|CLI|openssl|fstream|iostream)' \
+         "$root/server/part" || true)
+[[ -z $hits ]] || report "part/ includes an I/O, JSON or HTTP library" "$hits"
 hits=$(grep -rnE '(message|error)\(\)\.(rfind|find|starts_with|compare)\(|field\(\) == "' \
          "$root/server" "$root/proto" "$root/client/cli" || true)
 [[ -z $hits ]] || report "a caller decides from an error's text" "$hits"
 hits=$(grep -rnE 'error\.rfind\("|message\.rfind\("' "$root/server" "$root/proto" "$root/client/cli" || true)
 [[ -z $hits ]] || report "a caller decides from an error's text" "$hits"
-vocabulary='(engine/(surface/(surface_spec|surface_fields|surface|sampling_options)|animation/animation_spec|flatten/flatten_settings|common/(placement_settings|geometry_types)|subdivision/(subdivision_settings|subdivision_mode)|sheet/sheet_mark)|meshio/draco_options|text/text_settings)\.hpp'
-hits=$(grep -rnE '#include "(engine|meshio|text)/' "$root/proto" | grep -vE "#include \"$vocabulary\"" || true)
+vocabulary='(engine/(surface/(surface_spec|surface_fields|surface|sampling_options)|animation/animation_spec|flatten/flatten_settings|common/(placement_settings|geometry_types)|subdivision/(subdivision_settings|subdivision_mode)|sheet/sheet_mark)|meshio/draco_options|text/text_settings|part/part_settings)\.hpp'
+hits=$(grep -rnE '#include "(engine|meshio|text|part)/' "$root/proto" | grep -vE "#include \"$vocabulary\"" || true)
 [[ -z $hits ]] || report "proto includes an engine or meshio header that is not vocabulary" "$hits"
 for header in $(grep -ohE "$vocabulary" -r "$root/proto" | sort -u); do
-  hits=$(grep -nE '#include "(engine|meshio|text)/' "$root/server/$header" |
+  hits=$(grep -nE '#include "(engine|meshio|text|part)/' "$root/server/$header" |
            grep -vE "#include \"$vocabulary\"" || true)
   [[ -z $hits ]] || report "the vocabulary header $header includes more than vocabulary" "$hits"
 done

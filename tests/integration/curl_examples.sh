@@ -203,6 +203,9 @@ animate = spec["components"]["schemas"]["AnimateParams"]["example"]
 status = call("POST", "/v1/animate", open(sys.argv[3], "rb").read(),
               {"Content-Type": "application/octet-stream", "X-Surfdeform-Params": json.dumps(animate)})
 assert status == 200, ("AnimateParams example", status)
+part = spec["components"]["schemas"]["PartRequest"]["example"]
+status = call("POST", "/v1/parts", json.dumps(part).encode(), {"Content-Type": "application/json"})
+assert status == 200, ("PartRequest example", status)
 # Every named choice in the contract is the server's table, name for name and
 # in order (the tables are published at /v1/info).
 with urllib.request.urlopen(base + "/v1/info") as r:
@@ -220,13 +223,14 @@ contract = {
     "animation.interpolation": schemas["Animation"]["properties"]["interpolation"]["enum"],
     "output.compression": schemas["Output"]["properties"]["compression"]["enum"],
     "problem.code": schemas["Problem"]["properties"]["code"]["enum"],
+    "body.side": schemas["PartBody"]["properties"]["side"]["enum"],
 }
 assert sorted(contract) == sorted(published), (sorted(contract), sorted(published))
 for field, names in contract.items():
     served = [e["name"] for e in published[field]]
     assert names == served, (field, "openapi.yaml", names, "server", served)
 print("openapi: %d paths routed, %d examples accepted, %d enums match the server's tables"
-      % (len(spec["paths"]), len(examples) + len(marks) + 2, len(contract)))
+      % (len(spec["paths"]), len(examples) + len(marks) + 3, len(contract)))
 PY
 
 stop_served_server

@@ -38,7 +38,8 @@ TEST(EnumTables, EveryTableNamesEachValueOnce) {
   ExpectComplete<AnchorMode>(kAnchorModes, 3);  // kValue is a number, not a name
   ExpectComplete<OutsideMode>(kOutsideModes, 3);
   ExpectComplete<SubdivisionMode>(kSubdivisionModes, 3);
-  ExpectComplete<proto::OutputFormat>(proto::kOutputFormats, 5);
+  ExpectComplete<proto::OutputFormat>(proto::kOutputFormats, 7);
+  ExpectComplete<BodySide>(kBodySides, 3);
   ExpectComplete<proto::SurfaceKind>(proto::kSurfaceKinds, 10);
   ExpectComplete<ErrorCode>(kErrorCodes, static_cast<int>(ErrorCode::kUnavailable) + 1);
 }

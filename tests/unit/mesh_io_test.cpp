@@ -426,10 +426,11 @@ TEST(MeshExport, DegenerateTrianglesAreWrittenInEveryFormat) {
 TEST(MeshExport, NeverWritesNonFiniteValues) {
   Mesh m = RichMesh();
   m.normals[3].x() = std::nan("");
-  for (MeshFormat f : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kDraco, MeshFormat::kGlb}) {
+  for (MeshFormat f : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kDraco, MeshFormat::kGlb,
+                       MeshFormat::kStl, MeshFormat::k3mf}) {
     EXPECT_EQ(ExportMesh(m, f).status().code(), ErrorCode::kInvalidArgument) << MeshFormatName(f);
   }
-  EXPECT_EQ(ExportMesh(RichMesh(), MeshFormat::kStl).status().code(),
+  EXPECT_EQ(ExportMesh(RichMesh(), MeshFormat::kOff).status().code(),
             ErrorCode::kUnsupportedFormat);
 }
 

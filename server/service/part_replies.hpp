@@ -1,0 +1,29 @@
+// POST /v1/parts's work once the request is read and admitted: the body
+// grown from the surface, checked, measured against the printer's limits,
+// and the reply (the part in the format asked for, or its report as JSON).
+#pragma once
+
+#include <string>
+
+#include "base/status.hpp"
+#include "engine/surface/surface.hpp"
+#include "proto/api.hpp"
+#include "service/reply.hpp"
+#include "service/service_limits.hpp"
+
+namespace surfdeform {
+
+// The body's vertices and triangles before it is made, for the limits.
+Status CheckPartSize(const proto::PartRequest& request, const Surface& surface,
+                     const ServiceLimits& limits);
+
+// The part, or its report when `report_json`. `surface_id`: the stored
+// surface it was grown from (empty: inline). Errors: the body's
+// (ThickenSurface), a failed check (kDegenerate naming it), and with
+// strict, a wall under the printer's minimum (kInvalidArgument with the
+// limit and the wall).
+Result<Reply> MakePartReply(const proto::PartRequest& request, const Surface& surface,
+                            const std::string& surface_id, proto::OutputFormat format,
+                            bool report_json);
+
+}  // namespace surfdeform
