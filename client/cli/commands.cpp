@@ -42,27 +42,12 @@ bool ReadJsonArgument(const std::string& text_or_file, nlohmann::json* out, CliE
   return true;
 }
 
-namespace {
-
-// Whether `file` is named as a mesh file (a surface given as a mesh).
-bool IsMeshFile(const std::string& file) {
-  const auto dot = file.rfind('.');
-  if (dot == std::string::npos) return false;
-  std::string ext = file.substr(dot);
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  for (const char* e : {".obj", ".ply", ".stl", ".off", ".glb", ".gltf", ".drc"}) {
-    if (ext == e) return true;
-  }
-  return false;
-}
-
 // {"surface": ..., "sampling": ..., "flatten": ...} from a surface file: a
 // whole surface request, a bare surface ({"kind": ...}), or a mesh file,
 // which is the surface {"kind": "mesh", "model_id": <its id>} (its bytes to
 // `mesh`, for the caller to upload).
-bool ReadSurfaceRequest(const std::string& file, json* out, CliError* error,
-                        std::string* mesh = nullptr) {
-  if (IsMeshFile(file) && mesh != nullptr) {
+bool ReadSurfaceRequest(const std::string& file, json* out, CliError* error, std::string* mesh) {
+  if (IsMeshFileName(file) && mesh != nullptr) {
     std::string message;
     if (!ReadFileBytes(file, mesh, &message)) {
       *error = {CliError::Kind::kLocalFile, message};
@@ -90,18 +75,7 @@ CliError Refused(const Status& status) {
           (status.field().empty() ? "" : status.field() + ": ") + status.message()};
 }
 
-// Reads `request` with `parse` (one of proto's parsers) into *out; false
-// with the error when the API refuses it.
-template <typename Params, typename Parse>
-bool ReadRequest(const json& request, Parse parse, Params* out, CliError* error) {
-  auto parsed = parse(request);
-  if (!parsed.ok()) {
-    *error = Refused(parsed.status());
-    return false;
-  }
-  *out = std::move(*parsed);
-  return true;
-}
+namespace {
 
 // The GLB compression named by --compression (`choices` lists those the
 // command takes, for its usage error).

@@ -110,6 +110,46 @@ void ConfigureRetries(const Connection& c, ApiClient* client);
 // JSON text, or the name of a file holding it.
 bool ReadJsonArgument(const std::string& text_or_file, nlohmann::json* out, CliError* error);
 
+// {"surface": ..., "sampling": ..., "flatten": ...} from a surface file: a
+// whole surface request, a bare surface ({"kind": ...}), or a mesh file,
+// which is the surface {"kind": "mesh", "model_id": <its id>} (its bytes to
+// `mesh`, for the caller to upload; without `mesh`, a mesh file is JSON
+// that fails to read).
+bool ReadSurfaceRequest(const std::string& file, nlohmann::json* out, CliError* error,
+                        std::string* mesh = nullptr);
+
+// A request the API refuses: its field and message, as the server gives them.
+CliError Refused(const Status& status);
+
+// Reads `request` with `parse` (one of proto's parsers) into *out; false
+// with the error when the API refuses it.
+template <typename Params, typename Parse>
+bool ReadRequest(const nlohmann::json& request, Parse parse, Params* out, CliError* error) {
+  auto parsed = parse(request);
+  if (!parsed.ok()) {
+    *error = Refused(parsed.status());
+    return false;
+  }
+  *out = std::move(*parsed);
+  return true;
+}
+
+// surfdeform part: a printable part (POST /v1/parts) from a surface file or
+// a surface id; the output's extension picks its format (.3mf .stl .glb
+// .obj .ply .drc), or --report writes the report's JSON. Prints the report's
+// summary and warnings.
+struct PartOptions {
+  std::string surface_file;
+  std::string surface_id;
+  double thickness_mm = 0.0;
+  std::string side = "outside";
+  int samples = 0;  // per side; 0: as the surface bends
+  double min_wall_mm = 0.0;
+  bool strict = false;
+  bool report = false;
+};
+int RunPart(const Connection& c, const PartOptions& o, const std::string& out_path);
+
 // Shared by deform, batch and animate.
 struct DeformRequest {
   proto::DeformParams params;  // sent as proto::ToJson(params)

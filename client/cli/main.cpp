@@ -40,6 +40,8 @@ struct Arguments {
   int jobs = static_cast<int>(std::max(2u, std::thread::hardware_concurrency()));
   bool force = false;
   std::string animate_mesh, animate_out;  // animate
+  PartOptions part;                       // part
+  std::string part_out;
 };
 
 // The subcommands whose arguments the run reads.
@@ -50,6 +52,7 @@ struct Subcommands {
   CLI::App* upload;
   CLI::App* batch;
   CLI::App* animate;
+  CLI::App* part;
 };
 
 void AddConnectionOptions(CLI::App& app, Connection& c) {
@@ -153,6 +156,35 @@ CLI::App* AddDeform(CLI::App& app, Arguments& x) {
   return deform;
 }
 
+CLI::App* AddPart(CLI::App& app, Arguments& x) {
+  auto* part = app.add_subcommand(
+      "part",
+      "Make a printable part (POST /v1/parts): the surface thickened into a closed solid, in "
+      "mm; the output's extension (.3mf .stl .glb .obj .ply .drc) picks its format");
+  PartOptions& p = x.part;
+  auto* file = part->add_option(
+      "surface", p.surface_file,
+      "JSON file: a surface request or a bare surface {kind, ...}; its units are mm");
+  part->add_option("--surface-id", p.surface_id, "A surface already flattened (see flatten)")
+      ->excludes(file);
+  part->add_option("--thickness-mm", p.thickness_mm, "body.thickness_mm")
+      ->required()
+      ->check(CLI::PositiveNumber);
+  part->add_option("--side", p.side, "body.side: where the material lies against the normal")
+      ->check(CLI::IsMember(surfdeform::NamesOf<surfdeform::BodySide>(surfdeform::kBodySides)))
+      ->capture_default_str();
+  part->add_option("--samples", p.samples,
+                   "The body's samples per side (default: as the surface bends)")
+      ->check(CLI::Range(2, 512));
+  part->add_option("--min-wall-mm", p.min_wall_mm,
+                   "printer.min_wall_mm: a thinner wall is a warning")
+      ->check(CLI::NonNegativeNumber);
+  part->add_flag("--strict", p.strict, "A wall under --min-wall-mm is an error, not a warning");
+  part->add_flag("--report", p.report, "Write the part's report (JSON) instead of the part");
+  part->add_option("-o,--output", x.part_out, "Output file")->required();
+  return part;
+}
+
 CLI::App* AddUpload(CLI::App& app, Arguments& x) {
   auto* upload = app.add_subcommand(
       "upload", "Upload a mesh once (POST /v1/models) and print its id, for deform --model-id");
@@ -226,6 +258,7 @@ int Run(const CLI::App& app, const Subcommands& s, const Arguments& x) {
     return RunDeform(c, x.deform, x.mesh_path, x.out_path);
   }
   if (s.upload->parsed()) return RunUpload(c, x.upload_path, x.upload_json);
+  if (s.part->parsed()) return RunPart(c, x.part, x.part_out);
   if (s.animate->parsed()) {
     return RunAnimate(c, x.deform, x.animate, x.animate_mesh, x.animate_out);
   }
@@ -262,6 +295,7 @@ int main(int argc, char** argv) {
   s.upload = AddUpload(app, x);
   s.batch = AddBatch(app, x);
   s.animate = AddAnimate(app, x);
+  s.part = AddPart(app, x);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ExtrasError& e) {

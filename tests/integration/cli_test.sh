@@ -186,7 +186,7 @@ SURFDEFORM_SERVER=http://127.0.0.1:1 expect 0 deform "$samples/bunny.ply" --serv
 [[ -s $out/after.drc ]] || fail "no output with --server after the subcommand"
 SURFDEFORM_SERVER=http://127.0.0.1:1 expect 0 health --server="$base"
 expect 1 --surface-id "$id" deform "$samples/bunny.ply" -o "$out/x.drc"
-grep -q -- "--surface-id is an option of deform and batch: give it after the subcommand" "$out/e" \
+grep -q -- "--surface-id is an option of deform, batch and part: give it after the subcommand" "$out/e" \
   || fail "misplaced option message: $(cat "$out/e")"
 expect 1 flatten "$out/figure10.json" --scale fit
 grep -q -- "--scale is an option of deform, batch and animate, not of flatten" "$out/e" \
@@ -294,5 +294,23 @@ grep -q "2 done, 0 skipped, 0 failed" "$out/e" || fail "batch along the panel me
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n' > "$out/tetra.obj"
 expect 2 flatten "$out/tetra.obj"
 grep -q "the mesh is closed" "$out/e" || fail "a closed surface mesh: $(cat "$out/e")"
+
+# A printable part: a ring from a whole cylinder, in mm, as 3MF and STL; a
+# wall under the printer's minimum is a warning, with --strict the server's
+# 422 (exit 2); --report writes the report.
+echo '{"kind":"cylinder","radius":9,"height":6,"angle_deg":360}' > "$out/ring.json"
+expect 0 part "$out/ring.json" --thickness-mm 1.8 -o "$out/ring.3mf"
+[[ $(head -c 2 "$out/ring.3mf") == PK ]] || fail "the 3MF is not a package"
+grep -q "closed and sound" "$out/o" || fail "part summary: $(cat "$out/o")"
+expect 0 part "$out/ring.json" --thickness-mm 0.5 --min-wall-mm 0.8 -o "$out/thin.stl"
+grep -q "thinner than the printer's minimum of 0.8 mm" "$out/e" || fail "thin wall warning: $(cat "$out/e")"
+triangles=$(python3 -c 'import struct,sys; print(struct.unpack("<I", open(sys.argv[1],"rb").read()[80:84])[0])' "$out/thin.stl")
+grep -q " $triangles triangles" "$out/o" || fail "the STL's $triangles triangles against the report: $(cat "$out/o")"
+expect 2 part "$out/ring.json" --thickness-mm 0.5 --min-wall-mm 0.8 --strict -o "$out/strict.stl"
+[[ ! -e $out/strict.stl ]] || fail "a refused part was written"
+expect 0 part "$out/ring.json" --thickness-mm 1.8 --report -o "$out/ring-report.json"
+python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); assert r["checks"]["closed"] and abs(r["volume_mm3"]-671.8)<3, r' "$out/ring-report.json" \
+  || fail "part report"
+expect 1 part "$out/ring.json" --thickness-mm 1.8 -o "$out/ring.xyz"
 
 echo "cli: all checks passed"
