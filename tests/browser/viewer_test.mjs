@@ -232,6 +232,37 @@ try {
       w0 > 0 && Math.abs(w1 / w0 - 2) < 1e-3,
       `a typed text size scales the name (${w0} mm at 0.6, ${w1} mm at 1.2)`,
     );
+    // A printable part of the surface: checked by the server, its report on
+    // the page; a 3MF asked for by the surface's id.
+    await page.click('#part-check');
+    const report = await page
+      .waitForFunction(() => /closed and sound/.test(document.getElementById('part-report').textContent), {
+        timeout: 30000,
+      })
+      .then(() => text('#part-report'))
+      .catch(() => text('#part-report'));
+    check(/closed and sound/.test(report) && /mm³/.test(report), `the part's report is on the page (${report})`);
+    // The file saved, as its name (a real download would open Firefox's
+    // downloads panel, which takes the keyboard from the page).
+    await page.evaluate(() => {
+      window.savedFiles = [];
+      const click = HTMLAnchorElement.prototype.click;
+      HTMLAnchorElement.prototype.click = function () {
+        if (this.download) window.savedFiles.push(this.download);
+        else click.call(this);
+      };
+    });
+    await page.click('#download-3mf');
+    await page.waitForFunction(() => window.savedFiles.length > 0, { timeout: 30000 }).catch(() => null);
+    await page.evaluate(() => window.surfdeformTest.whenIdle());
+    const saved = await page.evaluate(() => window.savedFiles);
+    check(saved.length === 1 && saved[0] === 'part.3mf', `the part is saved as a 3MF (${saved})`);
+    const asked = (await posts()).filter((p) => p.path === '/v1/parts').map((p) => JSON.parse(p.body));
+    const surfaceId = await page.evaluate(() => window.surfdeformTest.snapshot().surfaceId);
+    check(
+      asked.length === 2 && asked[1].output?.format === '3mf' && asked[1].surface_id === surfaceId,
+      `the 3MF is asked for by the surface's id (${JSON.stringify(asked[1] || null)})`,
+    );
   }
   await page.select('#sample', 'bunny');
   await sleep(300);

@@ -119,6 +119,24 @@ export async function textMesh(text, signal) {
   return { bytes: await r.arrayBuffer(), stats: JSON.parse(r.headers.get('X-Surfdeform-Stats') || '{}') };
 }
 
+// POST /v1/parts: a printable part ({surface_id, body, printer, output}),
+// its bytes and report; with report, the report alone (its JSON).
+export async function makePart(request, { report = false, signal = undefined } = {}) {
+  if (report) {
+    const r = await checked(
+      await fetch('/v1/parts?report=json', {
+        method: 'POST',
+        signal,
+        headers: { 'Content-Type': 'application/json' },
+        body: JSON.stringify(request),
+      }),
+    );
+    return { report: await r.json() };
+  }
+  const { bytes, stats } = await post('/v1/parts', request, undefined, signal);
+  return { bytes, report: stats };
+}
+
 // GET /v1/fonts: the built-in fonts and the scripts each covers.
 export async function fonts(signal = undefined) {
   return (await checked(await fetch('/v1/fonts', { signal }))).json();

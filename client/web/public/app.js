@@ -17,6 +17,7 @@
 //   placement_panel.js  placement controls, footprint, preview placing, marks
 //   exact_result.js     the exact deformation and its figures
 //   output_panel.js     downloads, saved requests
+//   part_panel.js       a printable part of the surface: its report, 3MF, STL
 //   history_panel.js    undo and redo
 //   animation_panel.js  animation
 //   test_surface.js     window.surfdeformTest, for the browser tests
@@ -37,6 +38,7 @@ import { installHistoryPanel } from './history_panel.js';
 import { installModelPanel, textControls } from './model_panel.js';
 import { ModelView } from './model_view.js';
 import { installOutputPanel } from './output_panel.js';
+import { installPartPanel } from './part_panel.js';
 import { installPlacementPanel, placementControls } from './placement_panel.js';
 import { FieldPreview } from './preview.js';
 import { scheduler } from './scheduler.js';
@@ -96,6 +98,7 @@ installSurfacePanel(page);
 installModelPanel(page);
 installOutputPanel(page);
 installHistoryPanel(page);
+installPartPanel(page);
 
 // Whether the preview may stand in for the exact result while the view
 // moves (model_view.js): it shows the same surface and placement, and it
