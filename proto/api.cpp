@@ -327,38 +327,61 @@ Result<CreateSurfaceRequest> ParseCreateSurfaceRequest(const json& body) {
 Result<PartRequest> ParsePartRequest(const json& body) {
   SURFDEFORM_ASSIGN_OR_RETURN(auto o, JsonObject::Open(body, ""));
   PartRequest out;
+  const json* b = o.Find("body");
+  if (b == nullptr) {
+    return Malformed("is required: {\"thickness_mm\", \"side\"} or {\"model_id\"}", "body");
+  }
+  SURFDEFORM_ASSIGN_OR_RETURN(auto bj, JsonObject::Open(*b, o.PathOf("body")));
+  SURFDEFORM_RETURN_IF_ERROR(ReadId(bj, "model_id", "/v1/models", &out.body_model_id));
   const json* surface = o.Find("surface");
   SURFDEFORM_RETURN_IF_ERROR(ReadId(o, "surface_id", "/v1/surfaces", &out.surface_id));
-  if ((surface != nullptr) == !out.surface_id.empty()) {
-    return Malformed(
-        "give exactly one of \"surface\" (inline) or \"surface_id\" (from POST /v1/surfaces)",
-        surface != nullptr ? "surface_id" : "surface");
+  if (!out.body_model_id.empty()) {
+    // An uploaded body is used as it is.
+    for (const char* key : {"thickness_mm", "side"}) {
+      if (bj.Find(key) != nullptr) {
+        return Malformed("belongs to a body grown from a surface; body.model_id is a body as it is",
+                         bj.PathOf(key));
+      }
+    }
+    if (surface != nullptr || !out.surface_id.empty()) {
+      return Malformed("an uploaded body (body.model_id) is used as it is: give no surface with it",
+                       surface != nullptr ? "surface" : "surface_id");
+    }
+    if (o.Find("sampling") != nullptr) {
+      return Malformed("samples a surface; an uploaded body (body.model_id) has its own triangles",
+                       "sampling");
+    }
+  } else {
+    if ((surface != nullptr) == !out.surface_id.empty()) {
+      return Malformed(
+          "give exactly one of \"surface\" (inline) or \"surface_id\" (from POST /v1/surfaces), "
+          "or an uploaded body (body.model_id)",
+          surface != nullptr ? "surface_id" : "surface");
+    }
+    if (surface != nullptr) {
+      SURFDEFORM_ASSIGN_OR_RETURN(auto spec, ReadSurface(*surface, o.PathOf("surface")));
+      out.surface = std::move(spec);
+    }
+    if (o.Find("sampling") != nullptr) {
+      out.sampling.emplace();
+      SURFDEFORM_RETURN_IF_ERROR(ReadSampling(o, &*out.sampling));
+    }
+    if (bj.Find("thickness_mm") == nullptr) {
+      return Malformed("is required (or body.model_id: an uploaded body)",
+                       bj.PathOf("thickness_mm"));
+    }
+    SURFDEFORM_RETURN_IF_ERROR(bj.Number("thickness_mm", &out.part.thickness_mm));
+    SURFDEFORM_RETURN_IF_ERROR(bj.Choice<BodySide>("side", kBodySides, &out.part.side));
+    const double t = out.part.thickness_mm;
+    if (!(t > 0) || t > kMaxBodyThicknessMm) {
+      return Status(ErrorCode::kInvalidArgument,
+                    "must be more than 0 and at most " + Format("%g", kMaxBodyThicknessMm) +
+                        " mm, got " + Format("%g", t),
+                    "body.thickness_mm")
+          .WithLimit(kMaxBodyThicknessMm, t);
+    }
   }
-  if (surface != nullptr) {
-    SURFDEFORM_ASSIGN_OR_RETURN(auto spec, ReadSurface(*surface, o.PathOf("surface")));
-    out.surface = std::move(spec);
-  }
-  if (o.Find("sampling") != nullptr) {
-    out.sampling.emplace();
-    SURFDEFORM_RETURN_IF_ERROR(ReadSampling(o, &*out.sampling));
-  }
-  const json* b = o.Find("body");
-  if (b == nullptr) return Malformed("is required: {\"thickness_mm\", \"side\"}", "body");
-  SURFDEFORM_ASSIGN_OR_RETURN(auto bj, JsonObject::Open(*b, o.PathOf("body")));
-  if (bj.Find("thickness_mm") == nullptr) {
-    return Malformed("is required", bj.PathOf("thickness_mm"));
-  }
-  SURFDEFORM_RETURN_IF_ERROR(bj.Number("thickness_mm", &out.part.thickness_mm));
-  SURFDEFORM_RETURN_IF_ERROR(bj.Choice<BodySide>("side", kBodySides, &out.part.side));
   SURFDEFORM_RETURN_IF_ERROR(bj.Finish());
-  const double t = out.part.thickness_mm;
-  if (!(t > 0) || t > kMaxBodyThicknessMm) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "must be more than 0 and at most " + Format("%g", kMaxBodyThicknessMm) +
-                      " mm, got " + Format("%g", t),
-                  "body.thickness_mm")
-        .WithLimit(kMaxBodyThicknessMm, t);
-  }
   if (const json* p = o.Find("printer"); p != nullptr) {
     SURFDEFORM_ASSIGN_OR_RETURN(auto pj, JsonObject::Open(*p, o.PathOf("printer")));
     SURFDEFORM_RETURN_IF_ERROR(pj.Number("min_wall_mm", &out.part.min_wall_mm));

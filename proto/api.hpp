@@ -138,11 +138,13 @@ Result<AnimateParams> ParseAnimateParams(const nlohmann::json& body);
 
 // POST /v1/parts: one closed solid, its body grown from a surface given
 // inline ("surface") or by id ("surface_id"), sampled by "sampling" (the
-// body's own grid), "body": {thickness_mm, side}, "printer": {min_wall_mm,
-// min_detail_mm}, "strict", "output": {format}.
+// body's own grid), "body": {thickness_mm, side}; or an uploaded closed
+// mesh, "body": {model_id}. "printer": {min_wall_mm, min_detail_mm},
+// "strict", "output": {format}.
 struct PartRequest {
   std::optional<SurfaceSpec> surface;
   std::string surface_id;
+  std::string body_model_id;  // an uploaded body (POST /v1/models); then no surface
   // The body's own grid; unset: as the surface bends (BodySamples).
   std::optional<SamplingOptions> sampling;
   PartSettings part;

@@ -49,49 +49,81 @@ Status CheckPartSize(const proto::PartRequest& request, const Surface& surface,
                      "sampling");
 }
 
-Result<Reply> MakePartReply(const proto::PartRequest& request, const Surface& surface,
-                            const std::string& surface_id, proto::OutputFormat format,
-                            bool report_json) {
+namespace {
+
+// A part made: checked (never sent when a check fails), measured against the
+// printer's limits, and its reply.
+Result<Reply> FinishPart(const Mesh& part, std::shared_ptr<PartReplyStats> stats,
+                         const proto::PartRequest& request, const std::string& field,
+                         bool report_json, std::vector<Timing> timings) {
   const auto t0 = Clock::now();
-  const BodyOptions body = BodyOf(request, surface);
-  SURFDEFORM_ASSIGN_OR_RETURN(Mesh part, ThickenSurface(surface, body));
-  const double body_ms = MsSince(t0);
-  const auto t1 = Clock::now();
-  auto stats = std::make_shared<PartReplyStats>();
-  stats->format = format;
-  stats->surface_id = surface_id;
-  stats->part = request.part;
-  stats->nu = body.nu;
-  stats->nv = body.nv;
   stats->solid = CheckSolid(part);
-  const double check_ms = MsSince(t1);
-  // A part that fails a check is never sent as a success.
-  SURFDEFORM_RETURN_IF_ERROR(SolidProblem(stats->solid, "the part", "body"));
-  // The body alone: its every wall is the thickness.
-  stats->thinnest_wall_mm = request.part.thickness_mm;
+  timings.push_back({"check", MsSince(t0)});
+  SURFDEFORM_RETURN_IF_ERROR(
+      SolidProblem(stats->solid, field == "body" ? "the part" : "the body", field));
   const PartSettings& p = request.part;
-  if (p.min_wall_mm > 0 && stats->thinnest_wall_mm < p.min_wall_mm) {
+  if (p.min_wall_mm > 0 && !stats->thinnest_wall_mm) {
+    stats->warnings.push_back(Format(
+        "the walls of an uploaded body are not measured: printer.min_wall_mm %g mm is not checked",
+        p.min_wall_mm));
+  } else if (p.min_wall_mm > 0 && *stats->thinnest_wall_mm < p.min_wall_mm) {
     const std::string thin =
         Format("the wall is %g mm thick, thinner than the printer's minimum of %g mm",
-               stats->thinnest_wall_mm, p.min_wall_mm);
+               *stats->thinnest_wall_mm, p.min_wall_mm);
     if (p.strict) {
       return Status(ErrorCode::kInvalidArgument, thin + " (strict)", "body.thickness_mm")
-          .WithLimit(p.min_wall_mm, stats->thinnest_wall_mm);
+          .WithLimit(p.min_wall_mm, *stats->thinnest_wall_mm);
     }
     stats->warnings.push_back(thin);
   }
-  std::vector<Timing> timings = {{"body", body_ms}, {"check", check_ms}};
   if (report_json) {
     SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, JsonReply(stats->ToJson()));
     reply.timings = std::move(timings);
     return reply;
   }
+  const proto::OutputFormat format = stats->format;
   proto::OutputOptions output = request.output;
   output.format = format;
   ImportedMesh none;
   EncodeContext encode;
   encode.object_name = "part";
   return MeshReply(part, output, format, none, false, std::move(timings), std::move(stats), encode);
+}
+
+}  // namespace
+
+Result<Reply> MakePartReply(const proto::PartRequest& request, const Surface& surface,
+                            const std::string& surface_id, proto::OutputFormat format,
+                            bool report_json) {
+  const auto t0 = Clock::now();
+  const BodyOptions body = BodyOf(request, surface);
+  SURFDEFORM_ASSIGN_OR_RETURN(Mesh part, ThickenSurface(surface, body));
+  auto stats = std::make_shared<PartReplyStats>();
+  stats->format = format;
+  stats->surface_id = surface_id;
+  stats->part = request.part;
+  stats->nu = body.nu;
+  stats->nv = body.nv;
+  // The body alone: its every wall is the thickness.
+  stats->thinnest_wall_mm = request.part.thickness_mm;
+  return FinishPart(part, std::move(stats), request, "body", report_json, {{"body", MsSince(t0)}});
+}
+
+Status CheckUploadedPartSize(const Mesh& body, const ServiceLimits& limits) {
+  return CheckMemory(static_cast<double>(body.triangles.size()) * kPartBytesPerTriangle,
+                     limits.request_memory_bytes, "the part", "body.model_id");
+}
+
+Result<Reply> MakeUploadedPartReply(const proto::PartRequest& request, const Mesh& body,
+                                    proto::OutputFormat format, bool report_json) {
+  Mesh part;  // its geometry alone: a part is a solid, not a look
+  part.positions = body.positions;
+  part.triangles = body.triangles;
+  auto stats = std::make_shared<PartReplyStats>();
+  stats->format = format;
+  stats->model_id = request.body_model_id;
+  stats->part = request.part;
+  return FinishPart(part, std::move(stats), request, "body.model_id", report_json, {});
 }
 
 }  // namespace surfdeform

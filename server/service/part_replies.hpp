@@ -6,6 +6,7 @@
 #include <string>
 
 #include "base/status.hpp"
+#include "engine/common/mesh.hpp"
 #include "engine/surface/surface.hpp"
 #include "proto/api.hpp"
 #include "service/reply.hpp"
@@ -25,5 +26,14 @@ Status CheckPartSize(const proto::PartRequest& request, const Surface& surface,
 Result<Reply> MakePartReply(const proto::PartRequest& request, const Surface& surface,
                             const std::string& surface_id, proto::OutputFormat format,
                             bool report_json);
+
+// An uploaded body's memory estimate, before it is checked.
+Status CheckUploadedPartSize(const Mesh& body, const ServiceLimits& limits);
+
+// An uploaded body (body.model_id) checked and sent as it is: a closed
+// mesh, or kDegenerate naming the first check it fails (for a body that
+// is not closed, how many edges border one triangle and where).
+Result<Reply> MakeUploadedPartReply(const proto::PartRequest& request, const Mesh& body,
+                                    proto::OutputFormat format, bool report_json);
 
 }  // namespace surfdeform

@@ -155,10 +155,10 @@ json PartReplyStats::ToJson() const {
              {{"min", {r.lo.x(), r.lo.y(), r.lo.z()}},
               {"max", {r.hi.x(), r.hi.y(), r.hi.z()}},
               {"size", {size.x(), size.y(), size.z()}}}},
-            {"body",
-             {{"thickness_mm", part.thickness_mm},
-              {"side", NameOf<BodySide>(kBodySides, part.side)},
-              {"samples", {{"nu", nu}, {"nv", nv}}}}},
+            {"body", model_id.empty() ? json{{"thickness_mm", part.thickness_mm},
+                                             {"side", NameOf<BodySide>(kBodySides, part.side)},
+                                             {"samples", {{"nu", nu}, {"nv", nv}}}}
+                                      : json{{"model_id", model_id}}},
             {"checks",
              {{"closed", r.closed()},
               {"border_edges", r.border_edges},
@@ -167,7 +167,7 @@ json PartReplyStats::ToJson() const {
               {"degenerate_triangles", r.degenerate_triangles},
               {"self_intersections", r.self_intersects},
               {"volume_positive", r.volume > 0}}},
-            {"thinnest_wall_mm", thinnest_wall_mm},
+            {"thinnest_wall_mm", thinnest_wall_mm ? json(*thinnest_wall_mm) : json(nullptr)},
             {"printer", {{"min_wall_mm", part.min_wall_mm}, {"min_detail_mm", part.min_detail_mm}}},
             {"warnings", warnings}};
   if (!surface_id.empty()) j["surface_id"] = surface_id;

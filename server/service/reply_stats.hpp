@@ -105,10 +105,11 @@ struct TextReplyStats final : EncodedMeshStats {
 struct PartReplyStats final : EncodedMeshStats {
   proto::OutputFormat format = proto::OutputFormat::k3mf;
   std::string surface_id;  // a body from a stored surface; empty: inline
+  std::string model_id;    // an uploaded body
   PartSettings part;
-  int nu = 0, nv = 0;  // the body's samples
+  int nu = 0, nv = 0;  // the body's samples (a body grown from a surface)
   SolidReport solid;
-  double thinnest_wall_mm = 0.0;
+  std::optional<double> thinnest_wall_mm;  // unset: not measured (an uploaded body)
   std::vector<std::string> warnings;
   nlohmann::json ToJson() const override;
 };

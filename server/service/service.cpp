@@ -651,6 +651,19 @@ Result<Reply> Service::MakePart(std::string_view body, std::string_view accept,
   std::optional<proto::OutputFormat> asked = request.output.format;
   if (!asked && (accept.empty() || accept == "*/*")) asked = proto::OutputFormat::k3mf;
   SURFDEFORM_ASSIGN_OR_RETURN(auto format, ChooseOutputFormat(asked, accept));
+  if (!request.body_model_id.empty()) {
+    auto model = impl_->models.Find(request.body_model_id);
+    if (!model.ok()) {
+      return Status(model.status().code(), model.status().message(), "body.model_id");
+    }
+    const Mesh& uploaded = (*model)->imported.mesh;
+    SURFDEFORM_RETURN_IF_ERROR(CheckUploadedPartSize(uploaded, impl_->options.limits));
+    SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
+    SURFDEFORM_ASSIGN_OR_RETURN(Reply reply,
+                                MakeUploadedPartReply(request, uploaded, format, report == "json"));
+    reply.timings.insert(reply.timings.begin(), Timing{"parse", work.parse_ms()});
+    return reply;
+  }
   std::unique_ptr<Surface> inline_surface;
   std::shared_ptr<const StoredSurface> entry;
   const Surface* surface = nullptr;

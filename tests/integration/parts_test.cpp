@@ -172,5 +172,44 @@ TEST_F(ServerParts, ImpossibleBodiesAreEachTheirOwnProblem) {
   EXPECT_EQ(p.value("limit", 0.0), 128.0 * 1024 * 1024) << p;
 }
 
+// The ring's STL uploaded as a model is a body as it is: the same volume;
+// an open mesh is a 422 counting its border edges and saying where.
+TEST_F(ServerParts, AnUploadedBodyIsCheckedAndSentAsItIs) {
+  httplib::Client c("127.0.0.1", port());
+  auto stl = Part(Ring({{"output", {{"format", "stl"}}}}));
+  ASSERT_TRUE(stl);
+  ASSERT_EQ(stl->status, 200) << stl->body;
+  auto up = c.Post("/v1/models", stl->body, "application/octet-stream");
+  ASSERT_TRUE(up);
+  ASSERT_TRUE(up->status == 200 || up->status == 201) << up->body;
+  const std::string id = json::parse(up->body).value("id", "");
+  auto uploaded = Part({{"body", {{"model_id", id}}}}, "?report=json");
+  ASSERT_TRUE(uploaded);
+  ASSERT_EQ(uploaded->status, 200) << uploaded->body;
+  const json r = json::parse(uploaded->body);
+  const double grown = Stats(stl)["volume_mm3"].get<double>();
+  EXPECT_NEAR(r["volume_mm3"].get<double>(), grown, 5e-3 * grown) << r;
+  EXPECT_TRUE(r["checks"]["closed"].get<bool>()) << r;
+  EXPECT_EQ(r["body"]["model_id"], id);
+  EXPECT_TRUE(r["thinnest_wall_mm"].is_null()) << r;
+  auto as_3mf = Part({{"body", {{"model_id", id}}}});
+  ASSERT_TRUE(as_3mf);
+  EXPECT_EQ(as_3mf->status, 200);
+  EXPECT_EQ(Read3mf(as_3mf->body).unit, "millimeter");
+
+  // A flat square of two triangles: four border edges.
+  const std::string square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
+  auto open = c.Post("/v1/models", square, "application/octet-stream");
+  ASSERT_TRUE(open);
+  const std::string open_id = json::parse(open->body).value("id", "");
+  json p = ExpectProblem(Part({{"body", {{"model_id", open_id}}}}), 422, "body.model_id",
+                         "4 edges border one triangle only (near (0, 0.5, 0)");
+  EXPECT_EQ(p.value("actual", 0), 4) << p;
+  ExpectProblem(Part({{"body", {{"model_id", std::string(32, 'a')}}}}), 404, "body.model_id", "");
+  ExpectProblem(Part({{"body", {{"model_id", id}, {"thickness_mm", 2}}}}), 400, "body.thickness_mm",
+                "belongs to a body grown from a surface");
+  ExpectProblem(Part(Ring({{"body", {{"model_id", id}}}})), 400, "surface", "used as it is");
+}
+
 }  // namespace
 }  // namespace surfdeform::testing
