@@ -41,6 +41,8 @@ cmake --build build-san -j "$jobs" --target surfdeform_unit_tests surfdeform-ser
   surfdeform-server-faults surfdeform_integration_tests surfdeform no_orphans \
   import_fuzzer params_fuzzer http_fuzzer estimate_fuzzer memory_fuzzer font_fuzzer
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
+# Third-party leaks, each named and explained in the file.
+export LSAN_OPTIONS="suppressions=$PWD/tests/lsan_suppressions.txt"
 stage "unit tests under sanitizers"
 ctest --test-dir build-san --output-on-failure -j "$jobs" -L unit
 # The integration tests, the curl examples, the CLI, request smuggling behind
@@ -53,7 +55,7 @@ ctest --test-dir build-san --output-on-failure -j "$jobs" \
 # survivor waits for a slot longer than the 5 s default.
 SURFDEFORM_QUEUE_TIMEOUT_MS=60000 ctest --test-dir build-san --output-on-failure \
   -R ReplicaFailover
-unset ASAN_OPTIONS UBSAN_OPTIONS
+unset ASAN_OPTIONS UBSAN_OPTIONS LSAN_OPTIONS
 
 stage "fuzzers (libFuzzer, fixed seed: mesh import, request JSON, HTTP connections, request cost, fonts)"
 FUZZ_BUILD_DIR=build-san FUZZ_RUNS=${FUZZ_RUNS:-30000} tests/fuzz/run.sh > build-fuzz.log 2>&1 || {
