@@ -55,10 +55,11 @@ namespace {
 // printer's limits, and its reply.
 Result<Reply> FinishPart(const Mesh& part, std::shared_ptr<PartReplyStats> stats,
                          const proto::PartRequest& request, const std::string& field,
-                         bool report_json, std::vector<Timing> timings) {
+                         bool report_json, std::vector<Timing> timings, const RequestClock& clock) {
   const auto t0 = Clock::now();
   stats->solid = CheckSolid(part);
   timings.push_back({"check", MsSince(t0)});
+  SURFDEFORM_RETURN_IF_ERROR(clock.Check("part's checks"));
   SURFDEFORM_RETURN_IF_ERROR(
       SolidProblem(stats->solid, field == "body" ? "the part" : "the body", field));
   const PartSettings& p = request.part;
@@ -94,10 +95,11 @@ Result<Reply> FinishPart(const Mesh& part, std::shared_ptr<PartReplyStats> stats
 
 Result<Reply> MakePartReply(const proto::PartRequest& request, const Surface& surface,
                             const std::string& surface_id, proto::OutputFormat format,
-                            bool report_json) {
+                            bool report_json, const RequestClock& clock) {
   const auto t0 = Clock::now();
   const BodyOptions body = BodyOf(request, surface);
   SURFDEFORM_ASSIGN_OR_RETURN(Mesh part, ThickenSurface(surface, body));
+  SURFDEFORM_RETURN_IF_ERROR(clock.Check("part's body"));
   auto stats = std::make_shared<PartReplyStats>();
   stats->format = format;
   stats->surface_id = surface_id;
@@ -106,7 +108,8 @@ Result<Reply> MakePartReply(const proto::PartRequest& request, const Surface& su
   stats->nv = body.nv;
   // The body alone: its every wall is the thickness.
   stats->thinnest_wall_mm = request.part.thickness_mm;
-  return FinishPart(part, std::move(stats), request, "body", report_json, {{"body", MsSince(t0)}});
+  return FinishPart(part, std::move(stats), request, "body", report_json, {{"body", MsSince(t0)}},
+                    clock);
 }
 
 Status CheckUploadedPartSize(const Mesh& body, const ServiceLimits& limits) {
@@ -115,7 +118,8 @@ Status CheckUploadedPartSize(const Mesh& body, const ServiceLimits& limits) {
 }
 
 Result<Reply> MakeUploadedPartReply(const proto::PartRequest& request, const Mesh& body,
-                                    proto::OutputFormat format, bool report_json) {
+                                    proto::OutputFormat format, bool report_json,
+                                    const RequestClock& clock) {
   Mesh part;  // its geometry alone: a part is a solid, not a look
   part.positions = body.positions;
   part.triangles = body.triangles;
@@ -123,7 +127,7 @@ Result<Reply> MakeUploadedPartReply(const proto::PartRequest& request, const Mes
   stats->format = format;
   stats->model_id = request.body_model_id;
   stats->part = request.part;
-  return FinishPart(part, std::move(stats), request, "body.model_id", report_json, {});
+  return FinishPart(part, std::move(stats), request, "body.model_id", report_json, {}, clock);
 }
 
 }  // namespace surfdeform

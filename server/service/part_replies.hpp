@@ -10,6 +10,7 @@
 #include "engine/surface/surface.hpp"
 #include "proto/api.hpp"
 #include "service/reply.hpp"
+#include "service/request_clock.hpp"
 #include "service/service_limits.hpp"
 
 namespace surfdeform {
@@ -20,12 +21,13 @@ Status CheckPartSize(const proto::PartRequest& request, const Surface& surface,
 
 // The part, or its report when `report_json`. `surface_id`: the stored
 // surface it was grown from (empty: inline). Errors: the body's
-// (ThickenSurface), a failed check (kDegenerate naming it), and with
-// strict, a wall under the printer's minimum (kInvalidArgument with the
-// limit and the wall).
+// (ThickenSurface), a failed check (kDegenerate naming it), with strict a
+// wall under the printer's minimum (kInvalidArgument with the limit and the
+// wall), and `clock`'s between the steps (its budget spent, or the client
+// gone).
 Result<Reply> MakePartReply(const proto::PartRequest& request, const Surface& surface,
                             const std::string& surface_id, proto::OutputFormat format,
-                            bool report_json);
+                            bool report_json, const RequestClock& clock);
 
 // An uploaded body's memory estimate, before it is checked.
 Status CheckUploadedPartSize(const Mesh& body, const ServiceLimits& limits);
@@ -34,6 +36,7 @@ Status CheckUploadedPartSize(const Mesh& body, const ServiceLimits& limits);
 // mesh, or kDegenerate naming the first check it fails (for a body that
 // is not closed, how many edges border one triangle and where).
 Result<Reply> MakeUploadedPartReply(const proto::PartRequest& request, const Mesh& body,
-                                    proto::OutputFormat format, bool report_json);
+                                    proto::OutputFormat format, bool report_json,
+                                    const RequestClock& clock);
 
 }  // namespace surfdeform

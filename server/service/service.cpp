@@ -659,8 +659,8 @@ Result<Reply> Service::MakePart(std::string_view body, std::string_view accept,
     const Mesh& uploaded = (*model)->imported.mesh;
     SURFDEFORM_RETURN_IF_ERROR(CheckUploadedPartSize(uploaded, impl_->options.limits));
     SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
-    SURFDEFORM_ASSIGN_OR_RETURN(Reply reply,
-                                MakeUploadedPartReply(request, uploaded, format, report == "json"));
+    SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, MakeUploadedPartReply(request, uploaded, format,
+                                                                   report == "json", work.clock()));
     reply.timings.insert(reply.timings.begin(), Timing{"parse", work.parse_ms()});
     return reply;
   }
@@ -686,8 +686,8 @@ Result<Reply> Service::MakePart(std::string_view body, std::string_view accept,
   }
   SURFDEFORM_RETURN_IF_ERROR(CheckPartSize(request, *surface, impl_->options.limits));
   SURFDEFORM_RETURN_IF_ERROR(work.Admit(impl_->admission, impl_->options.engine_threads));
-  SURFDEFORM_ASSIGN_OR_RETURN(
-      Reply reply, MakePartReply(request, *surface, request.surface_id, format, report == "json"));
+  SURFDEFORM_ASSIGN_OR_RETURN(Reply reply, MakePartReply(request, *surface, request.surface_id,
+                                                         format, report == "json", work.clock()));
   reply.timings.insert(reply.timings.begin(), Timing{"parse", work.parse_ms()});
   return reply;
 }

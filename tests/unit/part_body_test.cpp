@@ -15,6 +15,7 @@
 #include "meshio/print_formats.hpp"
 #include "part/part_body.hpp"
 #include "part/solid_report.hpp"
+#include "service/part_replies.hpp"
 
 namespace surfdeform {
 namespace {
@@ -193,6 +194,24 @@ TEST(PrintFormats, TheRingAsStlAnd3mfReadsBackAsWritten) {
   EXPECT_EQ(c->vertices, ring->positions.size());
   EXPECT_EQ(c->triangles, ring->triangles.size());
   EXPECT_FALSE(Read3mfContents("PK not a package").ok());
+}
+
+TEST(PartReplies, APartStopsWhenItsClockRunsOutOrItsClientIsGone) {
+  const auto cylinder = Made(CylinderSpec{kInner, kWidth, 360.0, {}});
+  proto::PartRequest r;
+  r.part.thickness_mm = kThick;
+  const auto stl = proto::OutputFormat::kStl;
+  CancelFlag gone;
+  gone.Raise();
+  auto cancelled = MakePartReply(r, *cylinder, "", stl, false, RequestClock(60000, &gone));
+  ASSERT_FALSE(cancelled.ok());
+  EXPECT_NE(cancelled.status().message().find("part's body"), std::string::npos)
+      << cancelled.status().ToString();
+  auto late = MakePartReply(r, *cylinder, "", stl, false, RequestClock(-1));
+  EXPECT_EQ(late.status().code(), ErrorCode::kDeadlineExceeded) << late.status().ToString();
+  auto made = MakePartReply(r, *cylinder, "", stl, false, RequestClock(60000));
+  ASSERT_TRUE(made.ok()) << made.status().ToString();
+  EXPECT_EQ(made->content_type, "model/stl");
 }
 
 }  // namespace
